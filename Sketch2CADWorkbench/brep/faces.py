@@ -1,0 +1,115 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Resolving a geometric face reference (`FaceRef`) against the current solid."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import numpy as np
+
+from .protocol import FaceRef
+
+# Normals within this angle (cosine) are taken as the same direction.
+NORMAL_COS_TOL = 1.0 - 1e-6
+
+
+class OperationError(ValueError):
+    """An operation cannot be built on the given solid; the message says why."""
+
+
+@dataclass(frozen=True)
+class ResolvedFace:
+    """A planar face of the solid matched to a FaceRef.
+
+    `shift` is how far (mm, along the normal) the face's plane lies from the
+    reference point: 0 on a faithful replay, non-zero when an earlier step was
+    edited and the face moved; operations translate their geometry by it.
+    """
+
+    face: cq.Face
+    normal: np.ndarray
+    shift: float
+
+    @property
+    def offset(self) -> np.ndarray:
+        """Translation that carries the reference's geometry onto this face's plane."""
+        return self.normal * self.shift
+
+
+def model_scale(solid: cq.Shape) -> float:
+    """The bounding-box diagonal of a shape in mm; sets the geometric tolerances."""
+    return float(solid.BoundingBox().DiagonalLength)
+
+
+def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:
+    """Each planar face with its outward unit normal and plane offset n . p."""
+    out = []
+    for f in solid.Faces():
+        if f.geomType() != "PLANE":
+            continue
+        n = np.array(f.normalAt().toTuple())
+        p = np.array(f.Center().toTuple())
+        out.append((f, n, float(n @ p)))
+    return out
+
+
+def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedFace:
+    """Find the planar face of `solid` that `ref` designates.
+
+    The face whose plane holds ref.point and which contains it wins. If none does
+    (an earlier step was edited and the face moved), the nearest face with the
+    same normal whose outline still contains the point's projection is taken.
+
+    Raises:
+        OperationError: no planar face of the solid matches the reference.
+    """
+    tol = 1e-6 * max(model_scale(solid), 1.0)
+    n_ref = np.asarray(ref.normal, dtype=float)
+    p_ref = np.asarray(ref.point, dtype=float)
+    best: tuple[float, cq.Face, np.ndarray, float] | None = None
+    for face, n, offset in planar_faces(solid):
+        if float(n @ n_ref) < NORMAL_COS_TOL:
+            continue
+        shift = offset - float(n @ p_ref)
+        projected = p_ref + n * shift
+        if face.distance(cq.Vertex.makeVertex(*projected)) > tol:
+            continue
+        if best is None or abs(shift) < abs(best[0]):
+            best = (shift, face, n, shift)
+    if best is None:
+        raise OperationError(
+            f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
+            f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no planar face "
+            "with that outward normal contains the point")
+    _, face, n, shift = best
+    return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
+
+
+def face_ref_of(face: cq.Face) -> FaceRef:
+    """A FaceRef for a planar face: its normal and a point strictly inside it."""
+    n = face.normalAt()
+    p = interior_point(face)
+    return FaceRef(tuple(round(c, 9) for c in p), tuple(round(c, 12) for c in n.toTuple()))
+
+
+def interior_point(face: cq.Face) -> tuple[float, float, float]:
+    """A point inside a planar face, away from its edges (its centroid if inside)."""
+    c = face.Center()
+    if face.distance(cq.Vertex.makeVertex(*c.toTuple())) < 1e-9:
+        return c.toTuple()
+    # Non-convex face: sample the UV box and take the inside point farthest from the edges.
+    u0, u1, v0, v1 = face._uvBounds()
+    outline = cq.Compound.makeCompound(face.Edges())
+    best, best_d = None, -1.0
+    for u in np.linspace(u0, u1, 17)[1:-1]:
+        for v in np.linspace(v0, v1, 17)[1:-1]:
+            p = face.positionAt(u, v, mode="parameter")
+            vert = cq.Vertex.makeVertex(*p.toTuple())
+            if face.distance(vert) > 1e-9:
+                continue
+            d = outline.distance(vert)
+            if d > best_d:
+                best, best_d = p.toTuple(), d
+    if best is None:
+        raise OperationError("face has no interior point (degenerate face)")
+    return best

@@ -1,0 +1,293 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The four operators of the paper as real B-rep operations through cadquery/OCCT.
+
+Every function takes the current solid and returns a new one; the input is never
+modified. Lengths are millimetres, points and vectors are in the world frame, and
+n_f is the outward unit normal of the base face f. A result is always one valid
+solid; anything else raises `OperationError` with the reason.
+"""
+from __future__ import annotations
+
+import math
+
+import cadquery as cq
+import numpy as np
+
+from .faces import OperationError, ResolvedFace, model_scale, resolve_face
+from .protocol import (AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol,
+                       Sweep)
+
+# Points farther than this (relative to the model diagonal) from f's plane are rejected.
+PLANE_TOL = 1e-3
+
+
+def make_box(box: Box) -> cq.Solid:
+    """The base box of size (lx, ly, lz) mm, centred on the origin."""
+    lx, ly, lz = box.size
+    if min(box.size) <= 0:
+        raise OperationError(f"box size must be positive, got {box.size}")
+    return cq.Solid.makeBox(lx, ly, lz, cq.Vector(-lx / 2, -ly / 2, -lz / 2))
+
+
+def _vec(p) -> cq.Vector:
+    return cq.Vector(*[float(c) for c in p])
+
+
+def _check_on_plane(points, rf: ResolvedFace, scale: float, what: str) -> np.ndarray:
+    """Points moved onto f's (possibly shifted) plane; far-off points are an error."""
+    pts = np.asarray(points, dtype=float) + rf.offset
+    plane_d = float(rf.normal @ np.array(rf.face.Center().toTuple()))
+    dist = pts @ rf.normal - plane_d
+    worst = int(np.argmax(np.abs(dist)))
+    if abs(dist[worst]) > PLANE_TOL * scale:
+        raise OperationError(f"{what}[{worst}] lies {dist[worst]:.4g} mm off the base face's plane")
+    return pts - np.outer(dist, rf.normal)
+
+
+def _combine(solid: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
+    if mode is Mode.ADD:
+        return solid.fuse(tool)
+    if mode is Mode.SUBTRACT:
+        return solid.cut(tool)
+    if mode is Mode.INTERSECT:
+        return solid.intersect(tool)
+    return tool
+
+
+def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> cq.Solid:
+    """The one valid solid in a Boolean result, or an OperationError saying why not."""
+    shape = shape.clean()
+    solids = shape.Solids()
+    if not solids:
+        raise OperationError(f"{what}: the result is empty")
+    if len(solids) > 1:
+        raise OperationError(f"{what}: the result falls apart into {len(solids)} solids")
+    solid = solids[0]
+    if not solid.isValid():
+        raise OperationError(f"{what}: OCCT reports the result as an invalid solid")
+    if solid.Volume() <= 1e-9 * model_scale(before) ** 3:
+        raise OperationError(f"{what}: the result has no volume")
+    return solid
+
+
+def extrude(solid: cq.Solid, op: Extrude) -> cq.Solid:
+    """Move face f along n_f by d (pad for d > 0, pocket for d < 0).
+
+    Args:
+        solid: the current solid.
+        op: face f (FaceRef) and signed offset d in mm.
+    Raises:
+        OperationError: f does not resolve, d is zero, or the result is not one solid.
+    Returns:
+        A new solid; `solid` is unchanged.
+    """
+    if op.d == 0 or not math.isfinite(op.d):
+        raise OperationError(f"extrude: offset d must be a non-zero number, got {op.d}")
+    rf = resolve_face(solid, op.face, "extrude face f")
+    face = rf.face
+    tool = cq.Solid.extrudeLinear(face.outerWire(), face.innerWires(),
+                                  _vec(rf.normal * op.d))
+    result = solid.fuse(tool) if op.d > 0 else solid.cut(tool)
+    return _single_solid(result, "extrude", solid)
+
+
+def bevel_tool(solid: cq.Solid, op: Bevel) -> cq.Solid:
+    """The prism removed by a bevel: the region between corner c and profile l on f,
+    extruded along c -> c'."""
+    scale = model_scale(solid)
+    rf = resolve_face(solid, op.face, "bevel face f")
+    (c,) = _check_on_plane([op.corner], rf, scale, "bevel corner c")
+    ctrl = _check_on_plane(op.profile, rf, scale, "bevel profile l")
+    crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
+    length = float(np.linalg.norm(crease))
+    if length < 1e-6 * scale:
+        raise OperationError("bevel: corner c and opposite corner c' coincide")
+    if float(crease @ rf.normal) / length > -0.999:
+        raise OperationError("bevel: the crease c -> c' must run into the solid along -n_f")
+    if np.linalg.norm(ctrl[0] - c) < 1e-6 * scale or np.linalg.norm(ctrl[3] - c) < 1e-6 * scale:
+        raise OperationError("bevel: profile l must start and end away from corner c")
+    try:
+        wire = cq.Wire.assembleEdges([
+            cq.Edge.makeLine(_vec(c), _vec(ctrl[0])),
+            cq.Edge.makeBezier([_vec(p) for p in ctrl]),
+            cq.Edge.makeLine(_vec(ctrl[3]), _vec(c)),
+        ])
+        tool = cq.Solid.extrudeLinear(wire, [], _vec(crease))
+    except Exception as e:  # OCCT raises its own types for degenerate input
+        raise OperationError(f"bevel: cannot build the region between c and l: {e}") from None
+    if not tool.isValid() or tool.Volume() <= 1e-12 * scale ** 3:
+        raise OperationError("bevel: profile l and corner c bound no area (l self-intersects "
+                             "or is collinear with c)")
+    return tool
+
+
+def bevel(solid: cq.Solid, op: Bevel) -> cq.Solid:
+    """Round corner c of face f with profile l along the crease c -> c'.
+
+    Args:
+        solid: the current solid.
+        op: face f, corner c, opposite corner c' and the cubic Bezier profile l on f
+            (world mm).
+    Raises:
+        OperationError: f does not resolve, l or c is off f's plane, the crease is not
+            along -n_f, the region is degenerate, or the result is not one solid.
+    Returns:
+        A new solid with the region between c and l removed along c -> c'.
+    """
+    return _single_solid(solid.cut(bevel_tool(solid, op)), "bevel", solid)
+
+
+def prism_tool(solid: cq.Solid, op: AddSubPrism) -> cq.Solid:
+    """The right prism of an add/subtract: polygon c on f extruded by d along +-n_f."""
+    scale = model_scale(solid)
+    if not 3 <= len(op.polygon) <= 6:
+        raise OperationError(f"prism: base polygon c needs 3 to 6 vertices, got {len(op.polygon)}")
+    if not op.d > 0:
+        raise OperationError(f"prism: length d must be positive, got {op.d}")
+    rf = resolve_face(solid, op.face, "prism face f")
+    pts = _check_on_plane(op.polygon, rf, scale, "prism polygon c")
+    _check_simple_polygon(pts, rf.normal, scale)
+    wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
+    return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
+
+
+def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
+    """Reject polygons with repeated vertices, no area, or crossing sides."""
+    u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    q = np.stack([pts @ u, pts @ v], axis=1)
+    k = len(q)
+    for i in range(k):
+        if np.linalg.norm(q[i] - q[(i + 1) % k]) < 1e-6 * scale:
+            raise OperationError(f"prism: polygon vertices {i} and {(i + 1) % k} coincide")
+    area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
+                         for i in range(k)))
+    if area < 1e-8 * scale ** 2:
+        raise OperationError("prism: base polygon c has no area")
+    for i in range(k):
+        for j in range(i + 2, k):
+            if i == 0 and j == k - 1:
+                continue
+            if _segments_cross(q[i], q[(i + 1) % k], q[j], q[(j + 1) % k]):
+                raise OperationError(f"prism: polygon sides {i} and {j} cross each other")
+
+
+def _segments_cross(a, b, c, d) -> bool:
+    def orient(p, q, r):
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
+    return o1 * o2 < 0 and o3 * o4 < 0
+
+
+def add_sub_prism(solid: cq.Solid, op: AddSubPrism) -> cq.Solid:
+    """Combine the solid with a right prism standing on face f.
+
+    Args:
+        solid: the current solid.
+        op: face f, base polygon c (3-6 vertices on f, world mm), length d > 0 mm, and
+            the option o as a Mode (ADD: union, prism outwards; SUBTRACT: difference,
+            prism inwards; INTERSECT; REPLACE: keep only the prism).
+    Raises:
+        OperationError: f does not resolve, c is off f or not simple, or the result is
+            not one solid.
+    Returns:
+        A new solid.
+    """
+    tool = prism_tool(solid, op)
+    return _single_solid(_combine(solid, tool, op.mode), f"{op.mode.value} prism", solid)
+
+
+def sweep_axis(solid: cq.Solid, op: Sweep) -> tuple[np.ndarray, np.ndarray]:
+    """c0's centre on f and the unit direction from c0 towards c1."""
+    rf = resolve_face(solid, op.face, "sweep face f")
+    (center,) = _check_on_plane([op.center], rf, model_scale(solid), "sweep centre of c0")
+    return center, rf.normal * op.mode.sign
+
+
+def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
+    """The solid of revolution of profile c_p about the axis through c0 and c1."""
+    if not (op.r0 > 0 and op.r1 > 0 and op.d > 0):
+        raise OperationError(f"sweep: r0, r1 and d must be positive, got r0={op.r0}, "
+                             f"r1={op.r1}, d={op.d}")
+    ctrl = np.array(op.control_points(), dtype=float)
+    radii = _bezier(ctrl, np.linspace(0, 1, 65))[:, 0]
+    if radii.min() <= 0:
+        raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
+    center, axis = sweep_axis(solid, op)
+    # Any radial direction works for a full revolution; pick one perpendicular to the axis.
+    radial = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
+    radial /= np.linalg.norm(radial)
+
+    def world(rh):
+        return _vec(center + radial * rh[0] + axis * rh[1])
+
+    top = center + axis * op.d
+    wire = cq.Wire.assembleEdges([
+        cq.Edge.makeLine(_vec(center), world(ctrl[0])),
+        cq.Edge.makeBezier([world(p) for p in ctrl]),
+        cq.Edge.makeLine(world(ctrl[3]), _vec(top)),
+        cq.Edge.makeLine(_vec(top), _vec(center)),
+    ])
+    tool = cq.Solid.revolve(wire, [], 360.0, _vec(center), _vec(top))
+    if not tool.isValid():
+        raise OperationError("sweep: the swept primitive is not a valid solid")
+    return tool
+
+
+def _bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
+    t = t[:, None]
+    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
+            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
+
+
+def sweep(solid: cq.Solid, op: Sweep) -> cq.Solid:
+    """Combine the solid with the shape swept by c_p along circles c0 and c1.
+
+    Args:
+        solid: the current solid.
+        op: face f, c0 (centre on f, radius r0), c1 (radius r1, centre d mm along the
+            primitive's direction), profile c_p (inner (r, h) control points, mm) and
+            the option o as a Mode. A straight c_p with r0 == r1 gives a cylinder,
+            otherwise a cone or a curved body of revolution.
+    Raises:
+        OperationError: f does not resolve, the centre is off f, a size is not
+            positive, c_p crosses the axis, or the result is not one solid.
+    Returns:
+        A new solid.
+    """
+    tool = sweep_tool(solid, op)
+    return _single_solid(_combine(solid, tool, op.mode), f"{op.mode.value} sweep", solid)
+
+
+_APPLY = {Extrude: extrude, Bevel: bevel, AddSubPrism: add_sub_prism, Sweep: sweep}
+
+
+def apply_operation(solid: cq.Solid, op: Operation) -> cq.Solid:
+    """Apply one protocol operation; see the per-operator functions."""
+    try:
+        return _APPLY[type(op)](solid, op)
+    except OperationError:
+        raise
+    except Exception as e:  # an OCCT failure deep in a Boolean is still a user-level error
+        raise OperationError(f"{op.type.value}: OCCT failed to build the result: {e}") from None
+
+
+def replay(protocol: Protocol) -> list[cq.Solid]:
+    """The solid after the base box and after each operation, in order.
+
+    Raises:
+        OperationError: naming the step (1-based) that could not be built.
+    """
+    solids = [make_box(protocol.base)]
+    for i, op in enumerate(protocol.operations, 1):
+        try:
+            solids.append(apply_operation(solids[-1], op))
+        except OperationError as e:
+            raise OperationError(f"step {i} ({op.type.value}): {e}") from None
+    return solids
+
+
+def build(protocol: Protocol) -> cq.Solid:
+    """The final solid of a protocol."""
+    return replay(protocol)[-1]

@@ -1,0 +1,109 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The orthographic camera shared by the renderer, data generation, fitting and FreeCAD.
+
+Pixel convention everywhere in the core: x grows to the right, y grows downwards,
+(0, 0) is the top-left corner of the top-left pixel, so pixel (i, j) of an image
+array `img[j, i]` has its centre at (i + 0.5, j + 0.5). The FreeCAD layer converts
+its bottom-left-origin mouse positions to this.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class OrthoCamera:
+    """An orthographic view.
+
+    Attributes:
+        center: the world point (mm) at the image centre.
+        direction: unit view direction, from the eye into the scene.
+        up: world vector that appears upwards in the image (made orthogonal to direction).
+        scale: half the visible height in mm (VTK's parallel scale).
+        width, height: image size in pixels. Pixels are square.
+    """
+
+    center: Vec3
+    direction: Vec3
+    up: Vec3
+    scale: float
+    width: int = 256
+    height: int = 256
+
+    def __post_init__(self):
+        d = np.asarray(self.direction, float)
+        u = np.asarray(self.up, float)
+        if not np.isfinite(d).all() or np.linalg.norm(d) < 1e-12:
+            raise ValueError(f"camera direction must be a non-zero vector, got {self.direction}")
+        if np.linalg.norm(np.cross(d, u)) < 1e-9 * np.linalg.norm(d) * max(np.linalg.norm(u), 1e-300):
+            raise ValueError(f"camera up {self.up} must not be parallel to direction {self.direction}")
+        if not self.scale > 0:
+            raise ValueError(f"camera scale must be positive, got {self.scale}")
+        if self.width <= 0 or self.height <= 0:
+            raise ValueError(f"camera image size must be positive, got {self.width}x{self.height}")
+
+    # ------------------------------------------------------------ frame
+    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Unit (right, up, forward) vectors of the camera in world coordinates."""
+        f = np.asarray(self.direction, float)
+        f = f / np.linalg.norm(f)
+        u = np.asarray(self.up, float)
+        u = u - (u @ f) * f
+        u = u / np.linalg.norm(u)
+        r = np.cross(f, u)  # right-handed: right = forward x up
+        return r, u, f
+
+    @property
+    def pixel_size(self) -> float:
+        """World length (mm) of one pixel."""
+        return 2.0 * self.scale / self.height
+
+    # ------------------------------------------------------------ mapping
+    def project(self, points) -> tuple[np.ndarray, np.ndarray]:
+        """World points (N, 3) -> pixel positions (N, 2) and depths (N,) along direction.
+
+        Depth is measured from the plane through `center`; larger is farther.
+        """
+        p = np.atleast_2d(np.asarray(points, float)) - np.asarray(self.center, float)
+        r, u, f = self.basis()
+        s = self.pixel_size
+        x = p @ r / s + self.width / 2.0
+        y = -(p @ u) / s + self.height / 2.0
+        return np.stack([x, y], axis=1), p @ f
+
+    def unproject(self, pixels, depth=0.0) -> np.ndarray:
+        """Pixel positions (N, 2) and depths (N,) or a scalar -> world points (N, 3)."""
+        q = np.atleast_2d(np.asarray(pixels, float))
+        r, u, f = self.basis()
+        s = self.pixel_size
+        a = (q[:, 0] - self.width / 2.0) * s
+        b = -(q[:, 1] - self.height / 2.0) * s
+        depth = np.broadcast_to(np.asarray(depth, float), (len(q),))
+        return (np.asarray(self.center, float) + a[:, None] * r + b[:, None] * u
+                + depth[:, None] * f)
+
+    def ray(self, pixels) -> tuple[np.ndarray, np.ndarray]:
+        """World ray origins (N, 3) on the centre plane and the shared unit direction."""
+        return self.unproject(pixels, 0.0), self.basis()[2]
+
+    def back_project_to_plane(self, pixels, plane_point, plane_normal) -> np.ndarray:
+        """Pixels -> world points where their rays meet a plane (N, 3).
+
+        Raises:
+            ValueError: the plane is seen edge-on (parallel to the view direction).
+        """
+        o, f = self.ray(pixels)
+        n = np.asarray(plane_normal, float)
+        denom = float(f @ n)
+        if abs(denom) < 1e-9:
+            raise ValueError("the plane is seen edge-on; cannot back-project onto it")
+        t = ((np.asarray(plane_point, float) - o) @ n) / denom
+        return o + t[:, None] * f
+
+    def with_size(self, width: int, height: int) -> "OrthoCamera":
+        """The same view at another image size (the visible height is kept)."""
+        return OrthoCamera(self.center, self.direction, self.up, self.scale, width, height)
