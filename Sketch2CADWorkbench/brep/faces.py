@@ -58,30 +58,34 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
 
     The face whose plane holds ref.point and which contains it wins. If none does
     (an earlier step was edited and the face moved), the nearest face with the
-    same normal whose outline still contains the point's projection is taken.
+    same normal whose outline still contains the point's projection is taken, if it
+    lies within one model diagonal of the point.
 
     Raises:
         OperationError: no planar face of the solid matches the reference.
     """
-    tol = 1e-6 * max(model_scale(solid), 1.0)
+    scale = model_scale(solid)
+    tol = 1e-6 * max(scale, 1.0)
     n_ref = np.asarray(ref.normal, dtype=float)
     p_ref = np.asarray(ref.point, dtype=float)
-    best: tuple[float, cq.Face, np.ndarray, float] | None = None
+    best: tuple[cq.Face, np.ndarray, float] | None = None
     for face, n, offset in planar_faces(solid):
         if float(n @ n_ref) < NORMAL_COS_TOL:
             continue
         shift = offset - float(n @ p_ref)
+        if abs(shift) > scale:
+            continue
         projected = p_ref + n * shift
         if face.distance(cq.Vertex.makeVertex(*projected)) > tol:
             continue
-        if best is None or abs(shift) < abs(best[0]):
-            best = (shift, face, n, shift)
+        if best is None or abs(shift) < abs(best[2]):
+            best = (face, n, shift)
     if best is None:
         raise OperationError(
             f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
             f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no planar face "
             "with that outward normal contains the point")
-    _, face, n, shift = best
+    face, n, shift = best
     return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
 
 
@@ -98,12 +102,12 @@ def interior_point(face: cq.Face) -> tuple[float, float, float]:
     if face.distance(cq.Vertex.makeVertex(*c.toTuple())) < 1e-9:
         return c.toTuple()
     # Non-convex face: sample the UV box and take the inside point farthest from the edges.
-    u0, u1, v0, v1 = face._uvBounds()
+    u0, u1, v0, v1 = face.uvBounds()
     outline = cq.Compound.makeCompound(face.Edges())
     best, best_d = None, -1.0
     for u in np.linspace(u0, u1, 17)[1:-1]:
         for v in np.linspace(v0, v1, 17)[1:-1]:
-            p = face.positionAt(u, v, mode="parameter")
+            p = face.positionAt(u, v)
             vert = cq.Vertex.makeVertex(*p.toTuple())
             if face.distance(vert) > 1e-9:
                 continue

@@ -161,16 +161,16 @@ def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
     for i in range(k):
         if np.linalg.norm(q[i] - q[(i + 1) % k]) < 1e-6 * scale:
             raise OperationError(f"prism: polygon vertices {i} and {(i + 1) % k} coincide")
-    area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
-                         for i in range(k)))
-    if area < 1e-8 * scale ** 2:
-        raise OperationError("prism: base polygon c has no area")
     for i in range(k):
         for j in range(i + 2, k):
             if i == 0 and j == k - 1:
                 continue
             if _segments_cross(q[i], q[(i + 1) % k], q[j], q[(j + 1) % k]):
                 raise OperationError(f"prism: polygon sides {i} and {j} cross each other")
+    area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
+                         for i in range(k)))
+    if area < 1e-8 * scale ** 2:
+        raise OperationError("prism: base polygon c has no area")
 
 
 def _segments_cross(a, b, c, d) -> bool:

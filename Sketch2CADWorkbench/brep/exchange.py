@@ -1,0 +1,63 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Writing and reading solids: STEP (AP214, mm) for users, BREP text for FreeCAD."""
+from __future__ import annotations
+
+import io
+import os
+import tempfile
+from pathlib import Path
+
+import cadquery as cq
+from OCP.IFSelect import IFSelect_RetDone
+from OCP.Interface import Interface_Static
+
+from .faces import OperationError
+
+
+def export_step(solid: cq.Shape, path: str | Path) -> None:
+    """Write `solid` as a STEP AP214 file in millimetres.
+
+    The file appears only once it is completely written, so a failure leaves any
+    previous file at `path` as it was.
+
+    Raises:
+        OSError: the file cannot be written.
+    """
+    path = Path(path)
+    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    fd, tmp = tempfile.mkstemp(suffix=".step", dir=path.parent if str(path.parent) else ".")
+    os.close(fd)
+    try:
+        if solid.exportStep(tmp) != IFSelect_RetDone:
+            raise OSError(f"{path}: OCCT could not write the STEP file")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def import_step(path: str | Path) -> cq.Shape:
+    """Read a STEP file into one shape (a compound when it holds several solids).
+
+    Raises:
+        OperationError: the file is missing or not readable STEP.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise OperationError(f"{path}: no such STEP file")
+    try:
+        return cq.importers.importStep(str(path)).val()
+    except Exception as e:  # cadquery raises ValueError or OCCT errors on bad files
+        raise OperationError(f"{path}: cannot read STEP: {e}") from None
+
+
+def to_brep_text(shape: cq.Shape) -> str:
+    """The shape as OCCT BREP text, the form in which shapes cross to FreeCAD's OCCT."""
+    buf = io.BytesIO()
+    shape.exportBrep(buf)
+    return buf.getvalue().decode()
+
+
+def from_brep_text(text: str) -> cq.Shape:
+    """A shape from OCCT BREP text (as written by FreeCAD's `exportBrepToString`)."""
+    return cq.Shape.importBrep(io.BytesIO(text.encode()))

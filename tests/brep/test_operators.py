@@ -1,0 +1,182 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Each operator gives the analytically expected solid, and never touches its input."""
+import math
+
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import OperationError
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
+from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
+                                               Protocol, Sweep)
+
+LX, LY, LZ = 40.0, 30.0, 20.0
+BOX_VOLUME = LX * LY * LZ
+TOP = FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, 1.0))
+FRONT = FaceRef((0.0, -LY / 2, 0.0), (0.0, -1.0, 0.0))
+REL = 1e-6
+
+
+@pytest.fixture
+def box():
+    return make_box(Box((LX, LY, LZ)))
+
+
+def square(half, z, cx=0.0, cy=0.0):
+    return ((cx - half, cy - half, z), (cx + half, cy - half, z),
+            (cx + half, cy + half, z), (cx - half, cy + half, z))
+
+
+def straight(r0, r1, d):
+    """Inner (r, h) control points of a straight profile c_p."""
+    return ((r0 + (r1 - r0) / 3, d / 3), (r0 + 2 * (r1 - r0) / 3, 2 * d / 3))
+
+
+@pytest.mark.parametrize("d", [5.0, -7.5])
+def test_extrude_moves_the_face_by_d(box, d):
+    out = apply_operation(box, Extrude(TOP, d))
+    assert out.Volume() == pytest.approx(BOX_VOLUME + LX * LY * d, rel=REL)
+    assert out.BoundingBox().zmax == pytest.approx(LZ / 2 + d)
+    assert out.isValid()
+
+
+def test_extrude_through_the_whole_solid_is_an_error(box):
+    with pytest.raises(OperationError, match="empty|no volume"):
+        apply_operation(box, Extrude(TOP, -LZ - 1))
+
+
+def test_operator_leaves_its_input_solid_unchanged(box):
+    before = box.Volume()
+    apply_operation(box, Extrude(TOP, 5.0))
+    assert box.Volume() == before
+
+
+@pytest.mark.parametrize("mode,sign", [(Mode.ADD, 1), (Mode.SUBTRACT, -1)])
+def test_prism_adds_or_subtracts_polygon_area_times_d(box, mode, sign):
+    op = AddSubPrism(TOP, square(5, LZ / 2), 8.0, mode)
+    out = apply_operation(box, op)
+    assert out.Volume() == pytest.approx(BOX_VOLUME + sign * 100.0 * 8.0, rel=REL)
+
+
+def test_triangle_prism_volume(box):
+    tri = ((0, 0, LZ / 2), (10, 0, LZ / 2), (0, 6, LZ / 2))
+    out = apply_operation(box, AddSubPrism(TOP, tri, 4.0, Mode.ADD))
+    assert out.Volume() == pytest.approx(BOX_VOLUME + 0.5 * 10 * 6 * 4.0, rel=REL)
+
+
+def test_replace_keeps_only_the_primitive(box):
+    out = apply_operation(box, AddSubPrism(TOP, square(5, LZ / 2), 8.0, Mode.REPLACE))
+    assert out.Volume() == pytest.approx(100.0 * 8.0, rel=REL)
+
+
+def test_intersect_keeps_the_common_part(box):
+    # A subtract-direction prism does not exist for INTERSECT: it stands outwards, so
+    # the intersection with the box is only the shared base face: nothing is left.
+    with pytest.raises(OperationError):
+        apply_operation(box, AddSubPrism(TOP, square(5, LZ / 2), 8.0, Mode.INTERSECT))
+
+
+@pytest.mark.parametrize("mode,sign", [(Mode.ADD, 1), (Mode.SUBTRACT, -1)])
+def test_sweep_with_straight_equal_radii_is_a_cylinder(box, mode, sign):
+    r, d = 4.0, 6.0
+    out = apply_operation(box, Sweep(TOP, (0, 0, LZ / 2), r, r, d, straight(r, r, d), mode))
+    assert out.Volume() == pytest.approx(BOX_VOLUME + sign * math.pi * r * r * d, rel=REL)
+
+
+def test_sweep_with_straight_profile_is_a_cone_frustum(box):
+    r0, r1, d = 6.0, 2.0, 9.0
+    out = apply_operation(box, Sweep(TOP, (3, 2, LZ / 2), r0, r1, d, straight(r0, r1, d)))
+    frustum = math.pi * d / 3 * (r0 * r0 + r0 * r1 + r1 * r1)
+    assert out.Volume() == pytest.approx(BOX_VOLUME + frustum, rel=REL)
+
+
+def test_curved_sweep_volume_matches_pappus(box):
+    """A curved profile's solid of revolution: V = pi * integral of r(h)^2 dh."""
+    r0, r1, d, inner = 5.0, 3.0, 10.0, ((9.0, 3.0), (1.0, 7.0))
+    out = apply_operation(box, Sweep(TOP, (0, 0, LZ / 2), r0, r1, d, inner))
+    ctrl = [(r0, 0.0), *inner, (r1, d)]
+    n = 4000
+    vol = 0.0
+    for i in range(n):  # midpoint rule on the parametric curve: pi r^2 dh/dt dt
+        t = (i + 0.5) / n
+        b = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2, t ** 3]
+        db = [-3 * (1 - t) ** 2, 3 * (1 - t) ** 2 - 6 * (1 - t) * t, 6 * (1 - t) * t - 3 * t * t,
+              3 * t * t]
+        r = sum(w * p[0] for w, p in zip(b, ctrl))
+        dh = sum(w * p[1] for w, p in zip(db, ctrl))
+        vol += math.pi * r * r * dh / n
+    assert out.Volume() == pytest.approx(BOX_VOLUME + vol, rel=1e-5)
+
+
+def test_bevel_with_straight_profile_cuts_a_triangular_prism(box):
+    c = (LX / 2, -LY / 2, LZ / 2)
+    a, b = (LX / 2 - 6, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 4)
+    chord = (a, tuple(x + (y - x) / 3 for x, y in zip(a, b)),
+             tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b)), b)
+    out = apply_operation(box, Bevel(FRONT, c, (LX / 2, LY / 2, LZ / 2), chord))
+    assert out.Volume() == pytest.approx(BOX_VOLUME - 0.5 * 6 * 4 * LY, rel=REL)
+
+
+def test_rounded_bevel_removes_less_than_the_chamfer(box):
+    c = (LX / 2, -LY / 2, LZ / 2)
+    a, b = (LX / 2 - 6, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 6)
+    k = 0.5523  # quarter-circle Bezier handle length (unit radius)
+    arc = (a, (LX / 2 - 6 + 6 * k, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 6 + 6 * k), b)
+    out = apply_operation(box, Bevel(FRONT, c, (LX / 2, LY / 2, LZ / 2), arc))
+    # Region c -> a -> Bezier -> b -> c in the front face's (x, z) coordinates, by shoelace
+    # over a dense sampling of the curve (close to the square minus a quarter disc).
+    pts = [(c[0], c[2])]
+    for i in range(2001):
+        t = i / 2000
+        w = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2, t ** 3]
+        pts.append((sum(wi * p[0] for wi, p in zip(w, arc)), sum(wi * p[2] for wi, p in zip(w, arc))))
+    area = 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
+    assert area == pytest.approx(36 - math.pi * 9, rel=5e-3)
+    assert BOX_VOLUME - out.Volume() == pytest.approx(area * LY, rel=1e-5)
+
+
+@pytest.mark.parametrize("op,message", [
+    (Extrude(FaceRef((0, 0, 99), (0, 0, 1)), 3.0), "no longer resolves"),
+    (Extrude(FaceRef((0, 0, LZ / 2), (0.6, 0, 0.8)), 3.0), "no longer resolves"),
+    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2), (10, 0, LZ / 2)), 3.0), "no area"),
+    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 5, LZ / 2), (5, 0, LZ / 2), (0, 5, LZ / 2)), 3.0),
+     "cross"),
+    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2 + 3), (0, 5, LZ / 2)), 3.0),
+     r"polygon c\[1\] lies 3 mm off"),
+    (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, ((-9.0, 2.0), (4.0, 3.0))), "crosses the axis"),
+    (Bevel(FRONT, (LX / 2, -LY / 2, LZ / 2), (LX / 2, -LY / 2, -LZ / 2),
+           ((14, -15, 10), (16, -15, 10), (20, -15, 8), (20, -15, 6))), "crease"),
+])
+def test_unbuildable_operation_raises_operation_error_saying_why(box, op, message):
+    with pytest.raises(OperationError, match=message):
+        apply_operation(box, op)
+
+
+def test_pocket_that_splits_the_solid_is_an_error():
+    # A slot across the whole top, as deep as the box, leaves two separate halves.
+    solid = make_box(Box((LX, LY, LZ)))
+    slot = ((-1, -LY, LZ / 2), (1, -LY, LZ / 2), (1, LY, LZ / 2), (-1, LY, LZ / 2))
+    with pytest.raises(OperationError, match="falls apart into 2 solids"):
+        apply_operation(solid, AddSubPrism(TOP, slot, LZ + 5, Mode.SUBTRACT))
+
+
+def test_replay_names_the_failing_step():
+    tilted = FaceRef((0, 0, LZ / 2), (0.6, 0.0, 0.8))
+    p = Protocol(Box((LX, LY, LZ)), (Extrude(TOP, 5.0), Extrude(tilted, 5.0)))
+    with pytest.raises(OperationError, match=r"step 2 \(extrude\).*no longer resolves"):
+        replay(p)
+
+
+def test_face_reference_follows_an_edited_earlier_step():
+    """Making the box taller moves its top face; the step on it moves along."""
+    ops = (AddSubPrism(TOP, square(5, LZ / 2), 8.0, Mode.ADD),)
+    tall = replay(Protocol(Box((LX, LY, LZ + 6)), ops))[-1]
+    assert tall.Volume() == pytest.approx(LX * LY * (LZ + 6) + 800.0, rel=REL)
+    assert tall.BoundingBox().zmax == pytest.approx((LZ + 6) / 2 + 8.0)
+
+
+def test_replay_is_deterministic(examples_dir):
+    from Sketch2CADWorkbench.brep.protocol import load
+    p = load(examples_dir / "camera.json")
+    a, b = replay(p), replay(p)
+    assert [s.Volume() for s in a] == [s.Volume() for s in b]
+    assert [len(s.Faces()) for s in a] == [len(s.Faces()) for s in b]

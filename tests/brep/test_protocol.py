@@ -1,0 +1,150 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Protocol files round-trip, list readably, and reject every malformed field by name."""
+import copy
+import json
+
+import pytest
+
+from Sketch2CADWorkbench.brep.operators import build
+from Sketch2CADWorkbench.brep.protocol import (OperatorType, ProtocolError, load, loads,
+                                               protocol_to_dict)
+
+
+@pytest.fixture
+def camera_dict(examples_dir):
+    return json.loads((examples_dir / "camera.json").read_text())
+
+
+def test_every_example_round_trips_through_json(examples_dir):
+    for f in sorted(examples_dir.glob("*.json")):
+        p = load(f)
+        assert loads(p.to_json()) == p, f.name
+
+
+def test_round_tripped_protocol_builds_the_same_solid(examples_dir):
+    p = load(examples_dir / "mixer.json")
+    assert build(loads(p.to_json())).Volume() == build(p).Volume()
+
+
+def test_save_writes_a_file_that_loads_back(tmp_path, examples_dir):
+    p = load(examples_dir / "nut.json")
+    p.save(tmp_path / "nut.json")
+    assert load(tmp_path / "nut.json") == p
+
+
+def test_listing_has_one_line_per_step_with_the_paper_names(examples_dir):
+    p = load(examples_dir / "camera.json")
+    lines = p.listing().splitlines()
+    assert len(lines) == len(p.operations) + 1
+    assert lines[0].startswith("0  Box")
+    assert any("AddSweepShape" in l for l in lines)
+    assert any("SubtractSweepShape" in l for l in lines)
+    assert any("AddPolyhedron" in l for l in lines)
+    assert any("Bevel" in l and "c'=" in l for l in lines)
+
+
+def _set(d, path, value):
+    """Set a nested key given a path like ['operations', 0, 'd']; `...` deletes it."""
+    for k in path[:-1]:
+        d = d[k]
+    if value is ...:
+        del d[path[-1]]
+    else:
+        d[path[-1]] = value
+
+
+BAD = [
+    (["format"], "step-file", r"format: expected 'sketch2cad-protocol'"),
+    (["version"], 7, r"version: unsupported version"),
+    (["units"], "inch", r"units: expected 'mm'"),
+    (["base", "size"], [10, 20], r"base.size: expected a list of 3 numbers"),
+    (["base", "size", 1], -4, r"base.size\[1\]: expected a positive number, got -4"),
+    (["base", "type"], "sphere", r"base.type: expected 'box'"),
+    (["operations"], {}, r"operations: expected a list"),
+    (["operations", 0, "type"], "loft", r"operations\[0\].type: expected one of"),
+    (["operations", 0, "face"], ..., r"operations\[0\]: missing key 'face'"),
+    (["operations", 0, "colour"], "red", r"operations\[0\].colour: unknown key"),
+    (["operations", 0, "face", "normal"], [0, 0, 0], r"operations\[0\].face.normal: expected a non-zero"),
+    (["operations", 0, "face", "normal"], [0, 1, 1], r"face.normal: expected a unit normal"),
+    (["operations", 0, "face", "point", 2], "x", r"operations\[0\].face.point\[2\]: expected a finite number, got \"x\""),
+    (["operations", 0, "r0"], 0, r"operations\[0\].r0: expected a positive number, got 0"),
+    (["operations", 0, "mode"], "xor", r"operations\[0\].mode: expected one of"),
+    (["operations", 0, "profile"], [[1, 2]], r"operations\[0\].profile: expected a list of 2 points"),
+    (["operations", 2, "polygon"], [[0, 0, 0], [1, 0, 0]], r"operations\[2\].polygon: expected a list of 3 to 6 points"),
+    (["operations", 2, "polygon", 0], [0, 0], r"operations\[2\].polygon\[0\]: expected a list of 3 numbers"),
+    (["operations", 2, "d"], -6, r"operations\[2\].d: expected a positive number"),
+    (["operations", 2, "d"], True, r"operations\[2\].d: expected a finite number, got true"),
+    (["operations", 4, "profile"], [[0, 0, 0]] * 3, r"operations\[4\].profile: expected a list of 4 points"),
+    (["operations", 4, "corner"], None, r"operations\[4\].corner: expected a list of 3 numbers, got null"),
+]
+
+
+@pytest.mark.parametrize("path,value,message", BAD, ids=[" ".join(map(str, b[0])) for b in BAD])
+def test_malformed_field_is_rejected_with_its_path_and_value(camera_dict, path, value, message):
+    bad = copy.deepcopy(camera_dict)
+    _set(bad, path, value)
+    with pytest.raises(ProtocolError, match=message):
+        loads(json.dumps(bad), "camera.json")
+
+
+def test_non_finite_number_is_rejected(camera_dict):
+    text = json.dumps(camera_dict).replace('"r0": 12.0', '"r0": NaN', 1)
+    with pytest.raises(ProtocolError, match=r"operations\[0\].r0: expected a finite number"):
+        loads(text)
+
+
+def test_extrude_by_zero_is_rejected(camera_dict):
+    bad = copy.deepcopy(camera_dict)
+    bad["operations"][0] = {"type": "extrude", "face": bad["operations"][0]["face"], "d": 0}
+    with pytest.raises(ProtocolError, match=r"operations\[0\].d: expected a non-zero number"):
+        loads(json.dumps(bad))
+
+
+@pytest.mark.parametrize("text,message", [
+    ("", "not valid JSON"), ("{", "not valid JSON"), ("[]", "protocol: expected an object"),
+    ('{"format": "sketch2cad-protocol"}', "missing key"),
+])
+def test_broken_file_names_the_file(tmp_path, text, message):
+    f = tmp_path / "broken.json"
+    f.write_text(text)
+    with pytest.raises(ProtocolError, match=f"broken.json: .*{message}"):
+        load(f)
+
+
+def test_missing_and_binary_files_are_protocol_errors(tmp_path):
+    with pytest.raises(ProtocolError, match="cannot read"):
+        load(tmp_path / "absent.json")
+    (tmp_path / "bin.json").write_bytes(b"\xff\xfe\x00\x81")
+    with pytest.raises(ProtocolError, match="bin.json"):
+        load(tmp_path / "bin.json")
+
+
+def test_save_failure_keeps_the_previous_file(tmp_path, examples_dir):
+    f = tmp_path / "p.json"
+    f.write_text("previous")
+    p = load(examples_dir / "nut.json")
+    (tmp_path / "p.json.tmp").mkdir()  # the temporary file cannot be written
+    with pytest.raises(OSError):
+        p.save(f)
+    assert f.read_text() == "previous"
+
+
+def test_examples_cover_all_operators_and_both_options(examples_dir):
+    files = sorted(examples_dir.glob("*.json"))
+    assert len(files) >= 6
+    types, modes = set(), set()
+    for f in files:
+        p = load(f)
+        assert len(p.operations) >= 5, f.name
+        for op in p.operations:
+            types.add(op.type)
+            if hasattr(op, "mode"):
+                modes.add(op.mode.value)
+    assert types == set(OperatorType)
+    assert {"add", "subtract"} <= modes
+
+
+def test_dict_form_is_the_documented_schema(examples_dir):
+    d = protocol_to_dict(load(examples_dir / "bolt.json"))
+    assert d["format"] == "sketch2cad-protocol" and d["version"] == 1 and d["units"] == "mm"
+    assert set(d) == {"format", "version", "units", "base", "operations"}
