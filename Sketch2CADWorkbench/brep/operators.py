@@ -106,6 +106,7 @@ def bevel_tool(solid: cq.Solid, op: Bevel) -> cq.Solid:
         raise OperationError("bevel: the crease c -> c' must run into the solid along -n_f")
     if np.linalg.norm(ctrl[0] - c) < 1e-6 * scale or np.linalg.norm(ctrl[3] - c) < 1e-6 * scale:
         raise OperationError("bevel: profile l must start and end away from corner c")
+    _check_bevel_region(c, ctrl, rf.normal, scale)
     try:
         wire = cq.Wire.assembleEdges([
             cq.Edge.makeLine(_vec(c), _vec(ctrl[0])),
@@ -119,6 +120,28 @@ def bevel_tool(solid: cq.Solid, op: Bevel) -> cq.Solid:
         raise OperationError("bevel: profile l and corner c bound no area (l self-intersects "
                              "or is collinear with c)")
     return tool
+
+
+def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: float) -> None:
+    """Reject a profile l that leaves the wedge between the sides c -> l(0) and c -> l(1):
+    the removed region would then cross itself (and OCCT returns nothing)."""
+    u = ctrl[0] - c
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+
+    def flat(p):
+        return np.stack([(p - c) @ u, (p - c) @ v], axis=-1)
+
+    a, b = flat(ctrl[0]), flat(ctrl[3])
+    q = flat(_bezier(ctrl, np.linspace(0, 1, 129)))[1:-1]
+    s = np.sign(a[0] * b[1] - a[1] * b[0])
+    if s == 0:
+        raise OperationError("bevel: the ends of profile l are in line with corner c")
+    in_a = s * (a[0] * q[:, 1] - a[1] * q[:, 0])  # >= 0 on c's side of line c-a
+    in_b = s * (q[:, 0] * b[1] - q[:, 1] * b[0])
+    if min(in_a.min(), in_b.min()) < -1e-6 * scale * scale:
+        raise OperationError("bevel: profile l leaves the corner's region (it crosses the "
+                             "face edges at c); keep it between the two edges")
 
 
 def bevel(solid: cq.Solid, op: Bevel) -> cq.Solid:

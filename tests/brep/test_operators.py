@@ -180,3 +180,11 @@ def test_replay_is_deterministic(examples_dir):
     a, b = replay(p), replay(p)
     assert [s.Volume() for s in a] == [s.Volume() for s in b]
     assert [len(s.Faces()) for s in a] == [len(s.Faces()) for s in b]
+
+
+def test_bevel_profile_crossing_an_edge_is_refused_not_emptied(box):
+    # l bulges past the left edge (x < -20) before coming back to it: the removed region
+    # would cross itself.
+    bulging = ((-14.0, -15.0, 10.0), (-17.3, -15.0, 10.1), (-20.4, -15.0, 7.3), (-20.0, -15.0, 4.0))
+    with pytest.raises(OperationError, match="leaves the corner's region"):
+        apply_operation(box, Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), bulging))

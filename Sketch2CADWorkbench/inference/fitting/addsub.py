@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Add/subtract regression: N-gon, option, base polygon and length d (paper, Sec. 4.2)."""
+from __future__ import annotations
+
+import cadquery as cq
+import numpy as np
+
+from ...brep.faces import face_ref_of, model_scale
+from ...brep.protocol import AddSubPrism, Mode
+from ...render.camera import OrthoCamera
+from .common import (DistanceField, FaceFrame, FitError, line_search, resample, search_range,
+                     stroke_pixels)
+from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
+from .primitive import choose_option, face_outline
+from .regularize import regularize_polygon
+
+MAX_MISMATCH_PX = 12.0
+
+
+def _outline_samples(poly: np.ndarray) -> np.ndarray:
+    closed = np.concatenate([poly, poly[:1]])
+    return np.concatenate([resample(closed, 2.0), poly.mean(axis=0)[None]])
+
+
+def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
+              labels: list[int], regularize: bool = True,
+              option: Mode | None = None) -> AddSubPrism:
+    """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2).
+
+    N is the number of profile strokes; N-gons are fitted to the start and end strokes
+    from the profile strokes' end points; the option follows from which polygon lies on
+    f; the base polygon is back-projected onto f and d found by line search along the
+    prism's direction against the other outline.
+
+    Args:
+        solid, face, camera: the context solid, base face f and context camera.
+        strokes, labels: the strokes (context pixels) and their classes by counting.
+        regularize: snap and rectify the base polygon (paper's modeling aid).
+        option: force the Boolean (the user's choice); None decides from the strokes.
+    Raises:
+        FitError: not 3 to 6 profile strokes, a missing outline, neither outline on f,
+            a self-intersecting polygon, or no length matching the strokes.
+    Returns:
+        The AddSubPrism operation.
+    """
+    groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
+    n = len(groups[1])
+    if not 3 <= n <= 6:
+        raise FitError(f"a prism needs 3 to 6 profile strokes (one per side edge); "
+                       f"{n} were recognised")
+    starts, ends = profile_ends(groups[1], groups[0], groups[2])
+    poly_s = fit_polygon(starts, groups[0])
+    poly_e = fit_polygon(ends, groups[2])
+    frame = FaceFrame.of(face)
+    scale = model_scale(solid)
+    mode = choose_option(face, frame, camera, _outline_samples(poly_s),
+                         _outline_samples(poly_e), 1e-6 * scale, option)
+    base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
+    if not is_simple(order_around_centre(base)):
+        raise FitError("the base outline crosses itself")
+    base3d = camera.back_project_to_plane(base, frame.origin, frame.normal)
+    direction = frame.normal * mode.sign
+    closed = np.concatenate([base3d, base3d[:1]])
+    edge_pts = np.concatenate([np.linspace(closed[i], closed[i + 1], 24)
+                               for i in range(len(base3d))])
+    field = DistanceField(stroke_pixels(other, (camera.height, camera.width)))
+    cands = search_range(scale, 0.0075, 1.5)
+    d, err = line_search(edge_pts, direction, camera, field, cands)
+    if err > MAX_MISMATCH_PX:
+        raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
+    if regularize:  # after the line search, which must see the polygon as drawn
+        base3d = frame.to_3d(regularize_polygon(frame.to_2d(base3d), face_outline(face, frame)))
+    return AddSubPrism(face_ref_of(face), tuple(tuple(map(float, p)) for p in base3d),
+                       float(d), mode)

@@ -1,0 +1,103 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Bevel regression: profile l, corner c and opposite corner c' (paper, "Bevel regression")."""
+from __future__ import annotations
+
+import cadquery as cq
+import numpy as np
+
+from ...brep.faces import face_ref_of, model_scale
+from ...brep.protocol import Bevel
+from ...render.camera import OrthoCamera
+from .common import FaceFrame, FitError, fit_bezier, resample
+
+# How far (relative to the model diagonal) a profile end may lie from an edge of f.
+EDGE_TOL = 0.08
+
+
+def _line_edges(face: cq.Face) -> list[tuple[np.ndarray, np.ndarray]]:
+    return [(np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple()))
+            for e in face.Edges() if e.geomType() == "LINE"]
+
+
+def _nearest_edge(p: np.ndarray, edges) -> tuple[int, np.ndarray, float]:
+    """Index of the straight edge nearest to p, the closest point on it, the distance."""
+    best = (-1, p, np.inf)
+    for i, (a, b) in enumerate(edges):
+        ab = b - a
+        t = float(np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0))
+        q = a + t * ab
+        dist = float(np.linalg.norm(p - q))
+        if dist < best[2]:
+            best = (i, q, dist)
+    return best
+
+
+def _crease_end(solid: cq.Shape, corner: np.ndarray, normal: np.ndarray, tol: float) -> np.ndarray:
+    """c': the far end of the solid's straight edge leaving c along -n_f."""
+    for e in solid.Edges():
+        if e.geomType() != "LINE":
+            continue
+        a, b = np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())
+        for p, q in ((a, b), (b, a)):
+            if np.linalg.norm(p - corner) < tol:
+                d = q - p
+                if float(d @ normal) / np.linalg.norm(d) < -0.999:
+                    return q
+    raise FitError("bevel: the corner has no edge running into the solid along the face "
+                   "normal, so there is no crease to round")
+
+
+def _inside_wedge(ctrl: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Move inner control points onto the corner's side of both edges (2D, face frame).
+
+    A noisy stroke can make l bulge past an edge of f; with all control points inside
+    the wedge at c, the whole curve is (convex hull property) and the bevel is valid.
+    """
+    out = ctrl.copy()
+    a, b = ctrl[0] - c, ctrl[3] - c
+    s = np.sign(a[0] * b[1] - a[1] * b[0])
+    for i in (1, 2):
+        for edge, sign in ((a, s), (b, -s)):
+            q = out[i] - c
+            if sign * (edge[0] * q[1] - edge[1] * q[0]) < 0:  # beyond this edge's line
+                out[i] = c + edge * (q @ edge) / (edge @ edge)
+    return out
+
+
+def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
+              profile_stroke: np.ndarray) -> Bevel:
+    """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane.
+
+    Args:
+        solid: the context solid.
+        face: the base face f.
+        camera: the context camera; the stroke is in its pixels.
+        profile_stroke: the stroke s* with the most l votes (C > 0.5), (K, 2).
+    Raises:
+        FitError: the stroke's ends do not land on two edges of f that meet at a
+            corner, or that corner has no crease along -n_f.
+    Returns:
+        The Bevel on f with corner c where l's two edges meet.
+    """
+    frame = FaceFrame.of(face)
+    scale = model_scale(solid)
+    try:
+        pts = camera.back_project_to_plane(resample(profile_stroke), frame.origin, frame.normal)
+    except ValueError as e:
+        raise FitError(f"bevel: {e}") from None
+    edges = _line_edges(face)
+    ia, qa, da = _nearest_edge(pts[0], edges)
+    ib, qb, db = _nearest_edge(pts[-1], edges)
+    if max(da, db) > EDGE_TOL * scale:
+        raise FitError("bevel: the profile stroke must run from one edge of the face to another")
+    if ia == ib:
+        raise FitError("bevel: both ends of the profile lie on the same edge of the face")
+    shared = [p for p in edges[ia] for q in edges[ib] if np.linalg.norm(p - q) < 1e-6 * scale]
+    if not shared:
+        raise FitError("bevel: the profile's two edges do not meet at a corner of the face")
+    corner = shared[0]
+    opposite = _crease_end(solid, corner, frame.normal, 1e-6 * scale)
+    ctrl2 = fit_bezier(frame.to_2d(pts), frame.to_2d(qa)[0], frame.to_2d(qb)[0])
+    ctrl = frame.to_3d(_inside_wedge(ctrl2, frame.to_2d(corner)[0]))
+    return Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),
+                 tuple(tuple(map(float, p)) for p in ctrl))

@@ -1,0 +1,195 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Shared pieces of parameter fitting: stroke sampling and counting, line search, Beziers.
+
+All 2D quantities are in the context camera's pixels (render/camera.py convention);
+3D quantities are world millimetres.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import numpy as np
+from scipy import ndimage
+
+from ...render.camera import OrthoCamera
+
+
+class FitError(ValueError):
+    """The strokes do not describe an operation on this model; the message says why."""
+
+
+@dataclass(frozen=True)
+class FaceFrame:
+    """A planar face's plane: origin (on the plane), outward unit normal n, in-plane u, v."""
+
+    origin: np.ndarray
+    normal: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+
+    @staticmethod
+    def of(face: cq.Face) -> "FaceFrame":
+        n = np.array(face.normalAt().toTuple())
+        u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+        u /= np.linalg.norm(u)
+        return FaceFrame(np.array(face.Center().toTuple()), n, u, np.cross(n, u))
+
+    def to_2d(self, pts: np.ndarray) -> np.ndarray:
+        q = np.atleast_2d(pts) - self.origin
+        return np.stack([q @ self.u, q @ self.v], axis=1)
+
+    def to_3d(self, q: np.ndarray) -> np.ndarray:
+        q = np.atleast_2d(q)
+        return self.origin + q[:, :1] * self.u + q[:, 1:2] * self.v
+
+
+def resample(polyline: np.ndarray, step: float = 1.0) -> np.ndarray:
+    """Points every `step` pixels along a polyline (its ends included), (K, 2)."""
+    p = np.asarray(polyline, float)
+    if len(p) < 2:
+        return p.copy()
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    if s[-1] == 0:
+        return p[:1].copy()
+    t = np.linspace(0.0, s[-1], max(int(np.ceil(s[-1] / step)) + 1, 2))
+    return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], axis=1)
+
+
+def sample_map(img: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Values of an (H, W) map at pixel positions (K, 2), nearest pixel, clamped to the image."""
+    h, w = img.shape
+    i = np.clip(np.floor(pts[:, 0]).astype(int), 0, w - 1)
+    j = np.clip(np.floor(pts[:, 1]).astype(int), 0, h - 1)
+    return img[j, i]
+
+
+def classify_strokes(strokes: list[np.ndarray], curve: np.ndarray,
+                     thresholds: tuple[float, ...]) -> list[int]:
+    """Each stroke's class by counting (paper, "Add/subtract regression").
+
+    A sample point of a stroke votes for class k when the curve map C there falls in
+    the k-th interval cut by `thresholds` ((0.5,) for two classes, (0.5, 1.5) for
+    three); the stroke takes the class with the most votes.
+    """
+    labels = []
+    for s in strokes:
+        vals = sample_map(curve, resample(s))
+        cls = np.searchsorted(np.asarray(thresholds), vals, side="left")
+        labels.append(int(np.bincount(cls, minlength=len(thresholds) + 1).argmax()))
+    return labels
+
+
+def stroke_pixels(strokes: list[np.ndarray], shape: tuple[int, int]) -> np.ndarray:
+    """A boolean (H, W) map of the pixels the strokes pass through."""
+    h, w = shape
+    m = np.zeros(shape, bool)
+    for s in strokes:
+        q = resample(s, 0.5)
+        i, j = np.floor(q[:, 0]).astype(int), np.floor(q[:, 1]).astype(int)
+        ok = (i >= 0) & (i < w) & (j >= 0) & (j < h)
+        m[j[ok], i[ok]] = True
+    return m
+
+
+class DistanceField:
+    """Distance (pixels) from any image position to the nearest target pixel.
+
+    Positions outside the image get the border value plus their distance to the
+    image, so candidates leaving the frame are penalised smoothly.
+    """
+
+    def __init__(self, target: np.ndarray):
+        if not target.any():
+            raise FitError("no stroke pixels to match")
+        self.dt = ndimage.distance_transform_edt(~target).astype(np.float32)
+        self.h, self.w = target.shape
+
+    def __call__(self, pts: np.ndarray) -> np.ndarray:
+        """Distances at positions (..., 2), bilinear inside the image."""
+        x, y = pts[..., 0] - 0.5, pts[..., 1] - 0.5  # pixel centres sit at +0.5
+        xc, yc = np.clip(x, 0, self.w - 1), np.clip(y, 0, self.h - 1)
+        outside = np.hypot(x - xc, y - yc)
+        x0, y0 = np.floor(xc).astype(int), np.floor(yc).astype(int)
+        x1, y1 = np.minimum(x0 + 1, self.w - 1), np.minimum(y0 + 1, self.h - 1)
+        fx, fy = xc - x0, yc - y0
+        dt = self.dt
+        val = ((dt[y0, x0] * (1 - fx) + dt[y0, x1] * fx) * (1 - fy)
+               + (dt[y1, x0] * (1 - fx) + dt[y1, x1] * fx) * fy)
+        return val + outside
+
+
+def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
+                field: DistanceField, candidates: np.ndarray) -> tuple[float, float]:
+    """The offset t minimising the mean distance of projected (points + t * direction).
+
+    Every candidate is scored at once: points (P, 3) are projected once and shifted
+    in the image by t times the projected direction (projection is linear).
+
+    Returns:
+        (best t refined between its neighbours by a parabola, its mean distance in px).
+    """
+    base, _ = camera.project(points)                                 # (P, 2)
+    step2d = camera.project(direction[None] + camera.center)[0][0] - \
+        camera.project(np.asarray(camera.center)[None])[0][0]        # (2,) px per unit t
+    pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
+    scores = field(pos).mean(axis=1)                                 # (K,)
+    k = int(np.argmin(scores))
+    t = float(candidates[k])
+    if 0 < k < len(candidates) - 1:
+        a, b, c = scores[k - 1], scores[k], scores[k + 1]
+        denom = a - 2 * b + c
+        if denom > 1e-12:
+            t += 0.5 * (a - c) / denom * float(candidates[k + 1] - candidates[k])
+    return t, float(scores[k])
+
+
+def search_range(scale: float, lo: float = -1.5, hi: float = 1.5,
+                 step: float = 0.0075) -> np.ndarray:
+    """The paper's line-search candidates for a model of diagonal `scale` (mm)."""
+    n = int(round((hi - lo) / step)) + 1
+    return np.linspace(lo, hi, n) * scale
+
+
+def edge_samples(face: cq.Face, spacing: float) -> np.ndarray:
+    """Points along all edges of a face, about `spacing` mm apart, (P, 3)."""
+    pts = []
+    for e in face.Edges():
+        n = max(int(np.ceil(e.Length() / spacing)), 2)
+        pts += [e.positionAt(t).toTuple() for t in np.linspace(0, 1, n)]
+    return np.array(pts)
+
+
+def bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Points of a cubic Bezier with control points (4, D) at parameters t (K,)."""
+    t = np.asarray(t, float)[:, None]
+    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
+            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
+
+
+def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,
+               iterations: int = 4) -> np.ndarray:
+    """A cubic Bezier from `start` to `end` fitting `points` (K, D) in least squares.
+
+    The inner control points are solved linearly for chord-length parameters, which
+    are then re-estimated by projecting the points onto the curve a few times.
+
+    Returns:
+        (4, D) control points.
+    """
+    p = np.asarray(points, float)
+    d = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    t = d / d[-1] if d[-1] > 0 else np.linspace(0, 1, len(p))
+    ctrl = np.stack([start, start + (end - start) / 3, start + 2 * (end - start) / 3, end])
+    for _ in range(iterations):
+        b1, b2 = 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2
+        rhs = p - np.outer((1 - t) ** 3, start) - np.outer(t ** 3, end)
+        a = np.stack([b1, b2], axis=1)
+        sol, *_ = np.linalg.lstsq(a, rhs, rcond=None)
+        ctrl = np.stack([start, sol[0], sol[1], end])
+        dense_t = np.linspace(0, 1, 201)
+        dense = bezier(ctrl, dense_t)
+        nearest = np.argmin(((p[:, None, :] - dense[None]) ** 2).sum(-1), axis=1)
+        t = np.maximum.accumulate(dense_t[nearest])  # keep the order along the stroke
+    return ctrl

@@ -1,0 +1,70 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""What add/subtract prisms and sweeps share: the base face's outline and the +/- option."""
+from __future__ import annotations
+
+import cadquery as cq
+import numpy as np
+
+from ...brep.protocol import Mode
+from ...render.camera import OrthoCamera
+from .common import FaceFrame, FitError
+from .regularize import FaceOutline
+
+# Fraction of a back-projected outline's samples on f for it to lie on f; below it, an
+# outline that is mostly on f still decides when the other one is less so.
+ON_FACE_FRACTION = 0.9
+MOSTLY_FRACTION = 0.5
+
+
+def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
+    """The base face's corners, straight-edge directions and centre in its 2D frame."""
+    corners = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))
+    dirs, mids = [], []
+    for e in face.Edges():
+        if e.geomType() != "LINE":
+            continue
+        a, b = frame.to_2d(np.array([e.startPoint().toTuple(), e.endPoint().toTuple()]))
+        dirs.append((b - a) / np.linalg.norm(b - a))
+        mids.append((a + b) / 2)
+    outer = frame.to_2d(np.array([v.toTuple() for v in face.outerWire().Vertices()]))
+    span = outer if len(outer) > 1 else corners
+    diameter = float(np.max(np.linalg.norm(span[:, None] - span[None], axis=2))) if len(span) > 1 \
+        else float(np.sqrt(face.Area()))
+    if diameter == 0:  # a face bounded by one closed curve (a disc): use its size
+        bb = face.BoundingBox()
+        diameter = float(bb.DiagonalLength)
+    return FaceOutline(corners, np.array(dirs).reshape(-1, 2), np.array(mids).reshape(-1, 2),
+                       frame.to_2d(np.array(face.Center().toTuple()))[0], diameter)
+
+
+def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
+    """The fraction of the points (on f's plane) that lie inside f."""
+    return float(np.mean([face.distance(cq.Vertex.makeVertex(*p)) <= tol for p in pts3d]))
+
+
+def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
+                  start_2d: np.ndarray, end_2d: np.ndarray, tol: float,
+                  forced: Mode | None) -> Mode:
+    """The +/- option: + when the start outline lies on f, else - when the end one does.
+
+    Start and end are ordered along n_f, so for an addition the start outline is on f
+    and for a subtraction the end outline is. When both could be (the ambiguous case of
+    the paper's Fig. 5b), + is the default; `forced` (the user's choice) wins. An
+    outline "lies on f" when 90% of its back-projected samples do; failing that for
+    both, the one more on f decides if at least half of it is.
+
+    Raises:
+        FitError: neither outline lies on the base face.
+    """
+    if forced is not None:
+        return forced
+    on = [fraction_on_face(face, camera.back_project_to_plane(o, frame.origin, frame.normal), tol)
+          for o in (start_2d, end_2d)]
+    if on[0] >= ON_FACE_FRACTION:
+        return Mode.ADD
+    if on[1] >= ON_FACE_FRACTION:
+        return Mode.SUBTRACT
+    if max(on) >= MOSTLY_FRACTION:
+        return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
+    raise FitError("neither the start nor the end outline lies on the base face, so the "
+                   "sketch matches no addition or subtraction")

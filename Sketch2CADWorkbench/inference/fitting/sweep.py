@@ -1,0 +1,137 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Sweep regression: circles from ellipses, offset, profile plane and Bezier (paper, Sec. 4.2)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import cv2
+import numpy as np
+
+from ...brep.faces import face_ref_of, model_scale
+from ...brep.protocol import Mode, Sweep
+from ...render.camera import OrthoCamera
+from .common import FaceFrame, FitError, fit_bezier, resample
+from .primitive import choose_option, face_outline
+from .regularize import LENGTH_TOL, snap_point
+
+# A profile whose inner control points stay within this fraction of d from the straight
+# line between its ends is "nearly linear" (rectified to a cylinder or cone).
+STRAIGHT_TOL = 0.08
+
+
+@dataclass(frozen=True)
+class Ellipse:
+    """An image ellipse: centre (px), semi-axes a >= b (px), and major-axis angle (rad)."""
+
+    center: np.ndarray
+    a: float
+    b: float
+    angle: float
+
+    def points(self, n: int = 64) -> np.ndarray:
+        t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        ca, sa = np.cos(self.angle), np.sin(self.angle)
+        x, y = self.a * np.cos(t), self.b * np.sin(t)
+        return self.center + np.stack([x * ca - y * sa, x * sa + y * ca], axis=1)
+
+
+def fit_ellipse(strokes: list[np.ndarray]) -> Ellipse:
+    """Least-squares ellipse through the strokes' samples (OpenCV's fitEllipse)."""
+    pts = np.concatenate([resample(s) for s in strokes]).astype(np.float32)
+    if len(pts) < 6:
+        raise FitError("a circle outline is too short to fit an ellipse")
+    (cx, cy), (w, h), ang = cv2.fitEllipse(pts)
+    if not np.isfinite([cx, cy, w, h]).all() or min(w, h) <= 0:
+        raise FitError("a circle outline does not fit an ellipse")
+    a, b, theta = w / 2, h / 2, np.radians(ang)
+    if b > a:
+        a, b, theta = b, a, theta + np.pi / 2
+    return Ellipse(np.array([cx, cy]), float(a), float(b), float(theta))
+
+
+def _offset_along_axis(camera: OrthoCamera, c0: np.ndarray, axis: np.ndarray,
+                       target: np.ndarray) -> float:
+    """t >= 0 minimising |project(c0 + t axis) - target| (the line search's exact optimum)."""
+    p0 = camera.project(c0[None])[0][0]
+    step = camera.project((c0 + axis)[None])[0][0] - p0
+    if step @ step < 1e-6:
+        raise FitError("sweep: the axis points at the viewer, so its length cannot be read; "
+                       "turn the view")
+    return float((target - p0) @ step / (step @ step))
+
+
+def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.ndarray,
+                axis: np.ndarray, frame: FaceFrame) -> np.ndarray | None:
+    """The stroke's points as (r, h) in the plane through the axis and its base point."""
+    pts = resample(stroke)
+    if np.linalg.norm(pts[0] - base.center) > np.linalg.norm(pts[-1] - base.center):
+        pts = pts[::-1]  # run from the base circle to the far one
+    foot = camera.back_project_to_plane(pts[:1], c0, axis)[0]  # lifted onto c0's plane
+    radial = foot - c0
+    radial -= (radial @ axis) * axis
+    if np.linalg.norm(radial) < 1e-9:
+        return None
+    radial /= np.linalg.norm(radial)
+    normal = np.cross(axis, radial)
+    try:
+        q = camera.back_project_to_plane(pts, c0, normal)
+    except ValueError:
+        return None
+    rel = q - c0
+    return np.stack([rel @ radial, rel @ axis], axis=1)
+
+
+def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
+              labels: list[int], regularize: bool = True, option: Mode | None = None) -> Sweep:
+    """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1).
+
+    Args:
+        solid, face, camera: the context solid, base face f and context camera.
+        strokes, labels: the strokes (context pixels) and their classes by counting.
+        regularize: snap c0's centre to f's key points and rectify a nearly straight
+            profile to a cone, or to a cylinder when the radii are within 20%.
+        option: force the Boolean (the user's choice); None decides from the strokes.
+    Raises:
+        FitError: a missing circle outline, neither outline on f, an axis seen end-on,
+            or a far circle on the wrong side.
+    Returns:
+        The Sweep operation.
+    """
+    groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
+    if not groups[0] or not groups[2]:
+        raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
+    e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
+    frame = FaceFrame.of(face)
+    scale = model_scale(solid)
+    mode = choose_option(face, frame, camera, np.concatenate([e_s.points(), e_s.center[None]]),
+                         np.concatenate([e_e.points(), e_e.center[None]]), 1e-6 * scale, option)
+    base, far = (e_s, e_e) if mode is not Mode.SUBTRACT else (e_e, e_s)
+    c0 = camera.back_project_to_plane(base.center[None], frame.origin, frame.normal)[0]
+    axis = frame.normal * mode.sign
+    d = _offset_along_axis(camera, c0, axis, far.center)
+    if d <= 1e-4 * scale:
+        raise FitError("sweep: the far circle does not lie beyond the base circle along "
+                       "the face normal")
+    r0, r1 = base.a * camera.pixel_size, far.a * camera.pixel_size
+    inner = []
+    for s in groups[1]:
+        rh = _profile_rh(camera, s, base, c0, axis, frame)
+        if rh is not None and len(rh) >= 4:
+            ctrl = fit_bezier(rh, np.array([r0, 0.0]), np.array([r1, d]))
+            inner.append(ctrl[1:3])
+    if inner:
+        mid = np.mean(inner, axis=0)
+    else:  # no profile drawn: the straight one
+        mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
+    mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))  # keep c_p off the axis
+    if regularize:
+        snapped = snap_point(frame.to_2d(c0)[0], face_outline(face, frame))
+        c0 = frame.to_3d(snapped[None])[0]
+        chord = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
+        if np.max(np.linalg.norm(mid - chord, axis=1)) <= STRAIGHT_TOL * d:
+            if abs(r0 - r1) <= LENGTH_TOL * (r0 + r1) / 2:
+                r0 = r1 = (r0 + r1) / 2
+            mid = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
+    return Sweep(face_ref_of(face), tuple(map(float, c0)), float(r0), float(r1), float(d),
+                 tuple(tuple(map(float, p)) for p in mid), mode)

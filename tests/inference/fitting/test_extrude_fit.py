@@ -1,0 +1,42 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Extrude fitting recovers d from the moved face's outline."""
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import model_scale
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.extrude import fit_extrude
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+
+from fit_sketches import edge_strokes, face_towards
+
+
+@pytest.mark.parametrize("normal,d", [((0, 0, 1), 7.3), ((0, 0, 1), -6.1), ((0, -1, 0), 11.0),
+                                      ((-1, 0, 0), -4.4)])
+def test_exact_strokes_give_d_within_a_search_step(box, camera, normal, d):
+    face = face_towards(box, normal)
+    op = fit_extrude(box, face, camera, edge_strokes(camera, face, d * np.array(normal, float)))
+    assert op.d == pytest.approx(d, abs=0.0075 * model_scale(box))
+    assert op.face.normal == pytest.approx(normal)
+
+
+def test_noisy_strokes_give_d_within_two_pixels(box, camera):
+    rng = np.random.default_rng(3)
+    face = face_towards(box, (0, 0, 1))
+    strokes = [s + rng.normal(0, 1.0, s.shape) for s in edge_strokes(camera, face, (0, 0, 9.0))]
+    op = fit_extrude(box, face, camera, strokes)
+    assert op.d == pytest.approx(9.0, abs=2 * camera.pixel_size)
+
+
+def test_head_on_view_is_refused(box):
+    face = face_towards(box, (0, 0, 1))
+    top_down = OrthoCamera((0, 0, 0), (0, 0, -1), (0, 1, 0), 30.0)
+    with pytest.raises(FitError, match="head-on"):
+        fit_extrude(box, face, top_down, edge_strokes(top_down, face, (0, 0, 5.0)))
+
+
+def test_strokes_far_from_any_offset_are_refused(box, camera):
+    face = face_towards(box, (0, 0, 1))
+    far = [np.array([[2.0, 2.0], [6.0, 3.0]])]  # a scribble in the image corner
+    with pytest.raises(FitError, match="no offset of the face matches"):
+        fit_extrude(box, face, camera, far)
