@@ -1,0 +1,205 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Sketch session files: a base box and the steps a designer sketched, with their views.
+
+JSON schema, version 1::
+
+    {"format": "sketch2cad-session", "version": 1, "units": "mm",
+     "base": {"type": "box", "size": [lx, ly, lz]},
+     "steps": [
+       {"camera": {"center": P, "direction": P, "up": P, "scale": float,
+                   "width": int, "height": int},
+        "strokes": [[[x, y], [x, y], ...], ...],       # pixels, x right, y down
+        "choices": {"option": null | MODE,              # optional; force the Boolean
+                    "symmetry": null | "x" | "y" | "z", # mirror through that mid-plane
+                    "regularize": true}}]}              # snapping and rectification
+
+Each step's strokes are in its camera's pixels (render/camera.py's convention); the
+camera is the orthographic view the designer sketched in.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..brep.protocol import Box, Mode, ProtocolError
+from ..render.camera import OrthoCamera
+
+FORMAT = "sketch2cad-session"
+VERSION = 1
+SYMMETRY_PLANES = ("x", "y", "z")
+
+
+class SessionError(ProtocolError):
+    """A session file or value is malformed; the message names the field and value."""
+
+
+@dataclass(frozen=True)
+class StepChoices:
+    """The designer's per-step choices: a forced option, a symmetry plane, regularization."""
+
+    option: Mode | None = None
+    symmetry: str | None = None
+    regularize: bool = True
+
+
+@dataclass
+class SketchStep:
+    """One sketched step: the view and the strokes (each a (K, 2) pixel polyline)."""
+
+    camera: OrthoCamera
+    strokes: list[np.ndarray]
+    choices: StepChoices = field(default_factory=StepChoices)
+
+
+@dataclass
+class Session:
+    """A base box and the sketched steps, in order."""
+
+    base: Box
+    steps: list[SketchStep]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"format": FORMAT, "version": VERSION, "units": "mm",
+                "base": {"type": "box", "size": list(self.base.size)},
+                "steps": [_step_dict(s) for s in self.steps]}
+
+    def save(self, path: str | Path) -> None:
+        """Write the session as JSON; the file is replaced only once fully written."""
+        path = Path(path)
+        tmp = path.with_suffix(path.suffix + ".tmp")
+        tmp.write_text(json.dumps(self.to_dict()) + "\n")
+        tmp.replace(path)
+
+
+def camera_dict(c: OrthoCamera) -> dict[str, Any]:
+    return {"center": list(map(float, c.center)), "direction": list(map(float, c.direction)),
+            "up": list(map(float, c.up)), "scale": float(c.scale),
+            "width": int(c.width), "height": int(c.height)}
+
+
+def _step_dict(s: SketchStep) -> dict[str, Any]:
+    return {"camera": camera_dict(s.camera),
+            "strokes": [[[round(float(x), 3), round(float(y), 3)] for x, y in st]
+                        for st in s.strokes],
+            "choices": {"option": s.choices.option.value if s.choices.option else None,
+                        "symmetry": s.choices.symmetry, "regularize": s.choices.regularize}}
+
+
+# ----------------------------------------------------------------- loading
+
+def _err(path: str, msg: str, value: Any) -> SessionError:
+    shown = json.dumps(value, default=repr)
+    return SessionError(f"{path}: {msg}, got {shown[:77] + '...' if len(shown) > 80 else shown}")
+
+
+def _num(v: Any, path: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise _err(path, "expected a finite number", v)
+    return float(v)
+
+
+def _vec(v: Any, path: str, n: int) -> tuple[float, ...]:
+    if not isinstance(v, list) or len(v) != n:
+        raise _err(path, f"expected a list of {n} numbers", v)
+    return tuple(_num(x, f"{path}[{i}]") for i, x in enumerate(v))
+
+
+def _keys(v: Any, path: str, required: set[str], optional: set[str] = frozenset()) -> dict:
+    if not isinstance(v, dict):
+        raise _err(path, "expected an object", v)
+    for k in sorted(required - v.keys()):
+        raise _err(path, f"missing key '{k}'", v)
+    for k in sorted(v.keys() - required - optional):
+        raise _err(f"{path}.{k}", "unknown key", v[k])
+    return v
+
+
+def camera_from_dict(v: Any, path: str) -> OrthoCamera:
+    o = _keys(v, path, {"center", "direction", "up", "scale", "width", "height"})
+    size = []
+    for k in ("width", "height"):
+        if isinstance(o[k], bool) or not isinstance(o[k], int) or not 16 <= o[k] <= 8192:
+            raise _err(f"{path}.{k}", "expected an integer from 16 to 8192", o[k])
+        size.append(o[k])
+    try:
+        return OrthoCamera(_vec(o["center"], f"{path}.center", 3),
+                           _vec(o["direction"], f"{path}.direction", 3),
+                           _vec(o["up"], f"{path}.up", 3), _num(o["scale"], f"{path}.scale"),
+                           *size)
+    except ValueError as e:
+        if isinstance(e, SessionError):
+            raise
+        raise SessionError(f"{path}: {e}") from None
+
+
+def _choices(v: Any, path: str) -> StepChoices:
+    o = _keys(v, path, set(), {"option", "symmetry", "regularize"})
+    option = o.get("option")
+    if option is not None:
+        try:
+            option = Mode(option)
+        except ValueError:
+            raise _err(f"{path}.option", f"expected null or one of {[m.value for m in Mode]}",
+                       option) from None
+    sym = o.get("symmetry")
+    if sym is not None and sym not in SYMMETRY_PLANES:
+        raise _err(f"{path}.symmetry", f"expected null or one of {list(SYMMETRY_PLANES)}", sym)
+    reg = o.get("regularize", True)
+    if not isinstance(reg, bool):
+        raise _err(f"{path}.regularize", "expected true or false", reg)
+    return StepChoices(option, sym, reg)
+
+
+def _step(v: Any, path: str) -> SketchStep:
+    o = _keys(v, path, {"camera", "strokes"}, {"choices"})
+    cam = camera_from_dict(o["camera"], f"{path}.camera")
+    strokes = o["strokes"]
+    if not isinstance(strokes, list) or not strokes:
+        raise _err(f"{path}.strokes", "expected a non-empty list of strokes", strokes)
+    out = []
+    for i, s in enumerate(strokes):
+        if not isinstance(s, list) or len(s) < 2:
+            raise _err(f"{path}.strokes[{i}]", "expected a list of at least 2 points", s)
+        out.append(np.array([_vec(p, f"{path}.strokes[{i}][{j}]", 2) for j, p in enumerate(s)]))
+    return SketchStep(cam, out, _choices(o.get("choices", {}), f"{path}.choices"))
+
+
+def session_from_dict(v: Any) -> Session:
+    """Parse a whole session; nothing is returned unless every field is valid."""
+    o = _keys(v, "session", {"format", "version", "units", "base", "steps"})
+    if o["format"] != FORMAT:
+        raise _err("format", f"expected '{FORMAT}'", o["format"])
+    if o["version"] != VERSION:
+        raise _err("version", f"unsupported version (this build reads {VERSION})", o["version"])
+    if o["units"] != "mm":
+        raise _err("units", "expected 'mm'", o["units"])
+    base = _keys(o["base"], "base", {"type", "size"})
+    if base["type"] != "box":
+        raise _err("base.type", "expected 'box'", base["type"])
+    size = _vec(base["size"], "base.size", 3)
+    for i, s in enumerate(size):
+        if s <= 0:
+            raise _err(f"base.size[{i}]", "expected a positive number", s)
+    if not isinstance(o["steps"], list):
+        raise _err("steps", "expected a list", o["steps"])
+    return Session(Box(size), [_step(s, f"steps[{i}]") for i, s in enumerate(o["steps"])])
+
+
+def load_session(path: str | Path) -> Session:
+    """Read and validate a session file; errors name the file, the field and the value."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError) as e:
+        raise SessionError(f"{path}: cannot read session file: {e}") from None
+    except json.JSONDecodeError as e:
+        raise SessionError(f"{path}: not valid JSON: {e}") from None
+    try:
+        return session_from_dict(data)
+    except SessionError as e:
+        raise SessionError(f"{path}: {e}") from None
