@@ -12,6 +12,7 @@ import sys
 
 COMMAND_MODULES = [
     "Sketch2CADWorkbench.brep.commands",
+    "Sketch2CADWorkbench.datagen.command",
 ]
 
 

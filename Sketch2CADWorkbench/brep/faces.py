@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
+from OCP.Bnd import Bnd_Box
+from OCP.BRepBndLib import BRepBndLib
 
 from .protocol import FaceRef
 
@@ -37,8 +39,15 @@ class ResolvedFace:
 
 
 def model_scale(solid: cq.Shape) -> float:
-    """The bounding-box diagonal of a shape in mm; sets the geometric tolerances."""
-    return float(solid.BoundingBox().DiagonalLength)
+    """The bounding-box diagonal of a shape in mm; sets the geometric tolerances.
+
+    OCCT's fast (not optimal) box: a scale for tolerances need not be tight, and the
+    optimal box costs more than a Boolean.
+    """
+    box = Bnd_Box()
+    BRepBndLib.Add_s(solid.wrapped, box, True)
+    x0, y0, z0, x1, y1, z1 = box.Get()
+    return float(np.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + (z1 - z0) ** 2))
 
 
 def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:

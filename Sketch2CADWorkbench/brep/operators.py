@@ -238,6 +238,12 @@ def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
     if radii.min() <= 0:
         raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
     center, axis = sweep_axis(solid, op)
+    chord = ctrl[0] + (ctrl[3] - ctrl[0]) * np.array([[1 / 3], [2 / 3]])
+    if np.allclose(ctrl[1:3], chord, rtol=0, atol=1e-9 * max(op.d, op.r0, op.r1)):
+        # A straight c_p: an analytic cylinder or cone, exact in STEP and fast in Booleans.
+        if abs(op.r0 - op.r1) <= 1e-12 * max(op.r0, op.r1):
+            return cq.Solid.makeCylinder(op.r0, op.d, _vec(center), _vec(axis))
+        return cq.Solid.makeCone(op.r0, op.r1, op.d, _vec(center), _vec(axis))
     # Any radial direction works for a full revolution; pick one perpendicular to the axis.
     radial = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
     radial /= np.linalg.norm(radial)

@@ -76,14 +76,8 @@ class Session:
         tmp.replace(path)
 
 
-def camera_dict(c: OrthoCamera) -> dict[str, Any]:
-    return {"center": list(map(float, c.center)), "direction": list(map(float, c.direction)),
-            "up": list(map(float, c.up)), "scale": float(c.scale),
-            "width": int(c.width), "height": int(c.height)}
-
-
 def _step_dict(s: SketchStep) -> dict[str, Any]:
-    return {"camera": camera_dict(s.camera),
+    return {"camera": s.camera.to_dict(),
             "strokes": [[[round(float(x), 3), round(float(y), 3)] for x, y in st]
                         for st in s.strokes],
             "choices": {"option": s.choices.option.value if s.choices.option else None,
@@ -121,16 +115,14 @@ def _keys(v: Any, path: str, required: set[str], optional: set[str] = frozenset(
 
 def camera_from_dict(v: Any, path: str) -> OrthoCamera:
     o = _keys(v, path, {"center", "direction", "up", "scale", "width", "height"})
-    size = []
     for k in ("width", "height"):
         if isinstance(o[k], bool) or not isinstance(o[k], int) or not 16 <= o[k] <= 8192:
             raise _err(f"{path}.{k}", "expected an integer from 16 to 8192", o[k])
-        size.append(o[k])
     try:
-        return OrthoCamera(_vec(o["center"], f"{path}.center", 3),
-                           _vec(o["direction"], f"{path}.direction", 3),
-                           _vec(o["up"], f"{path}.up", 3), _num(o["scale"], f"{path}.scale"),
-                           *size)
+        for k, n in (("center", 3), ("direction", 3), ("up", 3)):
+            _vec(o[k], f"{path}.{k}", n)
+        _num(o["scale"], f"{path}.scale")
+        return OrthoCamera.from_dict(o)
     except ValueError as e:
         if isinstance(e, SessionError):
             raise

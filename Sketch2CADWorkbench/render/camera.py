@@ -104,6 +104,19 @@ class OrthoCamera:
         t = ((np.asarray(plane_point, float) - o) @ n) / denom
         return o + t[:, None] * f
 
+    def to_dict(self) -> dict:
+        """Plain JSON-ready values (the inverse of `from_dict`)."""
+        return {"center": [float(c) for c in self.center],
+                "direction": [float(c) for c in self.direction],
+                "up": [float(c) for c in self.up], "scale": float(self.scale),
+                "width": int(self.width), "height": int(self.height)}
+
+    @staticmethod
+    def from_dict(d: dict) -> "OrthoCamera":
+        """A camera from `to_dict` values (the constructor's checks apply)."""
+        return OrthoCamera(tuple(d["center"]), tuple(d["direction"]), tuple(d["up"]),
+                           d["scale"], d["width"], d["height"])
+
     def with_size(self, width: int, height: int) -> "OrthoCamera":
         """The same view at another image size (the visible height is kept)."""
         return OrthoCamera(self.center, self.direction, self.up, self.scale, width, height)

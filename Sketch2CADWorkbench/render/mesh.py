@@ -10,6 +10,8 @@ from OCP.BRep import BRep_Tool
 from OCP.TopAbs import TopAbs_REVERSED
 from OCP.TopLoc import TopLoc_Location
 
+from ..brep.faces import model_scale
+
 
 @dataclass(frozen=True)
 class FaceMesh:
@@ -42,7 +44,7 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
         angular_tolerance: angular deviation in radians.
     """
     if tolerance is None:
-        tolerance = 2e-3 * solid.BoundingBox().DiagonalLength
+        tolerance = 2e-3 * model_scale(solid)
     solid.mesh(tolerance, angular_tolerance)
     verts, tris, owner = [], [], []
     offset = 0
