@@ -13,6 +13,8 @@ import sys
 COMMAND_MODULES = [
     "Sketch2CADWorkbench.brep.commands",
     "Sketch2CADWorkbench.datagen.command",
+    "Sketch2CADWorkbench.inference.train",
+    "Sketch2CADWorkbench.inference.evaluate",
 ]
 
 

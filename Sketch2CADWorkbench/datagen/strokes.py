@@ -3,8 +3,9 @@
 
 Each stroke's end points move by Gaussian noise; the displacement is spread smoothly
 along the stroke, a little low-frequency wobble is added, and the result is lightly
-smoothed. Noise levels follow the paper's robustness study: the standard deviation is
-1.4%, 2.8% or 4.1% of the image diagonal for levels 1, 2 and 3.
+smoothed. Noise levels follow the paper's robustness study: an end point moves by 1.4%,
+2.8% or 4.1% of the image diagonal (root mean square of the 2D displacement) for levels
+1, 2 and 3, i.e. a Gaussian of that size divided by sqrt(2) along each axis.
 """
 from __future__ import annotations
 
@@ -56,7 +57,7 @@ def perturb(points: np.ndarray, rng: np.random.Generator, sigma: float,
 
 
 def noise_sigma(level: int, width: int, height: int) -> float:
-    """The endpoint noise (pixels) of a noise level for an image size."""
+    """The per-axis endpoint noise (pixels) of a noise level for an image size."""
     if level not in NOISE_FRACTION:
         raise ValueError(f"noise level must be 1, 2 or 3, got {level}")
-    return NOISE_FRACTION[level] * float(np.hypot(width, height))
+    return NOISE_FRACTION[level] * float(np.hypot(width, height)) / np.sqrt(2.0)

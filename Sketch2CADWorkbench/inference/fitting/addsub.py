@@ -22,6 +22,13 @@ def _outline_samples(poly: np.ndarray) -> np.ndarray:
     return np.concatenate([resample(closed, 2.0), poly.mean(axis=0)[None]])
 
 
+def _simple_fit(corners: np.ndarray, strokes: list[np.ndarray]) -> np.ndarray:
+    """The ICP-refined N-gon, or the profile end points themselves if refining made the
+    polygon cross itself (noisy outlines can pull two corners past each other)."""
+    poly = fit_polygon(corners, strokes)
+    return poly if is_simple(poly) else order_around_centre(corners)
+
+
 def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
               labels: list[int], regularize: bool = True,
               option: Mode | None = None) -> AddSubPrism:
@@ -49,14 +56,14 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         raise FitError(f"a prism needs 3 to 6 profile strokes (one per side edge); "
                        f"{n} were recognised")
     starts, ends = profile_ends(groups[1], groups[0], groups[2])
-    poly_s = fit_polygon(starts, groups[0])
-    poly_e = fit_polygon(ends, groups[2])
+    poly_s = _simple_fit(starts, groups[0])
+    poly_e = _simple_fit(ends, groups[2])
     frame = FaceFrame.of(face)
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, _outline_samples(poly_s),
                          _outline_samples(poly_e), 1e-6 * scale, option)
     base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
-    if not is_simple(order_around_centre(base)):
+    if not is_simple(base):
         raise FitError("the base outline crosses itself")
     base3d = camera.back_project_to_plane(base, frame.origin, frame.normal)
     direction = frame.normal * mode.sign

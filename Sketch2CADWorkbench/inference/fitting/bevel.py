@@ -19,17 +19,40 @@ def _line_edges(face: cq.Face) -> list[tuple[np.ndarray, np.ndarray]]:
             for e in face.Edges() if e.geomType() == "LINE"]
 
 
-def _nearest_edge(p: np.ndarray, edges) -> tuple[int, np.ndarray, float]:
-    """Index of the straight edge nearest to p, the closest point on it, the distance."""
-    best = (-1, p, np.inf)
-    for i, (a, b) in enumerate(edges):
-        ab = b - a
-        t = float(np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0))
-        q = a + t * ab
-        dist = float(np.linalg.norm(p - q))
-        if dist < best[2]:
-            best = (i, q, dist)
-    return best
+def _corner_for(pts: np.ndarray, edges, scale: float
+                ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """The corner c of f whose two edges best hold the stroke's two ends.
+
+    For every vertex shared by two straight edges of f, each stroke end is put on the
+    nearer of the two edges (the other end on the other edge); the corner with the
+    smallest total distance wins. Returns c and the ends snapped onto the edges.
+    """
+    best = None
+    for i, (a0, a1) in enumerate(edges):
+        for j, (b0, b1) in enumerate(edges[i + 1:], i + 1):
+            for p in (a0, a1):
+                for q in (b0, b1):
+                    if np.linalg.norm(p - q) > 1e-6 * scale:
+                        continue
+                    ea, eb = (a0, a1), (b0, b1)
+                    for first, second in ((ea, eb), (eb, ea)):
+                        qa, da = _on_segment(pts[0], *first)
+                        qb, db = _on_segment(pts[-1], *second)
+                        if best is None or da + db < best[0]:
+                            best = (da + db, p, (qa, qb))
+    if best is None:
+        raise FitError("bevel: the face has no corner between two straight edges")
+    if best[0] > 2 * EDGE_TOL * scale:
+        raise FitError("bevel: the profile stroke must run from one edge of the face to another")
+    return best[1], best[2]
+
+
+def _on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, float]:
+    """The point of segment a-b nearest to p (kept off the ends), and the distance."""
+    ab = b - a
+    t = float(np.clip((p - a) @ ab / (ab @ ab), 0.02, 0.98))
+    q = a + t * ab
+    return q, float(np.linalg.norm(p - q))
 
 
 def _crease_end(solid: cq.Shape, corner: np.ndarray, normal: np.ndarray, tol: float) -> np.ndarray:
@@ -85,17 +108,7 @@ def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         pts = camera.back_project_to_plane(resample(profile_stroke), frame.origin, frame.normal)
     except ValueError as e:
         raise FitError(f"bevel: {e}") from None
-    edges = _line_edges(face)
-    ia, qa, da = _nearest_edge(pts[0], edges)
-    ib, qb, db = _nearest_edge(pts[-1], edges)
-    if max(da, db) > EDGE_TOL * scale:
-        raise FitError("bevel: the profile stroke must run from one edge of the face to another")
-    if ia == ib:
-        raise FitError("bevel: both ends of the profile lie on the same edge of the face")
-    shared = [p for p in edges[ia] for q in edges[ib] if np.linalg.norm(p - q) < 1e-6 * scale]
-    if not shared:
-        raise FitError("bevel: the profile's two edges do not meet at a corner of the face")
-    corner = shared[0]
+    corner, (qa, qb) = _corner_for(pts, _line_edges(face), scale)
     opposite = _crease_end(solid, corner, frame.normal, 1e-6 * scale)
     ctrl2 = fit_bezier(frame.to_2d(pts), frame.to_2d(qa)[0], frame.to_2d(qb)[0])
     ctrl = frame.to_3d(_inside_wedge(ctrl2, frame.to_2d(corner)[0]))

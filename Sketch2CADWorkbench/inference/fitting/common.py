@@ -120,12 +120,18 @@ class DistanceField:
         return val + outside
 
 
+SIDE_SAMPLES = np.linspace(0.15, 0.85, 8)  # along a side edge, away from its noisy ends
+
+
 def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
-                field: DistanceField, candidates: np.ndarray) -> tuple[float, float]:
+                field: DistanceField, candidates: np.ndarray,
+                sides: tuple[np.ndarray, DistanceField] | None = None) -> tuple[float, float]:
     """The offset t minimising the mean distance of projected (points + t * direction).
 
     Every candidate is scored at once: points (P, 3) are projected once and shifted
     in the image by t times the projected direction (projection is linear).
+    With `sides` = (corners (V, 3), field), the segments from each corner to the
+    corner moved by t are scored against that field too, and the two means averaged.
 
     Returns:
         (best t refined between its neighbours by a parabola, its mean distance in px).
@@ -135,6 +141,12 @@ def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
         camera.project(np.asarray(camera.center)[None])[0][0]        # (2,) px per unit t
     pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
     scores = field(pos).mean(axis=1)                                 # (K,)
+    if sides is not None:
+        corners, side_field = sides
+        c2d, _ = camera.project(corners)                             # (V, 2)
+        frac = (candidates[:, None] * SIDE_SAMPLES[None, :])         # (K, S)
+        spos = c2d[None, :, None, :] + frac[:, None, :, None] * step2d  # (K, V, S, 2)
+        scores = (scores + side_field(spos).mean(axis=(1, 2))) / 2
     k = int(np.argmin(scores))
     t = float(candidates[k])
     if 0 < k < len(candidates) - 1:

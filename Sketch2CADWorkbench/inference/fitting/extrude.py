@@ -20,8 +20,13 @@ HEAD_ON_COS = 0.995
 
 
 def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-                offset_strokes: list[np.ndarray]) -> Extrude:
+                offset_strokes: list[np.ndarray],
+                profile_strokes: list[np.ndarray] | None = None) -> Extrude:
     """Find d such that the edges of f moved by d * n_f match the offset-curve strokes.
+
+    The paper matches the moved edges to the offset curve only; when side-edge strokes
+    are given, the side edges from f's corners to the moved corners are matched to them
+    too, which halves the effect of endpoint noise on d.
 
     Args:
         solid: the context solid (sets the search range: -1.5..1.5 model diagonals,
@@ -29,6 +34,7 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         face: the base face f (planar).
         camera: the context camera; strokes are in its pixels.
         offset_strokes: the strokes classified as the offset curve (C > 0.5).
+        profile_strokes: the strokes classified as side edges (C <= 0.5), if any.
     Raises:
         FitError: no offset strokes, a head-on view, or no offset matches the strokes.
     Returns:
@@ -45,7 +51,12 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     points = edge_samples(face, spacing=camera.pixel_size)
     cands = search_range(scale)
     cands = cands[np.abs(cands) > 1e-9]  # d = 0 is no operation
-    d, err = line_search(points, frame.normal, camera, field, cands)
+    sides = None
+    if profile_strokes:
+        corners = np.array([v.toTuple() for v in face.Vertices()])
+        sides = (corners, DistanceField(stroke_pixels(profile_strokes,
+                                                       (camera.height, camera.width))))
+    d, err = line_search(points, frame.normal, camera, field, cands, sides)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"extrude: no offset of the face matches the strokes (closest is "
                        f"{err:.1f} px off on average)")

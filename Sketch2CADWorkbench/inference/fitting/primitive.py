@@ -13,7 +13,7 @@ from .regularize import FaceOutline
 # Fraction of a back-projected outline's samples on f for it to lie on f; below it, an
 # outline that is mostly on f still decides when the other one is less so.
 ON_FACE_FRACTION = 0.9
-MOSTLY_FRACTION = 0.5
+MOSTLY_FRACTION = 0.25
 
 
 def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
@@ -51,7 +51,8 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
     and for a subtraction the end outline is. When both could be (the ambiguous case of
     the paper's Fig. 5b), + is the default; `forced` (the user's choice) wins. An
     outline "lies on f" when 90% of its back-projected samples do; failing that for
-    both, the one more on f decides if at least half of it is.
+    both (a primitive overhanging f's edge), the one more on f decides if a quarter of
+    it is.
 
     Raises:
         FitError: neither outline lies on the base face.

@@ -1,0 +1,176 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The interpret pipeline: strokes and camera -> maps -> networks -> fitting -> operation.
+
+    interpret(solid, strokes, view, predictor) -> Interpretation
+
+The strokes are pixel polylines in the designer's view. The context camera frames
+twice the sketch's bounding box (paper, Sec. 4); the context solid is rendered there
+to D, N and face IDs; the predictor classifies the operator and segments the base
+face F and the curves C; fitting turns those into an operation; the operation is
+applied to a copy of the solid. Any failure raises InterpretError with the reason,
+and the caller's solid is untouched.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Protocol as TypingProtocol
+
+import cadquery as cq
+import numpy as np
+
+from ..brep.faces import OperationError
+from ..brep.operators import apply_operation
+from ..brep.protocol import Mode, Operation, OperatorType
+from ..brep.symmetry import mid_plane, reflect
+from ..render.camera import OrthoCamera
+from ..render.frustum import context_camera
+from ..render.maps import ContextMaps, MapRenderer
+from ..render.strokes import rasterize
+from .fitting.addsub import fit_prism
+from .fitting.base_face import select_base_face
+from .fitting.bevel import fit_bevel
+from .fitting.common import FitError, classify_strokes, resample, sample_map
+from .fitting.extrude import fit_extrude
+from .fitting.sweep import fit_sweep
+
+CLASSES = list(OperatorType)
+
+
+class InterpretError(ValueError):
+    """The sketch could not be turned into an operation; the message is for the user."""
+
+
+class Predictor(TypingProtocol):
+    """The networks: operator probabilities, then the operator's F and C maps."""
+
+    def classify(self, inputs: np.ndarray) -> np.ndarray:
+        """(5, H, W) inputs S, D, N -> (4,) probabilities in OperatorType order."""
+
+    def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
+        """(5, H, W) inputs -> F (H, W) base-face probability and C (H, W) curve map."""
+
+
+@dataclass(frozen=True)
+class InterpretOptions:
+    """The designer's choices: regularization, a forced option, a symmetry plane."""
+
+    regularize: bool = True
+    option: Mode | None = None
+    symmetry: str | None = None
+
+
+@dataclass
+class Interpretation:
+    """What a sketch step was read as, and the resulting solid."""
+
+    operations: tuple[Operation, ...]   # the operation, then its mirror image if asked
+    solid: cq.Solid
+    op_type: OperatorType
+    probabilities: dict[str, float]
+    base_face: int
+    stroke_labels: list[int]
+    camera: OrthoCamera                 # the context camera (maps' pixels)
+    timings_ms: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass
+class Context:
+    """The rendered context of a sketch: camera, strokes in its pixels, maps, net inputs."""
+
+    camera: OrthoCamera
+    strokes: list[np.ndarray]
+    maps: ContextMaps
+    inputs: np.ndarray
+
+
+def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
+               renderer: MapRenderer, size: int = 256) -> Context:
+    """Frame, transform and rasterise the sketch and render the context maps."""
+    if not strokes or all(len(s) < 2 for s in strokes):
+        raise InterpretError("there are no strokes to interpret")
+    pts = np.concatenate([np.asarray(s, float) for s in strokes])
+    cam = context_camera(view, pts, size=size)
+    ctx = [cam.project(view.unproject(np.asarray(s, float)))[0] for s in strokes if len(s) >= 2]
+    maps = renderer.render(solid, cam)
+    sketch = rasterize(ctx, cam.width, cam.height)
+    inputs = np.concatenate([sketch[None], maps.depth[None], maps.normal]).astype(np.float32)
+    return Context(cam, ctx, maps, inputs)
+
+
+def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
+                  curve: np.ndarray, ctx: Context, options: InterpretOptions
+                  ) -> tuple[Operation, int, list[int]]:
+    """Stage three: the base face by counting, then the operator's fitting.
+
+    Returns:
+        (operation, base face index, per-stroke labels).
+    Raises:
+        FitError: the strokes do not fit the operator on this model.
+    """
+    face = select_base_face(face_prob, ctx.maps.face_id, solid)
+    index = next(i for i, f in enumerate(solid.Faces()) if f.isSame(face))
+    strokes, cam = ctx.strokes, ctx.camera
+    if op_type is OperatorType.EXTRUDE:
+        labels = classify_strokes(strokes, curve, (0.5,))
+        op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
+                         [s for s, l in zip(strokes, labels) if l == 0])
+    elif op_type is OperatorType.BEVEL:
+        votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
+        best = int(np.argmax(votes))
+        labels = [1 if i == best else 0 for i in range(len(strokes))]
+        op = fit_bevel(solid, face, cam, strokes[best])
+    else:
+        labels = classify_strokes(strokes, curve, (0.5, 1.5))
+        fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
+        op = fit(solid, face, cam, strokes, labels, options.regularize, options.option)
+    return op, index, labels
+
+
+def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None
+                        ) -> tuple[tuple[Operation, ...], cq.Solid]:
+    """Apply the operation and, if asked, its mirror image through a mid-plane."""
+    result = apply_operation(solid, op)
+    if symmetry is None:
+        return (op,), result
+    origin, normal = mid_plane(solid, symmetry)
+    mirrored = reflect(op, origin, normal)
+    return (op, mirrored), apply_operation(result, mirrored)
+
+
+def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
+              predictor: Predictor, renderer: MapRenderer | None = None,
+              options: InterpretOptions = InterpretOptions(),
+              op_type: OperatorType | None = None) -> Interpretation:
+    """Read one sketch step over `solid` as an operation and apply it.
+
+    Args:
+        solid: the current model (not modified).
+        strokes: pixel polylines (K, 2) in `view`'s pixels.
+        view: the orthographic camera the strokes were drawn in.
+        predictor: the networks.
+        renderer: a reusable MapRenderer (one is made if None).
+        options: regularization, forced option, symmetry plane.
+        op_type: force the operator instead of the classifier's choice.
+    Raises:
+        InterpretError: with the reason, when the sketch matches no operation.
+    """
+    t0 = time.perf_counter()
+    ctx = to_context(solid, strokes, view, renderer or MapRenderer())
+    t1 = time.perf_counter()
+    probs = np.asarray(predictor.classify(ctx.inputs), float)
+    kind = op_type or CLASSES[int(np.argmax(probs))]
+    face_prob, curve = predictor.segment(ctx.inputs, kind)
+    t2 = time.perf_counter()
+    try:
+        op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
+        t3 = time.perf_counter()
+        ops, result = apply_with_symmetry(solid, op, options.symmetry)
+    except (FitError, OperationError) as e:
+        raise InterpretError(f"read as {kind.value}, but {e}") from None
+    t4 = time.perf_counter()
+    return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
+                          index, labels, ctx.camera,
+                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * (t2 - t1),
+                           "fitting": 1e3 * (t3 - t2), "brep": 1e3 * (t4 - t3),
+                           "total": 1e3 * (t4 - t0)})
