@@ -29,6 +29,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal, or mix "
                         "(the levels cycle per context; default 1)")
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
+                   help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
     p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
     p.set_defaults(func=run)
 
@@ -38,12 +40,12 @@ def noise_of_block(noise: str, block: int) -> int:
 
 
 def _make_shard(job: tuple) -> int:
-    folder, seed, k, count, noise = job
+    folder, seed, k, count, noise, shard_size = job
     from ..render.maps import MapRenderer  # one offscreen window per worker process
     global _RENDERER
     if "_RENDERER" not in globals():
         _RENDERER = MapRenderer()
-    first = k * SHARD_SIZE
+    first = k * shard_size
     samples = []
     for block in range(first // PER_CONTEXT, (first + count + PER_CONTEXT - 1) // PER_CONTEXT):
         samples += generate_block(seed, block, noise_of_block(noise, block), _RENDERER)
@@ -55,25 +57,30 @@ def run(args: argparse.Namespace) -> int:
     if args.count <= 0:
         print("sketch2cad datagen: error: --count must be positive", file=sys.stderr)
         return 2
+    size = args.shard_size
+    if size <= 0 or size % PER_CONTEXT:
+        print(f"sketch2cad datagen: error: --shard-size must be a positive multiple of "
+              f"{PER_CONTEXT}", file=sys.stderr)
+        return 2
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
-    n_shards = (args.count + SHARD_SIZE - 1) // SHARD_SIZE
+    n_shards = (args.count + size - 1) // size
     manifest = {"format": FORMAT, "version": VERSION, "count": args.count, "seed": args.seed,
-                "noise": args.noise_level, "image_size": IMAGE_SIZE, "shard_size": SHARD_SIZE,
+                "noise": args.noise_level, "image_size": IMAGE_SIZE, "shard_size": size,
                 "per_context": PER_CONTEXT,
                 "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
-        if {k: old.get(k) for k in ("count", "seed", "noise")} != \
-                {k: manifest[k] for k in ("count", "seed", "noise")}:
+        keys = ("count", "seed", "noise", "shard_size")
+        if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
             print(f"sketch2cad datagen: error: {out} holds a different data set "
                   f"(count/seed/noise {old.get('count')}/{old.get('seed')}/{old.get('noise')}); "
                   "use another --out", file=sys.stderr)
             return 2
     mpath.write_text(json.dumps(manifest, indent=1))
-    jobs = [(str(out), args.seed, k, min(SHARD_SIZE, args.count - k * SHARD_SIZE),
-             args.noise_level) for k in range(n_shards) if not shard_complete(out, k)]
+    jobs = [(str(out), args.seed, k, min(size, args.count - k * size), args.noise_level, size)
+            for k in range(n_shards) if not shard_complete(out, k)]
     done = args.count - sum(j[3] for j in jobs)
     start = time.perf_counter()
     with tqdm(total=args.count, initial=done, unit="sample", desc="datagen") as bar:

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Bevel: corner c of face f rounded by profile l along the crease c -> c'."""
+from ...brep.protocol import Bevel
+from .feature import GROUP, OperationFeature, tup, vec
+
+
+class BevelFeature(OperationFeature):
+    TYPE = "Sketch2CAD::Bevel"
+
+    def add_operation_properties(self, obj) -> None:
+        obj.addProperty("App::PropertyVector", "Corner", GROUP, "c: the corner of f to round")
+        obj.addProperty("App::PropertyVector", "OppositeCorner", GROUP,
+                        "c': the other end of the crease from c")
+        obj.addProperty("App::PropertyVectorList", "Profile", GROUP,
+                        "l: the 4 control points of the cubic Bezier profile on f")
+
+    def operation(self, obj) -> Bevel:
+        if len(obj.Profile) != 4:
+            raise ValueError(f"Profile needs 4 control points, has {len(obj.Profile)}")
+        return Bevel(self.face(obj), tup(obj.Corner), tup(obj.OppositeCorner),
+                     tuple(tup(p) for p in obj.Profile))
+
+    def set_operation(self, obj, op: Bevel) -> None:
+        super().set_operation(obj, op)
+        obj.Corner, obj.OppositeCorner = vec(op.corner), vec(op.opposite)
+        obj.Profile = [vec(p) for p in op.profile]
