@@ -1,5 +1,12 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""`sketch2cad datagen`: generate a data set in parallel, deterministically, resumably."""
+"""`sketch2cad datagen`: generate a data set in parallel, deterministically, resumably.
+
+Sample i is a function of (seed, i) alone (generate.sample_rng), so a data set is the
+same whatever the number of workers. Workers make blocks of PER_CONTEXT samples (one
+shared context each); the main process gathers them into shards in order and writes
+each shard atomically. Shards already complete on disk are skipped, so rerunning the
+same command after an interruption finishes the set.
+"""
 from __future__ import annotations
 
 import argparse
@@ -9,25 +16,28 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 from tqdm import tqdm
 
-from .dataset import FORMAT, VERSION, Dataset, shard_complete, shard_name, write_shard
+from ..render.maps import MapRenderer
+from .dataset import (ARRAYS, FORMAT, VERSION, Dataset, Record, pack, shard_complete,
+                      shard_name, write_shard)
 from .generate import IMAGE_SIZE, PER_CONTEXT, generate_block
+from .preview import write_preview
 
-SHARD_SIZE = 128  # a multiple of PER_CONTEXT: shards hold whole blocks
+SHARD_SIZE = 256  # a multiple of PER_CONTEXT: shards hold whole blocks
+NOISE_CHOICES = ["1", "2", "3", "mix"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("datagen", help="generate synthetic training/evaluation samples",
                        description="Random modeling sequences rendered as sketches over their "
-                                   "context, with labels (paper, Sec. 5).")
+                                   "context, with labels (paper, 'Training data generation').")
     p.add_argument("--out", type=Path, required=True, help="data set folder")
     p.add_argument("--count", type=int, required=True, help="number of samples")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--noise-level", default="1", choices=["1", "2", "3", "mix"],
-                   help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal, or mix "
-                        "(the levels cycle per context; default 1)")
+    p.add_argument("--noise-level", default="1", choices=NOISE_CHOICES,
+                   help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal (levels 1, "
+                        "2, 3), or mix (the levels take turns per context); default 1")
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
                    help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
@@ -36,99 +46,95 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def noise_of_block(noise: str, block: int) -> int:
+    """The noise level of a block's samples."""
     return 1 + block % 3 if noise == "mix" else int(noise)
 
 
-def _make_shard(job: tuple) -> int:
-    folder, seed, k, count, noise, shard_size = job
-    from ..render.maps import MapRenderer  # one offscreen window per worker process
+def manifest_of(args: argparse.Namespace) -> dict:
+    n_shards = (args.count + args.shard_size - 1) // args.shard_size
+    levels = [1, 2, 3] if args.noise_level == "mix" else [int(args.noise_level)]
+    return {"format": FORMAT, "version": VERSION, "count": args.count, "seed": args.seed,
+            "noise": args.noise_level, "noise_levels": levels, "image_size": IMAGE_SIZE,
+            "shard_size": args.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
+            "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
+
+
+# The worker's renderer: one offscreen window per process, made once.
+_RENDERER: MapRenderer | None = None
+
+
+def _init_worker() -> None:
     global _RENDERER
-    if "_RENDERER" not in globals():
-        _RENDERER = MapRenderer()
-    first = k * shard_size
-    samples = []
-    for block in range(first // PER_CONTEXT, (first + count + PER_CONTEXT - 1) // PER_CONTEXT):
-        samples += generate_block(seed, block, noise_of_block(noise, block), _RENDERER)
-    write_shard(Path(folder), k, samples[:count])
-    return count
+    _RENDERER = MapRenderer()
+
+
+def make_block(job: tuple[int, int, str]) -> list[Record]:
+    """The packed samples of block `job` = (seed, block, noise)."""
+    seed, block, noise = job
+    if _RENDERER is None:
+        _init_worker()
+    return [pack(s) for s in generate_block(seed, block, noise_of_block(noise, block),
+                                            _RENDERER)]
+
+
+def _error(msg: str) -> int:
+    print(f"sketch2cad datagen: error: {msg}", file=sys.stderr)
+    return 2
 
 
 def run(args: argparse.Namespace) -> int:
     if args.count <= 0:
-        print("sketch2cad datagen: error: --count must be positive", file=sys.stderr)
-        return 2
-    size = args.shard_size
-    if size <= 0 or size % PER_CONTEXT:
-        print(f"sketch2cad datagen: error: --shard-size must be a positive multiple of "
-              f"{PER_CONTEXT}", file=sys.stderr)
-        return 2
+        return _error("--count must be positive")
+    if args.shard_size <= 0 or args.shard_size % PER_CONTEXT:
+        return _error(f"--shard-size must be a positive multiple of {PER_CONTEXT}")
+    if args.workers <= 0:
+        return _error("--workers must be positive")
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
-    n_shards = (args.count + size - 1) // size
-    manifest = {"format": FORMAT, "version": VERSION, "count": args.count, "seed": args.seed,
-                "noise": args.noise_level, "image_size": IMAGE_SIZE, "shard_size": size,
-                "per_context": PER_CONTEXT,
-                "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
+    manifest = manifest_of(args)
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
-        keys = ("count", "seed", "noise", "shard_size")
+        keys = ("version", "count", "seed", "noise", "shard_size")
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
-            print(f"sketch2cad datagen: error: {out} holds a different data set "
-                  f"(count/seed/noise {old.get('count')}/{old.get('seed')}/{old.get('noise')}); "
-                  "use another --out", file=sys.stderr)
-            return 2
-    mpath.write_text(json.dumps(manifest, indent=1))
-    jobs = [(str(out), args.seed, k, min(size, args.count - k * size), args.noise_level, size)
-            for k in range(n_shards) if not shard_complete(out, k)]
-    done = args.count - sum(j[3] for j in jobs)
+            return _error(f"{out} holds a different data set (version/count/seed/noise/shard "
+                          f"size {'/'.join(str(old.get(k)) for k in keys)}); use another --out")
+    mpath.write_text(json.dumps(manifest, indent=1) + "\n")
+
+    size = args.shard_size
+    todo = [k for k in range(len(manifest["shards"])) if not shard_complete(out, k)]
+    counts = {k: min(size, args.count - k * size) for k in todo}
+    jobs = [(args.seed, b, args.noise_level) for k in todo
+            for b in range(k * size // PER_CONTEXT, (k * size + counts[k] + PER_CONTEXT - 1)
+                           // PER_CONTEXT)]
+    made = sum(counts.values())
     start = time.perf_counter()
-    with tqdm(total=args.count, initial=done, unit="sample", desc="datagen") as bar:
-        if args.workers <= 1:
-            for j in jobs:
-                bar.update(_make_shard(j))
+    with tqdm(total=args.count, initial=args.count - made, unit="sample", desc="datagen",
+              smoothing=0.05) as bar:
+        if args.workers == 1:
+            _collect(map(make_block, jobs), todo, counts, out, bar)
         else:
             ctx = mp.get_context("spawn")  # fresh processes: VTK/OCCT state is not forked
-            with ctx.Pool(args.workers) as pool:
-                for n in pool.imap_unordered(_make_shard, jobs):
-                    bar.update(n)
-    made = args.count - done
+            with ctx.Pool(args.workers, initializer=_init_worker) as pool:
+                _collect(pool.imap(make_block, jobs), todo, counts, out, bar)
     secs = time.perf_counter() - start
     if made:
-        print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s "
-              f"with {args.workers} worker(s); {args.count} in {out}")
+        print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s with "
+              f"{args.workers} worker(s); {args.count} in {out}")
     if args.preview:
         write_preview(Dataset(out), args.preview)
         print(f"datagen: preview written to {args.preview}")
     return 0
 
 
-def overlay(sample) -> np.ndarray:
-    """A picture of a sample: depth-shaded context, base face tinted, strokes coloured by
-    their curve label (start/offset red... see LABEL_COLOURS)."""
-    shade = (40 + 180 * sample.depth) * (sample.depth > 0) + 255 * (sample.depth == 0)
-    img = np.repeat(shade[..., None], 3, axis=2)
-    face = sample.face_label > 0
-    img[face] = 0.55 * img[face] + 0.45 * np.array([90, 150, 230])
-    mask = sample.stroke_mask > 0
-    for label, colour in LABEL_COLOURS.items():
-        img[mask & (sample.curve_label == label)] = colour
-    return img.astype(np.uint8)
-
-
-LABEL_COLOURS = {0: (220, 50, 40), 1: (30, 160, 60), 2: (140, 50, 200)}
-
-
-def write_preview(ds: Dataset, path: Path, count: int = 24) -> None:
-    """A contact sheet: sketch over context, base face in blue, curve labels 0/1/2 in
-    red/green/purple, captioned with the operator and the noise level."""
-    from ..render.picture import contact_sheet, write_png
-    samples = []
-    for k in ds.shards:
-        samples += ds.samples(k)
-        if len(samples) >= count:
-            break
-    samples = samples[:count]
-    write_png(contact_sheet([overlay(s) for s in samples], 6,
-                            [f"{s.op_type.value} (noise {s.noise_level})" for s in samples]),
-              path)
+def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tqdm) -> None:
+    """Gather blocks (in job order) into the shards `todo` and write each when full."""
+    shards = iter(todo)
+    k, records = next(shards), []
+    for block in blocks:
+        kept = block[:counts[k] - len(records)]  # the last shard may end inside a block
+        records += kept
+        bar.update(len(kept))
+        if len(records) == counts[k]:
+            write_shard(out, k, records)
+            k, records = next(shards, None), []

@@ -1,8 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The 3D sketch curves of an operation, labelled as the segmentation network learns them.
+"""The 3D sketch curves of an operation, labelled as the segmentation network learns them
+(paper, "The Operators" and "Operator regression").
 
-Labels (datagen/sample.py): extrude offset 1 / profile 0; bevel l 1 / l' 0; add/sub and
-sweep start 0 / profile 1 / end 2, start and end ordered along the face normal.
+Labels (datagen/sample.py):
+    extrude: edges of the moved face f (offset curve) 1, side edges (profile) 0;
+    bevel: profile l on f 1, its offset l' = l + (c' - c) 0;
+    add/sub and sweep: start curve 0, profile 1, end curve 2, where start and end are
+        the two ends of the primitive ordered along n_f (for an addition the start is
+        the base curve on f, for a subtraction the end is), which removes the
+        add/subtract ambiguity (paper, Fig. "Handling ambiguity").
+
+Every curve is what a designer draws as one stroke: one straight edge, one profile
+line, one whole circle, the whole bevel profile. Points are in mm, world frame.
 """
 from __future__ import annotations
 
@@ -11,29 +20,37 @@ from dataclasses import dataclass
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import resolve_face
+from ..brep.faces import ResolvedFace, resolve_face
 from ..brep.protocol import AddSubPrism, Bevel, Extrude, Mode, Operation, Sweep
-from ..render.camera import OrthoCamera
 from .sample import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE,
                      START)
+
+CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle
+# Side edges are drawn from outline vertices where the outline turns by more than this;
+# a tangent junction (a circle's seam, a fillet meeting its edge) has no edge to extend.
+CORNER_DEG = 10.0
 
 
 @dataclass(frozen=True)
 class Curve:
-    """One curve a designer draws as one stroke: a 3D polyline (K, 3) mm and its label.
+    """One sketch curve.
 
-    `base` marks the curve the occlusion test looks at (the offset curve for extrude,
-    the base curve otherwise).
+    Attributes:
+        points: (K, 3) polyline in mm (world frame); a straight edge has its two ends.
+        label: the curve label C~ of its stroke pixels.
+        closed: the polyline is a loop (a circle), its last point joins its first.
+        relevant: part of the curve the view's occlusion test looks at (the offset curve
+            for an extrusion, the base curve on f otherwise).
     """
 
     points: np.ndarray
     label: int
     closed: bool = False
-    base: bool = False
+    relevant: bool = False
 
 
-def _edge_points(e: cq.Edge, n: int = 24) -> np.ndarray:
-    k = 2 if e.geomType() == "LINE" else n
+def _edge_points(e: cq.Edge) -> np.ndarray:
+    k = 2 if e.geomType() == "LINE" else CURVE_POINTS
     return np.array([e.positionAt(t).toTuple() for t in np.linspace(0, 1, k)])
 
 
@@ -41,79 +58,115 @@ def _segment(a, b) -> np.ndarray:
     return np.stack([np.asarray(a, float), np.asarray(b, float)])
 
 
-def _bezier(ctrl: np.ndarray, k: int = 32) -> np.ndarray:
+def bezier(ctrl: np.ndarray, k: int = CURVE_POINTS) -> np.ndarray:
+    """Points of a cubic Bezier (any dimension) at k evenly spaced parameters."""
     t = np.linspace(0, 1, k)[:, None]
     return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
             + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
 
 
-def extrude_curves(solid: cq.Shape, op: Extrude) -> list[Curve]:
-    rf = resolve_face(solid, op.face)
+def outline_corners(face: cq.Face) -> list[np.ndarray]:
+    """The vertices of a face's outline (holes included) where it has a corner."""
+    leaving: dict[tuple, list[np.ndarray]] = {}
+    for e in face.Edges():
+        for at, sign in ((0.0, 1.0), (1.0, -1.0)):  # tangents pointing away from the vertex
+            p = np.array(e.positionAt(at).toTuple())
+            t = sign * np.array(e.tangentAt(at).toTuple())
+            leaving.setdefault(tuple(np.round(p, 6)), []).append(t / np.linalg.norm(t))
+    limit = -np.cos(np.radians(CORNER_DEG))
+    return [np.array(p) for p, ts in leaving.items()
+            if len(ts) != 2 or float(ts[0] @ ts[1]) > limit]
+
+
+def extrude_curves(rf: ResolvedFace, op: Extrude) -> list[Curve]:
     shift = rf.normal * op.d
-    out = [Curve(_edge_points(e) + shift, EXTRUDE_OFFSET, base=True) for e in rf.face.Edges()]
-    for v in rf.face.Vertices():
-        p = np.array(v.toTuple())
-        out.append(Curve(_segment(p, p + shift), EXTRUDE_PROFILE))
+    out = [Curve(_edge_points(e) + shift, EXTRUDE_OFFSET, relevant=True)
+           for e in rf.face.Edges()]
+    out += [Curve(_segment(p, p + shift), EXTRUDE_PROFILE) for p in outline_corners(rf.face)]
     return out
 
 
-def bevel_curves(solid: cq.Shape, op: Bevel) -> list[Curve]:
-    ctrl = np.array(op.profile)
-    crease = np.array(op.opposite) - np.array(op.corner)
-    return [Curve(_bezier(ctrl), BEVEL_L, base=True), Curve(_bezier(ctrl) + crease, BEVEL_L_PRIME)]
+def bevel_curves(rf: ResolvedFace, op: Bevel) -> list[Curve]:
+    l_curve = bezier(np.array(op.profile, float)) + rf.offset
+    crease = np.subtract(op.opposite, op.corner)
+    return [Curve(l_curve, BEVEL_L, relevant=True), Curve(l_curve + crease, BEVEL_L_PRIME)]
 
 
-def prism_curves(solid: cq.Shape, op: AddSubPrism) -> list[Curve]:
-    rf = resolve_face(solid, op.face)
-    base = np.array(op.polygon) + rf.offset
+def _start_end(base, far, mode: Mode):
+    """(start, end) ordered along n_f: a subtraction's far end lies below f."""
+    return (far, base) if mode is Mode.SUBTRACT else (base, far)
+
+
+def prism_curves(rf: ResolvedFace, op: AddSubPrism) -> list[Curve]:
+    base = np.array(op.polygon, float) + rf.offset
     far = base + rf.normal * op.d * op.mode.sign
-    start, end = (far, base) if op.mode is Mode.SUBTRACT else (base, far)
+    start, end = _start_end(base, far, op.mode)
     k = len(base)
     out = []
     for poly, label in ((start, START), (end, END)):
-        on_face = poly is base
-        out += [Curve(_segment(poly[i], poly[(i + 1) % k]), label, base=on_face) for i in range(k)]
+        out += [Curve(_segment(poly[i], poly[(i + 1) % k]), label, relevant=poly is base)
+                for i in range(k)]
     out += [Curve(_segment(start[i], end[i]), PROFILE) for i in range(k)]
     return out
 
 
-def sweep_curves(solid: cq.Shape, op: Sweep, camera: OrthoCamera) -> list[Curve]:
-    """Both circles and the two silhouettes of the swept shape for this view.
+def silhouette_side(axis: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The unit vector, perpendicular to the axis, that spans with it the plane through
+    the axis facing the view (as square to the view direction as such a plane can be)."""
+    side = np.cross(axis, direction)
+    if np.linalg.norm(side) < 1e-6:  # looking along the axis: every such plane faces it
+        side = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
+    return side / np.linalg.norm(side)
 
-    The silhouettes are taken, as in the paper, as the profile c_p in the plane through
-    the axis that faces the camera, on both sides of the axis.
+
+def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Curve]:
+    """Both circles and the two profile lines of the swept shape as seen along `direction`.
+
+    The profile lines are c_p in the plane through the axis that faces the view, on both
+    sides of the axis. For a cylinder they are exactly its silhouette; for a cone or a
+    curved profile the true silhouette leaves that plane a little, but the profile in
+    the plane is what the paper's sweep fitting reconstructs (a Bezier in the plane
+    through the axis and the stroke's foot on c0), so the labels stay consistent with it.
     """
-    rf = resolve_face(solid, op.face)
-    c0 = np.array(op.center) + rf.offset
+    c0 = np.array(op.center, float) + rf.offset
     axis = rf.normal * op.mode.sign
     c1 = c0 + axis * op.d
-    side = np.cross(axis, camera.basis()[2])
-    if np.linalg.norm(side) < 1e-6:  # looking along the axis: any side will do
-        side = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
-    side /= np.linalg.norm(side)
+    side = silhouette_side(axis, np.asarray(direction, float))
     other = np.cross(axis, side)
-    t = np.linspace(0, 2 * np.pi, 73)
+    t = np.linspace(0, 2 * np.pi, 2 * CURVE_POINTS + 1)[:-1]
     ring = np.cos(t)[:, None] * side + np.sin(t)[:, None] * other
-
-    def circle(c, r):
-        return c + r * ring
-
-    base0, far1 = circle(c0, op.r0), circle(c1, op.r1)
-    start, end = (far1, base0) if op.mode is Mode.SUBTRACT else (base0, far1)
-    out = [Curve(start, START, closed=True, base=start is base0),
-           Curve(end, END, closed=True, base=end is base0)]
-    rh = _bezier(np.array(op.control_points(), float))
+    base, far = c0 + op.r0 * ring, c1 + op.r1 * ring
+    start, end = _start_end(base, far, op.mode)
+    out = [Curve(start, START, closed=True, relevant=start is base),
+           Curve(end, END, closed=True, relevant=end is base)]
+    rh = bezier(np.array(op.control_points(), float))
     for s in (1.0, -1.0):
         out.append(Curve(c0 + s * rh[:, :1] * side + rh[:, 1:2] * axis, PROFILE))
     return out
 
 
-def operation_curves(solid: cq.Shape, op: Operation, camera: OrthoCamera) -> list[Curve]:
-    """The labelled sketch curves of `op` applied to `solid` (its context), for `camera`."""
+def operation_curves(solid: cq.Shape, op: Operation, direction,
+                     face: ResolvedFace | None = None) -> list[Curve]:
+    """The labelled sketch curves of `op` applied to `solid` (its context).
+
+    Args:
+        solid: the context solid (before the operation).
+        op: the operation.
+        direction: the view direction (world, into the scene); only a sweep's profile
+            lines depend on it.
+        face: op.face resolved on `solid`, if already at hand.
+    """
+    rf = face or resolve_face(solid, op.face)
     if isinstance(op, Extrude):
-        return extrude_curves(solid, op)
+        return extrude_curves(rf, op)
     if isinstance(op, Bevel):
-        return bevel_curves(solid, op)
+        return bevel_curves(rf, op)
     if isinstance(op, AddSubPrism):
-        return prism_curves(solid, op)
-    return sweep_curves(solid, op, camera)
+        return prism_curves(rf, op)
+    return sweep_curves(rf, op, direction)
+
+
+def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
+    """The index in solid.Faces() of a face of it (the renderer's face IDs): for the
+    base face f, resolve_face(context solid, op.face).face."""
+    return next(i for i, f in enumerate(solid.Faces()) if f.isSame(face))

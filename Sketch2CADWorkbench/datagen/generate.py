@@ -1,103 +1,148 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""One synthetic sample: a random sequence, a view of its last operation, strokes, labels."""
+"""Synthetic samples: a random sequence, a view of its last operation, strokes, labels
+(paper, "Training data generation").
+
+A sample's context is the protocol before its last operation; the sketch shows the last
+operation's curves from an informative view; D, N and the face IDs are rendered from
+the context solid in that same view (the context maps the network sees).
+
+Data sets are made in blocks of PER_CONTEXT samples that share one context sequence:
+building the context costs as much as the rest of a sample, and the paper too draws
+its 40k shapes from 10k protocols per sequence length. Each sample of a block still
+draws its own last operation (1:1:4:2), view and strokes from its own generator, and
+the block's context length is 0 to 3 operations in turn, so sequence lengths 1 to 4
+stay balanced.
+"""
 from __future__ import annotations
 
 import numpy as np
 
-from ..brep.faces import resolve_face
-from ..brep.protocol import OperatorType, Protocol
-from ..render.camera import OrthoCamera
+from ..brep.faces import ResolvedFace, model_scale
+from ..brep.protocol import OperatorType
 from ..render.maps import MapRenderer
-from ..render.mesh import tessellate
-from ..render.strokes import rasterize
-from ..render.visibility import visible_fraction
-from .curves import operation_curves
+from ..render.mesh import FaceMesh, tessellate
+from .curves import base_face_index, operation_curves
 from .sample import Sample
-from .sequences import draw_type, sample_operation, sample_sequence
-from .strokes import noise_sigma, perturb
-from .views import MAX_OCCLUSION, SCALE_RANGE, frame_curves, up_vector, view_direction
+from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
+from .strokes import sketch_strokes, stroke_maps
+from .views import SCALE_RANGE, frame_curves, is_informative, up_vector, view_direction
 
 IMAGE_SIZE = 256
-VIEW_TRIES = 8
-# Samples sharing one context sequence: the paper makes 40k shapes from 10k protocols,
-# and building the context is most of a sample's cost.
 PER_CONTEXT = 4
+MAX_LENGTH = 4     # operations in a sequence, the last one included
+VIEW_TRIES = 8     # views of one operation before drawing another operation
+# Chordal tolerance of a context's mesh, relative to the model's diagonal: about half a
+# pixel for a sketch a tenth of the model's size, so one mesh serves every view.
+MESH_REL_TOLERANCE = 5e-4
+
+
+class Context:
+    """A context sequence ready to take last operations: its protocol, final solid and
+    (made on first use) that solid's mesh."""
+
+    def __init__(self, sequence: Sequence):
+        self.protocol = sequence.protocol
+        self.stage = sequence.stages[-1]
+        self._mesh: FaceMesh | None = None
+
+    @property
+    def mesh(self) -> FaceMesh:
+        if self._mesh is None:
+            solid = self.stage.solid
+            self._mesh = tessellate(solid, MESH_REL_TOLERANCE * model_scale(solid))
+        return self._mesh
 
 
 def sample_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
-    """The generator of item `index` of a data set: independent of worker and order.
+    """The generator of item `index` of a data set, whatever worker makes it and when.
 
-    Stream 0 draws samples, stream 1 draws the shared context sequences.
+    Stream 0 draws samples, stream 1 the shared context sequences of blocks.
     """
     return np.random.default_rng(np.random.SeedSequence([seed, stream, index]))
 
 
+def generate_sample(rng: np.random.Generator, noise_level: int,
+                    renderer: MapRenderer | None = None, size: int = IMAGE_SIZE) -> Sample:
+    """One sample on a context of its own (sequence length 1 to 4, uniformly).
+
+    Args:
+        rng: the generator; the sample is a function of its state.
+        noise_level: stroke noise level, 1, 2 or 3 (datagen/strokes.py).
+        renderer: the offscreen renderer to use (a new one when None; reuse one across
+            calls, making a window is slow).
+        size: image side in pixels.
+    """
+    renderer = renderer or MapRenderer()
+    length = int(rng.integers(1, MAX_LENGTH + 1))
+    return sample_on(Context(sample_sequence(rng, length - 1)), rng, noise_level, renderer,
+                     size)
+
+
 def generate_block(seed: int, block: int, noise_level: int, renderer: MapRenderer,
                    size: int = IMAGE_SIZE) -> list[Sample]:
-    """Samples block*PER_CONTEXT ... block*PER_CONTEXT + PER_CONTEXT-1 (deterministic).
+    """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
-    A block shares one context sequence (drawn from the block's own generator); each
-    sample draws its own last operation (1:1:4:2) and view from its own generator.
-    Sequence lengths cycle through 1..4 with the block, so they are balanced. A last
-    operation with no unoccluded view is drawn again.
+    They share one context of block % MAX_LENGTH operations, drawn from the block's own
+    generator; sample i draws everything else from sample_rng(seed, i).
     """
-    length = 1 + block % 4
-    shared = sample_sequence(sample_rng(seed, block, stream=1), length - 1)
-    out = []
-    for index in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT):
-        rng = sample_rng(seed, index)
-        kind = draw_type(rng)
-        seq = shared
-        while True:
-            got = sample_operation(rng, seq.solids[-1], kind)
-            if got is None:  # this context admits no such operation: a fresh one
-                seq = sample_sequence(rng, length - 1)
-                continue
-            sample = _view_sample(rng, seq.protocol.append(got[0]), seq.solids[-1], got[1],
-                                  noise_level, renderer, size)
-            if sample is not None:
-                out.append(sample)
-                break
-    return out
+    context = Context(sample_sequence(sample_rng(seed, block, stream=1), block % MAX_LENGTH))
+    return [sample_on(context, sample_rng(seed, i), noise_level, renderer, size)
+            for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)]
 
 
-def _view_sample(rng, protocol: Protocol, context, result, noise_level, renderer, size):
-    """A sample of the last operation seen from a random informative view, or None when
-    VIEW_TRIES views all hide too much of the relevant curve.
+def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
+              renderer: MapRenderer, size: int = IMAGE_SIZE,
+              kind: OperatorType | None = None) -> Sample:
+    """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
+    on `context`.
 
-    The relevant curve must be at least 80% visible: for an extrusion the offset curve,
-    seen against the result (a pocket's floor is inside the context solid); for the
-    other operators the base curve on f, seen against the context (the new primitive
-    itself always hides part of its own base).
+    The type is drawn once; an operation with no informative view is replaced by another
+    of the same type, and a context that admits none by a fresh one of the same length.
     """
-    op = protocol.operations[-1]
-    rf = resolve_face(context, op.face)
-    face_index = next(i for i, f in enumerate(context.Faces()) if f.isSame(rf.face))
-    context_mesh = tessellate(context)
-    result_mesh = tessellate(result) if op.type is OperatorType.EXTRUDE else None
+    kind = kind or draw_type(rng)
+    while True:
+        got = sample_operation(rng, context.stage, kind)
+        if got is None:
+            length = len(context.protocol.operations)
+            context = Context(sample_sequence(rng, length))
+            continue
+        sample = view_sample(rng, context, got, noise_level, renderer, size)
+        if sample is not None:
+            return sample
+
+
+def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_level: int,
+                renderer: MapRenderer, size: int = IMAGE_SIZE) -> Sample | None:
+    """The sample of the operation drawn on `context` from a random informative view, or
+    None when VIEW_TRIES views all hide too much of the relevant curve (datagen/views.py
+    says which curve, and against which solid)."""
+    solid, op, result = context.stage.solid, drawn.op, drawn.result
+    rf = ResolvedFace(drawn.face.face, drawn.face.normal, 0.0)  # what resolve_face finds
+    result_mesh = None
     for _ in range(VIEW_TRIES):
         direction = view_direction(rng, rf.normal)
-        probe = OrthoCamera((0.0, 0.0, 0.0), tuple(direction), up_vector(direction), 1.0,
-                            size, size)
-        curves = operation_curves(context, op, probe)
-        pts = np.concatenate([c.points for c in curves])
-        camera = frame_curves(pts, direction, rng.uniform(*SCALE_RANGE), size)
-        base_pts = np.concatenate([c.points for c in curves if c.base])
-        maps = renderer.render(context_mesh, camera)
-        seen = maps if result_mesh is None else renderer.render(result_mesh, camera)
-        if visible_fraction(base_pts, camera, seen, 2 * camera.pixel_size) < 1 - MAX_OCCLUSION:
-            continue
-        sigma = noise_sigma(noise_level, size, size)
-        strokes = [perturb(camera.project(c.points)[0], rng, sigma, c.closed) for c in curves]
-        labels = [c.label for c in curves]
-        order = rng.permutation(len(strokes))  # designers draw in any order
-        strokes, labels = [strokes[i] for i in order], [labels[i] for i in order]
-        sketch = rasterize(strokes, size, size)
+        up = up_vector(rng, direction)
+        curves = operation_curves(solid, op, direction, rf)
+        camera = frame_curves(np.concatenate([c.points for c in curves]), direction, up,
+                              rng.uniform(*SCALE_RANGE), size)
+        if op.type is OperatorType.EXTRUDE:
+            if result_mesh is None:
+                result_mesh = tessellate(result.solid,
+                                         MESH_REL_TOLERANCE * model_scale(result.solid))
+            if not is_informative(curves, camera, renderer.render(result_mesh, camera)):
+                continue
+            maps = renderer.render(context.mesh, camera)
+        else:
+            maps = renderer.render(context.mesh, camera)
+            if not is_informative(curves, camera, maps):
+                continue
+        strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
+        drawn = stroke_maps(strokes, labels, size, size)
+        face = base_face_index(solid, rf.face)
         return Sample(
-            op_type=op.type, sketch=sketch, depth=maps.depth, normal=maps.normal,
-            face_id=maps.face_id, face_label=(maps.face_id == face_index).astype(np.float32),
-            curve_label=rasterize(strokes, size, size, [float(l) for l in labels]),
-            stroke_mask=sketch.copy(), context=Protocol(protocol.base, protocol.operations[:-1]),
-            operation=op, camera=camera, strokes=strokes, stroke_parts=labels,
-            noise_level=noise_level)
+            op_type=op.type, sketch=drawn.sketch, depth=maps.depth, normal=maps.normal,
+            face_id=maps.face_id, face_label=(maps.face_id == face).astype(np.float32),
+            curve_label=drawn.curve_label, stroke_mask=drawn.stroke_mask,
+            context=context.protocol, operation=op, camera=camera, strokes=strokes,
+            stroke_parts=labels, noise_level=noise_level)
     return None

@@ -1,23 +1,49 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Informative views of a sketched operation (paper, "Sketch rendering").
 
-A view looks at the base face from 20 to 80 degrees off its normal, with world z (or y
-for near-vertical views) upwards; its frustum is centred on the sketch curves and
-scaled by a random 1.6 to 2.4 times their extent.
+A view looks at the base face f from 20 to 80 degrees off its normal (so that it sees
+f's front: direction . n_f < 0), from a random azimuth, mostly with world z upwards
+give or take a small roll. Its square frustum is centred on the sketch curves and is a
+random 1.6 to 2.4 times their projected extent, built by the same `context_camera` the
+interpretation uses at test time with a factor of 2.
+
+Occlusion filter, and which solid it is tested against: a view is rejected when more
+than 20% of the relevant curve is hidden.
+
+* Extrusion: the relevant curve is the offset curve (the moved face's edges), tested
+  against the result solid. For a pocket (d < 0) the offset curve lies inside the
+  context solid, so against the context it would always count as hidden; in the result
+  it is the pocket's floor outline, and a view that cannot see into the pocket is
+  exactly the unnatural one. For a pad the moved face faces the camera, so the result
+  does not hide its own outline.
+* Bevel, add/subtract, sweep: the relevant curve is the base curve on f (l, or the
+  polygon or circle on f), tested against the context solid. The new primitive always
+  hides part of its own base curve (the back edges of a prism), yet a designer draws
+  those lines anyway; what makes a view unnatural is existing geometry standing in the
+  way of the place being drawn on, which is what the context (also what the network
+  sees as D and N) shows.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..render.camera import OrthoCamera
+from ..render.frustum import context_camera
+from ..render.maps import ContextMaps
+from ..render.visibility import visible_fraction
+from .curves import Curve
 
 ANGLE_RANGE_DEG = (20.0, 80.0)
 SCALE_RANGE = (1.6, 2.4)
 MAX_OCCLUSION = 0.2
+ROLL_SD_DEG = 8.0       # the usual small tilt of the up vector about the view direction
+FREE_ROLL_SHARE = 0.1   # views with any roll at all
+OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
+DEPTH_SLACK_PX = 2.0    # depth slack of the occlusion test, in pixel sizes
 
 
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
-    """A unit view direction (into the scene) at 20-80 degrees from looking straight at f."""
+    """A unit view direction (into the scene) 20 to 80 degrees from -n_f, random azimuth."""
     n = np.asarray(normal, float)
     a = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
     a /= np.linalg.norm(a)
@@ -28,20 +54,63 @@ def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
     return -(np.cos(theta) * n + np.sin(theta) * w)
 
 
-def up_vector(direction: np.ndarray) -> tuple[float, float, float]:
-    """World z, unless the view looks almost straight up or down."""
-    return (0.0, 0.0, 1.0) if abs(direction[2]) < 0.95 else (0.0, 1.0, 0.0)
-
-
-def frame_curves(points: np.ndarray, direction: np.ndarray, factor: float,
-                 size: int = 256) -> OrthoCamera:
-    """A square view along `direction` centred on the points, `factor` times their extent."""
+def up_vector(rng: np.random.Generator, direction: np.ndarray) -> np.ndarray:
+    """A world up vector for the view: world z (world y when looking almost straight up
+    or down) rolled about the view direction by a small random angle, or, for
+    FREE_ROLL_SHARE of the views, by any angle."""
     d = np.asarray(direction, float)
-    probe = OrthoCamera((0.0, 0.0, 0.0), tuple(d), up_vector(d), 1.0, size, size)
-    r, u, _ = probe.basis()
-    x, y = points @ r, points @ u
-    centre = r * (x.min() + x.max()) / 2 + u * (y.min() + y.max()) / 2
-    centre += d * float(np.mean(points @ d))
-    extent = max(x.max() - x.min(), y.max() - y.min(), 1e-6)
-    return OrthoCamera(tuple(map(float, centre)), tuple(map(float, d)), up_vector(d),
-                       float(0.5 * extent * factor), size, size)
+    d = d / np.linalg.norm(d)
+    up = np.array([0.0, 0.0, 1.0]) if abs(d[2]) < 0.95 else np.array([0.0, 1.0, 0.0])
+    up = up - (up @ d) * d
+    up /= np.linalg.norm(up)
+    if rng.random() < FREE_ROLL_SHARE:
+        roll = rng.uniform(-np.pi, np.pi)
+    else:
+        roll = np.radians(rng.normal(0.0, ROLL_SD_DEG))
+    return np.cos(roll) * up + np.sin(roll) * np.cross(d, up)
+
+
+def frame_curves(points: np.ndarray, direction: np.ndarray, up: np.ndarray, factor: float,
+                 size: int = 256) -> OrthoCamera:
+    """A square size x size view along `direction` centred on the points, `factor` times
+    their projected extent (as the interpretation frames the context of a sketch).
+
+    Args:
+        points: (N, 3) curve points (mm, world).
+        direction: unit view direction (world, into the scene).
+        up: world vector that shows upwards.
+        factor: frustum side over the points' larger projected extent.
+        size: image side in pixels.
+    """
+    centre = np.asarray(points, float).mean(axis=0)
+    probe = OrthoCamera(tuple(map(float, centre)), tuple(map(float, direction)),
+                        tuple(map(float, up)), float(np.ptp(points, axis=0).max() + 1e-6),
+                        size, size)
+    return context_camera(probe, probe.project(points)[0], factor, size)
+
+
+def resample(curves: list[Curve], count: int = OCCLUSION_SAMPLES) -> np.ndarray:
+    """About `count` points (N, 3) spread evenly by arc length over the curves."""
+    pieces = [np.concatenate([c.points, c.points[:1]]) if c.closed else c.points
+              for c in curves]
+    lengths = [np.linalg.norm(np.diff(p, axis=0), axis=1) for p in pieces]
+    total = sum(float(s.sum()) for s in lengths)
+    out = []
+    for p, seg in zip(pieces, lengths):
+        s = np.concatenate([[0.0], np.cumsum(seg)])
+        k = max(int(np.ceil(count * s[-1] / max(total, 1e-12))), 2)
+        t = np.linspace(0.0, s[-1], k)
+        out.append(np.stack([np.interp(t, s, p[:, j]) for j in range(3)], axis=1))
+    return np.concatenate(out)
+
+
+def relevant_visibility(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) -> float:
+    """The visible share of the relevant curve in maps rendered with `camera`."""
+    points = resample([c for c in curves if c.relevant])
+    return visible_fraction(points, camera, maps, DEPTH_SLACK_PX * camera.pixel_size)
+
+
+def is_informative(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) -> bool:
+    """Whether at most MAX_OCCLUSION of the relevant curve is hidden in `maps` (rendered
+    from the solid the module docstring names for the operator)."""
+    return relevant_visibility(curves, camera, maps) >= 1.0 - MAX_OCCLUSION

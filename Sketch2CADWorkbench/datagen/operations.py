@@ -1,0 +1,294 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Random instances of the four operators on a given planar face (paper, "Sequence
+generation": random base faces, offsets over a large range, polygons and circles centred
+randomly inside the face, polygons and profiles perturbed without self-intersection).
+
+Lengths are in mm, points and vectors in the world frame. The paper states its ranges
+for a model whose diagonal is 1; here every absolute length is that fraction times
+`DIAG`, the base box's diagonal (100 mm), and sizes on a face are fractions of the
+face's own size (the square root of its area), so small faces get small primitives.
+
+A sampler returns None when the face offers nothing to build on (no room for a centre,
+no bevel corner); the caller then draws another face.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import numpy as np
+from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.gp import gp_Pnt
+from OCP.TopAbs import TopAbs_IN
+
+from ..brep.faces import face_ref_of
+from ..brep.protocol import (AddSubPrism, Bevel, Extrude, FaceRef, Mode, Operation,
+                             OperatorType, Sweep)
+
+DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
+
+EXTRUDE_D = (0.03, 0.4)        # |d| / DIAG, either sign
+PRISM_RADIUS = (0.08, 0.35)    # polygon circumradius / face size
+PRISM_D = (0.04, 0.35)         # d / DIAG
+SWEEP_RADIUS = (0.06, 0.3)     # r0 / face size
+SWEEP_D = (0.04, 0.35)         # d / DIAG
+BEVEL_SPAN = (0.1, 0.5)        # where l meets each edge, as a share of that edge from c
+CENTRE_TRIES = 30
+
+
+class PlanarFace:
+    """A planar face of the current solid to sketch on: the face, its outward unit
+    normal n_f, and (made on first use, then kept) its FaceRef for the protocol."""
+
+    def __init__(self, face: cq.Face, normal: np.ndarray):
+        self.face = face
+        self.normal = normal
+        self._ref: FaceRef | None = None
+
+    @property
+    def ref(self) -> FaceRef:
+        if self._ref is None:
+            self._ref = face_ref_of(self.face)
+        return self._ref
+
+
+@dataclass(frozen=True)
+class BevelCorner:
+    """A convex corner c of face f with a straight crease c -> c' along -n_f.
+
+    `a` and `b` are the unit directions of f's two edges leaving c, `la` and `lb`
+    their lengths (mm).
+    """
+
+    c: np.ndarray
+    opposite: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    la: float
+    lb: float
+
+
+def inside_face(face: cq.Face, point: np.ndarray) -> bool:
+    """Whether a point of f's plane lies strictly inside f (holes excluded)."""
+    state = BRepClass_FaceClassifier(face.wrapped, gp_Pnt(*map(float, point)), 1e-7).State()
+    return state == TopAbs_IN
+
+
+def face_size(face: cq.Face) -> float:
+    """The face's size (mm): the square root of its area."""
+    return float(np.sqrt(face.Area()))
+
+
+def plane_frame(n: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """A randomly rotated orthonormal basis (u, v) of the plane with normal n."""
+    a = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+    a /= np.linalg.norm(a)
+    b = np.cross(n, a)
+    t = rng.uniform(0, 2 * np.pi)
+    return np.cos(t) * a + np.sin(t) * b, -np.sin(t) * a + np.cos(t) * b
+
+
+def random_centre(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndarray | None:
+    """A uniformly random point of a planar face at least `margin` mm from its edges
+    (None if CENTRE_TRIES draws find none)."""
+    u0, u1, v0, v1 = face.uvBounds()
+    outline = None
+    for _ in range(CENTRE_TRIES):
+        p = np.array(face.positionAt(rng.uniform(u0, u1), rng.uniform(v0, v1)).toTuple())
+        if not inside_face(face, p):
+            continue
+        if outline is None:  # built only once a candidate is inside
+            outline = cq.Compound.makeCompound(face.Edges())
+        if outline.distance(cq.Vertex.makeVertex(*p)) >= margin:
+            return p
+    return None
+
+
+# ----------------------------------------------------------------- extrude
+
+def sample_extrude(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
+                   ) -> Operation | None:
+    """Move f out (d > 0) or in (d < 0) by a random offset."""
+    d = rng.uniform(*EXTRUDE_D) * DIAG * rng.choice([-1.0, 1.0])
+    return Extrude(f.ref, float(d))
+
+
+# ----------------------------------------------------------------- add/subtract
+
+def random_polygon(rng: np.random.Generator, k: int, radius: float) -> np.ndarray:
+    """A regular-ish k-gon (k, 2) around the origin, never self-intersecting.
+
+    Either exactly regular, or with each vertex's angle jittered within its own sector
+    and its radius scaled: the vertices stay in angular order around the centre, so the
+    polygon is star-shaped about it and simple. Half the time the shape is then
+    stretched along one axis (rectangles, isosceles triangles); an affine map keeps a
+    simple polygon simple.
+    """
+    ang = 2 * np.pi * np.arange(k) / k
+    rad = np.full(k, radius)
+    if rng.random() >= 0.4:
+        ang = ang + rng.uniform(-0.3, 0.3, k) * 2 * np.pi / k
+        rad = rad * rng.uniform(0.7, 1.3, k)
+    pts = np.stack([rad * np.cos(ang), rad * np.sin(ang)], axis=1)
+    if rng.random() < 0.5:
+        pts[:, 0] *= rng.uniform(0.5, 1.5)
+    return pts
+
+
+def sample_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
+                 ) -> Operation | None:
+    """A right prism on a 3- to 6-gon centred randomly inside f, added or subtracted."""
+    r = rng.uniform(*PRISM_RADIUS) * face_size(f.face)
+    c = random_centre(f.face, rng, 0.3 * r)
+    if c is None:
+        return None
+    u, v = plane_frame(f.normal, rng)
+    q = random_polygon(rng, int(rng.integers(3, 7)), r)
+    poly = c + q[:, :1] * u + q[:, 1:] * v
+    mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
+    return AddSubPrism(f.ref, tuple(tuple(map(float, p)) for p in poly),
+                       float(rng.uniform(*PRISM_D) * DIAG), mode)
+
+
+# ----------------------------------------------------------------- sweep
+
+def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
+                 ) -> Operation | None:
+    """A body of revolution on a circle centred randomly inside f, added or subtracted.
+
+    40% cylinders (straight profile, equal radii), 20% cones, 40% curved profiles whose
+    inner Bezier control points are perturbed off the straight line; control radii stay
+    positive, so the profile (inside their convex hull) never reaches the axis.
+    """
+    r0 = rng.uniform(*SWEEP_RADIUS) * face_size(f.face)
+    c = random_centre(f.face, rng, 0.2 * r0)
+    if c is None:
+        return None
+    d = rng.uniform(*SWEEP_D) * DIAG
+    shape = rng.random()
+    r1 = r0 if shape < 0.4 else r0 * rng.uniform(0.4, 1.6)
+    if shape < 0.6:
+        inner = ((r0 + (r1 - r0) / 3, d / 3), (r0 + 2 * (r1 - r0) / 3, 2 * d / 3))
+    else:
+        h = np.sort(rng.uniform(0.1, 0.9, 2)) * d
+        on_line = r0 + (r1 - r0) * h / d
+        inner = tuple((float(b * rng.uniform(0.5, 1.6)), float(hh)) for b, hh in zip(on_line, h))
+    mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
+    return Sweep(f.ref, tuple(map(float, c)), float(r0), float(r1), float(d),
+                 tuple((float(a), float(b)) for a, b in inner), mode)
+
+
+# ----------------------------------------------------------------- bevel
+
+def _line_ends(e: cq.Edge) -> tuple[np.ndarray, np.ndarray]:
+    return np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())
+
+
+def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray) -> list[BevelCorner]:
+    """The corners of f that a bevel can round.
+
+    A corner qualifies when two straight edges of f meet at c at an angle below 180
+    degrees inside f (convex), and a straight edge of the solid leaves c along -n_f
+    (the crease c -> c', perpendicular to f).
+    """
+    tol = 1e-6 * DIAG
+    edges = [_line_ends(e) for e in face.Edges() if e.geomType() == "LINE"]
+    creases = []
+    for e in solid.Edges():
+        if e.geomType() != "LINE":
+            continue
+        p, q = _line_ends(e)
+        length = np.linalg.norm(q - p)
+        for s, t in ((p, q), (q, p)):
+            if float((t - s) @ n) < -0.999 * length:
+                creases.append((s, t))
+    out = []
+    for c, cp in creases:
+        legs = [b - a if np.linalg.norm(a - c) < tol else a - b
+                for a, b in edges if min(np.linalg.norm(a - c), np.linalg.norm(b - c)) < tol]
+        if len(legs) != 2:
+            continue
+        la, lb = (float(np.linalg.norm(v)) for v in legs)
+        a, b = legs[0] / la, legs[1] / lb
+        if abs(float(np.cross(a, b) @ n)) < 1e-3:  # straight through, or folded back
+            continue
+        bisector = (a + b) / np.linalg.norm(a + b) if np.linalg.norm(a + b) > 1e-9 else None
+        if bisector is None or not inside_face(face, c + 1e-3 * min(la, lb) * bisector):
+            continue  # reflex corner: the short way between the edges is outside f
+        out.append(BevelCorner(c, cp, a, b, la, lb))
+    return out
+
+
+def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
+    """The four control points (4, 3) of a random profile l around corner c.
+
+    l runs from a point of one edge to a point of the other, at random distances from
+    c. 20% are straight chamfers; 55% bulge out towards c with inner control points on
+    the edges (tangent to both sides, like a fillet; 0.55 of the way to c is close to a
+    circular arc on a right angle); 25% bulge mildly in, away from c. Either way the
+    control polygon is convex and stays in the wedge between the edges, so l neither
+    crosses itself nor the edges.
+    """
+    pa = corner.c + corner.a * rng.uniform(*BEVEL_SPAN) * corner.la
+    pb = corner.c + corner.b * rng.uniform(*BEVEL_SPAN) * corner.lb
+    style = rng.random()
+    if style < 0.2:
+        k = 0.0
+        inner = (pa + (pb - pa) / 3, pa + 2 * (pb - pa) / 3)
+    elif style < 0.75:
+        k = rng.uniform(0.2, 0.8)
+        inner = (pa + k * (corner.c - pa), pb + k * (corner.c - pb))
+    else:
+        away = (pa + pb) / 2 - corner.c  # from c towards the chord, into the solid
+        k = rng.uniform(0.1, 0.4)
+        inner = (pa + (pb - pa) / 3 + k * away, pa + 2 * (pb - pa) / 3 + k * away)
+    return np.stack([pa, inner[0], inner[1], pb])
+
+
+def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
+                 ) -> Operation | None:
+    """Round or chamfer a random convex corner of f along its crease."""
+    corners = bevel_corners(solid, f.face, f.normal)
+    if not corners:
+        return None
+    corner = corners[int(rng.integers(len(corners)))]
+    ctrl = bevel_profile(rng, corner)
+    return Bevel(f.ref, tuple(map(float, corner.c)),
+                 tuple(map(float, corner.opposite)),
+                 tuple(tuple(map(float, p)) for p in ctrl))
+
+
+SAMPLERS = {OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
+            OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep}
+
+
+# ----------------------------------------------------------------- size bound
+
+def _bezier(ctrl: np.ndarray, k: int = 33) -> np.ndarray:
+    t = np.linspace(0, 1, k)[:, None]
+    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
+            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
+
+
+def _area(points: np.ndarray, n: np.ndarray) -> float:
+    """Area (mm^2) of a planar polygon (K, 3) with normal n."""
+    cross = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
+    return 0.5 * abs(float(cross @ n))
+
+
+def change_bound(op: Operation, f: PlanarFace) -> float:
+    """An upper bound (mm^3) on how much `op` can change the solid's volume: the volume
+    of the primitive it adds or removes (10% over, as sampled curves cut corners). Lets
+    a too-small operation be rejected without running its Boolean."""
+    if isinstance(op, Extrude):
+        volume = f.face.Area() * abs(op.d)
+    elif isinstance(op, AddSubPrism):
+        volume = _area(np.array(op.polygon), f.normal) * op.d
+    elif isinstance(op, Sweep):
+        rh = _bezier(np.array(op.control_points(), float))
+        volume = float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
+    else:
+        region = np.concatenate([[op.corner], _bezier(np.array(op.profile, float))])
+        volume = _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite,
+                                                                             op.corner)))
+    return 1.1 * volume
