@@ -10,8 +10,10 @@ same command after an interruption finishes the set.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import multiprocessing as mp
+import os
 import sys
 import time
 from pathlib import Path
@@ -26,6 +28,11 @@ from .preview import write_preview
 
 SHARD_SIZE = 256  # a multiple of PER_CONTEXT: shards hold whole blocks
 NOISE_CHOICES = ["1", "2", "3", "mix"]
+# Each worker runs on one thread: the workers already fill the cores, and threads of
+# OpenBLAS (spinning while they wait) and of Mesa's software rasteriser would only
+# compete with the other workers (measured: 25% more samples per second with 2 workers).
+SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+                     "LP_NUM_THREADS": "1"}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -77,6 +84,29 @@ def make_block(job: tuple[int, int, str]) -> list[Record]:
                                             _RENDERER)]
 
 
+@contextlib.contextmanager
+def single_threaded_children():
+    """While open, processes started from here get SINGLE_THREAD_ENV (this process's
+    own libraries are loaded already and keep their settings)."""
+    saved = {k: os.environ.get(k) for k in SINGLE_THREAD_ENV}
+    os.environ.update(SINGLE_THREAD_ENV)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k)
+            else:
+                os.environ[k] = v
+
+
+def start_pool(workers: int):
+    """A pool of fresh (spawned: VTK/OCCT state is not forked) single-threaded workers,
+    each with its own renderer."""
+    with single_threaded_children():
+        return mp.get_context("spawn").Pool(workers, initializer=_init_worker)
+
+
 def _error(msg: str) -> int:
     print(f"sketch2cad datagen: error: {msg}", file=sys.stderr)
     return 2
@@ -114,8 +144,7 @@ def run(args: argparse.Namespace) -> int:
         if args.workers == 1:
             _collect(map(make_block, jobs), todo, counts, out, bar)
         else:
-            ctx = mp.get_context("spawn")  # fresh processes: VTK/OCCT state is not forked
-            with ctx.Pool(args.workers, initializer=_init_worker) as pool:
+            with start_pool(args.workers) as pool:
                 _collect(pool.imap(make_block, jobs), todo, counts, out, bar)
     secs = time.perf_counter() - start
     if made:

@@ -25,7 +25,8 @@ from .curves import base_face_index, operation_curves
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
-from .views import SCALE_RANGE, frame_curves, is_informative, up_vector, view_direction
+from .views import (SCALE_RANGE, frame_curves, is_informative, shows_base_face, up_vector,
+                    view_direction)
 
 IMAGE_SIZE = 256
 PER_CONTEXT = 4
@@ -114,10 +115,11 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
 def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_level: int,
                 renderer: MapRenderer, size: int = IMAGE_SIZE) -> Sample | None:
     """The sample of the operation drawn on `context` from a random informative view, or
-    None when VIEW_TRIES views all hide too much of the relevant curve (datagen/views.py
-    says which curve, and against which solid)."""
+    None when VIEW_TRIES views all hide too much of the relevant curve or of the base
+    face (datagen/views.py says which curve, and against which solid)."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
     rf = ResolvedFace(drawn.face.face, drawn.face.normal, 0.0)  # what resolve_face finds
+    face = base_face_index(solid, rf.face)
     result_mesh = None
     for _ in range(VIEW_TRIES):
         direction = view_direction(rng, rf.normal)
@@ -136,13 +138,14 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
             maps = renderer.render(context.mesh, camera)
             if not is_informative(curves, camera, maps):
                 continue
+        if not shows_base_face(maps, face):
+            continue
         strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
-        drawn = stroke_maps(strokes, labels, size, size)
-        face = base_face_index(solid, rf.face)
+        ink = stroke_maps(strokes, labels, size, size)
         return Sample(
-            op_type=op.type, sketch=drawn.sketch, depth=maps.depth, normal=maps.normal,
+            op_type=op.type, sketch=ink.sketch, depth=maps.depth, normal=maps.normal,
             face_id=maps.face_id, face_label=(maps.face_id == face).astype(np.float32),
-            curve_label=drawn.curve_label, stroke_mask=drawn.stroke_mask,
+            curve_label=ink.curve_label, stroke_mask=ink.stroke_mask,
             context=context.protocol, operation=op, camera=camera, strokes=strokes,
             stroke_parts=labels, noise_level=noise_level)
     return None

@@ -22,6 +22,11 @@ than 20% of the relevant curve is hidden.
   those lines anyway; what makes a view unnatural is existing geometry standing in the
   way of the place being drawn on, which is what the context (also what the network
   sees as D and N) shows.
+
+Beyond the paper's filter, the base face f itself must cover at least MIN_FACE_PIXELS
+pixels of the context maps: an extrusion's offset curve can be in full view while f is
+hidden in the context (a pad growing out from under an overhang), and such a sample
+would ask the network to find a face it cannot see.
 """
 from __future__ import annotations
 
@@ -40,6 +45,7 @@ ROLL_SD_DEG = 8.0       # the usual small tilt of the up vector about the view d
 FREE_ROLL_SHARE = 0.1   # views with any roll at all
 OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
 DEPTH_SLACK_PX = 2.0    # depth slack of the occlusion test, in pixel sizes
+MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 256)
 
 
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
@@ -114,3 +120,9 @@ def is_informative(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) 
     """Whether at most MAX_OCCLUSION of the relevant curve is hidden in `maps` (rendered
     from the solid the module docstring names for the operator)."""
     return relevant_visibility(curves, camera, maps) >= 1.0 - MAX_OCCLUSION
+
+
+def shows_base_face(maps: ContextMaps, face_index: int) -> bool:
+    """Whether the base face (index into the context solid's Faces()) covers at least
+    MIN_FACE_PIXELS pixels of the context maps."""
+    return int(np.count_nonzero(maps.face_id == face_index)) >= MIN_FACE_PIXELS

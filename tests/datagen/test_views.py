@@ -7,8 +7,8 @@ import pytest
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
 from Sketch2CADWorkbench.datagen.curves import operation_curves
 from Sketch2CADWorkbench.datagen.views import (frame_curves, is_informative,
-                                               relevant_visibility, up_vector,
-                                               view_direction)
+                                               relevant_visibility, shows_base_face,
+                                               up_vector, view_direction)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 
@@ -70,3 +70,16 @@ def test_a_view_whose_base_curve_is_hidden_is_rejected(renderer, toward_the_wall
     assert is_informative(curves, camera, maps) is informative
     seen = relevant_visibility(curves, camera, maps)
     assert seen > 0.95 if informative else seen < 0.5
+
+
+def test_a_view_where_the_base_face_covers_a_few_pixels_is_rejected(renderer):
+    """The 60 x 6 mm top of the wall, framed at 2 and at 10 times its size."""
+    solid = _walled_plate()
+    top = next(i for i, f in enumerate(solid.Faces()) if f.Center().z > 39.9)
+    corners = np.array([[-30.0, -30, 40], [30, -24, 40]])
+    d = np.array([0.0, 0.5, -np.sqrt(0.75)])
+    for factor, shown in ((2.0, True), (10.0, False)):
+        camera = frame_curves(corners, d, np.array([0, 0, 1.0]), factor)
+        maps = renderer.render(solid, camera)
+        assert np.count_nonzero(maps.face_id == top) > 0
+        assert shows_base_face(maps, top) is shown
