@@ -6,12 +6,13 @@ A sample's context is the protocol before its last operation; the sketch shows t
 operation's curves from an informative view; D, N and the face IDs are rendered from
 the context solid in that same view (the context maps the network sees).
 
-Data sets are made in blocks of PER_CONTEXT samples that share one context sequence:
-building the context costs as much as the rest of a sample, and the paper too draws
-its 40k shapes from 10k protocols per sequence length. Each sample of a block still
-draws its own last operation (1:1:4:2), view and strokes from its own generator, and
-the block's context length is 0 to 3 operations in turn, so sequence lengths 1 to 4
-stay balanced.
+Data sets are made in blocks of PER_CONTEXT samples that share one context sequence,
+because building a context costs about as much as the rest of a sample. The paper
+makes one shape per protocol (10k protocols per sequence length 1 to 4); here each
+sample of a block still draws its own last operation (1:1:4:2), view and strokes from
+its own generator, and the blocks' context lengths take turns through 0 to 3
+operations, so the distribution of sequence lengths and last operations is the
+paper's, with a quarter as many distinct contexts.
 """
 from __future__ import annotations
 
@@ -32,6 +33,7 @@ IMAGE_SIZE = 256
 PER_CONTEXT = 4
 MAX_LENGTH = 4     # operations in a sequence, the last one included
 VIEW_TRIES = 8     # views of one operation before drawing another operation
+OP_TRIES = 10      # operations on one context before drawing another context
 # Chordal tolerance of a context's mesh, relative to the model's diagonal: about half a
 # pixel for a sketch a tenth of the model's size, so one mesh serves every view.
 MESH_REL_TOLERANCE = 5e-4
@@ -98,18 +100,21 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
     on `context`.
 
     The type is drawn once; an operation with no informative view is replaced by another
-    of the same type, and a context that admits none by a fresh one of the same length.
+    of the same type, and a context that admits none (or none with such a view after
+    OP_TRIES operations) by a fresh one of the same length.
     """
     kind = kind or draw_type(rng)
+    tries = 0
     while True:
-        got = sample_operation(rng, context.stage, kind)
-        if got is None:
-            length = len(context.protocol.operations)
-            context = Context(sample_sequence(rng, length))
+        drawn = sample_operation(rng, context.stage, kind) if tries < OP_TRIES else None
+        if drawn is None:
+            context = Context(sample_sequence(rng, len(context.protocol.operations)))
+            tries = 0
             continue
-        sample = view_sample(rng, context, got, noise_level, renderer, size)
+        sample = view_sample(rng, context, drawn, noise_level, renderer, size)
         if sample is not None:
             return sample
+        tries += 1
 
 
 def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_level: int,
