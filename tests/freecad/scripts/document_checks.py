@@ -1,139 +1,184 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Document-level checks run inside `freecadcmd` (see test_document.py).
-
-The check named by SKETCH2CAD_CHECK runs; the exit code is 0 on success, 1 on failure.
-"""
+"""Document-level checks, run by test_document.py in one freecadcmd process."""
+import json
 import os
 import sys
-import traceback
+import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.environ["SKETCH2CAD_ROOT"])
-from Sketch2CADWorkbench.freecad import env  # noqa: E402
-
-env.bootstrap()
+sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
+from harness import (EXAMPLES, ROOT, TMP, check, close, finish, run_checks,  # noqa: E402
+                     tested_checkout)
 
 import FreeCAD  # noqa: E402
-import Part  # noqa: E402,F401
+import Part  # noqa: E402
 
-from Sketch2CADWorkbench.brep.exchange import export_step  # noqa: E402
+from Sketch2CADWorkbench.brep.exchange import import_step  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
-from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
-from Sketch2CADWorkbench.freecad.make.make_model import (  # noqa: E402
-    features, make_model_from_protocol, protocol_from_model)
-from Sketch2CADWorkbench.freecad.shapes import from_part, to_part  # noqa: E402
-
-EXAMPLES = os.path.join(os.environ["SKETCH2CAD_ROOT"], "examples", "protocols")
-TMP = os.environ.get("SKETCH2CAD_TMP", "/tmp")
+from Sketch2CADWorkbench.brep.protocol import Sweep, load  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer.export import export_step  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer.make.make_model import (  # noqa: E402
+    failed_features, features, make_model_from_protocol, protocol_from_model)
+from Sketch2CADWorkbench.freecad_layer.shapes import from_part, to_part  # noqa: E402
 
 
-def close(a, b, rel=1e-6):
-    return abs(a - b) <= rel * max(abs(a), abs(b))
+def example(name: str):
+    return load(os.path.join(EXAMPLES, f"{name}.json"))
 
 
+def volumes(model) -> list:
+    return [o.Shape.Volume for o in features(model)]
+
+
+def assert_matches_core(model, protocol) -> None:
+    """Every step's volume equals the core's replay of `protocol` within 1e-6 relative."""
+    want = [s.Volume() for s in replay(protocol)]
+    got = volumes(model)
+    assert len(got) == len(want) and all(close(a, b) for a, b in zip(got, want)), (got, want)
+
+
+@check
+def startup():
+    tested_checkout()
+    import cadquery  # noqa: F401
+    import freecad
+    import numpy
+    assert "Sketch2CADWorkbench.freecad_layer.env" in sys.modules, "Init.py did not bootstrap"
+    assert ".venv" in numpy.__file__, numpy.__file__
+    assert all("Sketch2CADWorkbench" not in p for p in freecad.__path__), freecad.__path__
+
+
+@check
+def addon_metadata():
+    meta = FreeCAD.Metadata(os.path.join(ROOT, "package.xml"))
+    assert (meta.Name, meta.Version) == ("Sketch2CAD", "0.1.0"), (meta.Name, meta.Version)
+    assert meta.License[0]["name"] == "LGPL-2.1-or-later", meta.License
+    assert any(u["type"] == "repository" and u["branch"] for u in meta.Urls), meta.Urls
+    assert meta.supportsCurrentFreeCAD()
+    assert os.path.isfile(os.path.join(ROOT, meta.Icon)), meta.Icon
+    (wb,) = meta.Content["workbench"]
+    assert (wb.Classname, wb.Subdirectory) == ("Sketch2CADWorkbench", "Sketch2CADWorkbench")
+    assert os.path.isfile(os.path.join(ROOT, wb.Subdirectory, wb.Icon)), wb.Icon
+    init_gui = open(os.path.join(ROOT, wb.Subdirectory, "InitGui.py")).read()
+    assert f"class {wb.Classname}(Workbench)" in init_gui
+    from Sketch2CADWorkbench.freecad_layer.icons import ICONS
+    for name in os.listdir(ICONS):
+        assert ET.parse(os.path.join(ICONS, name)).getroot().tag.endswith("svg"), name
+
+
+@check
 def tree_from_protocol():
-    for name in ("camera", "mixer", "lamp"):
-        p = load(os.path.join(EXAMPLES, f"{name}.json"))
+    for name in ("nut", "bolt", "camera", "hammer", "mixer", "lamp"):
+        p = example(name)
         doc = FreeCAD.newDocument(name)
         model = make_model_from_protocol(doc, p)
-        chain = features(model)
-        assert len(chain) == len(p.operations) + 1, (name, len(chain))
-        vols = [s.Volume() for s in replay(p)]
-        got = [o.Shape.Volume for o in chain]
-        assert all(close(a, b) for a, b in zip(vols, got)), (name, vols, got)
-        assert all(o.isValid() for o in chain), name
+        assert len(features(model)) == len(p.operations) + 1, name
+        assert not failed_features(model), name
+        assert_matches_core(model, p)
         assert protocol_from_model(model) == p, name
         FreeCAD.closeDocument(doc.Name)
 
 
+@check
 def edit_and_recompute():
-    p = load(os.path.join(EXAMPLES, "mixer.json"))
+    p = example("mixer")
     doc = FreeCAD.newDocument("edit")
     model = make_model_from_protocol(doc, p)
     chain = features(model)
-    before = [o.Shape.Volume for o in chain]
-    column = chain[1]  # the first prism: the mixer's column
-    column.Length = 70.0
+    before = volumes(model)
+    chain[1].Length = chain[1].Length.Value + 10.0  # the mixer's column prism
     doc.recompute()
-    after = [o.Shape.Volume for o in chain]
-    assert after[0] == before[0]  # steps before the edit are untouched
-    assert all(a > b for a, b in zip(after[1:], before[1:])), (before, after)
-    edited = protocol_from_model(model)
-    assert close(build(edited).Volume(), after[-1])
-    sweep = chain[3]  # the bowl: its profile follows a radius change in proportion
-    inner = [tuple(v) for v in sweep.ProfileInner]
-    sweep.Radius1 = sweep.Radius1.Value * 1.5
-    assert [tuple(v) for v in sweep.ProfileInner] != inner
+    assert not failed_features(model)
+    after = volumes(model)
+    assert after[0] == before[0]  # the step before the edit is untouched
+    assert all(not close(a, b) for a, b in zip(after[1:], before[1:])), (before, after)
+    assert_matches_core(model, protocol_from_model(model))
+    # the base box: every step is rebuilt on the wider box
+    chain[0].Width = chain[0].Width.Value + 10.0
     doc.recompute()
-    assert sweep.isValid()
+    assert not failed_features(model)
+    assert_matches_core(model, protocol_from_model(model))
+    assert all(not close(a, b) for a, b in zip(volumes(model), after)), (after, volumes(model))
 
 
-def error_state_keeps_the_rest():
-    p = load(os.path.join(EXAMPLES, "camera.json"))
+@check
+def sweep_profile_follows_its_radii():
+    doc = FreeCAD.newDocument("retune")
+    model = make_model_from_protocol(doc, example("mixer"))
+    sweep = next(o for o in features(model) if o.Proxy.TYPE == "Sketch2CAD::Sweep")
+    op = sweep.Proxy.operation(sweep)
+    sweep.Radius1 = op.r1 * 1.5
+    want = op.retuned(r1=op.r1 * 1.5)
+    got = sweep.Proxy.operation(sweep)
+    assert isinstance(got, Sweep) and all(close(a, b, 1e-9) for a, b in
+                                          zip(sum(got.profile, ()), sum(want.profile, ()))), got
+    doc.recompute()
+    assert not failed_features(model)
+    assert_matches_core(model, protocol_from_model(model))
+
+
+@check
+def unbuildable_value_puts_only_that_feature_in_error():
+    p = example("camera")
     doc = FreeCAD.newDocument("error")
     model = make_model_from_protocol(doc, p)
     chain = features(model)
-    good = chain[2].Shape.Volume
-    chain[3].Polygon = chain[3].Polygon[:2]  # 2 vertices: cannot be built
+    before = volumes(model)
+    later = [o.Proxy.operation(o) for o in chain[4:]]
+    prism = chain[3]
+    prism.Polygon = prism.Polygon[:2]  # 2 vertices: no prism
     doc.recompute()
-    assert "Invalid" in chain[3].State or "Error" in str(chain[3].State), chain[3].State
-    assert chain[2].isValid() and close(chain[2].Shape.Volume, good)
-    assert len(chain[3].Polygon) == 2  # the user's value stays for them to fix
-    # fixing it recovers everything
-    chain[3].Polygon = [FreeCAD.Vector(*v) for v in p.operations[2].polygon]
+    assert failed_features(model) == [prism], [o.State for o in chain]
+    assert "Invalid" in prism.State, prism.State
+    assert "3 to 6 vertices" in prism.getStatusString(), prism.getStatusString()
+    assert len(prism.Polygon) == 2  # the user's value stays, for them to fix
+    assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3]))
+    assert [o.Proxy.operation(o) for o in chain[4:]] == later  # nothing after it is lost
+    prism.FaceNormal = FreeCAD.Vector(0, 0, 0)
     doc.recompute()
-    assert all(o.isValid() for o in chain), [o.State for o in chain]
-    assert close(chain[-1].Shape.Volume, build(p).Volume())
+    assert "zero vector" in prism.getStatusString(), prism.getStatusString()
+    prism.Polygon = [FreeCAD.Vector(*v) for v in p.operations[2].polygon]
+    prism.FaceNormal = FreeCAD.Vector(*p.operations[2].face.normal)
+    doc.recompute()
+    assert not failed_features(model)
+    assert_matches_core(model, p)
 
 
+@check
 def save_fcstd():
-    p = load(os.path.join(EXAMPLES, "bolt.json"))
+    # hammer.json uses all four operators
     doc = FreeCAD.newDocument("saved")
-    make_model_from_protocol(doc, p)
-    doc.saveAs(os.path.join(TMP, "bolt.FCStd"))
+    model = make_model_from_protocol(doc, example("hammer"))
+    kinds = {o.Proxy.TYPE for o in features(model)}
+    assert len(kinds) == 5, kinds  # the box and the four operators
+    doc.saveAs(os.path.join(TMP, "hammer.FCStd"))
+    with open(os.path.join(TMP, "hammer-volumes.json"), "w") as f:
+        json.dump(volumes(model), f)
 
 
-def reopen_fcstd():
-    doc = FreeCAD.openDocument(os.path.join(TMP, "bolt.FCStd"))
-    from Sketch2CADWorkbench.freecad.make.make_model import find_models
-    (model,) = find_models(doc)
-    p = load(os.path.join(EXAMPLES, "bolt.json"))
-    assert protocol_from_model(model) == p
-    for o in features(model):
-        o.touch()
-    doc.recompute()
-    chain = features(model)
-    assert all(o.isValid() for o in chain)
-    assert close(chain[-1].Shape.Volume, build(p).Volume())
-
-
-def step_and_brep_agree():
-    p = load(os.path.join(EXAMPLES, "nut.json"))
+@check
+def step_export_and_brep_transfer():
+    p = example("nut")
     solid = build(p)
-    path = os.path.join(TMP, "nut.step")
-    export_step(solid, path)
-    shape = Part.read(path)
-    assert shape.isValid() and len(shape.Solids) == 1
-    assert close(shape.Volume, solid.Volume())
     part = to_part(solid)
     assert part.isValid() and close(part.Volume, solid.Volume(), 1e-9)
     assert close(from_part(part).Volume(), solid.Volume(), 1e-9)
     doc = FreeCAD.newDocument("step")
     model = make_model_from_protocol(doc, p)
-    path2 = os.path.join(TMP, "nut_fc.step")
-    Part.export([model.Tip], path2)
-    assert close(Part.read(path2).Volume, solid.Volume())
+    path = os.path.join(TMP, "nut.step")
+    export_step(model, path)
+    assert "10303 214" in open(path).read(4000), "not AP214"
+    read = Part.read(path)
+    assert read.isValid() and len(read.Solids) == 1
+    assert close(read.Volume, solid.Volume()) and close(import_step(path).Volume(), solid.Volume())
+    features(model)[-1].Profile = []  # a failing last step: no export, the file is kept
+    doc.recompute()
+    size = os.path.getsize(path)
+    try:
+        export_step(model, path)
+        raise AssertionError("exported a model whose last step failed")
+    except ValueError as e:
+        assert "no valid solid" in str(e), e
+    assert os.path.getsize(path) == size
 
 
-CHECKS = {f.__name__: f for f in (tree_from_protocol, edit_and_recompute,
-                                  error_state_keeps_the_rest, save_fcstd, reopen_fcstd,
-                                  step_and_brep_agree)}
-
-try:
-    CHECKS[os.environ["SKETCH2CAD_CHECK"]]()
-except Exception:
-    traceback.print_exc()
-    sys.stdout.flush()
-    os._exit(1)
-print("CHECK PASSED")
-sys.stdout.flush()
-os._exit(0)
+finish(run_checks())

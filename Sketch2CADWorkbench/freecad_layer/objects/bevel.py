@@ -6,17 +6,19 @@ from .feature import GROUP, OperationFeature, tup, vec
 
 class BevelFeature(OperationFeature):
     TYPE = "Sketch2CAD::Bevel"
+    OPERATION = Bevel
+    LABEL = "Bevel"
 
     def add_operation_properties(self, obj) -> None:
-        obj.addProperty("App::PropertyVector", "Corner", GROUP, "c: the corner of f to round")
+        obj.addProperty("App::PropertyVector", "Corner", GROUP, "c: the corner of f to round (mm)")
         obj.addProperty("App::PropertyVector", "OppositeCorner", GROUP,
-                        "c': the other end of the crease from c")
+                        "c': the other end of the crease from c (mm)")
         obj.addProperty("App::PropertyVectorList", "Profile", GROUP,
-                        "l: the 4 control points of the cubic Bezier profile on f")
+                        "l: the 4 control points of the cubic Bezier profile on f (mm)")
 
     def operation(self, obj) -> Bevel:
         if len(obj.Profile) != 4:
-            raise ValueError(f"Profile needs 4 control points, has {len(obj.Profile)}")
+            raise ValueError(f"{obj.Label}: Profile needs 4 control points, has {len(obj.Profile)}")
         return Bevel(self.face(obj), tup(obj.Corner), tup(obj.OppositeCorner),
                      tuple(tup(p) for p in obj.Profile))
 

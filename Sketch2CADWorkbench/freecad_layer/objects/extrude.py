@@ -6,6 +6,8 @@ from .feature import GROUP, OperationFeature, mm
 
 class ExtrudeFeature(OperationFeature):
     TYPE = "Sketch2CAD::Extrude"
+    OPERATION = Extrude
+    LABEL = "Extrude"
 
     def add_operation_properties(self, obj) -> None:
         obj.addProperty("App::PropertyDistance", "Offset", GROUP,

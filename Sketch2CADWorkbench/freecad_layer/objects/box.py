@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The base box every Sketch2CAD model starts from."""
 from ...brep.protocol import Box
-from .feature import GROUP, Feature, mm
+from .feature import Feature, mm
 
 
 class BoxFeature(Feature):
@@ -10,13 +10,15 @@ class BoxFeature(Feature):
     TYPE = "Sketch2CAD::Box"
 
     def add_properties(self, obj) -> None:
-        for name, tip in (("Length", "along x"), ("Width", "along y"), ("Height", "along z")):
-            obj.addProperty("App::PropertyLength", name, GROUP, f"Box size {tip} (mm)")
+        for name, axis in (("Length", "x"), ("Width", "y"), ("Height", "z")):
+            obj.addProperty("App::PropertyLength", name, "Box", f"Box size along {axis} (mm)")
 
     def box(self, obj) -> Box:
+        """The protocol's base box the properties describe."""
         return Box((mm(obj.Length), mm(obj.Width), mm(obj.Height)))
 
     def set_box(self, obj, box: Box) -> None:
+        """Write a protocol base box into the properties."""
         obj.Length, obj.Width, obj.Height = box.size
 
     def solid(self, obj):

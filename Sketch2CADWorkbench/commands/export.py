@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Export STEP: the selected model's final solid."""
+import FreeCADGui
+from PySide import QtGui
+
+from ..freecad_layer.export import export_step
+from .common import active_model, error, resources
+
+
+class ExportStep:
+    """Export STEP: the selected model's final solid, through FreeCAD's STEP writer."""
+
+    def GetResources(self):
+        return resources("ExportStep", "Export STEP...",
+                         "Write the selected model's final solid as a STEP file (AP214, mm)")
+
+    def IsActive(self):
+        return active_model() is not None
+
+    def Activated(self):
+        model = active_model()
+        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export STEP",
+                                                    f"{model.Label}.step", "STEP (*.step *.stp)")
+        if path:
+            export_model_step(model, path)
+
+
+def export_model_step(model, path: str) -> bool:
+    """Export, telling the user and returning False when it fails."""
+    try:
+        export_step(model, path)
+    except (ValueError, OSError) as e:
+        error("Cannot export STEP", str(e))
+        return False
+    return True

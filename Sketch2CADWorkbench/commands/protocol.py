@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Protocol files: load one as a model tree, save a model as one, replay a model."""
+import time
+from pathlib import Path
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtGui
+
+from ..brep.faces import OperationError
+from ..brep.operators import replay
+from ..brep.protocol import ProtocolError, load
+from ..freecad_layer.make.make_model import (failed_features, features,
+                                             make_model_from_protocol, protocol_from_model)
+from .common import active_model, error, resources, transaction
+
+PROTOCOL_FILTER = "Sketch2CAD protocol (*.json)"
+REPLAY_STEP_S = 0.5
+
+
+class LoadProtocol:
+    """Load protocol: a file dialog, then `load_protocol_file`."""
+
+    def GetResources(self):
+        return resources("LoadProtocol", "Load protocol...",
+                         "Build a new model tree from a protocol file (JSON)")
+
+    def IsActive(self):
+        return True
+
+    def Activated(self):
+        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(),
+                                                    "Load protocol", "", PROTOCOL_FILTER)
+        if path:
+            load_protocol_file(path)
+
+
+def load_protocol_file(path: str):
+    """A new model in the active document (or a new one) from a protocol file.
+
+    The protocol is validated and built by the core first, so a bad file or a step that
+    cannot be built is reported (naming the field or the step) before any document is
+    touched. Building the tree is one undo step.
+
+    Returns:
+        The new model, or None after telling the user why not.
+    """
+    try:
+        protocol = load(path)
+        replay(protocol)
+    except (ProtocolError, OperationError) as e:
+        error("Cannot load protocol", str(e))
+        return None
+    doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
+    try:
+        with transaction(doc, "Load Sketch2CAD protocol"):
+            model = make_model_from_protocol(doc, protocol, label=Path(path).stem)
+            bad = failed_features(model)
+            if bad:
+                raise OperationError("; ".join(f"{o.Label}: {o.getStatusString()}" for o in bad))
+    except (OperationError, ValueError) as e:
+        error("Cannot build protocol", f"{path}: {e}")
+        return None
+    if FreeCAD.GuiUp:
+        FreeCADGui.SendMsgToActiveView("ViewFit")
+    return model
+
+
+class SaveProtocol:
+    """Save protocol: the selected model's protocol as JSON."""
+
+    def GetResources(self):
+        return resources("SaveProtocol", "Save protocol...",
+                         "Save the selected model's steps as a protocol file (JSON)")
+
+    def IsActive(self):
+        return active_model() is not None
+
+    def Activated(self):
+        model = active_model()
+        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Save protocol",
+                                                    f"{model.Label}.json", PROTOCOL_FILTER)
+        if path:
+            save_protocol_file(model, path)
+
+
+def save_protocol_file(model, path: str) -> bool:
+    """Write the model's protocol; tell the user and return False when it cannot be."""
+    try:
+        protocol_from_model(model).save(path)
+    except (ValueError, OSError) as e:
+        error("Cannot save protocol", f"{model.Label}: {e}")
+        return False
+    return True
+
+
+class ReplayProtocol:
+    """Replay protocol: `replay_model` on the selected model."""
+
+    def GetResources(self):
+        return resources("ReplayProtocol", "Replay protocol",
+                         "Rebuild the selected model step by step, showing each step's result")
+
+    def IsActive(self):
+        return active_model() is not None
+
+    def Activated(self):
+        replay_model(active_model())
+
+
+def replay_model(model, step_s: float = REPLAY_STEP_S) -> bool:
+    """Recompute the model's features one by one, showing each result for `step_s` seconds.
+
+    Stops at a step that fails (it stays in error state, shown) and tells the user why.
+
+    Returns:
+        True when every step was rebuilt.
+    """
+    chain = features(model)
+    for obj in chain:
+        obj.ViewObject.Visibility = False
+    for i, obj in enumerate(chain):
+        obj.touch()
+        built = obj.recompute()
+        if i:
+            chain[i - 1].ViewObject.Visibility = False
+        obj.ViewObject.Visibility = True
+        FreeCADGui.updateGui()
+        if not built:
+            error("Replay stopped", f"step {i} ({obj.Label}): {obj.getStatusString()}")
+            return False
+        time.sleep(step_s)
+    return True

@@ -1,0 +1,112 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Building Sketch2CAD models in a FreeCAD document, and reading them back as protocols.
+
+These work with or without the GUI (commands and tests share them); view providers are
+attached only when FreeCAD.GuiUp.
+"""
+import FreeCAD
+
+from ...brep.protocol import Box, Operation, Protocol
+from ..objects.bevel import BevelFeature
+from ..objects.box import BoxFeature
+from ..objects.extrude import ExtrudeFeature
+from ..objects.model import ModelFeature
+from ..objects.prism import PrismFeature
+from ..objects.sweep import SweepFeature
+
+FEATURE_OF_OPERATION = {cls.OPERATION: cls
+                        for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature)}
+DEFAULT_BOX = Box((40.0, 30.0, 20.0))
+
+
+def _view(obj) -> None:
+    if FreeCAD.GuiUp:
+        from ..viewproviders.view_feature import ViewProviderSketch2CAD
+        ViewProviderSketch2CAD(obj.ViewObject)
+
+
+def make_model(doc, box: Box = DEFAULT_BOX, label: str = "Model"):
+    """A new model: a group holding a base box, recomputed.
+
+    Args:
+        doc: the FreeCAD document to add it to.
+        box: the base box (size in mm, centred on the origin).
+        label: the model's label in the tree.
+
+    Returns:
+        The model (App::DocumentObjectGroupPython); its Tip is the box feature.
+    """
+    model = doc.addObject("App::DocumentObjectGroupPython", "Sketch2CADModel")
+    ModelFeature(model)
+    model.Label = label
+    _view(model)
+    base = doc.addObject("Part::FeaturePython", "Box")
+    BoxFeature(base)
+    base.Proxy.set_box(base, box)
+    _view(base)
+    model.addObject(base)
+    model.Tip = base
+    doc.recompute()
+    return model
+
+
+def add_operation(model, op: Operation):
+    """Append a feature for `op` after the model's Tip; it becomes the new Tip.
+
+    The previous Tip is hidden, as PartDesign does, so the view shows the result. The
+    document is not recomputed here (callers append several steps, then recompute once).
+
+    Returns:
+        The new Part::FeaturePython.
+    """
+    cls = FEATURE_OF_OPERATION[type(op)]
+    obj = model.Document.addObject("Part::FeaturePython", cls.LABEL)
+    cls(obj)
+    obj.Proxy.set_operation(obj, op)
+    obj.Base = model.Tip
+    _view(obj)
+    model.addObject(obj)
+    if FreeCAD.GuiUp:
+        model.Tip.ViewObject.Visibility = False
+    model.Tip = obj
+    return obj
+
+
+def features(model) -> list:
+    """The model's features in order: the box, then each operation (following Base links
+    back from the Tip)."""
+    chain = []
+    obj = model.Tip
+    while obj is not None:
+        chain.append(obj)
+        obj = getattr(obj, "Base", None)
+    return chain[::-1]
+
+
+def make_model_from_protocol(doc, protocol: Protocol, label: str = "Model"):
+    """A model tree equal to `protocol`: the box and one feature per operation, recomputed.
+
+    A step that cannot be built is left in FreeCAD's error state (see `failed_features`).
+    """
+    model = make_model(doc, protocol.base, label)
+    for op in protocol.operations:
+        add_operation(model, op)
+    doc.recompute()
+    return model
+
+
+def protocol_from_model(model) -> Protocol:
+    """The protocol of a model tree, from its features' current property values."""
+    box, *ops = features(model)
+    return Protocol(box.Proxy.box(box), tuple(obj.Proxy.operation(obj) for obj in ops))
+
+
+def failed_features(model) -> list:
+    """The model's features that are in FreeCAD's error state, in order."""
+    return [obj for obj in features(model) if not obj.isValid()]
+
+
+def find_models(doc) -> list:
+    """The document's Sketch2CAD models, in creation order."""
+    return [o for o in doc.Objects
+            if getattr(getattr(o, "Proxy", None), "TYPE", "") == ModelFeature.TYPE]

@@ -1,0 +1,129 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The shared proxies of Sketch2CAD's features: solids rebuilt by the core on recompute.
+
+A feature's FreeCAD properties are its protocol parameters; execute() turns them into the
+core's dataclass, lets the core build the solid, and hands it to FreeCAD as BREP. An
+exception raised by execute() puts the feature in FreeCAD's error state, with the
+exception's message as its status (tree icon, report view); its properties, the earlier
+features and the later ones keep their values, so the user can fix the value.
+"""
+import FreeCAD
+
+from ...brep.protocol import FaceRef
+from ..shapes import from_part, to_part
+
+GROUP = "Operation"  # property editor group of the operators' parameters
+BASE = "Base"  # where FreeCAD and PartDesign show the links to other features
+
+
+def mm(value) -> float:
+    """A length property's value in mm (FreeCAD hands out Quantities for lengths)."""
+    return float(getattr(value, "Value", value))
+
+
+def vec(p) -> "FreeCAD.Vector":
+    """A 3-sequence of floats (mm) as a FreeCAD vector."""
+    return FreeCAD.Vector(*[float(c) for c in p])
+
+
+def tup(v) -> tuple:
+    """A FreeCAD vector as the core's (x, y, z) tuple of floats (mm)."""
+    return (float(v.x), float(v.y), float(v.z))
+
+
+class Proxy:
+    """Persistence of a proxy: it holds no state of its own (the properties hold it).
+
+    FreeCAD 0.20 pickles proxies through __getstate__/__setstate__; 0.21.2 and 1.x call
+    dumps/loads. The module and class name, saved by FreeCAD, are enough to restore it.
+    """
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+
+class Feature(Proxy):
+    """A Part::FeaturePython whose Shape is a solid built by the core.
+
+    Subclasses set TYPE (used by the view provider and `find_models`) and define
+    `add_properties` and `solid`.
+    """
+
+    TYPE = "Sketch2CAD::Feature"
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.add_properties(obj)
+        # Parameters are in world coordinates, and execute() would undo a moved Placement.
+        obj.setEditorMode("Placement", 2)
+
+    def add_properties(self, obj) -> None:
+        raise NotImplementedError
+
+    def solid(self, obj):
+        """The cadquery solid this feature stands for."""
+        raise NotImplementedError
+
+    def execute(self, obj):
+        obj.Shape = to_part(self.solid(obj))
+
+
+class OperationFeature(Feature):
+    """An operation of the protocol applied to the previous feature's solid (`Base`).
+
+    Subclasses set OPERATION (the protocol dataclass they stand for) and LABEL, and
+    define `add_operation_properties`, `operation` and `set_operation`.
+    """
+
+    OPERATION = None
+    LABEL = "Operation"
+
+    def add_properties(self, obj) -> None:
+        obj.addProperty("App::PropertyLink", "Base", BASE,
+                        "The previous feature; this operation applies to its solid")
+        obj.addProperty("App::PropertyVector", "FacePoint", "Base face f",
+                        "A point inside the base face f (mm); the face is looked up again "
+                        "on every recompute, so it follows edits of earlier steps")
+        obj.addProperty("App::PropertyVector", "FaceNormal", "Base face f",
+                        "The outward normal of the base face f (normalised when used)")
+        self.add_operation_properties(obj)
+
+    def add_operation_properties(self, obj) -> None:
+        raise NotImplementedError
+
+    def face(self, obj) -> FaceRef:
+        """The base face reference; the normal is normalised unless it already has length 1
+        (then it is kept bit for bit, so protocols round-trip exactly)."""
+        n = FreeCAD.Vector(obj.FaceNormal)
+        if n.Length < 1e-12:
+            raise ValueError(f"{obj.Label}: FaceNormal must not be the zero vector")
+        if abs(n.Length - 1.0) > 1e-12:
+            n.normalize()
+        return FaceRef(tup(obj.FacePoint), tup(n))
+
+    def operation(self, obj):
+        """The protocol operation the properties describe."""
+        raise NotImplementedError
+
+    def set_operation(self, obj, op) -> None:
+        """Write a protocol operation into the properties (subclasses add theirs)."""
+        obj.FacePoint = vec(op.face.point)
+        obj.FaceNormal = vec(op.face.normal)
+
+    def solid(self, obj):
+        from ...brep.operators import apply_operation
+        if obj.Base is None:
+            raise ValueError(f"{obj.Label}: no Base feature to apply the operation to")
+        if obj.Base.Shape.isNull():
+            raise ValueError(f"{obj.Label}: its Base {obj.Base.Label} has no solid "
+                             "(that step failed to build)")
+        return apply_operation(from_part(obj.Base.Shape), self.operation(obj))

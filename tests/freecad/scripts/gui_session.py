@@ -1,0 +1,318 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""GUI checks, run by test_gui.py in FreeCAD on a virtual X screen: the workbench loads
+quietly, its commands work (with undo and error messages), the view camera converts, and
+strokes are captured from real mouse and key events."""
+import json
+import os
+import re
+import sys
+from dataclasses import replace
+
+sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
+from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
+
+import FreeCAD  # noqa: E402
+import FreeCADGui  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
+
+from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
+
+MESSAGES = []  # (title, text) of the message boxes the commands showed
+QtGui.QMessageBox.critical = lambda parent, title, text, *a: MESSAGES.append((title, text))
+BOX_CORNERS = np.array([[x, y, z] for x in (-20, 20) for y in (-15, 15) for z in (-10, 10)], float)
+
+
+def app():
+    return QtGui.QApplication.instance()
+
+
+def settle() -> None:
+    for _ in range(3):
+        app().processEvents()
+
+
+def report_view() -> str:
+    """What FreeCAD wrote to its report view, but the lines these checks printed."""
+    text = FreeCADGui.getMainWindow().findChild(QtGui.QTextEdit, "Report view").toPlainText()
+    lines = [re.sub(r"^\d\d:\d\d:\d\d\s*", "", line).strip() for line in text.splitlines()]
+    return "\n".join(line for line in lines if line and not line.startswith("CHECK "))
+
+
+def model_of_document():
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import find_models
+    (model,) = find_models(FreeCAD.ActiveDocument)
+    return model
+
+
+def drag(viewport, pixels, button=QtCore.Qt.LeftButton) -> None:
+    """A mouse drag through core pixel positions, as Qt events (in device-independent
+    pixels: Xvfb's 96 dpi makes Qt scale by about 1.04)."""
+    dpr = viewport.devicePixelRatioF()
+    points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
+    send = app().sendEvent
+    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, points[0], button, button,
+                                     QtCore.Qt.NoModifier))
+    for p in points[1:]:
+        send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button,
+                                         QtCore.Qt.NoModifier))
+    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, points[-1], button,
+                                     QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
+    settle()
+
+
+def key(viewport, qt_key) -> None:
+    for kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease):
+        app().sendEvent(viewport, QtGui.QKeyEvent(kind, qt_key, QtCore.Qt.NoModifier))
+    settle()
+
+
+@check
+def startup_printed_nothing():
+    tested_checkout()
+    assert report_view().strip() == "", report_view()
+
+
+@check
+def workbench_loads_quietly():
+    FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
+    settle()
+    assert FreeCADGui.activeWorkbench().name() == "Sketch2CADWorkbench"
+    from Sketch2CADWorkbench.commands import COMMANDS
+    assert set(COMMANDS) <= set(FreeCADGui.listCommands())
+    toolbar = FreeCADGui.getMainWindow().findChild(QtGui.QToolBar, "Sketch2CAD")
+    assert toolbar is not None and toolbar.isVisible()
+    assert report_view().strip() == "", report_view()
+
+
+@check
+def new_model_is_one_undo_step():
+    doc = FreeCAD.newDocument("gui")
+    FreeCADGui.runCommand("Sketch2CAD_NewModel")
+    settle()
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import features
+    model = model_of_document()
+    box = features(model)[0]
+    assert close(box.Shape.Volume, 40 * 30 * 20) and box.ViewObject.Visibility
+    assert FreeCADGui.ActiveDocument.ActiveView.getCameraType() == "Orthographic"
+    doc.undo()
+    assert not doc.Objects
+    doc.redo()
+    assert len(doc.Objects) == 2
+    box.Length = 50.0  # the size is an editable property
+    doc.recompute()
+    assert close(box.Shape.Volume, 50 * 30 * 20)
+    box.Length = 40.0
+    doc.recompute()
+
+
+def projection_error(view) -> float:
+    """Largest distance (pixels) between OrthoCamera.project and view.getPointOnScreen."""
+    from Sketch2CADWorkbench.freecad_layer.view_camera import to_pixels, view_camera
+    cam = view_camera(view)
+    assert (cam.width, cam.height) == tuple(view.getSize())
+    ours = cam.project(BOX_CORNERS)[0]
+    theirs = to_pixels([view.getPointOnScreen(FreeCAD.Vector(*p)) for p in BOX_CORNERS],
+                       cam.height)
+    return float(np.max(np.abs(ours - theirs)))
+
+
+def silhouette_error(view) -> float:
+    """Largest distance (pixels) between the box's projected bounding rectangle and the
+    one of the pixels Coin renders for it with the view's camera and size."""
+    import cv2
+    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    cam = view_camera(view)
+    path = os.path.join(TMP, "silhouette.png")
+    view.saveImage(path, cam.width, cam.height, "#ffffff")
+    image = cv2.imread(path)
+    assert image.shape[:2] == (cam.height, cam.width), image.shape
+    ys, xs = np.nonzero(np.abs(image.astype(int) - 255).sum(axis=2) > 40)
+    rendered = np.array([xs.min(), ys.min(), xs.max() + 1, ys.max() + 1], float)
+    p = cam.project(BOX_CORNERS)[0]
+    projected = np.concatenate([p.min(axis=0), p.max(axis=0)])
+    return float(np.max(np.abs(rendered - projected)))
+
+
+@check
+def view_camera_matches_freecads_projection():
+    view = FreeCADGui.ActiveDocument.ActiveView
+    for direction in ("viewIsometric", "viewFront", "viewRight"):
+        getattr(view, direction)()
+        view.fitAll()
+        settle()
+        w, h = view.getSize()
+        assert w > h
+        assert projection_error(view) <= 1.0, (direction, projection_error(view))
+        assert silhouette_error(view) <= 2.0, (direction, silhouette_error(view))
+    mw = FreeCADGui.getMainWindow()
+    size = mw.size()
+    mw.resize(420, 1000)  # a view taller than wide: Coin scales the camera height
+    settle()
+    view.viewIsometric()
+    settle()
+    w, h = view.getSize()
+    err = silhouette_error(view)
+    mw.resize(size)
+    view.fitAll()
+    settle()
+    assert w < h, (w, h)
+    assert err <= 2.0, err
+
+
+@check
+def strokes_captured_from_mouse_events():
+    from Sketch2CADWorkbench.freecad_layer.stroke_capture import StrokeCapture
+    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    settle()
+    viewport = view.graphicsView().viewport()
+    finished, cancelled = [], []
+    capture = StrokeCapture(view, lambda: finished.append(capture.result()),
+                            lambda: cancelled.append(True))
+    top_edge = np.linspace([-20, -15, 10], [20, -15, 10], 15)
+    drag(viewport, view_camera(view).project(top_edge)[0])
+    assert len(capture.strokes) == 1 and len(capture.strokes[0]) == 15, capture.strokes
+    assert list(capture.lines.numVertices.getValues()) == [15]  # the overlay follows
+    drag(viewport, [(300.5, 300.5)])  # a click is not a stroke
+    drag(viewport, view_camera(view).project(top_edge)[0], QtCore.Qt.MiddleButton)
+    assert len(capture.strokes) == 1, len(capture.strokes)
+    view.zoomOut()  # strokes stay on the model when the view changes between them
+    settle()
+    side_edge = np.linspace([20, -15, 10], [20, -15, -10], 10)
+    drag(viewport, view_camera(view).project(side_edge)[0])
+    key(viewport, QtCore.Qt.Key_Return)
+    assert len(finished) == 1, finished
+    strokes, cam = finished[0]
+    assert cam == view_camera(view)
+    for got, edge in zip(strokes, (top_edge, side_edge)):
+        err = np.max(np.abs(got - cam.project(edge)[0]))
+        assert err <= 1.5, err  # Qt mouse positions are whole device-independent pixels
+    key(viewport, QtCore.Qt.Key_Escape)
+    assert cancelled == [True]
+    capture.clear()
+    assert capture.strokes == [] and capture.lines.numVertices.getNum() == 0
+    capture.remove()
+    settle()
+    assert capture.graph.findChild(capture.root) == -1
+    assert capture.top.findChild(capture.events) == -1
+    assert not view.getViewer().isRedirectedToSceneGraph()
+
+
+def write_protocol(protocol, name: str) -> str:
+    path = os.path.join(TMP, name)
+    protocol.save(path)
+    return path
+
+
+@check
+def load_protocol_errors_change_nothing():
+    from Sketch2CADWorkbench.commands.protocol import load_protocol_file
+    doc = FreeCAD.ActiveDocument
+    objects, undos = len(doc.Objects), doc.UndoCount
+    bad = os.path.join(TMP, "bad.json")
+    with open(bad, "w") as f:
+        json.dump({"format": "sketch2cad-protocol", "version": 1, "units": "mm",
+                   "base": {"type": "box", "size": [10, -1, 10]}, "operations": []}, f)
+    assert load_protocol_file(bad) is None
+    assert MESSAGES[-1][0] == "Cannot load protocol" and "base.size[1]" in MESSAGES[-1][1]
+    # a valid file whose last step no longer finds its face once the column is longer
+    mixer = load(os.path.join(EXAMPLES, "mixer.json"))
+    column = replace(mixer.operations[0], d=mixer.operations[0].d + 20)
+    longer = replace(mixer, operations=(column,) + mixer.operations[1:])
+    assert load_protocol_file(write_protocol(longer, "unbuildable.json")) is None
+    assert "step 7" in MESSAGES[-1][1], MESSAGES[-1]
+    assert (len(doc.Objects), doc.UndoCount) == (objects, undos)
+
+
+@check
+def load_protocol_is_one_undo_step():
+    from Sketch2CADWorkbench.commands.protocol import load_protocol_file
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    doc = FreeCAD.ActiveDocument
+    path = os.path.join(EXAMPLES, "mixer.json")
+    objects = len(doc.Objects)
+    model = load_protocol_file(path)
+    assert model is not None and model.Label == "mixer"
+    chain = features(model)
+    want = [s.Volume() for s in replay(load(path))]
+    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want))
+    assert [o.ViewObject.Visibility for o in chain] == [False] * (len(chain) - 1) + [True]
+    doc.undo()
+    assert len(doc.Objects) == objects
+    doc.redo()
+    assert len(find_models(doc)) == 2
+
+
+@check
+def save_protocol_round_trip():
+    from Sketch2CADWorkbench.commands.protocol import save_protocol_file
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import find_models
+    model = find_models(FreeCAD.ActiveDocument)[-1]
+    path = os.path.join(TMP, "saved.json")
+    assert save_protocol_file(model, path)
+    assert load(path) == load(os.path.join(EXAMPLES, "mixer.json"))
+
+
+@check
+def export_step_command():
+    from Sketch2CADWorkbench.commands.export import export_model_step
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    model = find_models(FreeCAD.ActiveDocument)[-1]
+    path = os.path.join(TMP, "mixer.step")
+    assert export_model_step(model, path)
+    assert close(Part.read(path).Volume, build(load(os.path.join(EXAMPLES, "mixer.json"))).Volume())
+    last = features(model)[-1]
+    profile = last.Profile
+    last.Profile = profile[:3]
+    FreeCAD.ActiveDocument.recompute()
+    assert not export_model_step(model, os.path.join(TMP, "failed.step"))
+    assert MESSAGES[-1][0] == "Cannot export STEP", MESSAGES[-1]
+    assert not os.path.exists(os.path.join(TMP, "failed.step"))
+    last.Profile = profile
+    FreeCAD.ActiveDocument.recompute()
+    assert last.isValid()
+
+
+@check
+def replay_command_rebuilds_step_by_step():
+    from Sketch2CADWorkbench.commands.protocol import replay_model
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    model = find_models(FreeCAD.ActiveDocument)[-1]
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(model)
+    from Sketch2CADWorkbench.commands import COMMANDS
+    assert COMMANDS["Sketch2CAD_ReplayProtocol"].IsActive()
+    assert replay_model(model, step_s=0.0)
+    chain = features(model)
+    assert all(o.isValid() for o in chain)
+    assert [o.ViewObject.Visibility for o in chain] == [False] * (len(chain) - 1) + [True]
+
+
+@check
+def fcstd_reopens_with_view_providers():
+    from Sketch2CADWorkbench.freecad_layer.icons import icon_path
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import (failed_features, features,
+                                                                   find_models)
+    path = os.path.join(TMP, "gui.FCStd")
+    FreeCAD.ActiveDocument.saveAs(path)
+    FreeCAD.closeDocument(FreeCAD.ActiveDocument.Name)
+    doc = FreeCAD.openDocument(path)
+    model = find_models(doc)[-1]
+    icons = {o.ViewObject.Proxy.getIcon() for o in [model] + features(model)}
+    assert icons == {icon_path(n) for n in ("Model", "Box", "AddSubPrism", "Sweep", "Bevel")}
+    for o in features(model):
+        o.touch()
+    doc.recompute()
+    assert not failed_features(model)
+
+
+def main():
+    finish(run_checks())
+
+
+QtCore.QTimer.singleShot(0, main)

@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Inside FreeCAD: the checks' registry, their report lines and the exit code.
+
+Each check prints "CHECK PASSED <name>" or "CHECK FAILED <name>" and its traceback; the
+process exits 1 if any failed (freecadcmd itself exits 0 on an uncaught exception).
+"""
+import os
+import sys
+import traceback
+
+ROOT = os.environ["SKETCH2CAD_ROOT"]
+TMP = os.environ["SKETCH2CAD_TMP"]
+EXAMPLES = os.path.join(ROOT, "examples", "protocols")
+CHECKS = []
+
+
+def check(fn):
+    """Register a check (run in registration order by `run_checks`)."""
+    CHECKS.append(fn)
+    return fn
+
+
+def close(a: float, b: float, rel: float = 1e-6) -> bool:
+    return abs(a - b) <= rel * max(abs(a), abs(b))
+
+
+def say(line: str) -> None:
+    print(f"\n{line}")  # on its own line: FreeCAD's progress output has no newline
+    sys.stdout.flush()
+
+
+def tested_checkout() -> None:
+    """The Sketch2CAD that FreeCAD loaded (through its Mod folder) is this checkout."""
+    import Sketch2CADWorkbench
+    loaded = os.path.realpath(os.path.dirname(Sketch2CADWorkbench.__file__))
+    wanted = os.path.realpath(os.path.join(ROOT, "Sketch2CADWorkbench"))
+    assert loaded == wanted, (f"FreeCAD loaded Sketch2CAD from {loaded}, not {wanted}: "
+                              "run scripts/setup.sh to link this checkout into its Mod folder")
+
+
+def run_checks() -> int:
+    """Run every registered check; 0 if all passed, else 1."""
+    failed = 0
+    for fn in CHECKS:
+        try:
+            fn()
+            say(f"CHECK PASSED {fn.__name__}")
+        except Exception:
+            failed += 1
+            say(f"CHECK FAILED {fn.__name__}")
+            traceback.print_exc(file=sys.stdout)
+    return 1 if failed else 0
+
+
+def finish(code: int) -> None:
+    """Leave FreeCAD now with `code` (its own exit would not pass it on)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)

@@ -1,0 +1,41 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Reopening document_checks.py's FCStd in a fresh freecadcmd process."""
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
+from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
+
+import FreeCAD  # noqa: E402
+
+from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer.make.make_model import (  # noqa: E402
+    failed_features, features, find_models, protocol_from_model)
+
+
+@check
+def reopen_fcstd():
+    tested_checkout()
+    p = load(os.path.join(EXAMPLES, "hammer.json"))
+    doc = FreeCAD.openDocument(os.path.join(TMP, "hammer.FCStd"))
+    (model,) = find_models(doc)
+    chain = features(model)
+    assert [o.Name for o in model.Group] == [o.Name for o in chain]
+    assert protocol_from_model(model) == p
+    saved = json.load(open(os.path.join(TMP, "hammer-volumes.json")))
+    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, saved))
+    for o in chain:
+        o.touch()
+    doc.recompute()
+    assert not failed_features(model)
+    want = [s.Volume() for s in replay(p)]
+    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want))
+    sweep = next(o for o in chain if o.Proxy.TYPE == "Sketch2CAD::Sweep")
+    inner = list(sweep.ProfileInner)
+    sweep.Radius0 = sweep.Radius0.Value * 1.2  # the restored proxy still retunes
+    assert list(sweep.ProfileInner) != inner
+
+
+finish(run_checks())

@@ -1,0 +1,37 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The workbench in FreeCAD's GUI, on a virtual X screen (see scripts/gui_session.py)."""
+import re
+
+import pytest
+
+pytestmark = [pytest.mark.freecad, pytest.mark.gui]
+
+CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_one_undo_step",
+          "view_camera_matches_freecads_projection", "strokes_captured_from_mouse_events",
+          "load_protocol_errors_change_nothing", "load_protocol_is_one_undo_step",
+          "save_protocol_round_trip", "export_step_command", "replay_command_rebuilds_step_by_step",
+          "fcstd_reopens_with_view_providers"]
+
+
+@pytest.fixture(scope="module")
+def gui_run(tmp_path_factory, run_freecad):
+    """One FreeCAD GUI process running every check of scripts/gui_session.py."""
+    return run_freecad("gui_session.py", tmp_path_factory.mktemp("gui"), gui=True)
+
+
+@pytest.mark.parametrize("name", CHECKS)
+def test_gui(gui_run, assert_passed, name):
+    assert_passed(gui_run, name)
+
+
+def test_loading_the_workbench_prints_no_error_or_warning(gui_run, assert_passed):
+    assert_passed(gui_run, "workbench_loads_quietly")  # which also reads the report view
+    text = gui_run.stdout + gui_run.stderr
+    loading = text.split("CHECK PASSED workbench_loads_quietly")[0]
+    assert not re.search(r"Traceback|Error|Warning|Cannot|failed", loading, re.I), loading[-4000:]
+
+
+def test_every_check_ran(gui_run):
+    assert gui_run.returncode == 0, (gui_run.stdout + gui_run.stderr)[-6000:]
+    ran = [line.split()[-1] for line in gui_run.stdout.splitlines() if line.startswith("CHECK ")]
+    assert ran == CHECKS
