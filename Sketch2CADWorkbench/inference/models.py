@@ -1,155 +1,258 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The networks: one small U-Net with a shared encoder for all three jobs of the paper.
+"""The networks of the paper's "Context Driven Sketch Interpretation", sized for a CPU.
 
-The paper trains a VGG-like classifier and one two-branch U-Net per operator on 4 GPUs.
-This machine has two CPU cores, so one network does it all:
+The paper trains a VGG-like classifier and one two-branch U-Net per operator, all on
+5 x 256 x 256 inputs (sketch S, depth D, normal N) with 32..512 channels, on 4 GPUs.
+Training from scratch here must fit in 2 hours on 2 CPU cores, so one small network
+does all five jobs (scripts/bench_networks.py measures the choices):
 
-    input (B, 5, 256, 256) S, D, N
-      -> pooled to 128 x 128 (max for the thin strokes, mean for D and N)
-      -> encoder 8-16-32-64-128 channels down to 8 x 8 (narrow where the maps are large:
-         the cost of a level grows with its area)
-      -> classifier head on the bottleneck: 4 operator logits
-      -> decoder with skips back to 128 x 128 -> per operator: F logit and C value
-         (8 channels), upsampled to 256 x 256
+    x (B, 5, 256, 256)                       S, D, N at full size
+      pool -> (B, 5, I, I)                   I = 128: max-pool S (1-px strokes survive),
+                                             area-average D and N (edges stay sub-pixel)
+      encoder, widths w0..w4                 (B, w_l, I/2^l, I/2^l), l = 0..4
+        classifier on the bottleneck         global mean + max -> MLP -> (B, 4) logits
+      decoder with skips -> (B, w0, I, I)
+      heads, 1x1 conv -> (B, 2 x 4, I, I)    per operator: base-face logit F, curve C
+      upsample bilinear -> (B, 4, 256, 256)  F probabilities and C at the input's size
 
-Operator-specific outputs keep the paper's per-operator segmentation (each operator's
-C encoding differs) while sharing all features; the encoder also learns from every
-sample instead of a quarter of them. The loss is the paper's, per sample applied to the
-ground-truth operator's outputs (Eqs. 1-2).
+Why one shared encoder: the four segmentation tasks and the classification all read
+the same cues (where the strokes are, which planar region of D/N they sit on), so one
+encoder trained on every sample learns them from four times the data that a
+per-operator U-Net would see in the same time, and a sketch costs one pass instead of
+two. The per-operator 1x1 heads keep the paper's per-operator outputs (each operator
+has its own C encoding); the loss reaches only the ground-truth operator's heads.
+Why I = 128: the strokes are one pixel wide at 256 and survive max-pooling; a U-Net
+costs about 4x less per halving of the side, and 96 measured no faster per sample
+than 128 once the smaller maps stop filling the cores (bench_networks.py).
+
+Labels stay at full size: the outputs are upsampled before the loss, so training
+optimises exactly the maps that the fitting stage and the evaluation read.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
 
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
 
-N_OPS = 4
-IN_CHANNELS = 5
+N_OPS = 4          # EXTRUDE, BEVEL, ADDSUB, SWEEP: brep.protocol.OperatorType order
+IN_CHANNELS = 5    # S, D, N (datagen/sample.py)
+CHECKPOINT_FORMAT = "sketch2cad-net"
 
 
 @dataclass
-class NetConfig:
-    """Architecture settings; saved in every checkpoint so it rebuilds the model alone."""
+class ModelConfig:
+    """Architecture settings; saved in every checkpoint, so a file rebuilds its model.
 
+    Attributes:
+        image_size: side of the input and output maps (pixels).
+        internal_size: side the network works at; inputs are pooled down to it.
+        widths: encoder channels per level, finest first; the decoder mirrors them.
+        classifier_hidden: width of the classifier's hidden layer.
+        dropout: dropout before the classifier's last layer.
+    """
+
+    image_size: int = 256
+    internal_size: int = 128
     widths: tuple[int, ...] = (8, 16, 32, 64, 128)
-    internal: int = 128  # working resolution (input is pooled down to it)
-    size: int = 256      # input/output resolution
+    classifier_hidden: int = 64
+    dropout: float = 0.1
+
+    def __post_init__(self):
+        self.widths = tuple(int(w) for w in self.widths)
+        levels = len(self.widths) - 1
+        if self.internal_size % (2 ** levels):
+            raise ValueError(f"internal_size {self.internal_size} must be divisible by "
+                             f"2^{levels} for {len(self.widths)} encoder levels")
 
 
-def block(cin: int, cout: int) -> nn.Sequential:
-    return nn.Sequential(nn.Conv2d(cin, cout, 3, padding=1, bias=False), nn.BatchNorm2d(cout),
+class ConvBlock(nn.Sequential):
+    """Two 3x3 conv + batch norm + ReLU: (B, cin, H, W) -> (B, cout, H, W)."""
+
+    def __init__(self, cin: int, cout: int):
+        super().__init__(nn.Conv2d(cin, cout, 3, padding=1, bias=False), nn.BatchNorm2d(cout),
                          nn.ReLU(inplace=True),
                          nn.Conv2d(cout, cout, 3, padding=1, bias=False), nn.BatchNorm2d(cout),
                          nn.ReLU(inplace=True))
 
 
 class Sketch2CADNet(nn.Module):
-    """Operator classification + per-operator base-face and curve segmentation."""
+    """Operator classification and, per operator, base-face and curve segmentation."""
 
-    def __init__(self, cfg: NetConfig = NetConfig()):
+    def __init__(self, config: ModelConfig | None = None):
         super().__init__()
-        self.cfg = cfg
+        self.config = cfg = config or ModelConfig()
         w = cfg.widths
-        self.enc = nn.ModuleList([block(IN_CHANNELS, w[0])] +
-                                 [block(w[i - 1], w[i]) for i in range(1, len(w))])
-        self.cls = nn.Sequential(nn.Linear(2 * w[-1], 64), nn.ReLU(inplace=True),
-                                 nn.Linear(64, N_OPS))
+        self.encoder = nn.ModuleList([ConvBlock(IN_CHANNELS, w[0])] +
+                                     [ConvBlock(w[i - 1], w[i]) for i in range(1, len(w))])
+        self.classifier = nn.Sequential(
+            nn.Linear(2 * w[-1], cfg.classifier_hidden), nn.ReLU(inplace=True),
+            nn.Dropout(cfg.dropout), nn.Linear(cfg.classifier_hidden, N_OPS))
         self.up = nn.ModuleList([nn.ConvTranspose2d(w[i], w[i - 1], 2, stride=2)
                                  for i in range(len(w) - 1, 0, -1)])
-        self.dec = nn.ModuleList([block(2 * w[i - 1], w[i - 1]) for i in range(len(w) - 1, 0, -1)])
-        self.head = nn.Conv2d(w[0], 2 * N_OPS, 1)
+        self.decoder = nn.ModuleList([ConvBlock(2 * w[i - 1], w[i - 1])
+                                      for i in range(len(w) - 1, 0, -1)])
+        self.heads = nn.Conv2d(w[0], 2 * N_OPS, 1)  # channels: F logits of 4 ops, then C
+        with torch.no_grad():  # start C at the middle of the labels' range 0..2
+            self.heads.bias[N_OPS:].fill_(1.0)
 
-    def check_input(self, x: torch.Tensor, size: int) -> None:
-        if x.dim() != 4 or x.shape[1] != IN_CHANNELS or tuple(x.shape[2:]) != (size, size):
-            raise ValueError(f"expected input of shape (B, {IN_CHANNELS}, {size}, {size}) "
-                             f"holding S, D, N (see datagen/sample.py), got {tuple(x.shape)}")
+    # ------------------------------------------------------------ shapes
+    def check_input(self, x: torch.Tensor, size: int, where: str) -> None:
+        """Raise ValueError naming the expected shape when x is not (B, 5, size, size)."""
+        if x.dim() == 4 and x.shape[1] == IN_CHANNELS and tuple(x.shape[2:]) == (size, size):
+            return
+        hint = ""
+        if x.dim() == 3:
+            hint = " (one sketch? add the batch axis: x[None])"
+        elif x.dim() == 4 and tuple(x.shape[2:]) == (self.config.image_size,) * 2:
+            hint = " (full-size maps: call predict(x), or pool(x) before forward)"
+        elif x.dim() == 4 and tuple(x.shape[2:]) == (self.config.internal_size,) * 2:
+            hint = " (pooled maps: call forward(x); predict takes full-size maps)"
+        raise ValueError(f"Sketch2CADNet.{where} expects a float tensor of shape "
+                         f"(B, {IN_CHANNELS}, {size}, {size}) holding S, D, N stacked as "
+                         f"datagen/sample.py Sample.inputs() does, got {tuple(x.shape)}{hint}")
 
-    def forward(self, h: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-        """Pooled input (B, 5, I, I) -> logits (B, 4), F logits (B, 4, I, I), C (B, 4, I, I).
+    def pool(self, x: torch.Tensor) -> torch.Tensor:
+        """Full-size (B, 5, S, S) -> (B, 5, I, I): max for the strokes S, mean for D, N."""
+        self.check_input(x, self.config.image_size, "pool")
+        size = (self.config.internal_size,) * 2
+        return torch.cat([F.adaptive_max_pool2d(x[:, :1], size),
+                          F.adaptive_avg_pool2d(x[:, 1:], size)], dim=1)
 
-        Training works at the internal resolution I (inputs and labels pooled once, see
-        `pool_inputs`/`pool_labels`); `predict` takes full-size maps.
+    def upsample(self, maps: torch.Tensor) -> torch.Tensor:
+        """(B, K, I, I) -> (B, K, S, S), bilinear: the outputs at the input's size."""
+        return F.interpolate(maps, size=(self.config.image_size,) * 2, mode="bilinear",
+                             align_corners=False)
+
+    # ------------------------------------------------------------ passes
+    def forward(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """Pooled inputs -> outputs at the internal size.
+
+        Args:
+            x: (B, 5, I, I) float, `pool` of the full-size maps.
+        Returns:
+            logits (B, 4) of the operator classes, F logits (B, 4, I, I) and C values
+            (B, 4, I, I), one channel per operator in OperatorType order.
         """
-        self.check_input(h, self.cfg.internal)
+        self.check_input(x, self.config.internal_size, "forward")
         skips = []
-        for i, enc in enumerate(self.enc):
-            h = enc(h if i == 0 else F.max_pool2d(h, 2))
+        h = x
+        for level, block in enumerate(self.encoder):
+            h = block(h if level == 0 else F.max_pool2d(h, 2))  # (B, w_l, I/2^l, I/2^l)
             skips.append(h)
-        logits = self.cls(torch.cat([h.mean((2, 3)), h.amax((2, 3))], dim=1))  # (B, 4)
-        for up, dec, skip in zip(self.up, self.dec, reversed(skips[:-1])):
-            h = dec(torch.cat([up(h), skip], dim=1))
-        out = self.head(h)                           # (B, 8, I, I)
+        logits = self.classifier(torch.cat([h.mean((2, 3)), h.amax((2, 3))], 1))  # (B, 4)
+        for up, block, skip in zip(self.up, self.decoder, reversed(skips[:-1])):
+            h = block(torch.cat([up(h), skip], 1))  # (B, w_l, I/2^l, I/2^l), l = 3..0
+        out = self.heads(h)                          # (B, 8, I, I)
         return logits, out[:, :N_OPS], out[:, N_OPS:]
 
     @torch.inference_mode()
     def predict(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-        """Full-size x (B, 5, S, S) -> probabilities (B, 4), F probabilities and C maps
-        (B, 4, S, S) upsampled bilinearly for the fitting stage."""
+        """Full-size maps -> what the fitting stage reads, at full size.
+
+        Args:
+            x: (B, 5, S, S) float, S = config.image_size (256).
+        Returns:
+            class probabilities (B, 4); F (B, 4, S, S) base-face probabilities in 0..1;
+            C (B, 4, S, S) curve values (paper encodings: extrude/bevel 0..1,
+            add/sub and sweep 0..2).
+        """
         self.eval()
-        self.check_input(x, self.cfg.size)
-        logits, f, c = self(pool_inputs(x, self.cfg.size // self.cfg.internal))
-        size = (self.cfg.size,) * 2
-        up = F.interpolate(torch.cat([f, c], 1), size=size, mode="bilinear", align_corners=False)
+        logits, f, c = self(self.pool(x))
+        up = self.upsample(torch.cat([f, c], 1))  # logits upsampled, then squashed: sharper
         return logits.softmax(1), up[:, :N_OPS].sigmoid(), up[:, N_OPS:]
 
 
-def _blocks(x: torch.Tensor, k: int) -> torch.Tensor:
-    """(..., H, W) -> (..., H/k, W/k, k*k): the k x k blocks (a cheap exact pooling)."""
-    *lead, h, w = x.shape
-    return x.reshape(*lead, h // k, k, w // k, k).movedim(-3, -2).reshape(*lead, h // k, w // k, k * k)
-
-
-def pool_inputs(x: torch.Tensor, k: int) -> torch.Tensor:
-    """(B, 5, S, S) -> (B, 5, S/k, S/k): max for the thin strokes S, mean for D and N."""
-    if k == 1:
-        return x
-    return torch.cat([_blocks(x[:, :1], k).amax(-1), _blocks(x[:, 1:], k).mean(-1)], dim=1)
-
-
-def pool_labels(face: torch.Tensor, curve: torch.Tensor, mask: torch.Tensor, k: int
-                ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-    """Labels (B, S, S) at S/k: F~ averaged, M~ and C~ max-pooled over stroke pixels."""
-    if k == 1:
-        return face, curve, mask
-    m = _blocks(mask, k).amax(-1)
-    c = _blocks((curve + 1) * mask, k).amax(-1) - 1
-    return _blocks(face, k).mean(-1), c.clamp(min=0) * m, m
-
-
 def class_weights(counts: torch.Tensor) -> torch.Tensor:
-    """The paper's w_O: inverse class frequencies, normalised to sum to 1."""
+    """The paper's w_O: inverse class frequencies normalised to sum to 1.
+
+    Args:
+        counts: (4,) training samples per operator (a missing class counts as 1).
+    Returns:
+        (4,) float32 weights.
+    """
     inv = 1.0 / counts.clamp(min=1).float()
     return inv / inv.sum()
 
 
-def loss_terms(logits, f_logits, c, op, face_label, curve_label, stroke_mask, weights
+def loss_terms(model: Sketch2CADNet, outputs: tuple[torch.Tensor, torch.Tensor, torch.Tensor],
+               op: torch.Tensor, face_label: torch.Tensor, curve_label: torch.Tensor,
+               stroke_mask: torch.Tensor, weights: torch.Tensor
                ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-    """The paper's losses for a batch, averaged over it.
+    """The paper's losses (Eqs. 1 and 2), averaged over a batch.
 
-    Classification: weighted cross entropy -w_O log P_O (Eq. 1; weights normalised by the
-    batch's total weight). Segmentation (Eq. 2), on the ground-truth operator's outputs:
-    (1/HW) ||F - F~||^2 + (1/|M~|) ||M~ (C - C~)||^2.
+    Classification: -w_O log P_O (Eq. 1), averaged with PyTorch's weighted mean (divided
+    by the batch's summed weights): in expectation a constant multiple of the plain mean,
+    and on the same scale as the segmentation terms whatever the class frequencies.
+    Segmentation (Eq. 2) on the ground-truth operator's F and C, upsampled to the labels'
+    full size: (1/HW) ||F - F~||^2 + (1/|M~|) ||M~ (C - C~)||^2.
+
+    Args:
+        model: supplies the upsampling to full size.
+        outputs: forward()'s (logits (B, 4), F logits (B, 4, I, I), C (B, 4, I, I)).
+        op: (B,) int64 ground-truth operator indices.
+        face_label, curve_label, stroke_mask: (B, S, S) float F~, C~, M~.
+        weights: (4,) class weights (`class_weights`).
+    Returns:
+        (classification, face, curve) scalar losses.
     """
+    logits, f_logits, curve = outputs
     cls = F.cross_entropy(logits, op, weight=weights)
-    idx = op[:, None, None, None].expand(-1, 1, *f_logits.shape[2:])
-    f = torch.gather(f_logits, 1, idx)[:, 0].sigmoid()
-    cc = torch.gather(c, 1, idx)[:, 0]
+    pick = op[:, None, None, None].expand(-1, 1, *f_logits.shape[2:])  # (B, 1, I, I)
+    maps = model.upsample(torch.cat([f_logits.gather(1, pick), curve.gather(1, pick)], 1))
+    f, c = maps[:, 0].sigmoid(), maps[:, 1]                           # (B, S, S) each
     face = ((f - face_label) ** 2).mean((1, 2))
-    curve = ((stroke_mask * (cc - curve_label)) ** 2).sum((1, 2)) / stroke_mask.sum((1, 2)).clamp(min=1)
-    return cls, face.mean(), curve.mean()
+    strokes = stroke_mask.sum((1, 2)).clamp(min=1)  # a sketch without strokes adds 0
+    curve_loss = ((stroke_mask * (c - curve_label)) ** 2).sum((1, 2)) / strokes
+    return cls, face.mean(), curve_loss.mean()
 
 
-def save_checkpoint(path, model: Sketch2CADNet, extra: dict | None = None) -> None:
-    """Weights plus the config that rebuilds the model (and any training state)."""
-    torch.save({"config": asdict(model.cfg), "model": model.state_dict(), **(extra or {})}, path)
+# ---------------------------------------------------------------- checkpoints
+def save_checkpoint(path: str | Path, model: Sketch2CADNet, **extra) -> None:
+    """Write the weights with the config that rebuilds the model, plus `extra` entries
+    (training state, class counts, provenance). Written to a temporary name and renamed,
+    so an interrupted save never leaves a broken file."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    torch.save({"format": CHECKPOINT_FORMAT, "config": asdict(model.config),
+                "model": model.state_dict(), **extra}, tmp)
+    tmp.replace(path)
 
 
-def load_model(path, map_location="cpu") -> tuple[Sketch2CADNet, dict]:
-    """Rebuild a model from a checkpoint file alone; returns it and the whole checkpoint."""
+def load_checkpoint(path: str | Path, map_location: str = "cpu"
+                    ) -> tuple[Sketch2CADNet, dict]:
+    """Rebuild a model from a checkpoint file alone.
+
+    Returns:
+        the model (in eval mode) and the whole checkpoint dictionary.
+    Raises:
+        ValueError: when the file is not a Sketch2CAD network checkpoint.
+    """
     ckpt = torch.load(path, map_location=map_location, weights_only=False)
-    cfg = ckpt["config"]
-    model = Sketch2CADNet(NetConfig(tuple(cfg["widths"]), cfg["internal"], cfg["size"]))
+    if not isinstance(ckpt, dict) or ckpt.get("format") != CHECKPOINT_FORMAT:
+        raise ValueError(f"{path}: not a {CHECKPOINT_FORMAT} checkpoint")
+    known = {f.name for f in fields(ModelConfig)}
+    model = Sketch2CADNet(ModelConfig(**{k: v for k, v in ckpt["config"].items() if k in known}))
     model.load_state_dict(ckpt["model"])
-    return model, ckpt
+    return model.eval(), ckpt
+
+
+def count_parameters(model: nn.Module) -> int:
+    return sum(p.numel() for p in model.parameters())
+
+
+def flops_per_sample(config: ModelConfig) -> float:
+    """Multiply-adds of one forward pass of the convolutions (the dominant cost)."""
+    w, s = config.widths, config.internal_size
+    total = 0.0
+    for level, width in enumerate(w):
+        area = (s / 2 ** level) ** 2
+        cin = IN_CHANNELS if level == 0 else w[level - 1]
+        total += area * 9 * (cin * width + width * width)               # encoder block
+        if level < len(w) - 1:
+            total += area * 9 * (2 * width * width + width * width)     # decoder block
+            total += area * w[level + 1] * width                        # transposed conv
+    return total + s * s * w[0] * 2 * N_OPS
+

@@ -1,9 +1,22 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Training the network: `sketch2cad train --data DIR --out DIR [--device cpu|cuda]`.
+"""Training: `sketch2cad train --data DIR --out DIR [--device cpu|cuda] [--minutes M]`.
 
-The whole data set is pooled to the network's internal resolution once and held in
-memory; training runs for a time budget with a cosine learning rate, checkpoints every
-few minutes, and resumes from out/checkpoint.pt when run again.
+The data set is pooled once to the network's internal size and held in memory as bytes
+(inputs at I x I, labels at full size), cached in the run folder so that a resumed or
+repeated run skips that step. A held-out tail of the data set (whole contexts) gives
+validation metrics after every epoch. The learning rate warms up, then follows a cosine
+over the budget: `--minutes` of wall time (default; adapts to a busy machine) or
+`--steps` (exactly reproducible for a given machine and thread count).
+
+Run folder:
+    checkpoint.pt       everything needed to resume (written every few minutes and at
+                        the end; a rerun with the same --out resumes from it)
+    sketch2cad_net.pt   the final weights with their config (what `eval` and the
+                        workbench load; copy it to inference/weights/ to ship it)
+    log.jsonl           one JSON object per line: "train" rows (losses, learning rate,
+                        speed), "val" rows (per-epoch metrics), "event" rows
+    loss_curves.png     training and validation curves
+    data-cache-I.pt     the pooled data set
 """
 from __future__ import annotations
 
@@ -12,233 +25,437 @@ import json
 import math
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
+import numpy as np
 import torch
+import torch.nn.functional as F
 from tqdm import tqdm
 
-from ..datagen.dataset import Dataset
-from .models import (N_OPS, NetConfig, Sketch2CADNet, class_weights, load_model, loss_terms,
-                     pool_inputs, pool_labels, save_checkpoint)
-
-# Settings (plain values; the command line overrides the first four).
-MINUTES = 100.0          # training time budget
-BATCH = 32
-LR = 2e-3
-VAL_FRACTION = 0.03      # held-out shards for per-epoch validation
-SEED = 0
-CHECKPOINT_EVERY_S = 300
-LOG_EVERY = 20           # steps
-WEIGHT_DECAY = 1e-4
+from ..datagen.dataset import Dataset, decode_inputs
+from .evaluate import Tally, curve_hits, face_overlap
+from .models import (N_OPS, ModelConfig, Sketch2CADNet, class_weights, load_checkpoint,
+                     loss_terms, save_checkpoint)
 
 
 @dataclass
-class Tensors:
-    """A data set pooled to the internal resolution (first axis = sample)."""
+class TrainSettings:
+    """Training settings (the command line overrides them; saved in the checkpoint)."""
 
-    x: torch.Tensor      # (N, 5, I, I) float16
-    face: torch.Tensor   # (N, I, I) float16
-    curve: torch.Tensor  # (N, I, I) uint8
-    mask: torch.Tensor   # (N, I, I) uint8
-    op: torch.Tensor     # (N,) int64
-
-    def batch(self, idx, device) -> tuple[torch.Tensor, ...]:
-        return (self.x[idx].to(device).float(), self.face[idx].to(device).float(),
-                self.curve[idx].to(device).float(), self.mask[idx].to(device).float(),
-                self.op[idx].to(device))
-
-
-def load_tensors(ds: Dataset, shards: list[int], k: int, desc: str) -> Tensors:
-    """Shards of a data set as pooled tensors."""
-    parts = []
-    for s in tqdm(shards, desc=desc, unit="shard", leave=False):
-        b = ds.batch(s)
-        x = pool_inputs(torch.from_numpy(b.inputs), k).half()
-        f, c, m = pool_labels(torch.from_numpy(b.face_label), torch.from_numpy(b.curve_label),
-                              torch.from_numpy(b.stroke_mask), k)
-        parts.append((x, f.half(), c.to(torch.uint8), m.to(torch.uint8),
-                      torch.from_numpy(b.op_type)))
-    return Tensors(*[torch.cat([p[i] for p in parts]) for i in range(5)])
+    minutes: float = 105.0        # wall-time budget of the optimisation loop (validation
+                                  # included, data loading not): fits 2 h with loading
+    steps: int = 0                # > 0: a step budget instead (reproducible schedule)
+    batch_size: int = 16
+    lr: float = 2e-3              # AdamW peak learning rate
+    final_lr_fraction: float = 0.02
+    warmup_steps: int = 200
+    weight_decay: float = 1e-4
+    grad_clip: float = 5.0        # max gradient norm: insurance against a bad batch
+    val_fraction: float = 0.04    # held-out tail of the data set (whole contexts)
+    flip: bool = True             # random horizontal mirror images (N_x negated)
+    seed: int = 0
+    checkpoint_minutes: float = 5.0
+    log_every: int = 25           # steps between "train" log rows
+    threads: int = 0              # CPU threads for torch (0: torch's default)
+    device: str = "cpu"
+    model: ModelConfig = field(default_factory=ModelConfig)
 
 
-def split_shards(ds: Dataset) -> tuple[list[int], list[int]]:
-    """Training and validation shards (the last few shards are held out)."""
-    n_val = max(1, int(round(len(ds.shards) * VAL_FRACTION))) if len(ds.shards) > 1 else 0
-    return ds.shards[:len(ds.shards) - n_val], ds.shards[len(ds.shards) - n_val:]
+# ---------------------------------------------------------------- data in memory
+@dataclass
+class PooledData:
+    """Samples ready for the network, compactly (first axis = sample).
+
+    x: (N, 6, I, I) uint8: S, round(255 D), round(127.5 N) x 3, and round(255 a), a the
+       foreground share of each pooled pixel (exact mirror images of N need it).
+    labels: (N, S, S) uint8 at full size: bit 0 is F~; bits 1-2 hold 1 + C~ on stroke
+       pixels (M~ = 1) and 0 off them.
+    op: (N,) int64 operator index; noise: (N,) int64 noise level.
+    """
+
+    x: torch.Tensor
+    labels: torch.Tensor
+    op: torch.Tensor
+    noise: torch.Tensor
+
+    def __len__(self) -> int:
+        return len(self.op)
+
+    def subset(self, idx) -> "PooledData":
+        return PooledData(self.x[idx], self.labels[idx], self.op[idx], self.noise[idx])
+
+    def batch(self, idx: torch.Tensor, device: str, flip: torch.Tensor | None = None
+              ) -> tuple[torch.Tensor, ...]:
+        """Decode samples `idx`: inputs (B, 5, I, I), F~, C~, M~ (B, S, S), op (B,).
+
+        flip: (B,) bool, which samples to mirror left-right. A mirrored scene is a valid
+        scene: the maps flip and the camera-space normal's x changes sign, which on the
+        pooled N = a (n + 1) reads 2a - N_x.
+        """
+        x = self.x[idx].to(device).float()
+        lab = self.labels[idx].to(device)
+        if flip is not None and flip.any():
+            f = flip.to(device)
+            x[f] = x[f].flip(-1)
+            x[f, 2] = (x[f, 5] - x[f, 2]).clamp(min=0)  # 127.5 (2a - N_x) in storage units
+            lab[f] = lab[f].flip(-1)
+        x = torch.cat([x[:, :1], x[:, 1:2] / 255.0, x[:, 2:5] / 127.5], 1)
+        code = (lab >> 1).float()
+        mask = (code > 0).float()
+        curve = (code - 1).clamp(min=0)
+        return x, (lab & 1).float(), curve, mask, self.op[idx].to(device)
 
 
+def pool_dataset(ds: Dataset, model: Sketch2CADNet, chunk: int = 32) -> PooledData:
+    """All complete shards of `ds`, pooled with the model's own `pool` (the inputs then
+    match what `predict` feeds the network, up to the 8-bit storage)."""
+    xs, labs, ops, noises = [], [], [], []
+    for k in tqdm(ds.shards, desc="pooling data set", unit="shard", leave=False):
+        a = ds.shard_arrays(k)
+        for i in range(0, len(a["op_type"]), chunk):
+            sl = slice(i, i + chunk)
+            full = torch.from_numpy(decode_inputs(a, sl))                    # (n, 5, S, S)
+            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()             # (n, 1, S, S)
+            with torch.no_grad():
+                pooled = model.pool(full)                                    # (n, 5, I, I)
+                share = F.adaptive_avg_pool2d(fg, pooled.shape[-2:])
+            q = torch.cat([pooled[:, :1], pooled[:, 1:2] * 255, pooled[:, 2:5] * 127.5,
+                           share * 255], 1)
+            xs.append(q.round().clamp(0, 255).to(torch.uint8))
+            stroke = a["stroke_mask"][sl] > 0
+            code = np.where(stroke, a["curve_label"][sl].astype(np.uint8) + 1, 0) << 1
+            labs.append(torch.from_numpy((code | (a["face_label"][sl] > 0)).astype(np.uint8)))
+        ops.append(torch.from_numpy(a["op_type"].astype(np.int64)))
+        noises.append(torch.from_numpy(a["noise_level"].astype(np.int64)))
+    return PooledData(torch.cat(xs), torch.cat(labs), torch.cat(ops), torch.cat(noises))
+
+
+def data_key(ds: Dataset, config: ModelConfig) -> dict:
+    """What identifies a pooled data set: the data set and the pooling."""
+    m = ds.manifest
+    return {"data": str(ds.folder.resolve()), "count": len(ds), "seed": m.get("seed"),
+            "noise": m.get("noise"), "version": m.get("version"),
+            "image_size": config.image_size, "internal_size": config.internal_size}
+
+
+def load_pooled(ds: Dataset, model: Sketch2CADNet, out: Path) -> PooledData:
+    """The pooled data set, from the run folder's cache when it matches `ds`."""
+    key = data_key(ds, model.config)
+    path = out / f"data-cache-{model.config.internal_size}.pt"
+    if path.exists():
+        cached = torch.load(path, mmap=True, weights_only=True)
+        if cached["key"] == json.dumps(key, sort_keys=True):
+            return PooledData(cached["x"], cached["labels"], cached["op"], cached["noise"])
+    data = pool_dataset(ds, model)
+    tmp = path.with_name(path.name + ".tmp")
+    torch.save({"key": json.dumps(key, sort_keys=True), **asdict(data)}, tmp)
+    tmp.replace(path)
+    return data
+
+
+def split(n: int, fraction: float, block: int) -> tuple[torch.Tensor, torch.Tensor]:
+    """Training and validation indices: the validation set is the last round(fraction n)
+    samples rounded up to whole blocks of `block` (samples sharing a context stay on
+    one side)."""
+    n_val = 0 if n < 2 * block else min(n - block, block * math.ceil(fraction * n / block))
+    return torch.arange(n - n_val), torch.arange(n - n_val, n)
+
+
+# ---------------------------------------------------------------- validation
 @torch.no_grad()
-def validate(model: Sketch2CADNet, data: Tensors, device, weights) -> dict[str, float]:
-    """Mean losses and accuracies on pooled validation data."""
+def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch.Tensor,
+             batch: int = 64) -> dict:
+    """Losses and the evaluation metrics (evaluate.py) on held-out samples."""
     model.eval()
-    sums = {"cls": 0.0, "face": 0.0, "curve": 0.0, "acc": 0.0}
-    n = len(data.op)
-    for i in range(0, n, 64):
-        idx = torch.arange(i, min(i + 64, n))
-        x, f, c, m, op = data.batch(idx, device)
-        logits, fl, cc = model(x)
-        a, b, d = loss_terms(logits, fl, cc, op, f, c, m, weights)
-        k = len(idx)
-        sums["cls"] += float(a) * k
-        sums["face"] += float(b) * k
-        sums["curve"] += float(d) * k
-        sums["acc"] += float((logits.argmax(1) == op).float().sum())
+    tally = Tally()
+    losses = np.zeros(3)
+    for i in range(0, len(data), batch):
+        idx = torch.arange(i, min(i + batch, len(data)))
+        x, face, curve, mask, op = data.batch(idx, device)
+        out = model(x)
+        losses += len(idx) * np.array([float(t) for t in loss_terms(model, out, op, face, curve,
+                                                                    mask, weights)])
+        pick = op[:, None, None, None].expand(-1, 1, *out[1].shape[2:])
+        maps = model.upsample(torch.cat([out[1].gather(1, pick), out[2].gather(1, pick)], 1))
+        tally.add(op, out[0].argmax(1), data.noise[idx], *face_overlap(maps[:, 0].sigmoid(), face),
+                  *curve_hits(maps[:, 1], curve, mask, op))
     model.train()
-    return {k: v / max(n, 1) for k, v in sums.items()}
+    n = max(len(data), 1)
+    return {"cls": losses[0] / n, "face": losses[1] / n, "curve": losses[2] / n,
+            **tally.summary()}
 
 
-def plot_curves(log_path: Path, out_png: Path) -> None:
-    """Loss curves (training per logged step, validation per epoch) as a PNG."""
+# ---------------------------------------------------------------- curves
+def plot_curves(log_path: Path, png: Path) -> None:
+    """Training losses per logged step and validation metrics per epoch, as a PNG."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    rows = [json.loads(l) for l in log_path.read_text().splitlines() if l.strip()]
+    rows = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
     tr = [r for r in rows if r["kind"] == "train"]
     va = [r for r in rows if r["kind"] == "val"]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8))
     for ax, key, title in zip(axes, ("cls", "face", "curve"),
-                              ("classification (weighted CE)", "base face (MSE)",
-                               "curve on strokes (MSE)")):
+                              ("classification (weighted CE)", "base face F (MSE)",
+                               "curve C on strokes (MSE)")):
         ax.plot([r["step"] for r in tr], [r[key] for r in tr], lw=0.8, label="train")
         if va:
             ax.plot([r["step"] for r in va], [r[key] for r in va], "o-", label="validation")
-        ax.set_title(title)
-        ax.set_xlabel("step")
-        ax.set_yscale("log")
+        ax.set(title=title, xlabel="step", yscale="log")
         ax.grid(alpha=0.3)
         ax.legend()
+    ax = axes[3]
+    if va:
+        steps = [r["step"] for r in va]
+        ax.plot(steps, [r["classification_accuracy"] for r in va], "k.-", label="class. acc.")
+        for name in ("extrude", "bevel", "addsub", "sweep"):
+            ax.plot(steps, [r["per_operator"][name]["face_iou"] or 0 for r in va], ".-",
+                    label=f"{name} face IoU")
+            ax.plot(steps, [r["per_operator"][name]["curve_accuracy"] or 0 for r in va], ".:",
+                    label=f"{name} curve acc.")
+        ax.legend(fontsize=6, ncol=2, loc="lower right")
+    ax.set(title="validation metrics", xlabel="step", ylim=(0, 1))
+    ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(out_png, dpi=90)
+    fig.savefig(png, dpi=80)
     plt.close(fig)
 
 
-def train(data_dir: Path, out: Path, device: str, minutes: float, batch: int = BATCH,
-          lr: float = LR, threads: int | None = None) -> Path:
-    """Train (or resume) within `minutes` of wall time; returns the final weights' path."""
-    torch.manual_seed(SEED)
-    if threads:
-        torch.set_num_threads(threads)
+# ---------------------------------------------------------------- training
+def lr_at(s: TrainSettings, step: int, progress: float) -> float:
+    """Linear warmup over warmup_steps, then a cosine from lr down to final_lr_fraction lr
+    over the budget (progress 0..1)."""
+    floor = s.lr * s.final_lr_fraction
+    cosine = floor + (s.lr - floor) * 0.5 * (1 + math.cos(math.pi * min(progress, 1.0)))
+    return cosine * min(1.0, (step + 1) / s.warmup_steps)
+
+
+def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
+    """Train, or resume from out/checkpoint.pt, until the budget is spent.
+
+    Returns:
+        the path of the final weights (out/sketch2cad_net.pt).
+    Raises:
+        FileNotFoundError: no data set at data_dir.
+        ValueError: the checkpoint belongs to another data set or model config.
+    """
+    s = settings
+    if s.threads:
+        torch.set_num_threads(s.threads)
     out.mkdir(parents=True, exist_ok=True)
     ckpt_path, log_path = out / "checkpoint.pt", out / "log.jsonl"
     ds = Dataset(data_dir)
-    tr_shards, va_shards = split_shards(ds)
-    cfg = NetConfig()
-    k = cfg.size // cfg.internal
-    train_data = load_tensors(ds, tr_shards, k, "loading training shards")
-    val_data = load_tensors(ds, va_shards, k, "loading validation shards") if va_shards else None
-    counts = torch.bincount(train_data.op, minlength=N_OPS)
-    weights = class_weights(counts).to(device)
-    state = {"step": 0, "elapsed": 0.0, "epoch": 0}
-    if ckpt_path.exists():
-        model, ckpt = load_model(ckpt_path)
-        state = ckpt["state"]
-        print(f"train: resuming from {ckpt_path} at step {state['step']}, "
-              f"{state['elapsed'] / 60:.1f} min done")
-    else:
-        model = Sketch2CADNet(cfg)
-        log_path.write_text("")
-    model.to(device).train()
-    opt = torch.optim.AdamW(model.parameters(), lr=lr, weight_decay=WEIGHT_DECAY)
-    if ckpt_path.exists():
-        opt.load_state_dict(ckpt["optimizer"])
-    budget = minutes * 60.0
-    n = len(train_data.op)
-    gen = torch.Generator().manual_seed(SEED + state["epoch"])
-    order = torch.randperm(n, generator=gen)
-    pos = state.get("pos", 0)
-    start = time.perf_counter() - state["elapsed"]
-    last_ckpt = time.perf_counter()
+    if len(ds) == 0:
+        raise ValueError(f"{data_dir}: the data set has no complete shard yet")
 
-    def save():
-        state["elapsed"] = time.perf_counter() - start
-        save_checkpoint(ckpt_path, model, {"optimizer": opt.state_dict(), "state": dict(state),
-                                           "class_counts": counts.tolist(),
-                                           "data": str(data_dir)})
+    ckpt = None
+    if ckpt_path.exists():
+        model, ckpt = load_checkpoint(ckpt_path)
+        saved = ckpt["settings"]
+        s = replace(s, model=model.config)  # the architecture is the checkpoint's
+        if ckpt["data_key"] != data_key(ds, model.config):
+            raise ValueError(f"{ckpt_path} was trained on another data set "
+                             f"({ckpt['data_key']}); use a new --out folder")
+        for name in ("batch_size", "lr", "seed", "val_fraction", "flip"):
+            if getattr(s, name) != saved[name]:
+                print(f"train: resuming with {name}={getattr(s, name)} "
+                      f"(checkpoint had {saved[name]})")
+    else:
+        # a new model takes the data set's map size
+        s = replace(s, model=replace(s.model, image_size=int(ds.manifest.get("image_size", 256))))
+        torch.manual_seed(s.seed)
+        model = Sketch2CADNet(s.model)
+    size = int(ds.manifest.get("image_size", model.config.image_size))
+    if size != model.config.image_size:
+        raise ValueError(f"{data_dir} holds {size} x {size} maps, but the model in {ckpt_path} "
+                         f"takes {model.config.image_size} x {model.config.image_size}")
+    model.to(s.device).train()
+
+    t_load = time.perf_counter()
+    data = load_pooled(ds, model, out)
+    t_load = time.perf_counter() - t_load
+    tr_idx, va_idx = split(len(data), s.val_fraction, int(ds.manifest.get("per_context", 4)))
+    train_data, val_data = data.subset(tr_idx), data.subset(va_idx)
+    counts = torch.bincount(train_data.op, minlength=N_OPS)
+    weights = class_weights(counts).to(s.device)
+    n = len(train_data)
+
+    opt = torch.optim.AdamW(model.parameters(), lr=s.lr, weight_decay=s.weight_decay)
+    state = {"step": 0, "epoch": 0, "pos": 0, "elapsed": 0.0}
+    if ckpt is not None:
+        opt.load_state_dict(ckpt["optimizer"])
+        state = dict(ckpt["state"])
+        torch.set_rng_state(ckpt["rng"])
+    else:
+        log_path.write_text("")
+
+    log = open(log_path, "a")
+
+    def write(row: dict) -> None:
+        log.write(json.dumps(row) + "\n")
+        log.flush()
+
+    write({"kind": "event", "what": "resume" if ckpt else "start", "step": state["step"],
+           "train_samples": n, "val_samples": len(val_data), "class_counts": counts.tolist(),
+           "load_s": round(t_load, 1), "settings": asdict(s), "threads": torch.get_num_threads()})
+    print(f"train: {n} training / {len(val_data)} validation samples (pooled in "
+          f"{t_load:.0f} s); class counts {counts.tolist()}; {torch.get_num_threads()} threads"
+          + (f"; resuming at step {state['step']}" if ckpt else ""))
+
+    def progress() -> float:
+        return state["step"] / s.steps if s.steps else state["elapsed"] / (60 * s.minutes)
+
+    def order(epoch: int) -> torch.Tensor:
+        return torch.randperm(n, generator=torch.Generator().manual_seed(s.seed * 1000 + epoch))
+
+    def save(rng: torch.Tensor) -> None:
+        save_checkpoint(ckpt_path, model, optimizer=opt.state_dict(), state=dict(state),
+                        settings=asdict(s), data_key=data_key(ds, model.config),
+                        class_counts=counts.tolist(), rng=rng)
         plot_curves(log_path, out / "loss_curves.png")
 
-    bar = tqdm(total=int(budget), initial=int(state["elapsed"]), unit="s", desc="train")
-    with open(log_path, "a") as log:
-        while time.perf_counter() - start < budget:
-            if pos >= n:  # epoch end: validate, reshuffle
+    def run_validation() -> dict | None:
+        if not len(val_data):
+            return None
+        v = validate(model, val_data, s.device, weights)
+        write({"kind": "val", "step": state["step"], "epoch": state["epoch"],
+               "elapsed_s": round(state["elapsed"], 1), **v})
+        return v
+
+    perm = order(state["epoch"])
+    total = s.steps if s.steps else int(60 * s.minutes)
+    bar = tqdm(total=total, unit="step" if s.steps else "s", desc="train", dynamic_ncols=True)
+    bar.update(state["step"] if s.steps else int(state["elapsed"]))
+    t0 = time.perf_counter() - state["elapsed"]
+    last_save = time.perf_counter()
+    sums, seen, t_log = np.zeros(3), 0, time.perf_counter()
+    stepping, rng, buffers = False, torch.get_rng_state(), []
+    try:
+        while progress() < 1.0:
+            # what an interrupted step must start from again: its forward pass draws
+            # dropout masks and moves the batch-norm statistics (a few hundred numbers)
+            rng, buffers = torch.get_rng_state(), [b.clone() for b in model.buffers()]
+            if state["pos"] >= n:  # end of an epoch: validate and reshuffle
                 state["epoch"] += 1
-                pos = 0
-                order = torch.randperm(n, generator=torch.Generator().manual_seed(
-                    SEED + state["epoch"]))
-                if val_data is not None:
-                    v = validate(model, val_data, device, weights)
-                    log.write(json.dumps({"kind": "val", "step": state["step"],
-                                          "epoch": state["epoch"], **v}) + "\n")
-                    log.flush()
-                    bar.write(f"epoch {state['epoch']}: val acc {v['acc']:.4f} face "
-                              f"{v['face']:.4f} curve {v['curve']:.4f}")
-            idx = order[pos:pos + batch]
-            pos += batch
-            state["pos"] = pos
-            frac = min((time.perf_counter() - start) / budget, 1.0)
-            for g in opt.param_groups:  # cosine decay over the time budget
-                g["lr"] = lr * 0.5 * (1 + math.cos(math.pi * frac))
-            x, f, c, m, op = train_data.batch(idx, device)
-            logits, fl, cc = model(x)
-            a, b, d = loss_terms(logits, fl, cc, op, f, c, m, weights)
-            loss = a + b + d
+                state["pos"] = 0
+                perm = order(state["epoch"])
+                v = run_validation()
+                if v:
+                    bar.write(f"epoch {state['epoch']}: val acc "
+                              f"{v['classification_accuracy']:.4f}, face IoU " +
+                              " ".join(f"{k[:2]} {d['face_iou']:.3f}"
+                                       for k, d in v["per_operator"].items() if d["n"]))
+            idx = perm[state["pos"]:state["pos"] + s.batch_size]
+            flip = None
+            if s.flip:  # seeded by the step: the same after a resume
+                flip = torch.rand(len(idx), generator=torch.Generator().manual_seed(
+                    s.seed * 1000003 + state["step"])) < 0.5
+            for g in opt.param_groups:
+                g["lr"] = lr_at(s, state["step"], progress())
+            x, face, curve, mask, op = train_data.batch(idx, s.device, flip)
+            terms = loss_terms(model, model(x), op, face, curve, mask, weights)
             opt.zero_grad(set_to_none=True)
-            loss.backward()
+            sum(terms).backward()
+            torch.nn.utils.clip_grad_norm_(model.parameters(), s.grad_clip)
+            stepping = True
             opt.step()
             state["step"] += 1
-            if state["step"] % LOG_EVERY == 0:
-                log.write(json.dumps({"kind": "train", "step": state["step"],
-                                      "epoch": state["epoch"], "cls": float(a),
-                                      "face": float(b), "curve": float(d),
-                                      "lr": opt.param_groups[0]["lr"],
-                                      "time": time.perf_counter() - start}) + "\n")
-                log.flush()
-                bar.set_postfix(cls=f"{float(a):.3f}", face=f"{float(b):.4f}",
-                                curve=f"{float(d):.3f}")
-            bar.n = int(min(time.perf_counter() - start, budget))
-            bar.refresh()
-            if time.perf_counter() - last_ckpt > CHECKPOINT_EVERY_S:
-                save()
-                last_ckpt = time.perf_counter()
-        if val_data is not None:
-            v = validate(model, val_data, device, weights)
-            log.write(json.dumps({"kind": "val", "step": state["step"], "epoch": state["epoch"],
-                                  **v}) + "\n")
+            state["pos"] += len(idx)
+            stepping = False
+
+            sums += [t.item() for t in terms]
+            seen += 1
+            now = time.perf_counter()
+            state["elapsed"] = now - t0
+            if state["step"] % s.log_every == 0:
+                c, f, cu = sums / seen
+                write({"kind": "train", "step": state["step"], "epoch": state["epoch"],
+                       "samples": state["step"] * s.batch_size, "cls": c, "face": f,
+                       "curve": cu, "loss": c + f + cu, "lr": opt.param_groups[0]["lr"],
+                       "elapsed_s": round(state["elapsed"], 1),
+                       "ms_per_sample": 1e3 * (now - t_log) / (seen * s.batch_size)})
+                bar.set_postfix(cls=f"{c:.3f}", face=f"{f:.4f}", curve=f"{cu:.3f}",
+                                epoch=state["epoch"])
+                sums, seen, t_log = np.zeros(3), 0, now
+            bar.update(1 if s.steps else int(state["elapsed"]) - bar.n)
+            if now - last_save > 60 * s.checkpoint_minutes:
+                save(torch.get_rng_state())
+                write({"kind": "event", "what": "checkpoint", "step": state["step"]})
+                last_save = time.perf_counter()
+    except KeyboardInterrupt:
+        bar.close()
+        if not stepping:  # else the weights may be half updated: keep the last checkpoint
+            with torch.no_grad():
+                for b, saved in zip(model.buffers(), buffers):
+                    b.copy_(saved)
+            save(rng)
+            write({"kind": "event", "what": "interrupted", "step": state["step"]})
+            print(f"train: interrupted at step {state['step']}; checkpoint saved, run the "
+                  "same command again to resume")
+        log.close()
+        raise
     bar.close()
-    save()
+
+    v = run_validation()
+    save(torch.get_rng_state())
     final = out / "sketch2cad_net.pt"
-    save_checkpoint(final, model.cpu(), {"class_counts": counts.tolist(),
-                                         "trained_steps": state["step"],
-                                         "trained_minutes": state["elapsed"] / 60,
-                                         "samples": n, "data": str(data_dir)})
-    print(f"train: {state['step']} steps ({state['step'] * batch / max(n, 1):.1f} epochs of "
-          f"{n} samples) in {state['elapsed'] / 60:.1f} min; weights {final}")
+    model.cpu()
+    save_checkpoint(final, model, class_counts=counts.tolist(), trained_steps=state["step"],
+                    trained_epochs=state["epoch"] + state["pos"] / n,
+                    trained_minutes=state["elapsed"] / 60, settings=asdict(s),
+                    data_key=data_key(ds, model.config), validation=v)
+    write({"kind": "event", "what": "end", "step": state["step"],
+           "elapsed_s": round(state["elapsed"], 1)})
+    log.close()
+    print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs of "
+          f"{n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
     return final
 
 
+# ---------------------------------------------------------------- command line
 def register(sub: argparse._SubParsersAction) -> None:
+    d = TrainSettings()
     p = sub.add_parser("train", help="train the networks on a generated data set",
-                       description="Train (or resume) the classifier/segmentation network.")
+                       description="Train the operator classifier and the segmentation "
+                                   "networks (one shared-encoder network); rerunning with "
+                                   "the same --out resumes.")
     p.add_argument("--data", type=Path, required=True, help="data set folder (sketch2cad datagen)")
-    p.add_argument("--out", type=Path, required=True, help="run folder: checkpoints, log, curves")
-    p.add_argument("--device", default="cuda" if torch.cuda.is_available() else "cpu",
-                   choices=["cpu", "cuda"])
-    p.add_argument("--minutes", type=float, default=MINUTES, help=f"time budget (default {MINUTES})")
-    p.add_argument("--batch", type=int, default=BATCH)
-    p.add_argument("--lr", type=float, default=LR)
-    p.add_argument("--threads", type=int, help="CPU threads for torch")
+    p.add_argument("--out", type=Path, required=True,
+                   help="run folder: checkpoint, log, curves, final weights")
+    p.add_argument("--device", choices=["cpu", "cuda"],
+                   default="cuda" if torch.cuda.is_available() else "cpu")
+    p.add_argument("--minutes", type=float, default=d.minutes,
+                   help=f"wall-time budget of the training loop (default {d.minutes:g})")
+    p.add_argument("--steps", type=int, default=0,
+                   help="a step budget instead of --minutes (reproducible schedule)")
+    p.add_argument("--batch-size", type=int, default=d.batch_size)
+    p.add_argument("--lr", type=float, default=d.lr)
+    p.add_argument("--threads", type=int, default=d.threads,
+                   help="CPU threads for torch (default: torch's choice)")
+    p.add_argument("--seed", type=int, default=d.seed)
+    p.add_argument("--no-flip", action="store_true", help="no mirror-image augmentation")
+    p.add_argument("--internal-size", type=int, default=d.model.internal_size,
+                   help="working resolution of a new model (default %(default)s)")
+    p.add_argument("--widths", type=int, nargs="+", default=list(d.model.widths),
+                   help="encoder widths of a new model (default %(default)s)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.device == "cuda" and not torch.cuda.is_available():
-        print("sketch2cad train: error: --device cuda but no CUDA device is available",
+        print("sketch2cad train: error: --device cuda, but torch sees no CUDA device",
               file=sys.stderr)
         return 2
     try:
-        train(args.data, args.out, args.device, args.minutes, args.batch, args.lr, args.threads)
+        settings = TrainSettings(
+            minutes=args.minutes, steps=args.steps, batch_size=args.batch_size, lr=args.lr,
+            threads=args.threads, seed=args.seed, flip=not args.no_flip, device=args.device,
+            model=ModelConfig(internal_size=args.internal_size, widths=tuple(args.widths)))
+        train(args.data, args.out, settings)
+    except KeyboardInterrupt:
+        return 130
     except (FileNotFoundError, ValueError) as e:
         print(f"sketch2cad train: error: {e}", file=sys.stderr)
         return 2
     return 0
-

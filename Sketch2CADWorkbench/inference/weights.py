@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The shipped network weights and the predictor the interpret pipeline calls."""
+"""The shipped network weights, and the predictor that the interpret pipeline calls.
+
+The weights live inside the package (inference/weights/sketch2cad_net.pt, described by
+inference/weights/MODEL_CARD.md) and load from disk only: nothing is downloaded.
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -8,18 +12,42 @@ import numpy as np
 import torch
 
 from ..brep.protocol import OperatorType
-from .models import Sketch2CADNet, load_model
+from .models import Sketch2CADNet, load_checkpoint
 
 WEIGHTS_DIR = Path(__file__).resolve().parent / "weights"
-DEFAULT_WEIGHTS = WEIGHTS_DIR / "sketch2cad_net.pt"
+WEIGHTS_NAME = "sketch2cad_net.pt"
+DEFAULT_WEIGHTS = WEIGHTS_DIR / WEIGHTS_NAME
 CLASSES = list(OperatorType)
+
+
+def resolve(path: str | Path | None = None) -> Path:
+    """The weights file for `path`: a file, a run folder holding WEIGHTS_NAME, or None
+    for the shipped weights.
+
+    Raises:
+        FileNotFoundError: saying what to do, when there is no such file.
+    """
+    path = Path(path) if path else DEFAULT_WEIGHTS
+    if path.is_dir():
+        path = path / WEIGHTS_NAME
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"no network weights at {path}: train them with `sketch2cad train --data DIR "
+            f"--out RUN` and pass --weights RUN, or copy RUN/{WEIGHTS_NAME} to {WEIGHTS_DIR}/ "
+            "(see the model card there)")
+    return path
+
+
+def load_model(path: str | Path | None = None) -> tuple[Sketch2CADNet, dict]:
+    """The network (eval mode, CPU) and its checkpoint dictionary; see `resolve`."""
+    return load_checkpoint(resolve(path))
 
 
 class NetworkPredictor:
     """Classification and segmentation from one forward pass per sketch.
 
     `classify` runs the network and keeps its outputs; `segment` on the same inputs
-    reuses them, so the interpret pipeline pays for one pass.
+    array reuses them, so the interpret pipeline pays for one pass.
     """
 
     def __init__(self, model: Sketch2CADNet, threads: int | None = 2):
@@ -32,33 +60,24 @@ class NetworkPredictor:
         if inputs is not self._inputs:
             if self.threads:
                 torch.set_num_threads(self.threads)
-            probs, f, c = self.model.predict(torch.from_numpy(np.ascontiguousarray(inputs))[None])
+            x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
+            probs, f, c = self.model.predict(x)
             self._out = (probs[0].numpy(), f[0].numpy(), c[0].numpy())
             self._inputs = inputs
         return self._out
 
     def classify(self, inputs: np.ndarray) -> np.ndarray:
-        """(5, H, W) -> (4,) probabilities in OperatorType order."""
+        """(5, H, W) S, D, N -> (4,) probabilities in OperatorType order."""
         return self._run(inputs)[0]
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
-        """(5, H, W) -> the operator's F (H, W) probability and C (H, W) curve map."""
+        """(5, H, W) -> the operator's F (H, W) probabilities and C (H, W) curve values."""
         _, f, c = self._run(inputs)
         k = CLASSES.index(op_type)
         return f[k], c[k]
 
 
 def load_predictor(path: str | Path | None = None) -> NetworkPredictor:
-    """The predictor for a weights file (default: the weights shipped in the package).
-
-    Raises:
-        FileNotFoundError: with what to do, when there are no weights at `path`.
-    """
-    path = Path(path) if path else DEFAULT_WEIGHTS
-    if path.is_dir():
-        path = path / DEFAULT_WEIGHTS.name
-    if not path.exists():
-        raise FileNotFoundError(f"no network weights at {path}; train them with "
-                                "`sketch2cad train` (see the model card) or pass --weights")
+    """The predictor for a weights file or run folder (default: the shipped weights)."""
     model, _ = load_model(path)
     return NetworkPredictor(model)

@@ -1,0 +1,113 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Speed of the networks on this machine: training time per sample and inference latency.
+
+    .venv/bin/python scripts/bench_networks.py                  # the shipped config
+    .venv/bin/python scripts/bench_networks.py --candidates     # the design alternatives
+    .venv/bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
+
+Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
+on random batches, in ms per sample. Latency: `predict` on one full-size sketch (pooling,
+network, upsampling of all outputs to 256 x 256), median over runs, at `--infer-threads`
+threads (2: the target is <= 50 ms per sketch on 2 CPU cores). Timings are wall time,
+so other work on the machine inflates them; the median damps that.
+"""
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import torch
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from Sketch2CADWorkbench.inference.models import (N_OPS, ModelConfig, Sketch2CADNet,  # noqa: E402
+                                                  class_weights, count_parameters,
+                                                  flops_per_sample, load_checkpoint, loss_terms)
+
+CANDIDATES = {
+    "128 / 8..128 (shipped)": ModelConfig(),
+    "96 / 8..128": ModelConfig(internal_size=96, widths=(8, 16, 32, 64, 128)),
+    "128 / 12..192": ModelConfig(widths=(12, 24, 48, 96, 192)),
+    "128 / 16..256": ModelConfig(widths=(16, 32, 64, 128, 256)),
+    "256 / 8..128": ModelConfig(internal_size=256, widths=(8, 16, 32, 64, 128)),
+}
+
+
+def random_batch(cfg: ModelConfig, n: int, gen: torch.Generator):
+    s = cfg.image_size
+    x = torch.rand(n, 5, s, s, generator=gen)
+    x[:, 0] = (x[:, 0] > 0.99).float()
+    mask = x[:, 0].clone()
+    face = (torch.rand(n, s, s, generator=gen) > 0.7).float()
+    curve = torch.randint(0, 3, (n, s, s), generator=gen).float() * mask
+    op = torch.randint(0, N_OPS, (n,), generator=gen)
+    return x, face, curve, mask, op
+
+
+def train_ms_per_sample(cfg: ModelConfig, batch: int, steps: int, threads: int) -> float:
+    torch.set_num_threads(threads)
+    gen = torch.Generator().manual_seed(0)
+    model = Sketch2CADNet(cfg).train()
+    opt = torch.optim.AdamW(model.parameters(), lr=1e-3)
+    weights = class_weights(torch.tensor([1, 1, 4, 2]))
+    x, face, curve, mask, op = random_batch(cfg, batch, gen)
+    xp = model.pool(x)
+    times = []
+    for i in range(steps + 1):  # the first step warms up the allocator
+        t = time.perf_counter()
+        out = model(xp)
+        loss = sum(loss_terms(model, out, op, face, curve, mask, weights))
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+        if i:
+            times.append(time.perf_counter() - t)
+    return 1e3 * statistics.median(times) / batch
+
+
+def latency_ms(model: Sketch2CADNet, runs: int, threads: int) -> float:
+    torch.set_num_threads(threads)
+    s = model.config.image_size
+    x = torch.rand(1, 5, s, s)
+    x[:, 0] = (x[:, 0] > 0.99).float()
+    model.predict(x)
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        model.predict(x)
+        times.append(time.perf_counter() - t)
+    return 1e3 * statistics.median(times)
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--candidates", action="store_true", help="time the design alternatives")
+    p.add_argument("--weights", type=Path, help="time this checkpoint's model (latency only)")
+    p.add_argument("--batch", type=int, default=16)
+    p.add_argument("--steps", type=int, default=5, help="timed training steps per config")
+    p.add_argument("--runs", type=int, default=30, help="timed inference runs")
+    p.add_argument("--train-threads", type=int, nargs="+", default=[1, 2])
+    p.add_argument("--infer-threads", type=int, default=2)
+    args = p.parse_args()
+    if args.weights:
+        path = args.weights / "sketch2cad_net.pt" if args.weights.is_dir() else args.weights
+        model, _ = load_checkpoint(path)
+        print(f"{path}: latency {latency_ms(model, args.runs, args.infer_threads):.1f} ms "
+              f"median per sketch (batch 1, {args.infer_threads} threads)")
+        return 0
+    configs = CANDIDATES if args.candidates else {"shipped": ModelConfig()}
+    head = "".join(f"  train ms/sample {t}thr" for t in args.train_threads)
+    print(f"{'config (I / widths)':26s} {'params':>8s} {'MMAC':>7s}{head}  latency ms")
+    for name, cfg in configs.items():
+        model = Sketch2CADNet(cfg)
+        train = "".join(f"{train_ms_per_sample(cfg, args.batch, args.steps, t):24.1f}"
+                        for t in args.train_threads)
+        print(f"{name:26s} {count_parameters(model):8d} {flops_per_sample(cfg) / 1e6:7.0f}"
+              f"{train}  {latency_ms(model, args.runs, args.infer_threads):10.1f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

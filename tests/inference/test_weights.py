@@ -1,0 +1,36 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The predictor the interpret pipeline uses: weights from disk, one pass per sketch."""
+import numpy as np
+import pytest
+import torch
+
+from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.inference import weights
+from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
+
+
+def test_missing_weights_say_how_to_get_them(tmp_path):
+    with pytest.raises(FileNotFoundError, match="sketch2cad train --data DIR --out RUN"):
+        weights.load_predictor(tmp_path)
+
+
+def test_the_default_weights_live_inside_the_package():
+    assert weights.DEFAULT_WEIGHTS.parent.name == "weights"
+    assert weights.DEFAULT_WEIGHTS.parent.parent == weights.Path(weights.__file__).parent
+
+
+def test_the_predictor_classifies_and_segments_from_one_pass(tiny_config, tmp_path, monkeypatch):
+    save_checkpoint(tmp_path / weights.WEIGHTS_NAME, Sketch2CADNet(tiny_config))
+    predictor = weights.load_predictor(tmp_path)  # a run folder
+    passes = []
+    original = predictor.model.predict
+    monkeypatch.setattr(predictor.model, "predict", lambda x: passes.append(1) or original(x))
+    x = np.random.default_rng(0).random((5, 32, 32), dtype=np.float32)
+    probs = predictor.classify(x)
+    assert probs.shape == (4,) and np.isclose(probs.sum(), 1)
+    f, c = predictor.segment(x, OperatorType.SWEEP)
+    assert f.shape == c.shape == (32, 32) and len(passes) == 1
+    _, _, c_all = original(torch.from_numpy(x)[None])
+    assert np.array_equal(c, c_all[0, 3].numpy())
+    predictor.segment(x.copy(), OperatorType.SWEEP)  # another sketch: another pass
+    assert len(passes) == 2
