@@ -6,7 +6,8 @@
     .venv/bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
 
 Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
-on random batches, in ms per sample. Latency: `predict` on one full-size sketch (pooling,
+on random batches, in ms per sample: the median and, as the figure least disturbed by
+other work on a shared machine, the minimum over the timed steps. Latency: `predict` on one full-size sketch (pooling,
 network, upsampling of all outputs to 256 x 256), median over runs, at `--infer-threads`
 threads (2: the target is <= 50 ms per sketch on 2 CPU cores). Timings are wall time,
 so other work on the machine inflates them; the median damps that.
@@ -46,7 +47,9 @@ def random_batch(cfg: ModelConfig, n: int, gen: torch.Generator):
     return x, face, curve, mask, op
 
 
-def train_ms_per_sample(cfg: ModelConfig, batch: int, steps: int, threads: int) -> float:
+def train_ms_per_sample(cfg: ModelConfig, batch: int, steps: int, threads: int
+                        ) -> tuple[float, float]:
+    """Median and minimum ms per sample of a training step."""
     torch.set_num_threads(threads)
     gen = torch.Generator().manual_seed(0)
     model = Sketch2CADNet(cfg).train()
@@ -64,10 +67,11 @@ def train_ms_per_sample(cfg: ModelConfig, batch: int, steps: int, threads: int) 
         opt.step()
         if i:
             times.append(time.perf_counter() - t)
-    return 1e3 * statistics.median(times) / batch
+    return 1e3 * statistics.median(times) / batch, 1e3 * min(times) / batch
 
 
 def latency_ms(model: Sketch2CADNet, runs: int, threads: int) -> float:
+    """Median ms of `predict` on one full-size sketch."""
     torch.set_num_threads(threads)
     s = model.config.image_size
     x = torch.rand(1, 5, s, s)
@@ -98,11 +102,12 @@ def main() -> int:
               f"median per sketch (batch 1, {args.infer_threads} threads)")
         return 0
     configs = CANDIDATES if args.candidates else {"shipped": ModelConfig()}
-    head = "".join(f"  train ms/sample {t}thr" for t in args.train_threads)
+    head = "".join(f"  train ms/sample {t} thr (min)" for t in args.train_threads)
     print(f"{'config (I / widths)':26s} {'params':>8s} {'MMAC':>7s}{head}  latency ms")
     for name, cfg in configs.items():
         model = Sketch2CADNet(cfg)
-        train = "".join(f"{train_ms_per_sample(cfg, args.batch, args.steps, t):24.1f}"
+        train = "".join("{:22.1f} ({:5.1f})".format(*train_ms_per_sample(cfg, args.batch,
+                                                                         args.steps, t))
                         for t in args.train_threads)
         print(f"{name:26s} {count_parameters(model):8d} {flops_per_sample(cfg) / 1e6:7.0f}"
               f"{train}  {latency_ms(model, args.runs, args.infer_threads):10.1f}", flush=True)

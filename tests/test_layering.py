@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "Sketch2CADWorkbench"
-FREECAD_LAYER = {"freecad", "commands"}
+FREECAD_LAYER = {"freecad_layer", "commands"}
 FREECAD_FILES = {"InitGui.py", "Init.py"}
 
 

@@ -97,6 +97,9 @@ class Sketch2CADNet(nn.Module):
         self.heads = nn.Conv2d(w[0], 2 * N_OPS, 1)  # channels: F logits of 4 ops, then C
         with torch.no_grad():  # start C at the middle of the labels' range 0..2
             self.heads.bias[N_OPS:].fill_(1.0)
+        # channels-last convolutions measured 25% faster per training step on the CPU
+        # (oneDNN's preferred layout); loading a state dict keeps the layout
+        self.to(memory_format=torch.channels_last)
 
     # ------------------------------------------------------------ shapes
     def check_input(self, x: torch.Tensor, size: int, where: str) -> None:
@@ -138,7 +141,7 @@ class Sketch2CADNet(nn.Module):
         """
         self.check_input(x, self.config.internal_size, "forward")
         skips = []
-        h = x
+        h = x.contiguous(memory_format=torch.channels_last)
         for level, block in enumerate(self.encoder):
             h = block(h if level == 0 else F.max_pool2d(h, 2))  # (B, w_l, I/2^l, I/2^l)
             skips.append(h)

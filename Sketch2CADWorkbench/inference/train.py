@@ -110,25 +110,32 @@ class PooledData:
 def pool_dataset(ds: Dataset, model: Sketch2CADNet, chunk: int = 32) -> PooledData:
     """All complete shards of `ds`, pooled with the model's own `pool` (the inputs then
     match what `predict` feeds the network, up to the 8-bit storage)."""
-    xs, labs, ops, noises = [], [], [], []
+    n, i, s = len(ds), model.config.internal_size, model.config.image_size
+    data = PooledData(torch.empty(n, 6, i, i, dtype=torch.uint8),
+                      torch.empty(n, s, s, dtype=torch.uint8),
+                      torch.empty(n, dtype=torch.int64), torch.empty(n, dtype=torch.int64))
+    start = 0
     for k in tqdm(ds.shards, desc="pooling data set", unit="shard", leave=False):
         a = ds.shard_arrays(k)
-        for i in range(0, len(a["op_type"]), chunk):
-            sl = slice(i, i + chunk)
-            full = torch.from_numpy(decode_inputs(a, sl))                    # (n, 5, S, S)
-            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()             # (n, 1, S, S)
+        for j in range(0, len(a["op_type"]), chunk):
+            sl = slice(j, j + chunk)
+            full = torch.from_numpy(decode_inputs(a, sl))                    # (b, 5, S, S)
+            b = len(full)
+            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()             # (b, 1, S, S)
             with torch.no_grad():
-                pooled = model.pool(full)                                    # (n, 5, I, I)
+                pooled = model.pool(full)                                    # (b, 5, I, I)
                 share = F.adaptive_avg_pool2d(fg, pooled.shape[-2:])
             q = torch.cat([pooled[:, :1], pooled[:, 1:2] * 255, pooled[:, 2:5] * 127.5,
                            share * 255], 1)
-            xs.append(q.round().clamp(0, 255).to(torch.uint8))
+            data.x[start:start + b] = q.round().clamp(0, 255).to(torch.uint8)
             stroke = a["stroke_mask"][sl] > 0
             code = np.where(stroke, a["curve_label"][sl].astype(np.uint8) + 1, 0) << 1
-            labs.append(torch.from_numpy((code | (a["face_label"][sl] > 0)).astype(np.uint8)))
-        ops.append(torch.from_numpy(a["op_type"].astype(np.int64)))
-        noises.append(torch.from_numpy(a["noise_level"].astype(np.int64)))
-    return PooledData(torch.cat(xs), torch.cat(labs), torch.cat(ops), torch.cat(noises))
+            data.labels[start:start + b] = torch.from_numpy(
+                (code | (a["face_label"][sl] > 0)).astype(np.uint8))
+            data.op[start:start + b] = torch.from_numpy(a["op_type"][sl].astype(np.int64))
+            data.noise[start:start + b] = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
+            start += b
+    return data
 
 
 def data_key(ds: Dataset, config: ModelConfig) -> dict:
@@ -154,12 +161,12 @@ def load_pooled(ds: Dataset, model: Sketch2CADNet, out: Path) -> PooledData:
     return data
 
 
-def split(n: int, fraction: float, block: int) -> tuple[torch.Tensor, torch.Tensor]:
-    """Training and validation indices: the validation set is the last round(fraction n)
+def split(n: int, fraction: float, block: int) -> tuple[slice, slice]:
+    """Training and validation samples: the validation set is the last fraction n
     samples rounded up to whole blocks of `block` (samples sharing a context stay on
-    one side)."""
+    one side). Slices, so that the subsets are views, not copies."""
     n_val = 0 if n < 2 * block else min(n - block, block * math.ceil(fraction * n / block))
-    return torch.arange(n - n_val), torch.arange(n - n_val, n)
+    return slice(0, n - n_val), slice(n - n_val, n)
 
 
 # ---------------------------------------------------------------- validation

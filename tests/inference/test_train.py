@@ -112,9 +112,8 @@ def test_a_mirrored_sample_is_the_pooled_mirror_image_with_normal_x_negated(tiny
 
 
 def test_the_validation_split_keeps_contexts_whole():
-    train_idx, val_idx = split(100, 0.05, 4)
-    assert len(val_idx) == 8 and val_idx[0] == 92 and len(train_idx) == 92
-    assert len(split(6, 0.5, 4)[1]) == 0  # too small to hold anything out
+    assert split(100, 0.05, 4) == (slice(0, 92), slice(92, 100))
+    assert split(6, 0.5, 4) == (slice(0, 6), slice(6, 6))  # too small to hold anything out
 
 
 def test_the_train_command_runs_and_reports_a_missing_data_set(tiny_data, tmp_path, capsys):
