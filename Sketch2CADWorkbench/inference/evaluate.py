@@ -296,12 +296,23 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--limit", type=int, help="use the first LIMIT samples only")
     p.add_argument("--latency-runs", type=int, default=50,
                    help="sketches timed one by one (default %(default)s)")
+    p.add_argument("--recovery", type=int, default=200, metavar="N",
+                   help="run the whole interpret pipeline on the first N samples for the "
+                        "end-to-end recovery rate (0 skips it; default %(default)s)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     try:
         result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs)
+        if args.recovery:
+            from .recovery import recovery
+            from .weights import load_predictor
+            rec = recovery(args.data, load_predictor(args.weights), args.recovery)
+            for op, v in rec["per_operator"].items():
+                result["per_operator"][op].update(v)
+            result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
+            result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
     except (FileNotFoundError, ValueError) as e:
         print(f"sketch2cad eval: error: {e}", file=sys.stderr)
         return 2
