@@ -15,6 +15,7 @@ COMMAND_MODULES = [
     "Sketch2CADWorkbench.datagen.command",
     "Sketch2CADWorkbench.inference.train",
     "Sketch2CADWorkbench.inference.evaluate",
+    "Sketch2CADWorkbench.inference.interpret_command",
 ]
 
 

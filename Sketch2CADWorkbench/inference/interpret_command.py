@@ -1,0 +1,73 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""`sketch2cad interpret SESSION.json`: every sketched step through the whole pipeline."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..brep.exchange import export_step
+from ..brep.operators import make_box
+from ..brep.protocol import Protocol, ProtocolError, describe
+from .interpret import InterpretError, InterpretOptions, interpret
+from .session import load_session
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("interpret", help="interpret a sketch session into a protocol and a solid",
+                       description="Run every step of a sketch session (see "
+                                   "inference/session.py) through the networks and fitting.")
+    p.add_argument("session", type=Path, help="session JSON file")
+    p.add_argument("--protocol", type=Path, help="write the interpreted protocol (JSON)")
+    p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
+    p.add_argument("--png", type=Path, help="write a picture of the final solid")
+    p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
+    p.add_argument("--keep-going", action="store_true",
+                   help="skip a step that cannot be interpreted instead of stopping")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..render.maps import MapRenderer
+    from .weights import load_predictor
+    try:
+        session = load_session(args.session)
+        predictor = load_predictor(args.weights)
+    except (ProtocolError, FileNotFoundError) as e:
+        print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
+        return 2
+    renderer = MapRenderer()
+    protocol, solid = Protocol(session.base), make_box(session.base)
+    print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
+    failed = 0
+    for i, step in enumerate(session.steps, 1):
+        c = step.choices
+        try:
+            got = interpret(solid, step.strokes, step.camera, predictor, renderer,
+                            InterpretOptions(c.regularize, c.option, c.symmetry))
+        except InterpretError as e:
+            failed += 1
+            print(f"step {i}: not interpreted: {e}", file=sys.stderr)
+            if not args.keep_going:
+                return 2
+            continue
+        for op in got.operations:
+            protocol = protocol.append(op)
+            print(f"step {i}: {describe(op)}")
+        print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
+              f"{got.timings_ms['total']:.0f} ms)")
+        solid = got.solid
+    print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
+          f"volume {solid.Volume():.1f} mm^3")
+    try:
+        if args.protocol:
+            protocol.save(args.protocol)
+        if args.step:
+            export_step(solid, args.step)
+        if args.png:
+            from ..render.picture import shaded_picture
+            shaded_picture(solid, path=args.png)
+    except OSError as e:
+        print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
+        return 2
+    return 1 if failed else 0

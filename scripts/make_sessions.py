@@ -1,0 +1,69 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Make example sketch sessions from example protocols (how examples/sessions/ was made).
+
+Each operation of a protocol is "sketched" the way the training data is: its sketch
+curves, seen from an informative view (20-80 degrees off the base face's normal, the
+relevant curve at least 80% visible), drawn as freehand strokes with level-1 noise.
+The strokes are stored in a whole-model 800 x 600 view, as a designer's screen would
+show them. The ground-truth protocol is kept beside the session for comparison.
+
+    .venv/bin/python scripts/make_sessions.py camera mixer hammer
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.operators import replay
+from Sketch2CADWorkbench.brep.protocol import Mode, load
+from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.datagen.strokes import sketch_strokes
+from Sketch2CADWorkbench.datagen.views import frame_curves, is_informative, up_vector, view_direction
+from Sketch2CADWorkbench.inference.session import Session, SketchStep, StepChoices
+from Sketch2CADWorkbench.render.frustum import fit_camera
+from Sketch2CADWorkbench.render.maps import MapRenderer
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def make(name: str, seed: int = 0) -> Session:
+    protocol = load(ROOT / "examples" / "protocols" / f"{name}.json")
+    solids = replay(protocol)
+    rng = np.random.default_rng(seed)
+    renderer = MapRenderer()
+    steps = []
+    for i, op in enumerate(protocol.operations):
+        solid = solids[i]
+        rf = resolve_face(solid, op.face)
+        for _ in range(200):
+            direction = view_direction(rng, rf.normal)
+            up = up_vector(rng, direction)
+            curves = operation_curves(solid, op, direction)
+            pts = np.concatenate([c.points for c in curves])
+            ctx = frame_curves(pts, direction, up, 2.0)
+            if is_informative(curves, ctx, renderer.render(solid, ctx)):
+                break
+        else:
+            raise RuntimeError(f"{name} step {i + 1}: no informative view")
+        strokes, _ = sketch_strokes(curves, ctx, rng, 1)
+        view = fit_camera(np.stack([np.minimum(pts.min(0), _bb(solid)[0]),
+                                    np.maximum(pts.max(0), _bb(solid)[1])]),
+                          direction, up, 1.2, (800, 600))
+        moved = [view.project(ctx.unproject(s))[0] for s in strokes]
+        option = op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT) else None
+        steps.append(SketchStep(view, moved, StepChoices(option=option, regularize=False)))
+    return Session(protocol.base, steps)
+
+
+def _bb(solid):
+    b = solid.BoundingBox()
+    return np.array([b.xmin, b.ymin, b.zmin]), np.array([b.xmax, b.ymax, b.zmax])
+
+
+if __name__ == "__main__":
+    out = ROOT / "examples" / "sessions"
+    out.mkdir(exist_ok=True)
+    for k, name in enumerate(sys.argv[1:]):
+        make(name, seed=k).save(out / f"{name}.json")
+        print(f"{out / name}.json")
