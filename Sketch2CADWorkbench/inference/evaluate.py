@@ -283,6 +283,12 @@ def report(result: dict, examples: list[dict], path: Path) -> None:
 
 
 # ---------------------------------------------------------------- command line
+def has_ground_truth(data: Path) -> bool:
+    """Whether the data set's shards keep each sample's context and operation."""
+    ds = Dataset(data)
+    return bool(ds.shards) and "context" in ds.shard_meta(ds.shards[0])[0]
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("eval", help="evaluate the networks on a held-out data set",
                        description="Classification accuracy, per-operator face IoU and curve "
@@ -305,7 +311,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     try:
         result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs)
-        if args.recovery:
+        if args.recovery and not has_ground_truth(args.data):
+            print(f"sketch2cad eval: warning: {args.data} stores no ground-truth operations; "
+                  "the end-to-end recovery is skipped", file=sys.stderr)
+        elif args.recovery:
             from .recovery import recovery
             from .weights import load_predictor
             rec = recovery(args.data, load_predictor(args.weights), args.recovery)

@@ -1,0 +1,109 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The interpret pipeline end to end, with a stand-in for the networks that knows the answer.
+
+The stand-in returns the ground-truth base face and curve maps in the context view the
+pipeline itself frames, so these tests check everything but the networks: framing,
+rendering, counting, fitting, the B-rep operation, symmetry and the error path.
+"""
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Box, Extrude, FaceRef, Mode,
+                                               OperatorType)
+from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.inference.interpret import (InterpretError, InterpretOptions, interpret,
+                                                     to_context)
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.maps import MapRenderer
+from Sketch2CADWorkbench.render.strokes import rasterize
+
+TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+CLI = str(Path(__file__).resolve().parents[3] / ".venv" / "bin" / "sketch2cad")
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    return MapRenderer()
+
+
+def view():
+    d = np.array([0.6, 0.9, -1.2])
+    return OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
+
+
+class Oracle:
+    """Answers like perfect networks for one known operation on one known solid."""
+
+    def __init__(self, solid, op, strokes3d, labels, cam, renderer):
+        self.solid, self.op, self.renderer = solid, op, renderer
+        self.strokes3d, self.labels, self.view = strokes3d, labels, cam
+
+    def classify(self, inputs):
+        return np.eye(4)[list(OperatorType).index(self.op.type)]
+
+    def segment(self, inputs, op_type):
+        strokes = [self.view.project(p)[0] for p in self.strokes3d]
+        ctx = to_context(self.solid, strokes, self.view, self.renderer)
+        face = resolve_face(self.solid, self.op.face).face
+        index = next(i for i, f in enumerate(self.solid.Faces()) if f.isSame(face))
+        curve = rasterize(ctx.strokes, ctx.camera.width, ctx.camera.height,
+                          [float(l) for l in self.labels])
+        return (ctx.maps.face_id == index).astype(np.float32), curve
+
+
+def sketch(solid, op, cam):
+    curves = operation_curves(solid, op, np.array(cam.direction))
+    return [c.points for c in curves], [c.label for c in curves]
+
+
+def test_an_extrusion_sketch_becomes_the_extrusion(renderer):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer)
+    assert got.op_type is OperatorType.EXTRUDE
+    (fitted,) = got.operations
+    assert fitted.d == pytest.approx(9.0, abs=0.5)
+    assert got.solid.Volume() == pytest.approx(apply_operation(box, op).Volume(), rel=0.02)
+    assert set(got.timings_ms) >= {"render", "networks", "fitting", "brep", "total"}
+
+
+def test_mirror_option_adds_the_reflected_prism(renderer):
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer,
+                    InterpretOptions(symmetry="x"))
+    assert len(got.operations) == 2
+    bb = got.solid.BoundingBox()
+    assert bb.zmax == pytest.approx(16.0, abs=0.5)
+    xs = [v.X for v in got.solid.Vertices() if abs(v.Z - bb.zmax) < 1e-6]
+    assert min(xs) == pytest.approx(-max(xs), abs=1e-6)  # two prisms, mirror images
+
+
+def test_a_meaningless_sketch_is_refused_and_the_solid_kept(renderer):
+    box = make_box(Box((40, 30, 20)))
+    before = box.Volume()
+    op = AddSubPrism(TOP, ((0, 0, 10), (5, 0, 10), (0, 5, 10)), 4.0, Mode.ADD)
+    cam = view()
+    scribble = [np.array([[400.0, 300.0], [420.0, 310.0], [405.0, 330.0]])]
+    oracle = Oracle(box, op, [cam.unproject(scribble[0])], [1], cam, renderer)
+    with pytest.raises(InterpretError, match="read as addsub, but"):
+        interpret(box, scribble, cam, oracle, renderer)
+    assert box.Volume() == before and box.isValid()
+
+
+def test_interpret_command_rejects_a_broken_session(tmp_path):
+    (tmp_path / "s.json").write_text('{"format": "sketch2cad-session", "version": 1}')
+    out = subprocess.run([CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 2 and "s.json: session: missing key" in out.stderr
