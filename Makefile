@@ -5,8 +5,12 @@ export LANG := C.UTF-8
 setup:
 	@bash scripts/setup.sh
 
-# The main job: build the bundled example protocols into STEP files and pictures under out/.
+# The main job: interpret a bundled sketch session (strokes drawn over the model, step by
+# step) into a protocol, a STEP file and a picture; then build the example protocols.
 demo: setup
+	.venv/bin/sketch2cad interpret examples/sessions/camera.json --keep-going \
+	    --protocol out/camera-interpreted.json --step out/camera-interpreted.step \
+	    --png out/camera-interpreted.png
 	.venv/bin/sketch2cad demo --out out
 
 # The whole test suite, FreeCAD and GUI tests included.

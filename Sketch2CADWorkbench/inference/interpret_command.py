@@ -23,7 +23,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--png", type=Path, help="write a picture of the final solid")
     p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
     p.add_argument("--keep-going", action="store_true",
-                   help="skip a step that cannot be interpreted instead of stopping")
+                   help="skip a step that cannot be interpreted instead of stopping (the "
+                        "skipped steps are listed; the exit code is then 0)")
     p.set_defaults(func=run)
 
 
@@ -60,6 +61,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
           f"volume {solid.Volume():.1f} mm^3")
     try:
+        for path in (args.protocol, args.step, args.png):
+            if path:
+                path.parent.mkdir(parents=True, exist_ok=True)
         if args.protocol:
             protocol.save(args.protocol)
         if args.step:
@@ -70,4 +74,4 @@ def run(args: argparse.Namespace) -> int:
     except OSError as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
         return 2
-    return 1 if failed else 0
+    return 0

@@ -203,6 +203,44 @@ def strokes_captured_from_mouse_events():
     assert not view.getViewer().isRedirectedToSceneGraph()
 
 
+@check
+def sketch_step_adds_one_undoable_feature():
+    """The Sketch command's panel: mouse strokes of a pulled top face, Enter, OK."""
+    from Sketch2CADWorkbench.commands.sketch import SketchPanel
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import features
+    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    model = model_of_document()
+    doc = model.Document
+    before = len(features(model))
+    tip = model.Tip.Shape
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    settle()
+    bb = tip.BoundBox
+    top = np.array([[bb.XMin, bb.YMin, bb.ZMax], [bb.XMax, bb.YMin, bb.ZMax],
+                    [bb.XMax, bb.YMax, bb.ZMax], [bb.XMin, bb.YMax, bb.ZMax]])
+    up = top + [0, 0, 0.5 * bb.ZLength]
+    panel = SketchPanel(model)
+    FreeCADGui.Control.showDialog(panel)
+    viewport = view.graphicsView().viewport()
+    cam = view_camera(view)
+    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
+        drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+    assert len(panel.capture.strokes) == 8, len(panel.capture.strokes)
+    key(viewport, QtCore.Qt.Key_Return)
+    settle()
+    assert panel.result is not None, panel.text.toPlainText()
+    assert panel.result.op_type.value == "extrude", panel.text.toPlainText()
+    assert panel.accept()
+    settle()
+    chain = features(model)
+    assert len(chain) == before + 1 and chain[-1].Proxy.TYPE == "Sketch2CAD::Extrude"
+    assert close(chain[-1].Offset.Value, 0.5 * bb.ZLength, 0.15), chain[-1].Offset
+    doc.undo()
+    assert len(features(model)) == before
+
+
 def write_protocol(protocol, name: str) -> str:
     path = os.path.join(TMP, name)
     protocol.save(path)
