@@ -33,6 +33,8 @@ from enum import Enum
 from pathlib import Path
 from typing import Any, Union
 
+from .fields import FieldError, box_size, error, header, number, obj, points, vec
+
 FORMAT = "sketch2cad-protocol"
 VERSION = 1
 
@@ -67,7 +69,7 @@ class Mode(Enum):
         return -1.0 if self is Mode.SUBTRACT else 1.0
 
 
-class ProtocolError(ValueError):
+class ProtocolError(FieldError):
     """A protocol file or value is malformed; the message names the field and value."""
 
 
@@ -275,64 +277,17 @@ def protocol_to_dict(p: Protocol) -> dict[str, Any]:
 
 # ----------------------------------------------------------------- from JSON
 
-def _err(path: str, msg: str, value: Any) -> ProtocolError:
-    shown = json.dumps(value) if _jsonable(value) else repr(value)
-    if len(shown) > 80:
-        shown = shown[:77] + "..."
-    return ProtocolError(f"{path}: {msg}, got {shown}")
-
-
-def _jsonable(v: Any) -> bool:
-    try:
-        json.dumps(v)
-        return True
-    except (TypeError, ValueError):
-        return False
-
-
-def _obj(v: Any, path: str, keys: set[str]) -> dict:
-    if not isinstance(v, dict):
-        raise _err(path, "expected an object", v)
-    missing = sorted(keys - v.keys())
-    if missing:
-        raise _err(path, f"missing key '{missing[0]}'", v)
-    extra = sorted(v.keys() - keys)
-    if extra:
-        raise _err(f"{path}.{extra[0]}", f"unknown key (expected one of {sorted(keys)})",
-                   v[extra[0]])
-    return v
-
-
-def _number(v: Any, path: str, positive: bool = False, nonzero: bool = False) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise _err(path, "expected a finite number", v)
-    if positive and v <= 0:
-        raise _err(path, "expected a positive number", v)
-    if nonzero and v == 0:
-        raise _err(path, "expected a non-zero number", v)
-    return float(v)
-
-
-def _vec(v: Any, path: str, n: int = 3) -> tuple[float, ...]:
-    if not isinstance(v, list) or len(v) != n:
-        raise _err(path, f"expected a list of {n} numbers", v)
-    return tuple(_number(x, f"{path}[{i}]") for i, x in enumerate(v))
-
-
-def _points(v: Any, path: str, lo: int, hi: int, dim: int = 3) -> tuple:
-    if not isinstance(v, list) or not lo <= len(v) <= hi:
-        count = f"{lo}" if lo == hi else f"{lo} to {hi}"
-        raise _err(path, f"expected a list of {count} points", v)
-    return tuple(_vec(p, f"{path}[{i}]", dim) for i, p in enumerate(v))
+def _fail(path: str, msg: str, value: Any) -> ProtocolError:
+    return ProtocolError(str(error(path, msg, value)))
 
 
 def _unit(v: Any, path: str) -> Vec3:
-    x = _vec(v, path)
+    x = vec(v, path)
     n = math.sqrt(sum(c * c for c in x))
     if n < 1e-9:
-        raise _err(path, "expected a non-zero normal vector", v)
+        raise _fail(path, "expected a non-zero normal vector", v)
     if abs(n - 1.0) > 1e-6:
-        raise _err(path, "expected a unit normal vector (length 1)", v)
+        raise _fail(path, "expected a unit normal vector (length 1)", v)
     return x  # type: ignore[return-value]
 
 
@@ -340,12 +295,12 @@ def _mode(v: Any, path: str) -> Mode:
     try:
         return Mode(v)
     except ValueError:
-        raise _err(path, f"expected one of {[m.value for m in Mode]}", v) from None
+        raise _fail(path, f"expected one of {[m.value for m in Mode]}", v) from None
 
 
 def _face_ref(v: Any, path: str) -> FaceRef:
-    o = _obj(v, path, {"point", "normal"})
-    return FaceRef(_vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"))
+    o = obj(v, path, {"point", "normal"})
+    return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"))
 
 
 _KEYS = {
@@ -358,50 +313,54 @@ _KEYS = {
 
 def operation_from_dict(v: Any, path: str = "operation") -> Operation:
     """Parse one operation; raise ProtocolError naming the field and value on any flaw."""
+    try:
+        return _operation(v, path)
+    except FieldError as e:
+        raise e if isinstance(e, ProtocolError) else ProtocolError(str(e)) from None
+
+
+def _operation(v: Any, path: str) -> Operation:
     if not isinstance(v, dict):
-        raise _err(path, "expected an object", v)
+        raise _fail(path, "expected an object", v)
     kind = v.get("type")
     if kind not in _KEYS:
-        raise _err(f"{path}.type", f"expected one of {sorted(_KEYS)}", kind)
-    o = _obj(v, path, _KEYS[kind])
+        raise _fail(f"{path}.type", f"expected one of {sorted(_KEYS)}", kind)
+    o = obj(v, path, _KEYS[kind])
     face = _face_ref(o["face"], f"{path}.face")
     if kind == "extrude":
-        return Extrude(face, _number(o["d"], f"{path}.d", nonzero=True))
+        return Extrude(face, number(o["d"], f"{path}.d", nonzero=True))
     if kind == "bevel":
-        return Bevel(face, _vec(o["corner"], f"{path}.corner"),
-                     _vec(o["opposite"], f"{path}.opposite"),
-                     _points(o["profile"], f"{path}.profile", 4, 4))
+        return Bevel(face, vec(o["corner"], f"{path}.corner"),
+                     vec(o["opposite"], f"{path}.opposite"),
+                     points(o["profile"], f"{path}.profile", 4, 4))
     if kind == "addsub":
-        return AddSubPrism(face, _points(o["polygon"], f"{path}.polygon", 3, 6),
-                           _number(o["d"], f"{path}.d", positive=True),
+        return AddSubPrism(face, points(o["polygon"], f"{path}.polygon", 3, 6),
+                           number(o["d"], f"{path}.d", positive=True),
                            _mode(o["mode"], f"{path}.mode"))
-    return Sweep(face, _vec(o["center"], f"{path}.center"),
-                 _number(o["r0"], f"{path}.r0", positive=True),
-                 _number(o["r1"], f"{path}.r1", positive=True),
-                 _number(o["d"], f"{path}.d", positive=True),
-                 _points(o["profile"], f"{path}.profile", 2, 2, dim=2),
+    return Sweep(face, vec(o["center"], f"{path}.center"),
+                 number(o["r0"], f"{path}.r0", positive=True),
+                 number(o["r1"], f"{path}.r1", positive=True),
+                 number(o["d"], f"{path}.d", positive=True),
+                 points(o["profile"], f"{path}.profile", 2, 2, dim=2),
                  _mode(o["mode"], f"{path}.mode"))
 
 
 def protocol_from_dict(v: Any) -> Protocol:
     """Parse a whole protocol; nothing is returned unless every field is valid."""
-    o = _obj(v, "protocol", {"format", "version", "units", "base", "operations"})
-    if o["format"] != FORMAT:
-        raise _err("format", f"expected '{FORMAT}'", o["format"])
-    if o["version"] != VERSION:
-        raise _err("version", f"unsupported version (this build reads {VERSION})", o["version"])
-    if o["units"] != "mm":
-        raise _err("units", "expected 'mm'", o["units"])
-    base = _obj(o["base"], "base", {"type", "size"})
-    if base["type"] != "box":
-        raise _err("base.type", "expected 'box'", base["type"])
-    size = _vec(base["size"], "base.size")
-    for i, s in enumerate(size):
-        _number(s, f"base.size[{i}]", positive=True)
+    try:
+        return _protocol(v)
+    except FieldError as e:
+        raise e if isinstance(e, ProtocolError) else ProtocolError(str(e)) from None
+
+
+def _protocol(v: Any) -> Protocol:
+    o = obj(v, "protocol", {"format", "version", "units", "base", "operations"})
+    header(o, FORMAT, VERSION)
+    size = box_size(o["base"])
     ops = o["operations"]
     if not isinstance(ops, list):
-        raise _err("operations", "expected a list", ops)
-    return Protocol(Box(size), tuple(operation_from_dict(op, f"operations[{i}]")
+        raise _fail("operations", "expected a list", ops)
+    return Protocol(Box(size), tuple(_operation(op, f"operations[{i}]")
                                      for i, op in enumerate(ops)))
 
 

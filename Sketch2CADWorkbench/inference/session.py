@@ -19,13 +19,13 @@ camera is the orthographic view the designer sketched in.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..brep.fields import FieldError, box_size, error, header, number, obj, vec
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
 
@@ -87,41 +87,18 @@ def _step_dict(s: SketchStep) -> dict[str, Any]:
 # ----------------------------------------------------------------- loading
 
 def _err(path: str, msg: str, value: Any) -> SessionError:
-    shown = json.dumps(value, default=repr)
-    return SessionError(f"{path}: {msg}, got {shown[:77] + '...' if len(shown) > 80 else shown}")
-
-
-def _num(v: Any, path: str) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise _err(path, "expected a finite number", v)
-    return float(v)
-
-
-def _vec(v: Any, path: str, n: int) -> tuple[float, ...]:
-    if not isinstance(v, list) or len(v) != n:
-        raise _err(path, f"expected a list of {n} numbers", v)
-    return tuple(_num(x, f"{path}[{i}]") for i, x in enumerate(v))
-
-
-def _keys(v: Any, path: str, required: set[str], optional: set[str] = frozenset()) -> dict:
-    if not isinstance(v, dict):
-        raise _err(path, "expected an object", v)
-    for k in sorted(required - v.keys()):
-        raise _err(path, f"missing key '{k}'", v)
-    for k in sorted(v.keys() - required - optional):
-        raise _err(f"{path}.{k}", "unknown key", v[k])
-    return v
+    return SessionError(str(error(path, msg, value)))
 
 
 def camera_from_dict(v: Any, path: str) -> OrthoCamera:
-    o = _keys(v, path, {"center", "direction", "up", "scale", "width", "height"})
+    o = obj(v, path, {"center", "direction", "up", "scale", "width", "height"})
     for k in ("width", "height"):
         if isinstance(o[k], bool) or not isinstance(o[k], int) or not 16 <= o[k] <= 8192:
             raise _err(f"{path}.{k}", "expected an integer from 16 to 8192", o[k])
     try:
         for k, n in (("center", 3), ("direction", 3), ("up", 3)):
-            _vec(o[k], f"{path}.{k}", n)
-        _num(o["scale"], f"{path}.scale")
+            vec(o[k], f"{path}.{k}", n)
+        number(o["scale"], f"{path}.scale")
         return OrthoCamera.from_dict(o)
     except ValueError as e:
         if isinstance(e, SessionError):
@@ -130,7 +107,7 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
 
 
 def _choices(v: Any, path: str) -> StepChoices:
-    o = _keys(v, path, set(), {"option", "symmetry", "regularize"})
+    o = obj(v, path, set(), {"option", "symmetry", "regularize"})
     option = o.get("option")
     if option is not None:
         try:
@@ -148,7 +125,7 @@ def _choices(v: Any, path: str) -> StepChoices:
 
 
 def _step(v: Any, path: str) -> SketchStep:
-    o = _keys(v, path, {"camera", "strokes"}, {"choices"})
+    o = obj(v, path, {"camera", "strokes"}, {"choices"})
     cam = camera_from_dict(o["camera"], f"{path}.camera")
     strokes = o["strokes"]
     if not isinstance(strokes, list) or not strokes:
@@ -157,26 +134,22 @@ def _step(v: Any, path: str) -> SketchStep:
     for i, s in enumerate(strokes):
         if not isinstance(s, list) or len(s) < 2:
             raise _err(f"{path}.strokes[{i}]", "expected a list of at least 2 points", s)
-        out.append(np.array([_vec(p, f"{path}.strokes[{i}][{j}]", 2) for j, p in enumerate(s)]))
+        out.append(np.array([vec(p, f"{path}.strokes[{i}][{j}]", 2) for j, p in enumerate(s)]))
     return SketchStep(cam, out, _choices(o.get("choices", {}), f"{path}.choices"))
 
 
 def session_from_dict(v: Any) -> Session:
     """Parse a whole session; nothing is returned unless every field is valid."""
-    o = _keys(v, "session", {"format", "version", "units", "base", "steps"})
-    if o["format"] != FORMAT:
-        raise _err("format", f"expected '{FORMAT}'", o["format"])
-    if o["version"] != VERSION:
-        raise _err("version", f"unsupported version (this build reads {VERSION})", o["version"])
-    if o["units"] != "mm":
-        raise _err("units", "expected 'mm'", o["units"])
-    base = _keys(o["base"], "base", {"type", "size"})
-    if base["type"] != "box":
-        raise _err("base.type", "expected 'box'", base["type"])
-    size = _vec(base["size"], "base.size", 3)
-    for i, s in enumerate(size):
-        if s <= 0:
-            raise _err(f"base.size[{i}]", "expected a positive number", s)
+    try:
+        return _session(v)
+    except FieldError as e:
+        raise e if isinstance(e, SessionError) else SessionError(str(e)) from None
+
+
+def _session(v: Any) -> Session:
+    o = obj(v, "session", {"format", "version", "units", "base", "steps"})
+    header(o, FORMAT, VERSION)
+    size = box_size(o["base"])
     if not isinstance(o["steps"], list):
         raise _err("steps", "expected a list", o["steps"])
     return Session(Box(size), [_step(s, f"steps[{i}]") for i, s in enumerate(o["steps"])])

@@ -1,0 +1,80 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Validating JSON fields of our file formats, with errors that name the field and value.
+
+Each check returns the parsed value or raises `error(path, message, value)`, whose text
+reads like "operations[2].d: expected a positive number, got -6".
+"""
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+
+class FieldError(ValueError):
+    """A field of a file is malformed; the message names its path and the value."""
+
+
+def error(path: str, msg: str, value: Any) -> FieldError:
+    shown = json.dumps(value, default=repr)
+    if len(shown) > 80:
+        shown = shown[:77] + "..."
+    return FieldError(f"{path}: {msg}, got {shown}")
+
+
+def obj(v: Any, path: str, required: set[str], optional: set[str] = frozenset()) -> dict:
+    """A JSON object with exactly the required keys and perhaps some optional ones."""
+    if not isinstance(v, dict):
+        raise error(path, "expected an object", v)
+    missing = sorted(required - v.keys())
+    if missing:
+        raise error(path, f"missing key '{missing[0]}'", v)
+    extra = sorted(v.keys() - required - optional)
+    if extra:
+        raise error(f"{path}.{extra[0]}",
+                    f"unknown key (expected one of {sorted(required | optional)})", v[extra[0]])
+    return v
+
+
+def number(v: Any, path: str, positive: bool = False, nonzero: bool = False) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise error(path, "expected a finite number", v)
+    if positive and v <= 0:
+        raise error(path, "expected a positive number", v)
+    if nonzero and v == 0:
+        raise error(path, "expected a non-zero number", v)
+    return float(v)
+
+
+def vec(v: Any, path: str, n: int = 3) -> tuple[float, ...]:
+    if not isinstance(v, list) or len(v) != n:
+        raise error(path, f"expected a list of {n} numbers", v)
+    return tuple(number(x, f"{path}[{i}]") for i, x in enumerate(v))
+
+
+def points(v: Any, path: str, lo: int, hi: int, dim: int = 3) -> tuple:
+    if not isinstance(v, list) or not lo <= len(v) <= hi:
+        count = f"{lo}" if lo == hi else f"{lo} to {hi}"
+        raise error(path, f"expected a list of {count} points", v)
+    return tuple(vec(p, f"{path}[{i}]", dim) for i, p in enumerate(v))
+
+
+def header(o: dict, fmt: str, version: int) -> None:
+    """The format name, version and units (mm) every file of ours starts with."""
+    if o["format"] != fmt:
+        raise error("format", f"expected '{fmt}'", o["format"])
+    if o["version"] != version:
+        raise error("version", f"unsupported version (this build reads {version})", o["version"])
+    if o["units"] != "mm":
+        raise error("units", "expected 'mm'", o["units"])
+
+
+def box_size(v: Any) -> tuple[float, float, float]:
+    """The base box {"type": "box", "size": [lx, ly, lz]} (mm, all positive)."""
+    base = obj(v, "base", {"type", "size"})
+    if base["type"] != "box":
+        raise error("base.type", "expected 'box'", base["type"])
+    size = vec(base["size"], "base.size")
+    for i, s in enumerate(size):
+        number(s, f"base.size[{i}]", positive=True)
+    return size
