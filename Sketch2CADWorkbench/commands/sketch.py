@@ -1,6 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sketch: strokes over the 3D view -> the interpreted operation -> a new feature."""
-import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 from pivy import coin
