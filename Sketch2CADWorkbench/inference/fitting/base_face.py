@@ -7,11 +7,15 @@ import numpy as np
 
 from .common import FitError
 
+MIN_PIXELS = 20
+
 
 def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape) -> cq.Face:
     """The planar face seen by the most pixels of the binarised face map.
 
-    f* = argmax_i sum over pixels with Id = f_i of [F > 0.5].
+    f* = argmax_i sum over pixels with Id = f_i of [F > 0.5] (the paper's counting).
+    When no pixel passes 0.5 (an unsure network), the face whose visible pixels have the
+    highest mean F is taken instead, among faces of at least MIN_PIXELS pixels.
 
     Args:
         face_prob: (H, W) predicted base-face probability F.
@@ -20,11 +24,18 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
     Raises:
         FitError: no face pixel is predicted, or the winner is not planar.
     """
-    ids = face_id[(face_prob > 0.5) & (face_id >= 0)]
-    if ids.size == 0:
-        raise FitError("no face of the model was recognised under the sketch; draw on a "
-                       "visible face")
-    index = int(np.bincount(ids).argmax())
+    seen = face_id >= 0
+    ids = face_id[(face_prob > 0.5) & seen]
+    if ids.size:
+        index = int(np.bincount(ids).argmax())
+    else:
+        pixels = np.bincount(face_id[seen])
+        score = np.bincount(face_id[seen], weights=face_prob[seen], minlength=len(pixels))
+        mean = np.where(pixels >= MIN_PIXELS, score / np.maximum(pixels, 1), -1.0)
+        if mean.max() <= 0:
+            raise FitError("no face of the model was recognised under the sketch; draw on a "
+                           "visible face")
+        index = int(np.argmax(mean))
     face = solid.Faces()[index]
     if face.geomType() != "PLANE":
         raise FitError("the sketch stands on a curved face; operations need a planar face")

@@ -90,3 +90,15 @@ def test_mirrored_sweep_on_a_side_face_uses_the_opposite_face():
     assert mirrored.face.normal == pytest.approx((-1, 0, 0))
     out = apply_operation(apply_operation(box, op), mirrored)
     assert (out.BoundingBox().xmin, out.BoundingBox().xmax) == pytest.approx((-26, 26))
+
+
+def test_base_face_is_counted_and_an_unsure_face_map_still_decides():
+    from Sketch2CADWorkbench.inference.fitting.base_face import select_base_face
+    box = make_box(Box((40, 30, 20)))
+    ids = np.zeros((64, 64), np.int32)
+    ids[:, 32:] = 5
+    ids[:4] = -1
+    sure = np.where(ids == 5, 0.9, 0.1)
+    assert select_base_face(sure, ids, box).isSame(box.Faces()[5])
+    unsure = np.where(ids == 5, 0.4, 0.2)  # nothing passes 0.5: the higher mean wins
+    assert select_base_face(unsure, ids, box).isSame(box.Faces()[5])
