@@ -305,6 +305,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--recovery", type=int, default=200, metavar="N",
                    help="run the whole interpret pipeline on the first N samples for the "
                         "end-to-end recovery rate (0 skips it; default %(default)s)")
+    p.add_argument("--fitting-recovery", action="store_true",
+                   help="also the recovery rate of the fitting stage alone, given the "
+                        "ground-truth operator, F and C (tells network from fitting errors)")
     p.set_defaults(func=run)
 
 
@@ -322,6 +325,12 @@ def run(args: argparse.Namespace) -> int:
                 result["per_operator"][op].update(v)
             result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
             result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
+            if args.fitting_recovery:
+                fit = recovery(args.data, None, args.recovery, oracle=True)
+                for op, v in fit["per_operator"].items():
+                    result["per_operator"][op]["fitting_recovery_rate"] = v["recovery_rate"]
+                result["fitting_recovery"] = {k: fit[k] for k in ("per_noise_level",
+                                                                  "failure_reasons")}
     except (FileNotFoundError, ValueError) as e:
         print(f"sketch2cad eval: error: {e}", file=sys.stderr)
         return 2

@@ -113,8 +113,14 @@ def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
     strokes, cam = ctx.strokes, ctx.camera
     if op_type is OperatorType.EXTRUDE:
         labels = classify_strokes(strokes, curve, (0.5,))
-        op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
-                         [s for s, l in zip(strokes, labels) if l == 0])
+        try:
+            op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
+                             [s for s, l in zip(strokes, labels) if l == 0])
+        except FitError:
+            # C may call a side edge an offset edge or back. The line search scores the
+            # moved edges' distance to the strokes, which strokes of the other part
+            # rarely mislead, so every stroke may serve both parts.
+            op = fit_extrude(solid, face, cam, strokes, strokes)
     elif op_type is OperatorType.BEVEL:
         votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
         best = int(np.argmax(votes))

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import statistics
 
+import cadquery as cq
 import numpy as np
 from tqdm import tqdm
 
@@ -20,21 +21,48 @@ from ..brep.faces import OperationError
 from ..brep.operators import apply_operation, replay
 from ..brep.protocol import OperatorType
 from ..datagen.dataset import Dataset
-from .interpret import InterpretError, InterpretOptions, interpret
+from ..render.maps import ContextMaps, MapRenderer
+from .fitting.common import FitError
+from .interpret import Context, InterpretError, InterpretOptions, fit_operation, interpret
 
 RECOVERY_IOU = 0.95
 
 
-def recovery(data, predictor, limit: int) -> dict:
+def _ground_truth_step(sample, context: cq.Shape, options: InterpretOptions
+                       ) -> tuple[cq.Shape, float | None]:
+    """Stage three alone: fit the sample's true class, F and C in its own context maps."""
+    ctx = Context(sample.camera, sample.strokes,
+                  ContextMaps(sample.depth, sample.normal, sample.face_id, None), sample.inputs())
+    try:
+        op, _, _ = fit_operation(context, sample.op_type, sample.face_label, sample.curve_label,
+                                 ctx, options)
+    except FitError as e:
+        raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
+    return apply_operation(context, op), None
+
+
+def recovery(data, predictor, limit: int, oracle: bool = False) -> dict:
     """Recovery rate per operator (and per noise level) over the first `limit` samples,
-    and the median time of one interpret step (render + networks + fitting + B-rep)."""
-    from ..render.maps import MapRenderer
+    and the median time of one interpret step (render + networks + fitting + B-rep).
+
+    With `oracle`, the networks are replaced by the ground truth (class, F, C in the
+    sample's own context maps): the rate then measures the fitting stage alone, which
+    tells a network shortfall from a fitting one.
+    """
     renderer = MapRenderer()
     ds = Dataset(data)
     hits: dict[tuple[str, int], list[bool]] = {}
     times, reasons = [], {}
     options = InterpretOptions(regularize=False)
-    with tqdm(total=min(limit, len(ds)), desc="interpret", unit="sample", leave=False) as bar:
+
+    def step(s, context):
+        if oracle:
+            return _ground_truth_step(s, context, options)
+        got = interpret(context, s.strokes, s.camera, predictor, renderer, options)
+        return got.solid, got.timings_ms["total"]
+
+    with tqdm(total=min(limit, len(ds)), desc="fitting" if oracle else "interpret",
+              unit="sample", leave=False) as bar:
         for k in ds.shards:
             for s in ds.samples(k):
                 if bar.n >= limit:
@@ -42,9 +70,10 @@ def recovery(data, predictor, limit: int) -> dict:
                 context = replay(s.context)[-1]
                 try:
                     truth = apply_operation(context, s.operation)
-                    got = interpret(context, s.strokes, s.camera, predictor, renderer, options)
-                    times.append(got.timings_ms["total"])
-                    ok = volume_iou(got.solid, truth) >= RECOVERY_IOU
+                    solid, ms = step(s, context)
+                    if ms is not None:
+                        times.append(ms)
+                    ok = volume_iou(solid, truth) >= RECOVERY_IOU
                 except (InterpretError, OperationError) as e:
                     ok = False
                     key = str(e).split(":")[0][:60]

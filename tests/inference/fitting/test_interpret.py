@@ -75,6 +75,20 @@ def test_an_extrusion_sketch_becomes_the_extrusion(renderer):
     assert set(got.timings_ms) >= {"render", "networks", "fitting", "brep", "total"}
 
 
+def test_an_extrusion_survives_a_curve_map_that_calls_side_edges_offset_edges(renderer):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    sides = [k for k, label in enumerate(labels) if label == 0]
+    assert len(sides) == 4
+    wrong = [1 if k in sides[1:] else label for k, label in enumerate(labels)]
+    oracle = Oracle(box, op, pts, wrong, cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer)
+    (fitted,) = got.operations
+    assert fitted.d == pytest.approx(9.0, abs=0.5)
+
+
 def test_mirror_option_adds_the_reflected_prism(renderer):
     box = make_box(Box((40, 30, 20)))
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
