@@ -30,8 +30,9 @@ from ..render.strokes import rasterize
 from .fitting.addsub import fit_prism
 from .fitting.base_face import select_base_face
 from .fitting.bevel import fit_bevel
-from .fitting.common import FitError, classify_strokes, resample, sample_map
+from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
+from .fitting.stroke_roles import stroke_roles
 from .fitting.sweep import fit_sweep
 
 CLASSES = list(OperatorType)
@@ -129,7 +130,19 @@ def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
     else:
         labels = classify_strokes(strokes, curve, (0.5, 1.5))
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
-        op = fit(solid, face, cam, strokes, labels, options.regularize, options.option)
+        try:
+            op = fit(solid, face, cam, strokes, labels, options.regularize, options.option)
+        except FitError as first:
+            # C may mix up the strokes' roles: try them as read from the strokes' geometry
+            try:
+                roles = stroke_roles(strokes, FaceFrame.of(face), cam,
+                                     prism=op_type is OperatorType.ADDSUB)
+                if roles == labels:
+                    raise first
+                op = fit(solid, face, cam, strokes, roles, options.regularize, options.option)
+            except FitError:
+                raise first from None
+            labels = roles
     return op, index, labels
 
 

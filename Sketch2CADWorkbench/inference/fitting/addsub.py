@@ -15,6 +15,8 @@ from .primitive import choose_option, face_outline
 from .regularize import regularize_polygon
 
 MAX_MISMATCH_PX = 12.0
+# Base outline corners closer than this (px) are one corner: too few sides for N.
+MIN_SIDE_PX = 2.0
 
 
 def _outline_samples(poly: np.ndarray) -> np.ndarray:
@@ -65,6 +67,8 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
     if not is_simple(base):
         raise FitError("the base outline crosses itself")
+    if np.min(np.linalg.norm(base - np.roll(base, 1, axis=0), axis=1)) < MIN_SIDE_PX:
+        raise FitError("two corners of the base outline coincide")
     base3d = camera.back_project_to_plane(base, frame.origin, frame.normal)
     direction = frame.normal * mode.sign
     closed = np.concatenate([base3d, base3d[:1]])

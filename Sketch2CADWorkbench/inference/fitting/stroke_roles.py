@@ -1,0 +1,94 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Stroke roles from geometry, for when the curve map C does not fit (not in the paper).
+
+A prism's or a sweep's profile strokes run along the base face's normal n_f, so in an
+orthographic view each is parallel to n_f's image; the outlines at their two ends are
+the start outline (lower along n_f) and the end outline. This reads those roles from
+the strokes alone, so that a curve map that mixes them up (the networks trained on
+this machine's budget often do) need not lose a clear sketch.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...render.camera import OrthoCamera
+from .common import FaceFrame, FitError, resample
+
+START, PROFILE, END = 0, 1, 2
+# Largest angle (degrees) between a profile stroke's chord and n_f's image: a prism's
+# side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).
+PRISM_PROFILE_DEG, SWEEP_PROFILE_DEG = 12.0, 45.0
+# A prism's side-edge strokes share their chord vector within this share of its length
+# plus this many pixels (stroke noise).
+SAME_CHORD, SAME_CHORD_PX = 0.15, 3.0
+# A stroke whose ends are closer than this share of its length is a closed outline.
+CLOSED_SHARE = 0.2
+# Below this sine of the angle between n_f and the view, f is seen head-on: profile
+# strokes would be dots.
+MIN_SIN = 0.1
+
+
+def normal_image(camera: OrthoCamera, frame: FaceFrame) -> np.ndarray:
+    """The unit 2D direction in which +n_f points in the image."""
+    a, _ = camera.project(np.stack([frame.origin, frame.origin + frame.normal]))
+    v = a[1] - a[0]
+    norm = float(np.linalg.norm(v))
+    if norm * camera.pixel_size < MIN_SIN:
+        raise FitError("the face is seen head-on, so strokes along its normal cannot be told")
+    return v / norm
+
+
+def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
+                 prism: bool) -> list[int]:
+    """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
+
+    Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
+    or SWEEP_PROFILE_DEG (a sweep) of n_f's image; each is ordered by n_f, giving a
+    start point and an end point. A prism's side edges are translates of each other,
+    so they must also share one chord vector; the largest such set wins, so an outline side that
+    happens to run along n_f's image is not taken for a profile. Every other stroke
+    is an outline and joins the end of the profiles it touches: an open stroke by its
+    two end points, a closed one by its nearest point.
+
+    Raises:
+        FitError: f is seen head-on, or no stroke runs along n_f.
+    """
+    n2 = normal_image(camera, frame)
+    cos_max = np.cos(np.radians(PRISM_PROFILE_DEG if prism else SWEEP_PROFILE_DEG))
+    chords = {}  # stroke index -> (start point, end point), ordered along n_f
+    for k, s in enumerate(strokes):
+        p = np.asarray(s, float)
+        chord = p[-1] - p[0]
+        length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+        span = float(np.linalg.norm(chord))
+        if span > CLOSED_SHARE * length and abs(chord @ n2) >= cos_max * span:
+            chords[k] = (p[0], p[-1]) if chord @ n2 >= 0 else (p[-1], p[0])
+    if prism and chords:
+        vec = {k: b - a for k, (a, b) in chords.items()}
+        groups = [[j for j in vec if np.linalg.norm(vec[j] - vec[k])
+                   <= SAME_CHORD * np.linalg.norm(vec[k]) + SAME_CHORD_PX] for k in vec]
+        chords = {k: chords[k] for k in max(groups, key=len)}
+    if not chords:
+        raise FitError("no stroke runs along the face normal, so no profile was found")
+    roles: list[int | None] = [PROFILE if k in chords else None for k in range(len(strokes))]
+    starts = np.array([a for a, _ in chords.values()])
+    ends = np.array([b for _, b in chords.values()])
+
+    def gap(points: np.ndarray, cloud: np.ndarray) -> float:
+        return float(np.min(np.linalg.norm(points[:, None] - cloud[None], axis=2), axis=1).sum())
+
+    for k, s in enumerate(strokes):
+        if roles[k] is not None:
+            continue
+        p = np.asarray(s, float)
+        closed = np.linalg.norm(p[-1] - p[0]) <= CLOSED_SHARE * max(
+            float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()), 1e-9)
+        if closed:
+            q = resample(p)
+            d = np.linalg.norm(q[:, None] - np.concatenate([starts, ends])[None], axis=2)
+            nearest = np.unravel_index(int(np.argmin(d)), d.shape)[1]
+            roles[k] = START if nearest < len(starts) else END
+        else:
+            ends_of = p[[0, -1]]
+            roles[k] = START if gap(ends_of, starts) <= gap(ends_of, ends) else END
+    return [int(r) for r in roles]

@@ -1,0 +1,53 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Stroke roles read from geometry: the fallback when the curve map mixes up the strokes."""
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.operators import make_box
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
+from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
+from Sketch2CADWorkbench.inference.fitting.stroke_roles import stroke_roles
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+
+TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+BOX = Box((40, 30, 20))
+
+
+def camera(direction):
+    d = np.asarray(direction, float)
+    return OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
+
+
+def roles_and_truth(op, direction):
+    solid = make_box(BOX)
+    cam = camera(direction)
+    curves = operation_curves(solid, op, np.array(cam.direction))
+    strokes = [cam.project(c.points)[0] for c in curves]
+    frame = FaceFrame.of(resolve_face(solid, TOP).face)
+    return (stroke_roles(strokes, frame, cam, prism=isinstance(op, AddSubPrism)),
+            [c.label for c in curves])
+
+
+@pytest.mark.parametrize("mode", [Mode.ADD, Mode.SUBTRACT])
+@pytest.mark.parametrize("direction", [(-1, 1, -1), (0.6, 0.9, -1.2)])
+def test_prism_strokes_get_start_profile_and_end_roles(mode, direction):
+    # in the second view the triangle's side from (-3, 8) to (-10, -5) runs almost
+    # along the image of the normal, like the side edges do
+    op = AddSubPrism(TOP, ((-10, -5, 10), (4, -5, 10), (-3, 8, 10)), 6.0, mode)
+    got, truth = roles_and_truth(op, direction)
+    assert got == truth
+
+
+@pytest.mark.parametrize("r1", [6.0, 9.0])
+def test_sweep_circles_and_profile_lines_get_their_roles(r1):
+    op = Sweep(TOP, (0.0, 0.0, 10.0), 6.0, r1, 10.0, ((6.0, 10 / 3), (r1, 20 / 3)), Mode.ADD)
+    got, truth = roles_and_truth(op, (0.6, 0.9, -1.2))
+    assert got == truth
+
+
+def test_a_face_seen_head_on_has_no_readable_profile():
+    op = AddSubPrism(TOP, ((-10, -5, 10), (4, -5, 10), (-3, 8, 10)), 6.0, Mode.ADD)
+    with pytest.raises(FitError, match="head-on"):
+        roles_and_truth(op, (0.01, 0.0, -1.0))
