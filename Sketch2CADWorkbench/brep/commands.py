@@ -15,7 +15,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "protocols"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("build", help="replay a protocol into a solid; write STEP and a picture",
+    p = sub.add_parser("build",
                        description="Replay PROTOCOL.json (see brep/protocol.py for the "
                                    "schema) and write the final solid.")
     p.add_argument("protocol", type=Path, help="protocol JSON file")
@@ -24,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quiet", action="store_true", help="do not print the protocol listing")
     p.set_defaults(func=run_build)
 
-    d = sub.add_parser("demo", help="build every bundled example protocol into STEP + PNG")
+    d = sub.add_parser("demo")
     d.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out)")
     d.add_argument("--examples", type=Path, default=EXAMPLES, help="folder of protocol files")
     d.set_defaults(func=run_demo)

@@ -36,7 +36,7 @@ SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("datagen", help="generate synthetic training/evaluation samples",
+    p = sub.add_parser("datagen",
                        description="Random modeling sequences rendered as sketches over their "
                                    "context, with labels (paper, 'Training data generation').")
     p.add_argument("--out", type=Path, required=True, help="data set folder")

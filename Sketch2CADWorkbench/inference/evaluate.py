@@ -290,7 +290,7 @@ def has_ground_truth(data: Path) -> bool:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("eval", help="evaluate the networks on a held-out data set",
+    p = sub.add_parser("eval",
                        description="Classification accuracy, per-operator face IoU and curve "
                                    "accuracy, and latency of the networks (paper, Table 1).")
     p.add_argument("--data", type=Path, required=True, help="data set folder (held out)")

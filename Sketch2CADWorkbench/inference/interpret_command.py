@@ -14,7 +14,7 @@ from .session import load_session
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("interpret", help="interpret a sketch session into a protocol and a solid",
+    p = sub.add_parser("interpret",
                        description="Run every step of a sketch session (see "
                                    "inference/session.py) through the networks and fitting.")
     p.add_argument("session", type=Path, help="session JSON file")

@@ -423,7 +423,7 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
 # ---------------------------------------------------------------- command line
 def register(sub: argparse._SubParsersAction) -> None:
     d = TrainSettings()
-    p = sub.add_parser("train", help="train the networks on a generated data set",
+    p = sub.add_parser("train",
                        description="Train the operator classifier and the segmentation "
                                    "networks (one shared-encoder network); rerunning with "
                                    "the same --out resumes.")
