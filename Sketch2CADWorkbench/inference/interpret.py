@@ -28,7 +28,7 @@ from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
 from .fitting.addsub import fit_prism
-from .fitting.base_face import select_base_face
+from .fitting.base_face import face_under_stroke, select_base_face
 from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
@@ -126,6 +126,12 @@ def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
         votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
         best = int(np.argmax(votes))
         labels = [1 if i == best else 0 for i in range(len(strokes))]
+        under = face_under_stroke(strokes[best], ctx.maps.face_id)
+        if under is not None and under != index and \
+                solid.Faces()[under].geomType() == "PLANE":
+            # the profile l lies on f by definition: when F points elsewhere, the
+            # stroke's own face is the one it was drawn on
+            index, face = under, solid.Faces()[under]
         op = fit_bevel(solid, face, cam, strokes[best])
     else:
         labels = classify_strokes(strokes, curve, (0.5, 1.5))

@@ -5,9 +5,11 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from .common import FitError
+from .common import FitError, resample, sample_map
 
 MIN_PIXELS = 20
+# Share of a stroke's samples that must fall on one face for the stroke to lie on it.
+ON_FACE_SHARE = 0.6
 
 
 def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape) -> cq.Face:
@@ -40,3 +42,17 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
     if face.geomType() != "PLANE":
         raise FitError("the sketch stands on a curved face; operations need a planar face")
     return face
+
+
+def face_under_stroke(stroke: np.ndarray, face_id: np.ndarray) -> int | None:
+    """The index of the face that most of a stroke's samples fall on, if most of them
+    (ON_FACE_SHARE) fall on one face; None otherwise (a stroke in the air or on an edge).
+    """
+    samples = resample(stroke)
+    ids = sample_map(face_id, samples).astype(int)
+    ids = ids[ids >= 0]
+    if not ids.size:
+        return None
+    counts = np.bincount(ids)
+    best = int(counts.argmax())
+    return best if counts[best] >= ON_FACE_SHARE * len(samples) else None

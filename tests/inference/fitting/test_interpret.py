@@ -6,14 +6,16 @@ pipeline itself frames, so these tests check everything but the networks: framin
 rendering, counting, fitting, the B-rep operation, symmetry and the error path.
 """
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Box, Extrude, FaceRef, Mode,
+from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
                                                OperatorType)
 from Sketch2CADWorkbench.datagen.curves import operation_curves
 from Sketch2CADWorkbench.inference.interpret import (InterpretError, InterpretOptions, interpret,
@@ -87,6 +89,21 @@ def test_an_extrusion_survives_a_curve_map_that_calls_side_edges_offset_edges(re
     got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer)
     (fitted,) = got.operations
     assert fitted.d == pytest.approx(9.0, abs=0.5)
+
+
+def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(renderer):
+    box = make_box(Box((40, 30, 20)))
+    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
+    k = 0.5523  # quarter-circle Bezier handle
+    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
+           (20.0, -15.0, 4.0))
+    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    wrong_face = Oracle(box, replace(op, face=TOP), pts, labels, cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, wrong_face, renderer,
+                    InterpretOptions(regularize=False))
+    assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):
