@@ -24,9 +24,11 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
         face_id: (H, W) rendered face indices into solid.Faces() (-1 background).
         solid: the context solid.
     Raises:
-        FitError: no face pixel is predicted, or the winner is not planar.
+        FitError: no face in view, none recognised, or the winner is not planar.
     """
     seen = face_id >= 0
+    if not seen.any():
+        raise FitError("the model is not in view under the sketch; draw over the model")
     ids = face_id[(face_prob > 0.5) & seen]
     if ids.size:
         index = int(np.bincount(ids).argmax())

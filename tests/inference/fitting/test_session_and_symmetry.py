@@ -102,3 +102,12 @@ def test_base_face_is_counted_and_an_unsure_face_map_still_decides():
     assert select_base_face(sure, ids, box).isSame(box.Faces()[5])
     unsure = np.where(ids == 5, 0.4, 0.2)  # nothing passes 0.5: the higher mean wins
     assert select_base_face(unsure, ids, box).isSame(box.Faces()[5])
+
+
+def test_a_sketch_beside_the_model_is_a_fit_error_not_a_crash():
+    from Sketch2CADWorkbench.inference.fitting.base_face import select_base_face
+    from Sketch2CADWorkbench.inference.fitting.common import FitError
+    box = make_box(Box((40, 30, 20)))
+    background = np.full((64, 64), -1, np.int32)
+    with pytest.raises(FitError, match="not in view"):
+        select_base_face(np.full((64, 64), 0.9), background, box)
