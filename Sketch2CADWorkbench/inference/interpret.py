@@ -176,7 +176,9 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         predictor: the networks.
         renderer: a reusable MapRenderer (one is made if None).
         options: regularization, forced option, symmetry plane.
-        op_type: force the operator instead of the classifier's choice.
+        op_type: force the operator instead of the classifier's choice (without it,
+            the operators are tried in the order of the classifier's probabilities
+            until one fits the strokes).
     Raises:
         InterpretError: with the reason, when the sketch matches no operation.
     """
@@ -184,18 +186,31 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())
     t1 = time.perf_counter()
     probs = np.asarray(predictor.classify(ctx.inputs), float)
-    kind = op_type or CLASSES[int(np.argmax(probs))]
-    face_prob, curve = predictor.segment(ctx.inputs, kind)
-    t2 = time.perf_counter()
-    try:
-        op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
-        t3 = time.perf_counter()
-        ops, result = apply_with_symmetry(solid, op, options.symmetry)
-    except (FitError, OperationError) as e:
-        raise InterpretError(f"read as {kind.value}, but {e}") from None
-    t4 = time.perf_counter()
+    # The classifier's choice first; when its fitting fails, the other operators in the
+    # order of their probability: fitting checks the strokes against the model, so a
+    # second reading that fits is worth more than a refusal.
+    order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
+    networks_s = t1 - t0
+    errors = []
+    for kind in order:
+        ta = time.perf_counter()
+        face_prob, curve = predictor.segment(ctx.inputs, kind)
+        tb = time.perf_counter()
+        networks_s += tb - ta
+        try:
+            op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
+            tc = time.perf_counter()
+            ops, result = apply_with_symmetry(solid, op, options.symmetry)
+            break
+        except (FitError, OperationError) as e:
+            errors.append(f"read as {kind.value}, but {e}")
+    else:
+        more = (" (read as any other operator, the strokes did not fit either)"
+                if len(errors) > 1 else "")
+        raise InterpretError(errors[0] + more) from None
+    td = time.perf_counter()
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
                           index, labels, ctx.camera,
-                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * (t2 - t1),
-                           "fitting": 1e3 * (t3 - t2), "brep": 1e3 * (t4 - t3),
-                           "total": 1e3 * (t4 - t0)})
+                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
+                           "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
+                           "total": 1e3 * (td - t0)})

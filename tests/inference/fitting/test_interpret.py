@@ -106,6 +106,23 @@ def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(rend
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
+def test_when_the_classifiers_choice_does_not_fit_the_next_operator_is_read(renderer):
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+
+    class SaysExtrude(Oracle):
+        def classify(self, inputs):
+            return np.array([0.7, 0.05, 0.2, 0.05])
+
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
+                    SaysExtrude(box, op, pts, labels, cam, renderer), renderer,
+                    InterpretOptions(regularize=False))
+    assert got.op_type is OperatorType.ADDSUB
+    assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
+
+
 def test_mirror_option_adds_the_reflected_prism(renderer):
     box = make_box(Box((40, 30, 20)))
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
