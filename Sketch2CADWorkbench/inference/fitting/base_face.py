@@ -15,7 +15,9 @@ ON_FACE_SHARE = 0.6
 def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape) -> cq.Face:
     """The planar face seen by the most pixels of the binarised face map.
 
-    f* = argmax_i sum over pixels with Id = f_i of [F > 0.5] (the paper's counting).
+    f* = argmax_i sum over pixels with Id = f_i of [F > 0.5] (the paper's counting),
+    over planar faces only: every operator stands on a plane, and a curved face (the
+    side of an earlier sweep) is often both large and next to the base face.
     When no pixel passes 0.5 (an unsure network), the face whose visible pixels have the
     highest mean F is taken instead, among faces of at least MIN_PIXELS pixels.
 
@@ -24,26 +26,26 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
         face_id: (H, W) rendered face indices into solid.Faces() (-1 background).
         solid: the context solid.
     Raises:
-        FitError: no face in view, none recognised, or the winner is not planar.
+        FitError: no planar face in view, or none recognised.
     """
+    faces = solid.Faces()
+    planar = np.array([f.geomType() == "PLANE" for f in faces] + [False])
     seen = face_id >= 0
     if not seen.any():
         raise FitError("the model is not in view under the sketch; draw over the model")
+    seen &= planar[np.where(seen, face_id, len(faces))]
+    if not seen.any():
+        raise FitError("the sketch stands on a curved face; operations need a planar face")
     ids = face_id[(face_prob > 0.5) & seen]
     if ids.size:
-        index = int(np.bincount(ids).argmax())
-    else:
-        pixels = np.bincount(face_id[seen])
-        score = np.bincount(face_id[seen], weights=face_prob[seen], minlength=len(pixels))
-        mean = np.where(pixels >= MIN_PIXELS, score / np.maximum(pixels, 1), -1.0)
-        if mean.max() <= 0:
-            raise FitError("no face of the model was recognised under the sketch; draw on a "
-                           "visible face")
-        index = int(np.argmax(mean))
-    face = solid.Faces()[index]
-    if face.geomType() != "PLANE":
-        raise FitError("the sketch stands on a curved face; operations need a planar face")
-    return face
+        return faces[int(np.bincount(ids).argmax())]
+    pixels = np.bincount(face_id[seen])
+    score = np.bincount(face_id[seen], weights=face_prob[seen], minlength=len(pixels))
+    mean = np.where(pixels >= MIN_PIXELS, score / np.maximum(pixels, 1), -1.0)
+    if mean.max() <= 0:
+        raise FitError("no face of the model was recognised under the sketch; draw on a "
+                       "visible face")
+    return faces[int(np.argmax(mean))]
 
 
 def face_under_stroke(stroke: np.ndarray, face_id: np.ndarray) -> int | None:

@@ -111,3 +111,20 @@ def test_a_sketch_beside_the_model_is_a_fit_error_not_a_crash():
     background = np.full((64, 64), -1, np.int32)
     with pytest.raises(FitError, match="not in view"):
         select_base_face(np.full((64, 64), 0.9), background, box)
+
+
+def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
+    from Sketch2CADWorkbench.inference.fitting.base_face import select_base_face
+    box = make_box(Box((40, 30, 20)))
+    top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+    post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0,
+                                      ((5.0, 10 / 3), (5.0, 20 / 3)), Mode.ADD))
+    faces = post.Faces()
+    side = next(i for i, f in enumerate(faces) if f.geomType() == "CYLINDER")
+    disk = next(i for i, f in enumerate(faces) if f.geomType() == "PLANE"
+                and abs(f.Center().z - 20.0) < 1e-6)
+    ids = np.full((64, 64), -1, np.int32)
+    ids[:40] = side
+    ids[40:50] = disk
+    got = select_base_face(np.where(ids >= 0, 0.9, 0.0), ids, post)
+    assert got.isSame(faces[disk])
