@@ -48,7 +48,8 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     so they must also share one chord vector; the largest such set wins, so an outline side that
     happens to run along n_f's image is not taken for a profile. Every other stroke
     is an outline and joins the end of the profiles it touches: an open stroke by its
-    two end points, a closed one by its nearest point.
+    two end points, a closed one by passing through all of that end's points (and of
+    two closed outlines, one is the start and the other the end).
 
     Raises:
         FitError: f is seen head-on, or no stroke runs along n_f.
@@ -75,20 +76,27 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     ends = np.array([b for _, b in chords.values()])
 
     def gap(points: np.ndarray, cloud: np.ndarray) -> float:
+        """Summed distance from each point to its nearest point of the cloud."""
         return float(np.min(np.linalg.norm(points[:, None] - cloud[None], axis=2), axis=1).sum())
 
+    closed = {}  # stroke index -> (gap to the start points, gap to the end points)
     for k, s in enumerate(strokes):
         if roles[k] is not None:
             continue
         p = np.asarray(s, float)
-        closed = np.linalg.norm(p[-1] - p[0]) <= CLOSED_SHARE * max(
-            float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()), 1e-9)
-        if closed:
+        length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+        if np.linalg.norm(p[-1] - p[0]) <= CLOSED_SHARE * max(length, 1e-9):
+            # a closed outline passes through all the profile ends of its side: a short
+            # sweep's two ellipses cross each other, so one nearest point would not do
             q = resample(p)
-            d = np.linalg.norm(q[:, None] - np.concatenate([starts, ends])[None], axis=2)
-            nearest = np.unravel_index(int(np.argmin(d)), d.shape)[1]
-            roles[k] = START if nearest < len(starts) else END
-        else:
+            closed[k] = (gap(starts, q), gap(ends, q))
+        else:  # an open outline (a prism's side) runs between two ends of its side
             ends_of = p[[0, -1]]
             roles[k] = START if gap(ends_of, starts) <= gap(ends_of, ends) else END
+    if len(closed) == 2:  # a sweep's two circles: one at each end
+        (a, (sa, ea)), (b, (sb, eb)) = closed.items()
+        roles[a], roles[b] = (START, END) if sa + eb <= sb + ea else (END, START)
+    else:
+        for k, (s_gap, e_gap) in closed.items():
+            roles[k] = START if s_gap <= e_gap else END
     return [int(r) for r in roles]

@@ -15,6 +15,9 @@ from .common import FaceFrame, FitError, fit_bezier, resample
 from .primitive import choose_option, face_outline
 from .regularize import LENGTH_TOL, snap_point
 
+# Inner control points of a fitted profile must lie within this share of d beyond the
+# circles' planes, and within this multiple of the larger radius from the axis.
+PROFILE_SLACK, PROFILE_MAX_R = 0.1, 2.0
 # A profile whose inner control points stay within this fraction of d from the straight
 # line between its ends is "nearly linear" (rectified to a cylinder or cone).
 STRAIGHT_TOL = 0.08
@@ -119,7 +122,12 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         rh = _profile_rh(camera, s, base, c0, axis, frame)
         if rh is not None and len(rh) >= 4:
             ctrl = fit_bezier(rh, np.array([r0, 0.0]), np.array([r1, d]))
-            inner.append(ctrl[1:3])
+            r, h = ctrl[1:3, 0], ctrl[1:3, 1]
+            # a profile that leaves the band between the circles, or swings far out, is
+            # a stroke back-projected badly (a short sweep seen obliquely), not a shape
+            if np.all((h >= -PROFILE_SLACK * d) & (h <= (1 + PROFILE_SLACK) * d)
+                      & (r > 0) & (r <= PROFILE_MAX_R * max(r0, r1))):
+                inner.append(ctrl[1:3])
     if inner:
         mid = np.mean(inner, axis=0)
     else:  # no profile drawn: the straight one

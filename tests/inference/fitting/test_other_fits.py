@@ -168,6 +168,16 @@ def test_sweep_fit_recovers_a_curved_profile(box, camera):
     assert np.array(op.profile) == pytest.approx(np.array(prof[1:3]), abs=0.6)
 
 
+def test_a_profile_stroke_that_swings_far_outside_the_circles_is_not_taken_as_drawn(box, camera):
+    strokes, labels = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 4.0, 10.0, +1)
+    wild = [(5.0, 0.0), (40.0, -30.0), (-20.0, 45.0), (4.0, 10.0)]  # r, h far out
+    swinging, _ = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 4.0, 10.0, +1, wild)
+    strokes[2:] = swinging[2:]  # the circles as drawn, the profiles swinging out
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    (r1, h1), (r2, h2) = op.profile
+    assert 0 <= h1 <= h2 <= 10.0 + 1e-6 and 0 < max(r1, r2) <= 10.0
+
+
 def test_nearly_straight_equal_radii_become_an_exact_cylinder(box, camera):
     strokes, labels = sweep_sketch(camera, (3.3, 2.2, TOP_Z), 5.0, 5.4, 8.0, +1)
     op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
