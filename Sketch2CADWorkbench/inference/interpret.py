@@ -33,6 +33,7 @@ from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
 from .fitting.stroke_roles import stroke_roles
+from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
 
 CLASSES = list(OperatorType)
@@ -136,19 +137,26 @@ def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
     else:
         labels = classify_strokes(strokes, curve, (0.5, 1.5))
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
-        try:
-            op = fit(solid, face, cam, strokes, labels, options.regularize, options.option)
-        except FitError as first:
-            # C may mix up the strokes' roles: try them as read from the strokes' geometry
+        readings = [labels]
+        try:  # C may mix up the strokes' roles: read them from the geometry too
+            roles = stroke_roles(strokes, FaceFrame.of(face), cam,
+                                 prism=op_type is OperatorType.ADDSUB)
+            if roles != labels:
+                readings.append(roles)
+        except FitError:
+            pass
+        fitted, first = [], None
+        for reading in readings:
             try:
-                roles = stroke_roles(strokes, FaceFrame.of(face), cam,
-                                     prism=op_type is OperatorType.ADDSUB)
-                if roles == labels:
-                    raise first
-                op = fit(solid, face, cam, strokes, roles, options.regularize, options.option)
-            except FitError:
-                raise first from None
-            labels = roles
+                op = fit(solid, face, cam, strokes, reading, options.regularize, options.option)
+            except FitError as e:
+                first = first or e
+                continue
+            fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
+        if not fitted:
+            raise first
+        # both fit: the one whose own sketch lies closer to the strokes
+        _, op, labels = min(fitted, key=lambda f: f[0])
     return op, index, labels
 
 
