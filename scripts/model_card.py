@@ -1,0 +1,144 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Ship a training run: copy its weights into the package with a model card and thresholds.
+
+    .venv/bin/python scripts/model_card.py --run runs/main \
+        --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json
+
+The card states the data, the training time and hardware, and the table measured by
+`sketch2cad eval` at each noise level; thresholds.json (level-1 figures less a margin
+for the 96-sample set of tests/inference/test_shipped_weights.py) guards against
+regressions. Run by `make weights`, which also makes the data and trains.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import shutil
+from pathlib import Path
+
+import torch
+
+ROOT = Path(__file__).resolve().parents[1]
+WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
+OPS = ("extrude", "bevel", "addsub", "sweep")
+# The paper's Table 1 ("ours", level-1 noise): face IoU and curve accuracy per operator.
+PAPER = {"classification_accuracy": 0.998,
+         "face_iou": dict(zip(OPS, (0.918, 0.917, 0.783, 0.783))),
+         "curve_accuracy": dict(zip(OPS, (0.980, 0.981, 0.935, 0.956)))}
+# Margins under the level-1 figures for the regression test's small set (96 samples,
+# about 12 per operator for the rarest): wide enough for its sampling spread, narrow
+# enough that a broken network fails.
+MARGIN_CLASSIFICATION, MARGIN_SEGMENTATION = 0.06, 0.15
+
+
+def pct(x) -> str:
+    return "n/a" if x is None else f"{100 * x:.1f}"
+
+
+def table(evals: dict[str, dict]) -> list[str]:
+    rows = ["| noise level | n | classification | " + " | ".join(
+                f"{op}: face IoU / curve acc. / recovery / fitting alone" for op in OPS) + " | networks ms |",
+            "|---|---|---|" + "---|" * len(OPS) + "---|"]
+    for level, r in sorted(evals.items()):
+        cells = []
+        for op in OPS:
+            d = r["per_operator"][op]
+            cells.append(f"{pct(d['face_iou'])} / {pct(d['curve_accuracy'])} / "
+                         f"{pct(d.get('recovery_rate'))} / {pct(d.get('fitting_recovery_rate'))}")
+        rows.append(f"| {level} | {r['n']} | {pct(r['classification_accuracy'])} | "
+                    + " | ".join(cells) + f" | {r['latency_ms']['networks_median']:.1f} |")
+    rows.append("| paper, level 1 | | 99.8 | " + " | ".join(
+        f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])} / - / -"
+        for op in OPS) + " | (GPU) |")
+    return rows
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--run", type=Path, required=True, help="training run folder")
+    ap.add_argument("--eval", nargs="+", required=True, metavar="LEVEL=JSON",
+                    help="`sketch2cad eval` results per noise level of the held-out sets")
+    args = ap.parse_args()
+    evals = {}
+    for item in args.eval:
+        level, _, path = item.partition("=")
+        evals[level] = json.loads(Path(path).read_text())
+    if "1" not in evals:
+        ap.error("the level-1 evaluation sets the thresholds: pass 1=JSON")
+    ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
+    WEIGHTS.mkdir(exist_ok=True)
+    shutil.copyfile(args.run / "sketch2cad_net.pt", WEIGHTS / "sketch2cad_net.pt")
+
+    one = evals["1"]
+    limits = {"classification_accuracy": round(one["classification_accuracy"]
+                                               - MARGIN_CLASSIFICATION, 3),
+              "per_operator": {op: {k: round(max(0.0, one["per_operator"][op][k]
+                                                 - MARGIN_SEGMENTATION), 3)
+                                    for k in ("face_iou", "curve_accuracy")} for op in OPS}}
+    (WEIGHTS / "thresholds.json").write_text(json.dumps(limits, indent=1) + "\n")
+
+    key, s = ckpt["data_key"], ckpt["settings"]
+    size_mb = (WEIGHTS / "sketch2cad_net.pt").stat().st_size / 2 ** 20
+    lines = [
+        "# Model card: sketch2cad_net.pt",
+        "",
+        "One network (`inference/models.py`): a shared-encoder U-Net over the sketch S, "
+        "depth D and normals N (5 channels), pooled from 256x256 to an internal "
+        f"{ckpt['config']['internal_size']}x{ckpt['config']['internal_size']}, with the "
+        "operator classifier on the bottleneck and per-operator F and C heads. "
+        f"Widths {tuple(ckpt['config']['widths'])}; {size_mb:.1f} MB.",
+        "",
+        "## Training",
+        f"- Data: `sketch2cad datagen` v{key['version']}, {key['count']} samples, seed "
+        f"{key['seed']}, noise `{key['noise']}` (levels 1, 2, 3 take turns).",
+        f"- {ckpt['trained_steps']} steps of {s['batch_size']} samples "
+        f"({ckpt['trained_epochs']:.2f} epochs) in {ckpt['trained_minutes']:.0f} min of "
+        f"optimisation, {s['threads']} torch threads on `{s['device']}` ({platform.machine()}; "
+        "the project machine: 2 cores, no GPU).",
+        f"- Settings: {json.dumps({k: v for k, v in s.items() if k != 'model'})}",
+        "- Loss curves: `docs/loss_curves.png`.",
+        "",
+        "## Measured on held-out sets (seeds 10001, 10002, 10003; 400 samples each)",
+        "Face IoU, curve accuracy (paper's definitions), end-to-end recovery rate "
+        "(interpreted operation within volume IoU 0.95 of the truth, regularization off; "
+        "first 100 samples) and the same for the fitting stage alone given the ground-truth "
+        "operator, F and C, in %; networks' median latency on 2 CPU threads.",
+        "",
+        *table(evals),
+        "",
+        "Median interpret step (render + networks + fitting + B-rep), ms: " + ", ".join(
+            f"level {lvl}: {r['latency_ms'].get('interpret_median', float('nan')):.0f}"
+            for lvl, r in sorted(evals.items())) + ".",
+        "",
+        "The paper's targets are not met: its networks trained for 160k-630k iterations on "
+        "4 GPUs; these trained within the 2-hour budget of a 2-core CPU. The fitting stage "
+        "reads stroke roles from geometry when the curve map's do not fit "
+        "(`fitting/stroke_roles.py`), which recovers many sketches the networks mislabel.",
+        "",
+        "## How to reproduce",
+        "`make weights` (data, training, evaluation, this card), that is:",
+        "```",
+        "sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix",
+        "sketch2cad datagen --out data/test-lN --count 400 --seed 1000N --noise-level N",
+        "sketch2cad train --data data/train2 --out runs/main --minutes 110 --threads 2",
+        "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
+        "--report docs/eval-lN.png --recovery 100",
+        "python scripts/model_card.py --run runs/main --eval 1=runs/eval-l1.json ...",
+        "```",
+        "",
+        "## Regression guard",
+        "`thresholds.json`: the level-1 figures less "
+        f"{MARGIN_CLASSIFICATION} (classification) and {MARGIN_SEGMENTATION} (face IoU, "
+        "curve accuracy); `tests/inference/test_shipped_weights.py` evaluates these weights "
+        "on 96 freshly generated samples (seed 9090) against them.",
+    ]
+    (WEIGHTS / "MODEL_CARD.md").write_text("\n".join(lines) + "\n")
+    shutil.copyfile(args.run / "loss_curves.png", ROOT / "docs" / "loss_curves.png")
+    print(f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
+          "MODEL_CARD.md, docs/loss_curves.png")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
