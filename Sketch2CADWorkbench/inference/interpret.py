@@ -28,7 +28,7 @@ from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
 from .fitting.addsub import fit_prism
-from .fitting.base_face import face_under_stroke, select_base_face
+from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
@@ -37,6 +37,10 @@ from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
 
 CLASSES = list(OperatorType)
+# Base faces fitted at most, in the order of the face map's counting; a fit whose own
+# sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
+BASE_FACE_TRIES = 3
+GOOD_FIT_PX = 3.0
 
 
 class InterpretError(ValueError):
@@ -105,13 +109,43 @@ def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
                   ) -> tuple[Operation, int, list[int]]:
     """Stage three: the base face by counting, then the operator's fitting.
 
+    The paper takes the planar face with the most F > 0.5 pixels. A network unsure of
+    F often ranks the right face second, so when that face's fit fails or leaves its
+    own sketch more than GOOD_FIT_PX from the strokes, the next faces (BASE_FACE_TRIES
+    in all) are fitted too, and the reading whose sketch reprojects closest wins.
+
     Returns:
         (operation, base face index, per-stroke labels).
     Raises:
-        FitError: the strokes do not fit the operator on this model.
+        FitError: the strokes do not fit the operator on this model (the reason given
+            for the face the counting ranked first).
     """
-    face = select_base_face(face_prob, ctx.maps.face_id, solid)
-    index = next(i for i, f in enumerate(solid.Faces()) if f.isSame(face))
+    ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid)[:BASE_FACE_TRIES]
+    if not ranked:
+        raise FitError("no face of the model was recognised under the sketch; draw on a "
+                       "visible face")
+    best, first = None, None
+    for index in ranked:
+        try:
+            op, used, labels = _fit_on_face(solid, op_type, index, curve, ctx, options)
+        except FitError as e:
+            first = first or e
+            continue
+        error = reprojection_error(solid, op, ctx.camera, ctx.strokes)
+        if best is None or error < best[0]:
+            best = (error, op, used, labels)
+        if error <= GOOD_FIT_PX:
+            break
+    if best is None:
+        raise first
+    return best[1], best[2], best[3]
+
+
+def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.ndarray,
+                 ctx: Context, options: InterpretOptions
+                 ) -> tuple[Operation, int, list[int]]:
+    """The operator's fitting on base face `index`: (operation, face used, labels)."""
+    face = solid.Faces()[index]
     strokes, cam = ctx.strokes, ctx.camera
     if op_type is OperatorType.EXTRUDE:
         labels = classify_strokes(strokes, curve, (0.5,))

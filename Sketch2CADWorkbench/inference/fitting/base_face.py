@@ -12,21 +12,24 @@ MIN_PIXELS = 20
 ON_FACE_SHARE = 0.6
 
 
-def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape) -> cq.Face:
-    """The planar face seen by the most pixels of the binarised face map.
+def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
+                    ) -> list[int]:
+    """Planar faces in view, best first, by the paper's counting of the face map.
 
-    f* = argmax_i sum over pixels with Id = f_i of [F > 0.5] (the paper's counting),
-    over planar faces only: every operator stands on a plane, and a curved face (the
+    Rank by sum over pixels with Id = f_i of [F > 0.5] (the paper's f* is the first),
+    then, for faces no such pixel falls on, by the mean F over their visible pixels
+    (among faces of at least MIN_PIXELS pixels): an unsure network still orders them.
+    Only planar faces count: every operator stands on a plane, and a curved face (the
     side of an earlier sweep) is often both large and next to the base face.
-    When no pixel passes 0.5 (an unsure network), the face whose visible pixels have the
-    highest mean F is taken instead, among faces of at least MIN_PIXELS pixels.
 
     Args:
         face_prob: (H, W) predicted base-face probability F.
         face_id: (H, W) rendered face indices into solid.Faces() (-1 background).
         solid: the context solid.
+    Returns:
+        Indices into solid.Faces().
     Raises:
-        FitError: no planar face in view, or none recognised.
+        FitError: no planar face in view.
     """
     faces = solid.Faces()
     planar = np.array([f.geomType() == "PLANE" for f in faces] + [False])
@@ -36,16 +39,26 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
     seen &= planar[np.where(seen, face_id, len(faces))]
     if not seen.any():
         raise FitError("the sketch stands on a curved face; operations need a planar face")
-    ids = face_id[(face_prob > 0.5) & seen]
-    if ids.size:
-        return faces[int(np.bincount(ids).argmax())]
-    pixels = np.bincount(face_id[seen])
-    score = np.bincount(face_id[seen], weights=face_prob[seen], minlength=len(pixels))
-    mean = np.where(pixels >= MIN_PIXELS, score / np.maximum(pixels, 1), -1.0)
-    if mean.max() <= 0:
+    n = len(faces)
+    votes = np.bincount(face_id[(face_prob > 0.5) & seen], minlength=n)
+    pixels = np.bincount(face_id[seen], minlength=n)
+    mean = np.bincount(face_id[seen], weights=face_prob[seen], minlength=n) / np.maximum(pixels, 1)
+    order = sorted(range(n), key=lambda i: (-votes[i], -mean[i]))
+    return [i for i in order if votes[i] > 0 or pixels[i] >= MIN_PIXELS]
+
+
+def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape) -> cq.Face:
+    """The paper's f*: the planar face seen by the most pixels of the binarised F (see
+    rank_base_faces).
+
+    Raises:
+        FitError: no planar face in view, or none recognised.
+    """
+    ranked = rank_base_faces(face_prob, face_id, solid)
+    if not ranked:
         raise FitError("no face of the model was recognised under the sketch; draw on a "
                        "visible face")
-    return faces[int(np.argmax(mean))]
+    return solid.Faces()[ranked[0]]
 
 
 def face_under_stroke(stroke: np.ndarray, face_id: np.ndarray) -> int | None:

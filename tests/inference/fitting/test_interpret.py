@@ -123,6 +123,28 @@ def test_when_the_classifiers_choice_does_not_fit_the_next_operator_is_read(rend
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
 
 
+def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_found(renderer):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+
+    class SideFaceFirst(Oracle):
+        def segment(self, inputs, op_type):
+            top, curve = super().segment(inputs, op_type)
+            ctx = to_context(self.solid, [cam.project(p)[0] for p in pts], cam, self.renderer)
+            ids = ctx.maps.face_id
+            others = np.bincount(ids[(ids >= 0) & (top == 0)])
+            side = ids == int(others.argmax())  # the biggest other face in view
+            return np.where(side, 0.9, 0.45 * top).astype(np.float32), curve
+
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
+                    SideFaceFirst(box, op, pts, labels, cam, renderer), renderer)
+    (fitted,) = got.operations
+    assert fitted.face.normal == pytest.approx((0, 0, 1))
+    assert fitted.d == pytest.approx(9.0, abs=0.5)
+
+
 def test_mirror_option_adds_the_reflected_prism(renderer):
     box = make_box(Box((40, 30, 20)))
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
