@@ -8,8 +8,11 @@ Run inside FreeCAD's GUI on a virtual X screen, from the repository root:
 
 It loads examples/protocols/hammer.json (all four operators) through the Load protocol
 command, selects a sweep so that the property editor shows its parameters, and writes
-the main window to docs/workbench.png (or to $SKETCH2CAD_SCREENSHOT). FreeCAD exits with
-status 0 once the file is written, 1 otherwise.
+the main window to docs/workbench.png (or to $SKETCH2CAD_SCREENSHOT). With
+SKETCH2CAD_SCREENSHOT_MODE=sketch it shows a sketch step instead: a new box, the
+strokes of a prism on its top face in the Sketch panel, interpreted by the shipped
+weights, with the green preview (docs/sketch-step.png). FreeCAD exits with status 0
+once the file is written, 1 otherwise.
 """
 import os
 import sys
@@ -17,12 +20,15 @@ import traceback
 
 import FreeCAD
 import FreeCADGui
+import numpy as np
 from PySide import QtCore, QtGui
 
 from Sketch2CADWorkbench.freecad_layer.env import ROOT
 
 PROTOCOL = os.path.join(ROOT, "examples", "protocols", "hammer.json")
-OUT = os.environ.get("SKETCH2CAD_SCREENSHOT", os.path.join(ROOT, "docs", "workbench.png"))
+SKETCH = os.environ.get("SKETCH2CAD_SCREENSHOT_MODE") == "sketch"
+OUT = os.environ.get("SKETCH2CAD_SCREENSHOT", os.path.join(
+    ROOT, "docs", "sketch-step.png" if SKETCH else "workbench.png"))
 WINDOW = (1500, 900)  # device-independent pixels (Xvfb: 1.04 device pixels each)
 
 
@@ -52,6 +58,42 @@ def show_model():
         tree.expandAll()
 
 
+def show_sketch_step():
+    """A new box and the Sketch panel holding a hand-drawn-looking hexagonal prism on its
+    top face (the strokes the data generator would draw, jittered), interpreted."""
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
+    from Sketch2CADWorkbench.commands.sketch import SketchPanel
+    from Sketch2CADWorkbench.datagen.curves import operation_curves
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model
+    from Sketch2CADWorkbench.freecad_layer.shapes import from_part
+    FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
+    doc = FreeCAD.newDocument("Sketch")
+    model = make_model(doc)
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.setCameraType("Orthographic")
+    view.viewIsometric()
+    view.fitAll()
+    angles = np.radians(np.arange(6) * 60.0)
+    hexagon = tuple((float(7 * np.cos(a)), float(7 * np.sin(a)), 10.0) for a in angles)
+    op = AddSubPrism(FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)), hexagon, 12.0, Mode.ADD)
+    direction = np.array(view.getViewDirection())
+    rng = np.random.default_rng(3)
+    panel = SketchPanel(model)
+    FreeCADGui.Control.showDialog(panel)
+    for curve in operation_curves(from_part(model.Tip.Shape), op, direction):
+        wobble = rng.normal(0, 0.25, 3) + np.outer(np.sin(np.linspace(0, np.pi, len(
+            curve.points))), rng.normal(0, 0.3, 3))
+        panel.capture.strokes.append(list(curve.points + wobble))
+    panel.capture.redraw()
+    mw = FreeCADGui.getMainWindow()
+    combo = mw.findChild(QtGui.QDockWidget, "Combo View")
+    if combo is not None:  # wide enough for the panel's text
+        mw.resizeDocks([combo], [430], QtCore.Qt.Horizontal)
+    panel.interpret()
+    if panel.result is None:
+        raise RuntimeError(panel.text.toPlainText())
+
+
 def grab(path: str) -> None:
     """The main window as shown on the X screen (the 3D view is drawn with OpenGL, which
     QWidget.grab does not capture)."""
@@ -72,9 +114,12 @@ def main():
         mw.showNormal()
         mw.setGeometry(0, 0, *WINDOW)
         settle()
-        show_model()
-        settle()
-        FreeCADGui.ActiveDocument.ActiveView.fitAll()
+        if SKETCH:
+            show_sketch_step()
+        else:
+            show_model()
+            settle()
+            FreeCADGui.ActiveDocument.ActiveView.fitAll()
         grab(OUT)
         print(f"screenshot: wrote {OUT}")
     except Exception:
