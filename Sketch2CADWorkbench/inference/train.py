@@ -53,6 +53,7 @@ class TrainSettings:
     weight_decay: float = 1e-4
     grad_clip: float = 5.0        # max gradient norm: insurance against a bad batch
     val_fraction: float = 0.04    # held-out tail of the data set (whole contexts)
+    face_dice: float = 1.0        # weight of the soft Dice term on F (models.loss_terms)
     flip: bool = True             # random horizontal mirror images (N_x negated)
     seed: int = 0
     checkpoint_minutes: float = 5.0
@@ -172,7 +173,7 @@ def split(n: int, fraction: float, block: int) -> tuple[slice, slice]:
 # ---------------------------------------------------------------- validation
 @torch.no_grad()
 def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch.Tensor,
-             batch: int = 64) -> dict:
+             face_dice: float = 0.0, batch: int = 64) -> dict:
     """Losses and the evaluation metrics (evaluate.py) on held-out samples."""
     model.eval()
     tally = Tally()
@@ -182,7 +183,7 @@ def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch
         x, face, curve, mask, op = data.batch(idx, device)
         out = model(x)
         losses += len(idx) * np.array([float(t) for t in loss_terms(model, out, op, face, curve,
-                                                                    mask, weights)])
+                                                                    mask, weights, face_dice)])
         pick = op[:, None, None, None].expand(-1, 1, *out[1].shape[2:])
         maps = model.upsample(torch.cat([out[1].gather(1, pick), out[2].gather(1, pick)], 1))
         tally.add(op, out[0].argmax(1), data.noise[idx], *face_overlap(maps[:, 0].sigmoid(), face),
@@ -325,7 +326,7 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
     def run_validation() -> dict | None:
         if not len(val_data):
             return None
-        v = validate(model, val_data, s.device, weights)
+        v = validate(model, val_data, s.device, weights, s.face_dice)
         write({"kind": "val", "step": state["step"], "epoch": state["epoch"],
                "elapsed_s": round(state["elapsed"], 1), **v})
         return v
@@ -361,7 +362,7 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
             for g in opt.param_groups:
                 g["lr"] = lr_at(s, state["step"], progress())
             x, face, curve, mask, op = train_data.batch(idx, s.device, flip)
-            terms = loss_terms(model, model(x), op, face, curve, mask, weights)
+            terms = loss_terms(model, model(x), op, face, curve, mask, weights, s.face_dice)
             opt.zero_grad(set_to_none=True)
             sum(terms).backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), s.grad_clip)

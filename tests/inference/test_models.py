@@ -123,6 +123,25 @@ def test_the_losses_are_the_papers_formulas():
     assert torch.isclose(cl, torch.tensor(1.0))
 
 
+def test_the_dice_term_makes_a_missed_small_face_cost_as_much_as_a_missed_large_one():
+    model = Sketch2CADNet(_full_size_config())
+    logits, c = torch.zeros(2, 4), torch.zeros(2, 4, 8, 8)
+    f = torch.full((2, 4, 8, 8), -20.0)               # F = 0: both faces missed entirely
+    face = torch.zeros(2, 8, 8)
+    face[0, :1, :2] = 1                               # 2 pixels
+    face[1, :6, :6] = 1                               # 36 pixels
+    args = (torch.tensor([0, 0]), face, torch.zeros(2, 8, 8), torch.zeros(2, 8, 8),
+            torch.full((4,), 0.25))
+    def face_terms(dice):  # per sample: a batch of one each
+        return [float(loss_terms(model, (logits[k:k + 1], f[k:k + 1], c[k:k + 1]),
+                                 *(a[k:k + 1] for a in args[:4]), args[4], face_dice=dice)[1])
+                for k in (0, 1)]
+    mse_small, mse_large = face_terms(0.0)
+    dice_small, dice_large = face_terms(1.0)
+    assert mse_small < mse_large / 10                 # the paper's term barely sees it
+    assert dice_small - mse_small > 0.6 and dice_large - mse_large > 0.9
+
+
 def test_the_curve_loss_sees_stroke_pixels_only():
     model = Sketch2CADNet(_full_size_config())
     g = torch.Generator().manual_seed(0)
