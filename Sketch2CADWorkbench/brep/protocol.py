@@ -220,7 +220,8 @@ _MODE_NAMES = {
 
 
 def _num(x: float) -> str:
-    return f"{x:.4g}"
+    # to the micrometre (mm units), and no "-0" or "1e-15" from round-off
+    return f"{round(x, 3) + 0.0:g}"
 
 
 def _fmt(v) -> str:

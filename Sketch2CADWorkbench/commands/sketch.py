@@ -51,8 +51,10 @@ class SketchPanel:
         w = QtGui.QWidget()
         w.setWindowTitle("Sketch2CAD sketch")
         lay = QtGui.QVBoxLayout(w)
-        lay.addWidget(QtGui.QLabel("Draw the operation's strokes over the model (left drag), "
-                                   "then press Enter or Interpret. Esc cancels."))
+        hint = QtGui.QLabel("Draw the operation's strokes over the model (left drag), "
+                            "then press Enter or Interpret. Esc cancels.")
+        hint.setWordWrap(True)  # else its one long line widens the panel past the combo view
+        lay.addWidget(hint)
         self.regularize = QtGui.QCheckBox("Regularize (snap and rectify)")
         self.regularize.setChecked(True)
         self.option = QtGui.QComboBox()
