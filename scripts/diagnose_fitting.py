@@ -1,0 +1,65 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Why does the fitting stage miss? `python scripts/diagnose_fitting.py DATA OPERATOR [N]`
+
+Fits the first N samples of one operator in a generated set from their ground-truth
+segmentation (the networks left out, as `sketch2cad eval --fitting-recovery` does), and
+prints each miss (volume IoU < 0.95) with the true and the fitted operation, then a
+tally: recovered, errors by message, and misses with the +/- option right or wrong
+(a wrong one with both outlines on f is the orthographic Necker ambiguity).
+"""
+from __future__ import annotations
+
+import argparse
+import collections
+
+from Sketch2CADWorkbench.brep.compare import volume_iou
+from Sketch2CADWorkbench.brep.faces import OperationError
+from Sketch2CADWorkbench.brep.operators import apply_operation, replay
+from Sketch2CADWorkbench.brep.protocol import OperatorType, describe
+from Sketch2CADWorkbench.datagen.dataset import Dataset
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.interpret import Context, InterpretOptions, fit_operation
+from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU
+from Sketch2CADWorkbench.render.maps import ContextMaps
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("data")
+    p.add_argument("operator", choices=[o.value for o in OperatorType])
+    p.add_argument("n", type=int, nargs="?", default=60)
+    args = p.parse_args()
+    want = OperatorType(args.operator)
+    options = InterpretOptions(regularize=False)
+    tally: collections.Counter = collections.Counter()
+    seen = 0
+    ds = Dataset(args.data)
+    for k in ds.shards:
+        for s in ds.samples(k):
+            if s.op_type is not want or seen >= args.n:
+                continue
+            seen += 1
+            context = replay(s.context)[-1]
+            truth = apply_operation(context, s.operation)
+            ctx = Context(s.camera, s.strokes,
+                          ContextMaps(s.depth, s.normal, s.face_id, None), s.inputs())
+            try:
+                op, _, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label,
+                                         ctx, options)
+                iou = volume_iou(apply_operation(context, op), truth)
+            except (FitError, OperationError) as e:
+                tally[f"error: {str(e)[:70]}"] += 1
+                continue
+            if iou >= RECOVERY_IOU:
+                tally["recovered"] += 1
+                continue
+            same = getattr(op, "mode", None) == getattr(s.operation, "mode", None)
+            tally["missed, option right" if same else "missed, option wrong"] += 1
+            print(f"IoU {iou:.3f}\n  truth {describe(s.operation)}\n  got   {describe(op)}")
+    print(f"{seen} {want.value} samples of {args.data}:")
+    for what, count in tally.most_common():
+        print(f"  {count:4d}  {what}")
+
+
+if __name__ == "__main__":
+    main()
