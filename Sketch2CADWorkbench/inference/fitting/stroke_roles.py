@@ -38,6 +38,29 @@ def normal_image(camera: OrthoCamera, frame: FaceFrame) -> np.ndarray:
     return v / norm
 
 
+def _closed(p: np.ndarray) -> bool:
+    length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+    return float(np.linalg.norm(p[-1] - p[0])) <= CLOSED_SHARE * max(length, 1e-9)
+
+
+def _two_circles(strokes: list[np.ndarray], n2: np.ndarray) -> list[int]:
+    """A sweep's roles when no profile runs within SWEEP_PROFILE_DEG of n_f (a strongly
+    flared cone): two closed strokes are its circles, ordered by their centres along
+    n_f's image, and the rest are profiles.
+
+    Raises:
+        FitError: not exactly two closed strokes.
+    """
+    closed = [k for k, s in enumerate(strokes) if _closed(np.asarray(s, float))]
+    if len(closed) != 2:
+        raise FitError("no stroke runs along the face normal, so no profile was found")
+    a, b = closed
+    lower = float(np.mean(strokes[a], axis=0) @ n2) <= float(np.mean(strokes[b], axis=0) @ n2)
+    roles = [PROFILE] * len(strokes)
+    roles[a], roles[b] = (START, END) if lower else (END, START)
+    return roles
+
+
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
                  prism: bool) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
@@ -51,8 +74,12 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     two end points, a closed one by passing through all of that end's points (and of
     two closed outlines, one is the start and the other the end).
 
+    A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
+    on its two closed strokes (`_two_circles`).
+
     Raises:
-        FitError: f is seen head-on, or no stroke runs along n_f.
+        FitError: f is seen head-on, or no stroke runs along n_f (and, for a sweep,
+            there are not exactly two closed strokes).
     """
     n2 = normal_image(camera, frame)
     cos_max = np.cos(np.radians(PRISM_PROFILE_DEG if prism else SWEEP_PROFILE_DEG))
@@ -69,6 +96,8 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         groups = [[j for j in vec if np.linalg.norm(vec[j] - vec[k])
                    <= SAME_CHORD * np.linalg.norm(vec[k]) + SAME_CHORD_PX] for k in vec]
         chords = {k: chords[k] for k in max(groups, key=len)}
+    if not chords and not prism:
+        return _two_circles(strokes, n2)
     if not chords:
         raise FitError("no stroke runs along the face normal, so no profile was found")
     roles: list[int | None] = [PROFILE if k in chords else None for k in range(len(strokes))]
@@ -84,8 +113,7 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         if roles[k] is not None:
             continue
         p = np.asarray(s, float)
-        length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
-        if np.linalg.norm(p[-1] - p[0]) <= CLOSED_SHARE * max(length, 1e-9):
+        if _closed(p):
             # a closed outline passes through all the profile ends of its side: a short
             # sweep's two ellipses cross each other, so one nearest point would not do
             q = resample(p)

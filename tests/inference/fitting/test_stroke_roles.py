@@ -51,3 +51,10 @@ def test_a_face_seen_head_on_has_no_readable_profile():
     op = AddSubPrism(TOP, ((-10, -5, 10), (4, -5, 10), (-3, 8, 10)), 6.0, Mode.ADD)
     with pytest.raises(FitError, match="head-on"):
         roles_and_truth(op, (0.01, 0.0, -1.0))
+
+
+def test_a_strongly_flared_cone_is_read_from_its_two_closed_circles():
+    # profile silhouettes at about 70 degrees from the axis: none runs along n_f's image
+    op = Sweep(TOP, (0.0, 0.0, 10.0), 5.0, 16.0, 4.0, ((8.7, 4 / 3), (12.3, 8 / 3)), Mode.ADD)
+    got, truth = roles_and_truth(op, (0.6, 0.9, -1.2))
+    assert got == truth
