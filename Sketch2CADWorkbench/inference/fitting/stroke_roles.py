@@ -55,10 +55,18 @@ def _two_circles(strokes: list[np.ndarray], n2: np.ndarray) -> list[int]:
     if len(closed) != 2:
         raise FitError("no stroke runs along the face normal, so no profile was found")
     a, b = closed
-    lower = float(np.mean(strokes[a], axis=0) @ n2) <= float(np.mean(strokes[b], axis=0) @ n2)
     roles = [PROFILE] * len(strokes)
-    roles[a], roles[b] = (START, END) if lower else (END, START)
+    roles[a], roles[b] = _ordered(strokes, a, b, n2)
     return roles
+
+
+def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple[int, int]:
+    """Roles of closed strokes a and b: the circle whose centre lies lower along n_f's
+    image is the start. (Matching the profiles' end points to the circles instead fails
+    for a short wide sweep: near the tangent points each circle passes close to both
+    ends of a profile.)"""
+    ca, cb = (np.mean(resample(np.asarray(strokes[k], float)), axis=0) for k in (a, b))
+    return (START, END) if float(ca @ n2) <= float(cb @ n2) else (END, START)
 
 
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
@@ -71,8 +79,8 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     so they must also share one chord vector; the largest such set wins, so an outline side that
     happens to run along n_f's image is not taken for a profile. Every other stroke
     is an outline and joins the end of the profiles it touches: an open stroke by its
-    two end points, a closed one by passing through all of that end's points (and of
-    two closed outlines, one is the start and the other the end).
+    two end points, a closed one by passing through all of that end's points; of two
+    closed outlines (a sweep's circles), the one centred lower along n_f is the start.
 
     A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
     on its two closed strokes (`_two_circles`).
@@ -121,9 +129,9 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         else:  # an open outline (a prism's side) runs between two ends of its side
             ends_of = p[[0, -1]]
             roles[k] = START if gap(ends_of, starts) <= gap(ends_of, ends) else END
-    if len(closed) == 2:  # a sweep's two circles: one at each end
-        (a, (sa, ea)), (b, (sb, eb)) = closed.items()
-        roles[a], roles[b] = (START, END) if sa + eb <= sb + ea else (END, START)
+    if len(closed) == 2:  # a sweep's two circles, ordered by their centres along n_f
+        a, b = closed
+        roles[a], roles[b] = _ordered(strokes, a, b, n2)
     else:
         for k, (s_gap, e_gap) in closed.items():
             roles[k] = START if s_gap <= e_gap else END
