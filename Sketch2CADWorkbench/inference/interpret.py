@@ -32,7 +32,7 @@ from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
-from .fitting.stroke_roles import stroke_roles
+from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
 
@@ -172,13 +172,14 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
         labels = classify_strokes(strokes, curve, (0.5, 1.5))
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
         readings = [labels]
-        try:  # C may mix up the strokes' roles: read them from the geometry too
-            roles = stroke_roles(strokes, FaceFrame.of(face), cam,
-                                 prism=op_type is OperatorType.ADDSUB)
-            if roles != labels:
+        prism = op_type is OperatorType.ADDSUB
+        for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
+            try:  # C may mix up the strokes' roles: read them from the geometry too
+                roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol)
+            except FitError:
+                continue
+            if roles not in readings:
                 readings.append(roles)
-        except FitError:
-            pass
         fitted, first = [], None
         for reading in readings:
             try:

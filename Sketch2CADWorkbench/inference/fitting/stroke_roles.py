@@ -19,8 +19,12 @@ START, PROFILE, END = 0, 1, 2
 # side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).
 PRISM_PROFILE_DEG, SWEEP_PROFILE_DEG = 12.0, 45.0
 # A prism's side-edge strokes share their chord vector within this share of its length
-# plus this many pixels (stroke noise).
+# plus this many pixels (stroke noise). Strict first: an outline side running along n_f's
+# image must not join the side edges; then looser, for noisy strokes (level-1 noise
+# moves short side edges' ends by several pixels); None: no chord test at all. Each
+# tolerance gives one reading; the fitting keeps the one that reprojects best.
 SAME_CHORD, SAME_CHORD_PX = 0.15, 3.0
+PRISM_CHORD_TOLERANCES = ((SAME_CHORD, SAME_CHORD_PX), (0.35, 10.0), None)
 # A stroke whose ends are closer than this share of its length is a closed outline.
 CLOSED_SHARE = 0.2
 # Below this sine of the angle between n_f and the view, f is seen head-on: profile
@@ -70,14 +74,16 @@ def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple
 
 
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
-                 prism: bool) -> list[int]:
+                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX)
+                 ) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
     or SWEEP_PROFILE_DEG (a sweep) of n_f's image; each is ordered by n_f, giving a
     start point and an end point. A prism's side edges are translates of each other,
-    so they must also share one chord vector; the largest such set wins, so an outline side that
-    happens to run along n_f's image is not taken for a profile. Every other stroke
+    so they must also share one chord vector (within `same_chord`: a share of its
+    length and pixels; None skips the test); the largest such set wins, so an outline
+    side that happens to run along n_f's image is not taken for a profile. Every other stroke
     is an outline and joins the end of the profiles it touches: an open stroke by its
     two end points, a closed one by passing through all of that end's points; of two
     closed outlines (a sweep's circles), the one centred lower along n_f is the start.
@@ -99,10 +105,11 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         span = float(np.linalg.norm(chord))
         if span > CLOSED_SHARE * length and abs(chord @ n2) >= cos_max * span:
             chords[k] = (p[0], p[-1]) if chord @ n2 >= 0 else (p[-1], p[0])
-    if prism and chords:
+    if prism and chords and same_chord is not None:
+        share, px = same_chord
         vec = {k: b - a for k, (a, b) in chords.items()}
         groups = [[j for j in vec if np.linalg.norm(vec[j] - vec[k])
-                   <= SAME_CHORD * np.linalg.norm(vec[k]) + SAME_CHORD_PX] for k in vec]
+                   <= share * np.linalg.norm(vec[k]) + px] for k in vec]
         chords = {k: chords[k] for k in max(groups, key=len)}
     if not chords and not prism:
         return _two_circles(strokes, n2)

@@ -58,3 +58,19 @@ def test_a_strongly_flared_cone_is_read_from_its_two_closed_circles():
     op = Sweep(TOP, (0.0, 0.0, 10.0), 5.0, 16.0, 4.0, ((8.7, 4 / 3), (12.3, 8 / 3)), Mode.ADD)
     got, truth = roles_and_truth(op, (0.6, 0.9, -1.2))
     assert got == truth
+
+
+def test_a_side_edge_drawn_short_still_counts_without_the_chord_test():
+    # a freehand side edge stopping halfway: its chord no longer matches the others'
+    op = AddSubPrism(TOP, ((-10, -5, 10), (4, -5, 10), (4, 6, 10), (-10, 6, 10)), 8.0, Mode.ADD)
+    solid = make_box(BOX)
+    cam = camera((-1, 1, -1))
+    curves = operation_curves(solid, op, np.array(cam.direction))
+    strokes = [cam.project(c.points)[0] for c in curves]
+    side = next(k for k, c in enumerate(curves) if c.label == 1)
+    a, b = strokes[side][0], strokes[side][-1]
+    strokes[side] = np.array([a, (a + b) / 2])
+    frame = FaceFrame.of(resolve_face(solid, TOP).face)
+    truth = [c.label for c in curves]
+    assert stroke_roles(strokes, frame, cam, prism=True).count(1) < 4
+    assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == truth
