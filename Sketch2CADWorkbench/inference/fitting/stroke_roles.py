@@ -18,6 +18,9 @@ START, PROFILE, END = 0, 1, 2
 # Largest angle (degrees) between a profile stroke's chord and n_f's image: a prism's
 # side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).
 PRISM_PROFILE_DEG, SWEEP_PROFILE_DEG = 12.0, 45.0
+# ... plus this sideways slack (px) of the chord: a short side edge whose ends moved a
+# few pixels (level-1 noise) leans well past 12 degrees. Within 45 degrees in any case.
+PROFILE_SLACK_PX = 6.0
 # A prism's side-edge strokes share their chord vector within this share of its length
 # plus this many pixels (stroke noise). Strict first: an outline side running along n_f's
 # image must not join the side edges; then looser, for noisy strokes (level-1 noise
@@ -79,7 +82,7 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
-    or SWEEP_PROFILE_DEG (a sweep) of n_f's image; each is ordered by n_f, giving a
+    or SWEEP_PROFILE_DEG (a sweep) of n_f's image, give or take PROFILE_SLACK_PX; each is ordered by n_f, giving a
     start point and an end point. A prism's side edges are translates of each other,
     so they must also share one chord vector (within `same_chord`: a share of its
     length and pixels; None skips the test); the largest such set wins, so an outline
@@ -96,14 +99,16 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
             there are not exactly two closed strokes).
     """
     n2 = normal_image(camera, frame)
-    cos_max = np.cos(np.radians(PRISM_PROFILE_DEG if prism else SWEEP_PROFILE_DEG))
+    tan_max = np.tan(np.radians(PRISM_PROFILE_DEG if prism else SWEEP_PROFILE_DEG))
     chords = {}  # stroke index -> (start point, end point), ordered along n_f
     for k, s in enumerate(strokes):
         p = np.asarray(s, float)
         chord = p[-1] - p[0]
         length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
         span = float(np.linalg.norm(chord))
-        if span > CLOSED_SHARE * length and abs(chord @ n2) >= cos_max * span:
+        along, across = abs(float(chord @ n2)), abs(float(chord[0] * n2[1] - chord[1] * n2[0]))
+        if span > CLOSED_SHARE * length and across < along and \
+                across <= tan_max * along + PROFILE_SLACK_PX:
             chords[k] = (p[0], p[-1]) if chord @ n2 >= 0 else (p[-1], p[0])
     if prism and chords and same_chord is not None:
         share, px = same_chord

@@ -8,7 +8,7 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.datagen.curves import operation_curves
 from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
-from Sketch2CADWorkbench.inference.fitting.stroke_roles import stroke_roles
+from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
@@ -74,3 +74,19 @@ def test_a_side_edge_drawn_short_still_counts_without_the_chord_test():
     truth = [c.label for c in curves]
     assert stroke_roles(strokes, frame, cam, prism=True).count(1) < 4
     assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == truth
+
+
+def test_a_short_side_edge_leaning_from_stroke_noise_is_still_a_profile():
+    op = AddSubPrism(TOP, ((-10, -5, 10), (4, -5, 10), (-3, 8, 10)), 2.0, Mode.SUBTRACT)
+    solid = make_box(BOX)
+    cam = camera((-1, 1, -1))
+    curves = operation_curves(solid, op, np.array(cam.direction))
+    strokes = [cam.project(c.points)[0] for c in curves]
+    n2 = normal_image(cam, FaceFrame.of(resolve_face(solid, TOP).face))
+    side = next(k for k, c in enumerate(curves) if c.label == 1)
+    a, b = strokes[side][0], strokes[side][-1]
+    assert np.linalg.norm(b - a) < 25                  # a short edge: 5 px is 12+ degrees
+    strokes[side] = np.array([a, b + 5.0 * np.array([-n2[1], n2[0]])])
+    frame = FaceFrame.of(resolve_face(solid, TOP).face)
+    assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == \
+        [c.label for c in curves]
