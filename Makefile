@@ -27,7 +27,7 @@ weights: setup
 	.venv/bin/sketch2cad train --data data/train2 --out runs/main --minutes 110 --threads 2
 	for n in 1 2 3; do \
 	    .venv/bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
-	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 100 \
+	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
 	        --fitting-recovery || exit 1; done
 	.venv/bin/python scripts/model_card.py --run runs/main \
 	    --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json
