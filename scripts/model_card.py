@@ -19,6 +19,8 @@ from pathlib import Path
 
 import torch
 
+from Sketch2CADWorkbench.inference.train import plot_curves
+
 ROOT = Path(__file__).resolve().parents[1]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 OPS = ("extrude", "bevel", "addsub", "sweep")
@@ -148,7 +150,8 @@ def main() -> int:
         "on 96 freshly generated samples (seed 9090) against them.",
     ]
     (WEIGHTS / "MODEL_CARD.md").write_text("\n".join(lines) + "\n")
-    shutil.copyfile(args.run / "loss_curves.png", ROOT / "docs" / "loss_curves.png")
+    plot_curves(args.run / "log.jsonl", ROOT / "docs" / "loss_curves.png",
+                s.get("face_dice", 0.0))
     print(f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
           "MODEL_CARD.md, docs/loss_curves.png")
     return 0

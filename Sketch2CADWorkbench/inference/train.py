@@ -195,8 +195,9 @@ def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch
 
 
 # ---------------------------------------------------------------- curves
-def plot_curves(log_path: Path, png: Path) -> None:
-    """Training losses per logged step and validation metrics per epoch, as a PNG."""
+def plot_curves(log_path: Path, png: Path, face_dice: float = 0.0) -> None:
+    """Training losses per logged step and validation metrics per epoch, as a PNG
+    (face_dice: the Dice term's weight, named in the face loss's title when used)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -205,7 +206,8 @@ def plot_curves(log_path: Path, png: Path) -> None:
     va = [r for r in rows if r["kind"] == "val"]
     fig, axes = plt.subplots(1, 4, figsize=(17, 3.8))
     for ax, key, title in zip(axes, ("cls", "face", "curve"),
-                              ("classification (weighted CE)", "base face F (MSE)",
+                              ("classification (weighted CE)",
+                               "base face F (MSE + Dice)" if face_dice else "base face F (MSE)",
                                "curve C on strokes (MSE)")):
         ax.plot([r["step"] for r in tr], [r[key] for r in tr], lw=0.8, label="train")
         if va:
@@ -321,7 +323,7 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
         save_checkpoint(ckpt_path, model, optimizer=opt.state_dict(), state=dict(state),
                         settings=asdict(s), data_key=data_key(ds, model.config),
                         class_counts=counts.tolist(), rng=rng)
-        plot_curves(log_path, out / "loss_curves.png")
+        plot_curves(log_path, out / "loss_curves.png", s.face_dice)
 
     def run_validation() -> dict | None:
         if not len(val_data):
