@@ -137,7 +137,8 @@ def main() -> int:
         "```",
         "sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix",
         "sketch2cad datagen --out data/test-lN --count 400 --seed 1000N --noise-level N",
-        "sketch2cad train --data data/train2 --out runs/main --minutes 110 --threads 2",
+        f"sketch2cad train --data data/train2 --out runs/main --minutes {s['minutes']:g} "
+        f"--threads {s['threads']}",
         "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
         "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
         "python scripts/model_card.py --run runs/main --eval 1=runs/eval-l1.json ...",

@@ -12,6 +12,7 @@ from .common import (DistanceField, FaceFrame, FitError, line_search, resample, 
                      stroke_pixels)
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option, face_outline
+from .refine import refine_prism
 from .regularize import regularize_polygon
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
@@ -41,8 +42,9 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
 
     N is the number of profile strokes; N-gons are fitted to the start and end strokes
     from the profile strokes' end points; the option follows from which polygon lies on
-    f; the base polygon is back-projected onto f and d found by line search along the
-    prism's direction against the other outline.
+    f; d is found by line search along the prism's direction against the other outline;
+    then the base polygon and d are refined together against all the strokes
+    (`refine.py`) and the polygon is back-projected onto f.
 
     Args:
         solid, face, camera: the context solid, base face f and context camera.
@@ -82,6 +84,12 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     d, err = line_search(edge_pts, direction, camera, field, cands)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
+    step = camera.project(frame.origin + direction)[0][0] - camera.project(frame.origin)[0][0]
+    refined, d_refined = refine_prism(base, d, step, groups[0] + groups[1] + groups[2])
+    if d_refined > 0 and is_simple(refined) and np.min(np.linalg.norm(
+            refined - np.roll(refined, 1, axis=0), axis=1)) >= MIN_SIDE_PX:
+        base3d = camera.back_project_to_plane(refined, frame.origin, frame.normal)
+        d = d_refined
     if regularize:  # after the line search, which must see the polygon as drawn
         base3d = frame.to_3d(regularize_polygon(frame.to_2d(base3d), face_outline(face, frame)))
     return AddSubPrism(face_ref_of(face), tuple(tuple(map(float, p)) for p in base3d),

@@ -73,6 +73,18 @@ def test_prism_fit_recovers_an_addition_exactly(box, camera):
         assert np.min(np.linalg.norm(got - v, axis=1)) < 0.2
 
 
+def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edges(box, camera):
+    # the start outline drawn 4 px to the right, the other eight strokes where they belong:
+    # the base polygon follows the majority, not the four strokes that sit on f
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    got = np.array(op.polygon)
+    err = max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD)
+    # from the start outline alone the corners would be 4 px off
+    assert err < 0.5 * 4.0 * camera.pixel_size and op.d == pytest.approx(6.0, abs=0.3)
+
+
 def test_deep_cut_is_read_as_a_subtraction(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 14.0, -1)
     op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
