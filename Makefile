@@ -17,14 +17,14 @@ demo: setup
 test: setup
 	bash scripts/run_tests.sh
 
-# Not part of demo or test: the shipped weights from scratch (data, about 2 h of
+# Not part of demo or test: the shipped weights from scratch (data, 90 min of
 # training on 2 CPU cores, evaluation, model card). Each step resumes where it stopped.
 weights: setup
 	.venv/bin/sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix
 	for n in 1 2 3; do \
 	    .venv/bin/sketch2cad datagen --out data/test-l$$n --count 400 --seed 1000$$n \
 	        --noise-level $$n || exit 1; done
-	.venv/bin/sketch2cad train --data data/train2 --out runs/main --minutes 110 --threads 2
+	.venv/bin/sketch2cad train --data data/train2 --out runs/main --minutes 90 --threads 2
 	for n in 1 2 3; do \
 	    .venv/bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
 	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
