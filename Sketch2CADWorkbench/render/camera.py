@@ -75,6 +75,11 @@ class OrthoCamera:
         y = -(p @ u) / s + self.height / 2.0
         return np.stack([x, y], axis=1), p @ f
 
+    def image_of(self, vector) -> np.ndarray:
+        """The pixel displacement (2,) of a world vector (3,): projection is linear."""
+        return self.project(np.asarray(self.center, float) + np.asarray(vector, float))[0][0] \
+            - self.project(np.asarray(self.center, float))[0][0]
+
     def unproject(self, pixels, depth=0.0) -> np.ndarray:
         """Pixel positions (N, 2) and depths (N,) or a scalar -> world points (N, 3)."""
         q = np.atleast_2d(np.asarray(pixels, float))

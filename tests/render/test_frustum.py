@@ -49,3 +49,12 @@ def test_fit_camera_accepts_a_mesh_or_a_bounding_box(box, box_size):
     from_bbox = fit_camera(np.array([-box_size / 2, box_size / 2]), d, up, 1.2, 256)
     assert from_mesh.scale == pytest.approx(from_bbox.scale)
     assert np.allclose(from_mesh.center, from_bbox.center)
+
+
+def test_the_image_of_a_vector_is_the_same_pixel_shift_wherever_it_starts():
+    d = np.array([0.3, -1.0, -0.6])
+    cam = OrthoCamera((5.0, 2.0, 1.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 40.0, 320, 200)
+    v = np.array([3.0, -1.0, 2.0])
+    for p in (np.zeros(3), np.array([12.0, -7.0, 30.0])):
+        shift = cam.project(np.stack([p, p + v]))[0]
+        assert cam.image_of(v) == pytest.approx(shift[1] - shift[0], abs=1e-9)

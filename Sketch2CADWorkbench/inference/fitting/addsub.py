@@ -28,6 +28,11 @@ def _outline_samples(poly: np.ndarray) -> np.ndarray:
     return np.concatenate([resample(closed, 2.0), poly.mean(axis=0)[None]])
 
 
+def _shortest_side(poly: np.ndarray) -> float:
+    """Length of the polygon's shortest side (its units)."""
+    return float(np.min(np.linalg.norm(poly - np.roll(poly, 1, axis=0), axis=1)))
+
+
 def _simple_fit(corners: np.ndarray, strokes: list[np.ndarray]) -> np.ndarray:
     """The ICP-refined N-gon, or the profile end points themselves if refining made the
     polygon cross itself (noisy outlines can pull two corners past each other)."""
@@ -72,7 +77,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
     if not is_simple(base):
         raise FitError("the base outline crosses itself")
-    if np.min(np.linalg.norm(base - np.roll(base, 1, axis=0), axis=1)) < MIN_SIDE_PX:
+    if _shortest_side(base) < MIN_SIDE_PX:
         raise FitError("two corners of the base outline coincide")
     base3d = camera.back_project_to_plane(base, frame.origin, frame.normal)
     direction = frame.normal * mode.sign
@@ -84,10 +89,9 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     d, err = line_search(edge_pts, direction, camera, field, cands)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
-    step = camera.project(frame.origin + direction)[0][0] - camera.project(frame.origin)[0][0]
-    refined, d_refined = refine_prism(base, d, step, groups[0] + groups[1] + groups[2])
-    if d_refined > 0 and is_simple(refined) and np.min(np.linalg.norm(
-            refined - np.roll(refined, 1, axis=0), axis=1)) >= MIN_SIDE_PX:
+    refined, d_refined = refine_prism(base, d, camera.image_of(direction),
+                                      groups[0] + groups[1] + groups[2])
+    if d_refined > 0 and is_simple(refined) and _shortest_side(refined) >= MIN_SIDE_PX:
         base3d = camera.back_project_to_plane(refined, frame.origin, frame.normal)
         d = d_refined
     if regularize:  # after the line search, which must see the polygon as drawn

@@ -137,8 +137,7 @@ def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
         (best t refined between its neighbours by a parabola, its mean distance in px).
     """
     base, _ = camera.project(points)                                 # (P, 2)
-    step2d = camera.project(direction[None] + camera.center)[0][0] - \
-        camera.project(np.asarray(camera.center)[None])[0][0]        # (2,) px per unit t
+    step2d = camera.image_of(direction)                              # (2,) px per unit t
     pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
     scores = field(pos).mean(axis=1)                                 # (K,)
     if sides is not None:

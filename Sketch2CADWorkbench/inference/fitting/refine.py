@@ -96,8 +96,7 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
         t = np.clip(np.einsum("msk,sk->ms", rel, ab) / np.maximum((ab * ab).sum(axis=1), 1e-12),
                     0.0, 1.0)
         gap = a[None] + t[..., None] * ab[None] - drawn[:, None, :]
-        dist, _ = _unit(gap)
-        j = np.argmin(dist, axis=1)
+        j = np.argmin(np.linalg.norm(gap, axis=2), axis=1)
         tm = t[rows_m, j]
         d1, u1 = _unit(gap[rows_m, j])
         # each edge point to its nearest stroke point

@@ -37,8 +37,7 @@ MIN_SIN = 0.1
 
 def normal_image(camera: OrthoCamera, frame: FaceFrame) -> np.ndarray:
     """The unit 2D direction in which +n_f points in the image."""
-    a, _ = camera.project(np.stack([frame.origin, frame.origin + frame.normal]))
-    v = a[1] - a[0]
+    v = camera.image_of(frame.normal)
     norm = float(np.linalg.norm(v))
     if norm * camera.pixel_size < MIN_SIN:
         raise FitError("the face is seen head-on, so strokes along its normal cannot be told")

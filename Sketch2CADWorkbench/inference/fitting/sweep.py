@@ -57,7 +57,7 @@ def _offset_along_axis(camera: OrthoCamera, c0: np.ndarray, axis: np.ndarray,
                        target: np.ndarray) -> float:
     """t >= 0 minimising |project(c0 + t axis) - target| (the line search's exact optimum)."""
     p0 = camera.project(c0[None])[0][0]
-    step = camera.project((c0 + axis)[None])[0][0] - p0
+    step = camera.image_of(axis)
     if step @ step < 1e-6:
         raise FitError("sweep: the axis points at the viewer, so its length cannot be read; "
                        "turn the view")
