@@ -36,13 +36,3 @@ def test_unreadable_step_is_an_operation_error(tmp_path):
         import_step(tmp_path / "junk.step")
     with pytest.raises(OperationError, match="no such STEP file"):
         import_step(tmp_path / "absent.step")
-
-
-def test_volume_iou_of_overlapping_boxes_is_exact():
-    import cadquery as cq
-
-    from Sketch2CADWorkbench.brep.compare import volume_iou
-    a = cq.Solid.makeBox(10, 10, 10)
-    b = cq.Solid.makeBox(10, 10, 10, cq.Vector(5, 0, 0))
-    assert volume_iou(a, b) == pytest.approx(500 / 1500)
-    assert volume_iou(a, a.copy()) == pytest.approx(1.0)
