@@ -46,14 +46,15 @@ def recovery_count(evals: dict[str, dict]) -> int:
 
 def table(evals: dict[str, dict]) -> list[str]:
     rows = ["| noise level | n | classification | " + " | ".join(
-                f"{op}: face IoU / curve acc. / recovery / fitting alone" for op in OPS) + " | networks ms |",
+                f"{op}: face IoU / curve acc. / recovery [with flip] / fitting alone" for op in OPS) + " | networks ms |",
             "|---|---|---|" + "---|" * len(OPS) + "---|"]
     for level, r in sorted(evals.items()):
         cells = []
         for op in OPS:
             d = r["per_operator"][op]
             cells.append(f"{pct(d['face_iou'])} / {pct(d['curve_accuracy'])} / "
-                         f"{pct(d.get('recovery_rate'))} / {pct(d.get('fitting_recovery_rate'))}")
+                         f"{pct(d.get('recovery_rate'))} [{pct(d.get('recovery_rate_with_flip'))}] / "
+                         f"{pct(d.get('fitting_recovery_rate'))}")
         rows.append(f"| {level} | {r['n']} | {pct(r['classification_accuracy'])} | "
                     + " | ".join(cells) + f" | {r['latency_ms']['networks_median']:.1f} |")
     rows.append("| paper, level 1 | | 99.8 | " + " | ".join(

@@ -112,7 +112,12 @@ class SketchPanel:
         r = self.result
         probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
         lines = "".join(f"<li>{describe(op)}</li>" for op in r.operations)
-        self.text.setHtml(f"<b>Read as {r.op_type.value}</b> ({probs})<ul>{lines}</ul>"
+        other = ""
+        if r.other_option is not None:  # a boss and a hole that draw the same lines
+            other = (f"<p>The strokes read just as well as <b>{r.other_option.value}</b>: "
+                     f"from this view its primitive draws the same lines. Set Boolean to "
+                     f"{r.other_option.value} if that was meant.</p>")
+        self.text.setHtml(f"<b>Read as {r.op_type.value}</b> ({probs})<ul>{lines}</ul>{other}"
                           f"{r.timings_ms['total']:.0f} ms. OK adds it to the model.")
         self._show_preview(to_part(r.solid))
 

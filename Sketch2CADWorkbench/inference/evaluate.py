@@ -329,6 +329,8 @@ def run(args: argparse.Namespace) -> int:
                 fit = recovery(args.data, None, args.recovery, oracle=True)
                 for op, v in fit["per_operator"].items():
                     result["per_operator"][op]["fitting_recovery_rate"] = v["recovery_rate"]
+                    result["per_operator"][op]["fitting_recovery_rate_with_flip"] = \
+                        v["recovery_rate_with_flip"]
                 result["fitting_recovery"] = {k: fit[k] for k in ("per_noise_level",
                                                                   "failure_reasons")}
     except (FileNotFoundError, ValueError) as e:

@@ -19,9 +19,9 @@ from typing import Protocol as TypingProtocol
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError
+from ..brep.faces import OperationError, model_scale
 from ..brep.operators import apply_operation
-from ..brep.protocol import Mode, Operation, OperatorType
+from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep
 from ..brep.symmetry import mid_plane, reflect
 from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
@@ -32,6 +32,7 @@ from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
+from .fitting.primitive import other_option_fits
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
@@ -41,6 +42,8 @@ CLASSES = list(OperatorType)
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
 BASE_FACE_TRIES = 3
 GOOD_FIT_PX = 3.0
+# Strokes tried as the bevel's profile l, in the order of C's votes.
+BEVEL_READINGS = 2
 
 
 class InterpretError(ValueError):
@@ -78,6 +81,9 @@ class Interpretation:
     stroke_labels: list[int]
     camera: OrthoCamera                 # the context camera (maps' pixels)
     timings_ms: dict[str, float] = field(default_factory=dict)
+    # The Boolean that explains the same strokes as well (a boss on f and a hole into f
+    # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
+    other_option: Mode | None = None
 
 
 @dataclass
@@ -158,16 +164,7 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
             # rarely mislead, so every stroke may serve both parts.
             op = fit_extrude(solid, face, cam, strokes, strokes)
     elif op_type is OperatorType.BEVEL:
-        votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
-        best = int(np.argmax(votes))
-        labels = [1 if i == best else 0 for i in range(len(strokes))]
-        under = face_under_stroke(strokes[best], ctx.maps.face_id)
-        if under is not None and under != index and \
-                solid.Faces()[under].geomType() == "PLANE":
-            # the profile l lies on f by definition: when F points elsewhere, the
-            # stroke's own face is the one it was drawn on
-            index, face = under, solid.Faces()[under]
-        op = fit_bevel(solid, face, cam, strokes[best])
+        op, index, labels = _fit_bevel_readings(solid, index, curve, ctx)
     else:
         labels = classify_strokes(strokes, curve, (0.5, 1.5))
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
@@ -193,6 +190,53 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
         # both fit: the one whose own sketch lies closer to the strokes
         _, op, labels = min(fitted, key=lambda f: f[0])
     return op, index, labels
+
+
+def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
+                        ) -> tuple[Operation, int, list[int]]:
+    """The bevel on face `index` whose profile l is the stroke C votes for most or, when
+    that reading's own sketch lies more than GOOD_FIT_PX from the strokes, the one of
+    the next stroke if it explains them better: C sometimes takes l' for l, and l' back
+    projected onto f's plane lands at another corner.
+
+    Returns:
+        (operation, face used, per-stroke labels).
+    """
+    strokes, cam = ctx.strokes, ctx.camera
+    votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
+    best, first = None, None
+    for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
+        face_index = index
+        under = face_under_stroke(strokes[pick], ctx.maps.face_id)
+        if under is not None and under != index and \
+                solid.Faces()[under].geomType() == "PLANE":
+            # the profile l lies on f by definition: when F points elsewhere, the
+            # stroke's own face is the one it was drawn on
+            face_index = under
+        try:
+            op = fit_bevel(solid, solid.Faces()[face_index], cam, strokes[pick])
+        except FitError as e:
+            first = first or e
+            continue
+        error = reprojection_error(solid, op, cam, strokes)
+        if best is None or error < best[0]:
+            best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
+        if error <= GOOD_FIT_PX:
+            break
+    if best is None:
+        raise first
+    return best[1], best[2], best[3]
+
+
+def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera,
+                 options: InterpretOptions) -> Mode | None:
+    """The flipped Boolean when it reads the strokes as well as the one chosen (only
+    when the designer did not choose one): see `Interpretation.other_option`."""
+    if options.option is not None or not isinstance(op, (AddSubPrism, Sweep)):
+        return None
+    if not other_option_fits(solid.Faces()[base_face], camera, op, 1e-6 * model_scale(solid)):
+        return None
+    return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
 
 
 def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None
@@ -242,6 +286,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         networks_s += tb - ta
         try:
             op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
+            other = other_option(solid, op, index, ctx.camera, options)
             tc = time.perf_counter()
             ops, result = apply_with_symmetry(solid, op, options.symmetry)
             break
@@ -256,4 +301,4 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
                           index, labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
                            "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)})
+                           "total": 1e3 * (td - t0)}, other)

@@ -27,3 +27,14 @@ def test_fitting_recovers_the_operation_from_ground_truth_segmentation(generated
 def test_recovery_limit_counts_samples(generated):
     r = recovery(generated, None, 5, oracle=True)
     assert sum(v["recovery_n"] for v in r["per_operator"].values()) == 5
+
+
+def test_the_rate_with_the_one_click_flip_is_at_least_the_strict_rate(generated):
+    r = recovery(generated, None, 16, oracle=True)
+    for v in r["per_operator"].values():
+        if v["recovery_n"]:
+            assert v["recovery_rate"] <= v["recovery_rate_with_flip"] <= 1.0
+            assert 0.0 <= v["other_option_share"] <= 1.0
+    # extrusions and bevels have no Boolean to flip
+    for op in ("extrude", "bevel"):
+        assert r["per_operator"][op]["other_option_share"] in (0.0, None)

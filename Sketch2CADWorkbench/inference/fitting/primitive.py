@@ -5,7 +5,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.protocol import Mode
+from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FaceFrame, FitError
 from .regularize import FaceOutline
@@ -69,3 +69,35 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
         return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
     raise FitError("neither the start nor the end outline lies on the base face, so the "
                    "sketch matches no addition or subtraction")
+
+
+def far_outline(op: AddSubPrism | Sweep, frame: FaceFrame) -> np.ndarray:
+    """Points (K, 3) along the primitive's outline away from f (its far end), in mm."""
+    shift = frame.normal * op.d * op.mode.sign
+    if isinstance(op, AddSubPrism):
+        poly = np.array(op.polygon, float)
+        closed = np.concatenate([poly, poly[:1]])
+        edges = [np.linspace(closed[i], closed[i + 1], 16, endpoint=False)
+                 for i in range(len(poly))]
+        return np.concatenate(edges) + shift
+    t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    centre = frame.to_2d(np.array(op.center, float))[0]
+    ring = centre + op.r1 * np.stack([np.cos(t), np.sin(t)], axis=1)
+    return frame.to_3d(ring) + shift
+
+
+def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep,
+                      tol: float) -> bool:
+    """Whether the flipped Boolean explains the same strokes (the paper's Fig. 5b).
+
+    In a parallel view, a boss on f and a hole into f whose rim is the boss's top
+    outline, seen along the view, draw the same lines. The flipped reading exists when
+    the fitted primitive's far outline, back-projected along the view onto f's plane,
+    lies on f as the base outline must.
+    """
+    if op.mode not in (Mode.ADD, Mode.SUBTRACT):
+        return False
+    frame = FaceFrame.of(face)
+    seen = camera.project(far_outline(op, frame))[0]
+    on_plane = camera.back_project_to_plane(seen, frame.origin, frame.normal)
+    return fraction_on_face(face, on_plane, tol) >= ON_FACE_FRACTION

@@ -177,3 +177,35 @@ def test_interpret_command_rejects_a_broken_session(tmp_path):
     out = subprocess.run([CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
                          text=True, timeout=120)
     assert out.returncode == 2 and "s.json: session: missing key" in out.stderr
+
+
+def test_a_bevel_is_found_when_the_curve_map_takes_the_offset_profile_for_the_profile(renderer):
+    box = make_box(Box((40, 30, 20)))
+    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
+    k = 0.5523
+    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
+           (20.0, -15.0, 4.0))
+    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    swapped = Oracle(box, op, pts, [1 - label for label in labels], cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, swapped, renderer,
+                    InterpretOptions(regularize=False))
+    assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
+
+
+def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer_chose(
+        renderer):
+    box = make_box(Box((40, 30, 20)))
+    low = AddSubPrism(TOP, ((-6, -5, 10), (2, -5, 10), (2, 3, 10), (-6, 3, 10)), 4.0, Mode.ADD)
+    tall = replace(low, d=25.0)
+    cam = view()
+    for op, other in ((low, Mode.SUBTRACT), (tall, None)):
+        pts, labels = sketch(box, op, cam)
+        oracle = Oracle(box, op, pts, labels, cam, renderer)
+        strokes = [cam.project(p)[0] for p in pts]
+        got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+        assert got.operations[0].mode is Mode.ADD and got.other_option is other
+    chosen = interpret(box, strokes, cam, oracle, renderer,
+                       InterpretOptions(regularize=False, option=Mode.ADD))
+    assert chosen.other_option is None

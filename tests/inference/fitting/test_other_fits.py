@@ -10,6 +10,7 @@ from Sketch2CADWorkbench.brep.protocol import Mode
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.bevel import fit_bevel
 from Sketch2CADWorkbench.inference.fitting.common import FitError, bezier
+from Sketch2CADWorkbench.inference.fitting.primitive import other_option_fits
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 
 FRONT_Y = -15.0
@@ -89,6 +90,26 @@ def test_deep_cut_is_read_as_a_subtraction(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 14.0, -1)
     op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
     assert op.mode is Mode.SUBTRACT and op.d == pytest.approx(14.0, abs=0.2)
+
+
+def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(box, camera):
+    # seen along the view, the 6 mm boss's top outline falls inside the top face: a hole
+    # with that rim, 6 mm deep, draws the same nine lines (paper, Fig. 5b)
+    from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+    face = face_towards(box, (0, 0, 1))
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    boss = fit_prism(box, face, camera, strokes, labels, regularize=False)
+    assert boss.mode is Mode.ADD and other_option_fits(face, camera, boss, 1e-6)
+    hole = fit_prism(box, face, camera, strokes, labels, regularize=False, option=Mode.SUBTRACT)
+    assert hole.d == pytest.approx(6.0, abs=0.2)
+    assert reprojection_error(box, hole, camera, strokes) < 1.0
+
+
+def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
+    face = face_towards(box, (0, 0, 1))
+    strokes, labels = prism_sketch(camera, QUAD, 14.0, +1)
+    boss = fit_prism(box, face, camera, strokes, labels, regularize=False)
+    assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
 
 
 def test_user_choice_of_option_wins(box, camera):
