@@ -40,7 +40,7 @@ from .fitting.sweep import fit_sweep
 CLASSES = list(OperatorType)
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
-BASE_FACE_TRIES = 3
+BASE_FACE_TRIES = 4
 GOOD_FIT_PX = 3.0
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2

@@ -24,8 +24,7 @@ MIN_SIDE_PX = 2.0
 
 
 def _outline_samples(poly: np.ndarray) -> np.ndarray:
-    closed = np.concatenate([poly, poly[:1]])
-    return np.concatenate([resample(closed, 2.0), poly.mean(axis=0)[None]])
+    return resample(np.concatenate([poly, poly[:1]]), 2.0)
 
 
 def _shortest_side(poly: np.ndarray) -> float:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import cadquery as cq
 import numpy as np
+from matplotlib.path import Path as MplPath
 
 from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
@@ -14,6 +15,9 @@ from .regularize import FaceOutline
 # outline that is mostly on f still decides when the other one is less so.
 ON_FACE_FRACTION = 0.9
 MOSTLY_FRACTION = 0.25
+# Share of f an outline's region must cover to stand on f when its outline does not lie
+# on f at all (a plate wider than the column top it stands on).
+COVER_FRACTION = 0.5
 
 
 def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
@@ -42,6 +46,23 @@ def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
     return float(np.mean([face.distance(cq.Vertex.makeVertex(*p)) <= tol for p in pts3d]))
 
 
+def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
+                  tol: float, grid: int = 16) -> float:
+    """The share of f's area inside an outline (K, 2 pixels) back-projected onto f's plane:
+    how much of f a primitive with that base outline would stand on."""
+    bb = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()])) if face.Vertices() \
+        else None
+    if bb is None or len(bb) < 2:
+        return 0.0
+    lo, hi = bb.min(axis=0), bb.max(axis=0)
+    u, v = np.meshgrid(np.linspace(lo[0], hi[0], grid), np.linspace(lo[1], hi[1], grid))
+    pts = frame.to_3d(np.stack([u.ravel(), v.ravel()], axis=1))
+    on_f = pts[[face.distance(cq.Vertex.makeVertex(*p)) <= tol for p in pts]]
+    if not len(on_f):
+        return 0.0
+    return float(np.mean(MplPath(outline).contains_points(camera.project(on_f)[0])))
+
+
 def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
                   start_2d: np.ndarray, end_2d: np.ndarray, tol: float,
                   forced: Mode | None) -> Mode:
@@ -50,16 +71,21 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
     Start and end are ordered along n_f, so for an addition the start outline is on f
     and for a subtraction the end outline is. When both could be (the ambiguous case of
     the paper's Fig. 5b), + is the default; `forced` (the user's choice) wins. An
-    outline "lies on f" when 90% of its back-projected samples do; failing that for
-    both (a primitive overhanging f's edge), the one more on f decides if a quarter of
-    it is.
+    outline "lies on f" when 90% of its back-projected samples (and its centre) do;
+    failing that for both (a primitive overhanging f's edge), the one more on f decides
+    if a quarter of it is; failing that too (a plate wider than the column top it
+    stands on), the outline whose region covers more of f, if that covers at least
+    half of it.
 
+    Args:
+        start_2d, end_2d: points along the two closed outlines (K, 2 context pixels).
     Raises:
-        FitError: neither outline lies on the base face.
+        FitError: neither outline meets the base face.
     """
     if forced is not None:
         return forced
-    on = [fraction_on_face(face, camera.back_project_to_plane(o, frame.origin, frame.normal), tol)
+    on = [fraction_on_face(face, camera.back_project_to_plane(
+              np.concatenate([o, o.mean(axis=0)[None]]), frame.origin, frame.normal), tol)
           for o in (start_2d, end_2d)]
     if on[0] >= ON_FACE_FRACTION:
         return Mode.ADD
@@ -67,7 +93,10 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
         return Mode.SUBTRACT
     if max(on) >= MOSTLY_FRACTION:
         return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
-    raise FitError("neither the start nor the end outline lies on the base face, so the "
+    covered = [covered_share(face, frame, camera, o, tol) for o in (start_2d, end_2d)]
+    if max(covered) >= COVER_FRACTION:
+        return Mode.ADD if covered[0] >= covered[1] else Mode.SUBTRACT
+    raise FitError("neither the start nor the end outline meets the base face, so the "
                    "sketch matches no addition or subtraction")
 
 

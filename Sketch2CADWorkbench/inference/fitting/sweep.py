@@ -107,8 +107,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
     frame = FaceFrame.of(face)
     scale = model_scale(solid)
-    mode = choose_option(face, frame, camera, np.concatenate([e_s.points(), e_s.center[None]]),
-                         np.concatenate([e_e.points(), e_e.center[None]]), 1e-6 * scale, option)
+    mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), 1e-6 * scale, option)
     base, far = (e_s, e_e) if mode is not Mode.SUBTRACT else (e_e, e_s)
     c0 = camera.back_project_to_plane(base.center[None], frame.origin, frame.normal)[0]
     axis = frame.normal * mode.sign

@@ -112,6 +112,24 @@ def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
     assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
 
 
+def test_a_plate_wider_than_the_column_top_it_stands_on_is_an_addition_on_it(box, camera):
+    # a 10 x 10 column on the box, then a 30 x 24 plate on the column's top: no sample of
+    # either plate outline lies on that face, but the plate's region covers all of it
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef
+    column = AddSubPrism(FaceRef((0.0, 0.0, TOP_Z), (0.0, 0.0, 1.0)),
+                         ((-5, -5, TOP_Z), (5, -5, TOP_Z), (5, 5, TOP_Z), (-5, 5, TOP_Z)),
+                         8.0, Mode.ADD)
+    solid = apply_operation(box, column)
+    z = TOP_Z + 8.0
+    top = next(f for f in solid.Faces() if f.normalAt().z > 0.999 and f.Center().z > z - 1e-6)
+    plate = np.array([[-15, -12, z], [15, -12, z], [15, 12, z], [-15, 12, z]])
+    strokes, labels = prism_sketch(camera, plate, 5.0, +1)
+    op = fit_prism(solid, top, camera, strokes, labels, regularize=False)
+    assert op.mode is Mode.ADD and op.d == pytest.approx(5.0, abs=0.3)
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in plate) < 0.5
+
+
 def test_user_choice_of_option_wins(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
     op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels,
