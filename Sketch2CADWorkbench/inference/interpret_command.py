@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 from ..brep.exchange import export_step
-from ..brep.operators import make_box
-from ..brep.protocol import Protocol, ProtocolError, describe
+from ..brep.operators import make_box, replay
+from ..brep.protocol import Protocol, ProtocolError, describe, load
 from .interpret import InterpretError, InterpretOptions, interpret
 from .session import load_session
 
@@ -22,6 +22,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
     p.add_argument("--png", type=Path, help="write a picture of the final solid")
     p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
+    p.add_argument("--compare", type=Path, metavar="PROTOCOL",
+                   help="the model the sketches mean (a protocol with one operation per "
+                        "step): print each step's volume IoU with it")
     p.add_argument("--keep-going", action="store_true",
                    help="skip a step that cannot be interpreted instead of stopping (the "
                         "skipped steps are listed; the exit code is then 0)")
@@ -33,6 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from .weights import load_predictor
     try:
         session = load_session(args.session)
+        reference = _reference(args.compare, len(session.steps)) if args.compare else None
         predictor = load_predictor(args.weights)
     except (ProtocolError, FileNotFoundError) as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
@@ -51,13 +55,20 @@ def run(args: argparse.Namespace) -> int:
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)
             if not args.keep_going:
                 return 2
-            continue
-        for op in got.operations:
-            protocol = protocol.append(op)
-            print(f"step {i}: {describe(op)}")
-        print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
-              f"{got.timings_ms['total']:.0f} ms)")
-        solid = got.solid
+        else:
+            for op in got.operations:
+                protocol = protocol.append(op)
+                print(f"step {i}: {describe(op)}")
+            print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
+                  f"{got.timings_ms['total']:.0f} ms)")
+            if got.other_option is not None:
+                print(f"         (the strokes read just as well as {got.other_option.value}: "
+                      f"set this step's choices.option to have it)")
+            solid = got.solid
+        if reference:
+            from ..brep.compare import volume_iou
+            print(f"         volume IoU with {args.compare.name} after step {i}: "
+                  f"{volume_iou(solid, reference[i]):.3f}")
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
           f"volume {solid.Volume():.1f} mm^3")
     try:
@@ -75,3 +86,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
         return 2
     return 0
+
+
+def _reference(path: Path, steps: int) -> list:
+    """The reference protocol's solids (base, then after each operation), one per step."""
+    solids = replay(load(path))
+    if len(solids) != steps + 1:
+        raise ProtocolError(f"{path}: {len(solids) - 1} operations for {steps} sketched "
+                            "steps; --compare needs one operation per step")
+    return solids

@@ -30,3 +30,28 @@ def test_shipped_weights_meet_the_model_cards_thresholds(tmp_path):
         if got["n"]:
             assert got["face_iou"] >= lim["face_iou"], (op, got)
             assert got["curve_accuracy"] >= lim["curve_accuracy"], (op, got)
+
+
+def test_the_shipped_sessions_rebuild_the_models_they_were_drawn_from():
+    # each example session is the sketch of the protocol of the same name; with the
+    # shipped weights every step is read, and the model stays close to the intended one
+    root = Path(__file__).resolve().parents[2] / "examples"
+    for name in ("camera", "hammer", "mixer"):
+        out = subprocess.run([CLI, "interpret", str(root / "sessions" / f"{name}.json"),
+                              "--compare", str(root / "protocols" / f"{name}.json")],
+                             capture_output=True, text=True, timeout=300)
+        assert out.returncode == 0, out.stderr[-2000:]
+        ious = [float(line.rsplit(":", 1)[1]) for line in out.stdout.splitlines()
+                if "volume IoU with" in line]
+        assert len(ious) == len(json.loads((root / "sessions" / f"{name}.json").read_text())
+                                ["steps"])
+        assert min(ious) >= 0.7, (name, ious)
+
+
+def test_compare_needs_one_operation_per_step(tmp_path):
+    root = Path(__file__).resolve().parents[2] / "examples"
+    out = subprocess.run([CLI, "interpret", str(root / "sessions" / "camera.json"),
+                          "--compare", str(root / "protocols" / "hammer.json")],
+                         capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2
+    assert "hammer.json: 5 operations for 7 sketched steps" in out.stderr
