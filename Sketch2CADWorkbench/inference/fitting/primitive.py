@@ -63,6 +63,13 @@ def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline:
     return float(np.mean(MplPath(outline).contains_points(camera.project(on_f)[0])))
 
 
+def _on_face(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
+             tol: float) -> float:
+    """The share of the outline's samples and centre that back-project onto f."""
+    return fraction_on_face(face, camera.back_project_to_plane(
+        np.concatenate([outline, outline.mean(axis=0)[None]]), frame.origin, frame.normal), tol)
+
+
 def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
                   start_2d: np.ndarray, end_2d: np.ndarray, tol: float,
                   forced: Mode | None) -> Mode:
@@ -70,30 +77,34 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
 
     Start and end are ordered along n_f, so for an addition the start outline is on f
     and for a subtraction the end outline is. When both could be (the ambiguous case of
-    the paper's Fig. 5b), + is the default; `forced` (the user's choice) wins. An
-    outline "lies on f" when 90% of its back-projected samples (and its centre) do;
-    failing that for both (a primitive overhanging f's edge), the one more on f decides
-    if a quarter of it is; failing that too (a plate wider than the column top it
-    stands on), the outline whose region covers more of f, if that covers at least
-    half of it.
+    the paper's Fig. 5b), + is the default. An outline "lies on f" when 90% of its
+    back-projected samples (and its centre) do; failing that for both (a primitive
+    overhanging f's edge), the one more on f decides if a quarter of it is; failing
+    that too (a plate wider than the column top it stands on), the outline whose region
+    covers more of f, if that covers at least half of it. `forced` (the user's choice)
+    wins, when its base outline meets f by one of these tests.
 
     Args:
         start_2d, end_2d: points along the two closed outlines (K, 2 context pixels).
     Raises:
-        FitError: neither outline meets the base face.
+        FitError: neither outline (or not the forced option's) meets the base face.
     """
+    outlines = (start_2d, end_2d)
     if forced is not None:
-        return forced
-    on = [fraction_on_face(face, camera.back_project_to_plane(
-              np.concatenate([o, o.mean(axis=0)[None]]), frame.origin, frame.normal), tol)
-          for o in (start_2d, end_2d)]
+        base = outlines[1] if forced is Mode.SUBTRACT else outlines[0]
+        if _on_face(face, frame, camera, base, tol) >= MOSTLY_FRACTION or \
+                covered_share(face, frame, camera, base, tol) >= COVER_FRACTION:
+            return forced
+        raise FitError(f"the {forced.value} option needs its base outline on the base face, "
+                       "and it is not there")
+    on = [_on_face(face, frame, camera, o, tol) for o in outlines]
     if on[0] >= ON_FACE_FRACTION:
         return Mode.ADD
     if on[1] >= ON_FACE_FRACTION:
         return Mode.SUBTRACT
     if max(on) >= MOSTLY_FRACTION:
         return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
-    covered = [covered_share(face, frame, camera, o, tol) for o in (start_2d, end_2d)]
+    covered = [covered_share(face, frame, camera, o, tol) for o in outlines]
     if max(covered) >= COVER_FRACTION:
         return Mode.ADD if covered[0] >= covered[1] else Mode.SUBTRACT
     raise FitError("neither the start nor the end outline meets the base face, so the "

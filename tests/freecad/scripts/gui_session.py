@@ -241,6 +241,47 @@ def sketch_step_adds_one_undoable_feature():
     assert len(features(model)) == before
 
 
+@check
+def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
+    """A low square boss in the middle of the top face: from above, its top outline
+    falls inside the face, so a hole draws the same lines. The panel says so, and
+    choosing subtract in its Boolean box reads the hole."""
+    from Sketch2CADWorkbench.commands.sketch import SketchPanel
+    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    model = model_of_document()
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    settle()
+    bb = model.Tip.Shape.BoundBox
+    c, h = np.array([bb.Center.x, bb.Center.y, bb.ZMax]), 0.2 * min(bb.XLength, bb.YLength)
+    base = c + np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]])
+    top = base + [0, 0, 0.15 * bb.ZLength]
+    panel = SketchPanel(model)
+    FreeCADGui.Control.showDialog(panel)
+    viewport = view.graphicsView().viewport()
+    cam = view_camera(view)
+    for a, b in ([(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)]
+                 + list(zip(base, top))):
+        drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+    key(viewport, QtCore.Qt.Key_Return)
+    settle()
+    text = panel.text.toPlainText()
+    try:
+        assert panel.result is not None and panel.result.op_type.value == "addsub", text
+        assert panel.result.operations[0].mode.value == "add", text
+        assert "read just as well as subtract" in text, text
+        panel.option.setCurrentIndex(panel.option.findText("subtract"))
+        settle()
+        assert panel.result is not None, panel.text.toPlainText()
+        assert panel.result.operations[0].mode.value == "subtract"
+        before, after = model.Tip.Shape.Volume, panel.result.solid.Volume()
+        assert after < before, (before, after, panel.text.toPlainText())
+    finally:
+        panel.reject()
+        settle()
+
+
 def write_protocol(protocol, name: str) -> str:
     path = os.path.join(TMP, name)
     protocol.save(path)
