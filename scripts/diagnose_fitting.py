@@ -5,13 +5,15 @@ Fits the first N samples of one operator in a generated set from their ground-tr
 segmentation (the networks left out, as `sketch2cad eval --fitting-recovery` does), or
 with `--networks` runs the whole pipeline from the strokes (shipped weights, or those in
 W, as `sketch2cad eval --recovery` does), and prints each miss (volume IoU < 0.95) with the true and the fitted operation, then a
-tally: recovered, errors by message, and misses with the +/- option right or wrong
-(a wrong one with both outlines on f is the orthographic Necker ambiguity).
+tally: recovered, errors by message, and misses with the +/- option right or wrong;
+a wrong one is split by whether the pipeline named the other Boolean as reading as
+well (the orthographic Necker case, paper Fig. 5b) and whether that would recover it.
 """
 from __future__ import annotations
 
 import argparse
 import collections
+import dataclasses
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError
@@ -20,9 +22,21 @@ from Sketch2CADWorkbench.brep.protocol import OperatorType, describe
 from Sketch2CADWorkbench.datagen.dataset import Dataset
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.interpret import (Context, InterpretError, InterpretOptions,
-                                                     fit_operation, interpret)
+                                                     fit_operation, interpret, other_option)
 from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
+
+
+def read(s, context, predictor, renderer, opts):
+    """(operation, the other Boolean named or None) for sample s: the whole pipeline with
+    `predictor`, else the fitting stage on the ground-truth class, F and C."""
+    if predictor is not None:
+        got = interpret(context, s.strokes, s.camera, predictor, renderer, opts)
+        return got.operations[0], got.other_option
+    ctx = Context(s.camera, s.strokes, ContextMaps(s.depth, s.normal, s.face_id, None),
+                  s.inputs())
+    op, index, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label, ctx, opts)
+    return op, other_option(context, op, index, ctx.camera, opts)
 
 
 def main() -> None:
@@ -40,7 +54,7 @@ def main() -> None:
     want = OperatorType(args.operator)
     options = InterpretOptions(regularize=False)
     tally: collections.Counter = collections.Counter()
-    seen = 0
+    seen = named = 0
     ds = Dataset(args.data)
     for k in ds.shards:
         for s in ds.samples(k):
@@ -50,18 +64,12 @@ def main() -> None:
             context = replay(s.context)[-1]
             truth = apply_operation(context, s.operation)
             try:
-                if predictor is not None:
-                    got = interpret(context, s.strokes, s.camera, predictor, renderer, options)
-                    op = got.operations[0]
-                else:
-                    ctx = Context(s.camera, s.strokes,
-                                  ContextMaps(s.depth, s.normal, s.face_id, None), s.inputs())
-                    op, _, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label,
-                                             ctx, options)
+                op, other = read(s, context, predictor, renderer, options)
                 iou = volume_iou(apply_operation(context, op), truth)
             except (FitError, OperationError, InterpretError) as e:
                 tally[f"error: {str(e)[:70]}"] += 1
                 continue
+            named += other is not None
             if iou >= RECOVERY_IOU:
                 tally["recovered"] += 1
                 continue
@@ -69,10 +77,16 @@ def main() -> None:
                 tally[f"missed, read as {op.type.value}"] += 1
             elif getattr(op, "mode", None) == getattr(s.operation, "mode", None):
                 tally["missed, option right"] += 1
+            elif other is None:
+                tally["missed, option wrong, no other Boolean named"] += 1
             else:
-                tally["missed, option wrong"] += 1
+                flipped, _ = read(s, context, predictor, renderer,
+                                  dataclasses.replace(options, option=other))
+                ok = volume_iou(apply_operation(context, flipped), truth) >= RECOVERY_IOU
+                tally[f"missed, option wrong, other named, flip {'recovers' if ok else 'misses'}"] += 1
             print(f"IoU {iou:.3f}\n  truth {describe(s.operation)}\n  got   {describe(op)}")
-    print(f"{seen} {want.value} samples of {args.data}:")
+    print(f"{seen} {want.value} samples of {args.data} ({named} with the other Boolean "
+          "named as reading as well):")
     for what, count in tally.most_common():
         print(f"  {count:4d}  {what}")
 

@@ -107,7 +107,7 @@ def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(
 
 def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
     face = face_towards(box, (0, 0, 1))
-    strokes, labels = prism_sketch(camera, QUAD, 14.0, +1)
+    strokes, labels = prism_sketch(camera, QUAD, 25.0, +1)
     boss = fit_prism(box, face, camera, strokes, labels, regularize=False)
     assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
 
