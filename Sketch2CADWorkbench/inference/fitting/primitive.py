@@ -5,6 +5,9 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 from matplotlib.path import Path as MplPath
+from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.gp import gp_Pnt
+from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
 from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
@@ -46,9 +49,20 @@ def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
                        frame.to_2d(np.array(face.Center().toTuple()))[0], diameter)
 
 
+def on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> np.ndarray:
+    """Which points (K, 3, on f's plane) lie on f, its boundary within tol included.
+    (OCCT's face classifier: a third of the time of a distance query per point.)"""
+    classifier = BRepClass_FaceClassifier()
+    out = np.empty(len(pts3d), bool)
+    for i, p in enumerate(pts3d):
+        classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
+        out[i] = classifier.State() in (TopAbs_IN, TopAbs_ON)
+    return out
+
+
 def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
     """The fraction of the points (on f's plane) that lie inside f."""
-    return float(np.mean([face.distance(cq.Vertex.makeVertex(*p)) <= tol for p in pts3d]))
+    return float(np.mean(on_face(face, pts3d, tol)))
 
 
 def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
@@ -62,7 +76,7 @@ def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline:
     lo, hi = bb.min(axis=0), bb.max(axis=0)
     u, v = np.meshgrid(np.linspace(lo[0], hi[0], grid), np.linspace(lo[1], hi[1], grid))
     pts = frame.to_3d(np.stack([u.ravel(), v.ravel()], axis=1))
-    on_f = pts[[face.distance(cq.Vertex.makeVertex(*p)) <= tol for p in pts]]
+    on_f = pts[on_face(face, pts, tol)]
     if not len(on_f):
         return 0.0
     return float(np.mean(MplPath(outline).contains_points(camera.project(on_f)[0])))
