@@ -1,0 +1,63 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""How often would the other Boolean be named, and how many wrong options would that
+cover? `python scripts/option_scan.py DATA [addsub|sweep]`
+
+Fits every prism (or sweep) of a generated set from its ground-truth segmentation (the
+fitting stage alone), then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the
+fitted primitive's far outline that back-projects onto f (`OTHER_FRACTION` in
+inference/fitting/primitive.py), prints the share of steps it would be named for and
+how many of the steps with the wrong +/- option it would cover.
+"""
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from Sketch2CADWorkbench.brep.faces import model_scale
+from Sketch2CADWorkbench.brep.operators import replay
+from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.datagen.dataset import Dataset
+from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
+from Sketch2CADWorkbench.inference.fitting.primitive import fraction_on_face, far_outline
+from Sketch2CADWorkbench.inference.interpret import Context, InterpretOptions, fit_operation
+from Sketch2CADWorkbench.render.maps import ContextMaps
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("data")
+    p.add_argument("operator", nargs="?", default="addsub", choices=["addsub", "sweep"])
+    args = p.parse_args()
+    want = OperatorType(args.operator)
+    shares, wrong = [], []
+    ds = Dataset(args.data)
+    for k in ds.shards:
+        for s in ds.samples(k):
+            if s.op_type is not want:
+                continue
+            context = replay(s.context)[-1]
+            ctx = Context(s.camera, s.strokes,
+                          ContextMaps(s.depth, s.normal, s.face_id, None), s.inputs())
+            try:
+                op, index, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label,
+                                             ctx, InterpretOptions(regularize=False))
+            except FitError:
+                continue
+            face = context.Faces()[index]
+            frame = FaceFrame.of(face)
+            seen = s.camera.project(far_outline(op, frame))[0]
+            seen = np.concatenate([seen, seen.mean(axis=0)[None]])  # and its centre, as named
+            on_plane = s.camera.back_project_to_plane(seen, frame.origin, frame.normal)
+            shares.append(fraction_on_face(face, on_plane, 1e-6 * model_scale(context)))
+            wrong.append(op.mode is not s.operation.mode)
+    shares, wrong = np.array(shares), np.array(wrong)
+    print(f"{len(shares)} {want.value} steps fitted, {int(wrong.sum())} with the wrong option")
+    for th in (0.25, 0.5, 0.75, 0.9):
+        named = shares >= th
+        print(f"  threshold {th:.2f}: named for {100 * named.mean():.0f}% of steps, covers "
+              f"{int((named & wrong).sum())} of {int(wrong.sum())} wrong options")
+
+
+if __name__ == "__main__":
+    main()
