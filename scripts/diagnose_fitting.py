@@ -4,8 +4,8 @@
 Fits the first N samples of one operator in a generated set from their ground-truth
 segmentation (the networks left out, as `sketch2cad eval --fitting-recovery` does), or
 with `--networks` runs the whole pipeline from the strokes (shipped weights, or those in
-W, as `sketch2cad eval --recovery` does), and prints each miss (volume IoU < 0.95) with the true and the fitted operation, then a
-tally: recovered, errors by message, and misses with the +/- option right or wrong;
+W, as `sketch2cad eval --recovery` does; both through `recovery.read_step`), and prints
+each miss (volume IoU < 0.95) with the true and the fitted operation, then a tally: recovered, errors by message, and misses with the +/- option right or wrong;
 a wrong one is split by whether the pipeline named the other Boolean as reading as
 well (the orthographic Necker case, paper Fig. 5b) and whether that would recover it.
 """
@@ -20,23 +20,9 @@ from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType, describe
 from Sketch2CADWorkbench.datagen.dataset import Dataset
-from Sketch2CADWorkbench.inference.fitting.common import FitError
-from Sketch2CADWorkbench.inference.interpret import (Context, InterpretError, InterpretOptions,
-                                                     fit_operation, interpret, other_option)
-from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU
-from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
-
-
-def read(s, context, predictor, renderer, opts):
-    """(operation, the other Boolean named or None) for sample s: the whole pipeline with
-    `predictor`, else the fitting stage on the ground-truth class, F and C."""
-    if predictor is not None:
-        got = interpret(context, s.strokes, s.camera, predictor, renderer, opts)
-        return got.operations[0], got.other_option
-    ctx = Context(s.camera, s.strokes, ContextMaps(s.depth, s.normal, s.face_id, None),
-                  s.inputs())
-    op, index, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label, ctx, opts)
-    return op, other_option(context, op, index, ctx.camera, opts)
+from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
+from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU, read_step
+from Sketch2CADWorkbench.render.maps import MapRenderer
 
 
 def main() -> None:
@@ -64,9 +50,10 @@ def main() -> None:
             context = replay(s.context)[-1]
             truth = apply_operation(context, s.operation)
             try:
-                op, other = read(s, context, predictor, renderer, options)
-                iou = volume_iou(apply_operation(context, op), truth)
-            except (FitError, OperationError, InterpretError) as e:
+                got = read_step(s, context, predictor, renderer, options)
+                op, other = got.operation, got.other_option
+                iou = volume_iou(got.solid, truth)
+            except (OperationError, InterpretError) as e:
                 tally[f"error: {str(e)[:70]}"] += 1
                 continue
             named += other is not None
@@ -80,9 +67,9 @@ def main() -> None:
             elif other is None:
                 tally["missed, option wrong, no other Boolean named"] += 1
             else:
-                flipped, _ = read(s, context, predictor, renderer,
-                                  dataclasses.replace(options, option=other))
-                ok = volume_iou(apply_operation(context, flipped), truth) >= RECOVERY_IOU
+                flipped = read_step(s, context, predictor, renderer,
+                                    dataclasses.replace(options, option=other))
+                ok = volume_iou(flipped.solid, truth) >= RECOVERY_IOU
                 tally[f"missed, option wrong, other named, flip {'recovers' if ok else 'misses'}"] += 1
             print(f"IoU {iou:.3f}\n  truth {describe(s.operation)}\n  got   {describe(op)}")
     print(f"{seen} {want.value} samples of {args.data} ({named} with the other Boolean "

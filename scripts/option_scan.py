@@ -3,7 +3,7 @@
 cover? `python scripts/option_scan.py DATA [addsub|sweep]`
 
 Fits every prism (or sweep) of a generated set from its ground-truth segmentation (the
-fitting stage alone), then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the
+fitting stage alone, `recovery.read_step`), then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the
 fitted primitive's far outline that back-projects onto f (`OTHER_FRACTION` in
 inference/fitting/primitive.py), prints the share of steps it would be named for and
 how many of the steps with the wrong +/- option it would cover.
@@ -14,14 +14,13 @@ import argparse
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import model_scale
+from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.datagen.dataset import Dataset
-from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
-from Sketch2CADWorkbench.inference.fitting.primitive import fraction_on_face, far_outline
-from Sketch2CADWorkbench.inference.interpret import Context, InterpretOptions, fit_operation
-from Sketch2CADWorkbench.render.maps import ContextMaps
+from Sketch2CADWorkbench.inference.fitting.primitive import far_outline_share
+from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
+from Sketch2CADWorkbench.inference.recovery import read_step
 
 
 def main() -> None:
@@ -37,19 +36,13 @@ def main() -> None:
             if s.op_type is not want:
                 continue
             context = replay(s.context)[-1]
-            ctx = Context(s.camera, s.strokes,
-                          ContextMaps(s.depth, s.normal, s.face_id, None), s.inputs())
             try:
-                op, index, _ = fit_operation(context, s.op_type, s.face_label, s.curve_label,
-                                             ctx, InterpretOptions(regularize=False))
-            except FitError:
+                op = read_step(s, context, None, None,
+                               InterpretOptions(regularize=False)).operation
+            except (InterpretError, OperationError):
                 continue
-            face = context.Faces()[index]
-            frame = FaceFrame.of(face)
-            seen = s.camera.project(far_outline(op, frame))[0]
-            seen = np.concatenate([seen, seen.mean(axis=0)[None]])  # and its centre, as named
-            on_plane = s.camera.back_project_to_plane(seen, frame.origin, frame.normal)
-            shares.append(fraction_on_face(face, on_plane, 1e-6 * model_scale(context)))
+            face = resolve_face(context, op.face).face
+            shares.append(far_outline_share(face, s.camera, op, 1e-6 * model_scale(context)))
             wrong.append(op.mode is not s.operation.mode)
     shares, wrong = np.array(shares), np.array(wrong)
     print(f"{len(shares)} {want.value} steps fitted, {int(wrong.sum())} with the wrong option")

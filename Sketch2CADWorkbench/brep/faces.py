@@ -8,6 +8,9 @@ import cadquery as cq
 import numpy as np
 from OCP.Bnd import Bnd_Box
 from OCP.BRepBndLib import BRepBndLib
+from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.gp import gp_Pnt
+from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
 from .protocol import FaceRef
 
@@ -48,6 +51,23 @@ def model_scale(solid: cq.Shape) -> float:
     BRepBndLib.Add_s(solid.wrapped, box, True)
     x0, y0, z0, x1, y1, z1 = box.Get()
     return float(np.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + (z1 - z0) ** 2))
+
+
+def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
+                   boundary: bool = True) -> np.ndarray:
+    """Which points (K, 3) of f's plane lie on f: (K,) bool.
+
+    OCCT's face classifier (a third of the time of a distance query per point). With
+    `boundary`, points within tol of f's edges count as on f; without, only strictly
+    inside ones do.
+    """
+    states = (TopAbs_IN, TopAbs_ON) if boundary else (TopAbs_IN,)
+    classifier = BRepClass_FaceClassifier()
+    out = np.empty(len(points), bool)
+    for i, p in enumerate(np.asarray(points, float)):
+        classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
+        out[i] = classifier.State() in states
+    return out
 
 
 def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:

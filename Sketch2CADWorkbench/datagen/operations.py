@@ -17,11 +17,8 @@ from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
-from OCP.BRepClass import BRepClass_FaceClassifier
-from OCP.gp import gp_Pnt
-from OCP.TopAbs import TopAbs_IN
 
-from ..brep.faces import face_ref_of
+from ..brep.faces import face_ref_of, points_on_face
 from ..brep.protocol import (AddSubPrism, Bevel, Extrude, FaceRef, Mode, Operation,
                              OperatorType, Sweep)
 
@@ -70,8 +67,7 @@ class BevelCorner:
 
 def inside_face(face: cq.Face, point: np.ndarray) -> bool:
     """Whether a point of f's plane lies strictly inside f (holes excluded)."""
-    state = BRepClass_FaceClassifier(face.wrapped, gp_Pnt(*map(float, point)), 1e-7).State()
-    return state == TopAbs_IN
+    return bool(points_on_face(face, np.asarray(point, float)[None], 1e-7, boundary=False)[0])
 
 
 def face_size(face: cq.Face) -> float:

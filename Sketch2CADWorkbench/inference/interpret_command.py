@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..brep.compare import volume_iou
 from ..brep.exchange import export_step
 from ..brep.operators import make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
@@ -66,7 +67,6 @@ def run(args: argparse.Namespace) -> int:
                       f"set this step's choices.option to have it)")
             solid = got.solid
         if reference:
-            from ..brep.compare import volume_iou
             print(f"         volume IoU with {args.compare.name} after step {i}: "
                   f"{volume_iou(solid, reference[i]):.3f}")
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import statistics
+from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
@@ -26,7 +27,7 @@ from tqdm import tqdm
 from ..brep.compare import volume_iou
 from ..brep.faces import OperationError
 from ..brep.operators import apply_operation, replay
-from ..brep.protocol import OperatorType
+from ..brep.protocol import Mode, Operation, OperatorType
 from ..datagen.dataset import Dataset
 from ..render.maps import ContextMaps, MapRenderer
 from .fitting.common import FitError
@@ -36,13 +37,29 @@ from .interpret import (Context, InterpretError, InterpretOptions, fit_operation
 RECOVERY_IOU = 0.95
 
 
-def _ground_truth_step(sample, context: cq.Shape, options: InterpretOptions
-                       ) -> tuple[cq.Shape, None, object]:
-    """Stage three alone: fit the sample's true class, F and C in its own context maps.
+@dataclass
+class StepReading:
+    """How one sample's sketch step was read."""
 
-    Returns:
-        (result solid, None for the time, the other Boolean or None).
+    operation: Operation
+    solid: cq.Shape                 # the sample's context solid with the operation applied
+    other_option: Mode | None       # the other Boolean, when named as reading as well
+    interpret_ms: float | None      # the whole step's time; None for the fitting stage alone
+
+
+def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None,
+              options: InterpretOptions) -> StepReading:
+    """Read one sample's step: by the whole pipeline with `predictor`, or with None by
+    the fitting stage alone, given the sample's true class, F and C in its own context
+    maps.
+
+    Raises:
+        InterpretError: the strokes do not fit; OperationError: the result does not build.
     """
+    if predictor is not None:
+        got = interpret(context, sample.strokes, sample.camera, predictor, renderer, options)
+        return StepReading(got.operations[0], got.solid, got.other_option,
+                           got.timings_ms["total"])
     ctx = Context(sample.camera, sample.strokes,
                   ContextMaps(sample.depth, sample.normal, sample.face_id, None), sample.inputs())
     try:
@@ -50,8 +67,8 @@ def _ground_truth_step(sample, context: cq.Shape, options: InterpretOptions
                                      sample.curve_label, ctx, options)
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
-    return apply_operation(context, op), None, other_option(context, op, index, ctx.camera,
-                                                            options)
+    return StepReading(op, apply_operation(context, op),
+                       other_option(context, op, index, ctx.camera, options), None)
 
 
 def recovery(data, predictor, limit: int, oracle: bool = False) -> dict:
@@ -69,11 +86,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False) -> dict:
     times, reasons = [], {}
     options = InterpretOptions(regularize=False)
 
-    def step(s, context, opts):
-        if oracle:
-            return _ground_truth_step(s, context, opts)
-        got = interpret(context, s.strokes, s.camera, predictor, renderer, opts)
-        return got.solid, got.timings_ms["total"], got.other_option
+    reader = None if oracle else predictor
 
     with tqdm(total=min(limit, len(ds)), desc="fitting" if oracle else "interpret",
               unit="sample", leave=False) as bar:
@@ -85,13 +98,15 @@ def recovery(data, predictor, limit: int, oracle: bool = False) -> dict:
                 other, flipped = None, False
                 try:
                     truth = apply_operation(context, s.operation)
-                    solid, ms, other = step(s, context, options)
-                    if ms is not None:
-                        times.append(ms)
-                    ok = volume_iou(solid, truth) >= RECOVERY_IOU
+                    got = read_step(s, context, reader, renderer, options)
+                    other = got.other_option
+                    if got.interpret_ms is not None:
+                        times.append(got.interpret_ms)
+                    ok = volume_iou(got.solid, truth) >= RECOVERY_IOU
                     if other is not None and not ok:
                         flip = dataclasses.replace(options, option=other)
-                        flipped = volume_iou(step(s, context, flip)[0], truth) >= RECOVERY_IOU
+                        flipped = volume_iou(read_step(s, context, reader, renderer, flip).solid,
+                                             truth) >= RECOVERY_IOU
                 except (InterpretError, OperationError) as e:
                     ok = False
                     key = str(e).split(":")[0][:60]

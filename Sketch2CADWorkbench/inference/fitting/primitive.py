@@ -5,10 +5,8 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 from matplotlib.path import Path as MplPath
-from OCP.BRepClass import BRepClass_FaceClassifier
-from OCP.gp import gp_Pnt
-from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
+from ...brep.faces import points_on_face
 from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FaceFrame, FitError
@@ -49,40 +47,29 @@ def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
                        frame.to_2d(np.array(face.Center().toTuple()))[0], diameter)
 
 
-def on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> np.ndarray:
-    """Which points (K, 3, on f's plane) lie on f, its boundary within tol included.
-    (OCCT's face classifier: a third of the time of a distance query per point.)"""
-    classifier = BRepClass_FaceClassifier()
-    out = np.empty(len(pts3d), bool)
-    for i, p in enumerate(pts3d):
-        classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
-        out[i] = classifier.State() in (TopAbs_IN, TopAbs_ON)
-    return out
-
-
 def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
     """The fraction of the points (on f's plane) that lie inside f."""
-    return float(np.mean(on_face(face, pts3d, tol)))
+    return float(np.mean(points_on_face(face, pts3d, tol)))
 
 
 def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
                   tol: float, grid: int = 16) -> float:
     """The share of f's area inside an outline (K, 2 pixels) back-projected onto f's plane:
     how much of f a primitive with that base outline would stand on."""
-    bb = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()])) if face.Vertices() \
-        else None
-    if bb is None or len(bb) < 2:
+    corners = np.array([v.toTuple() for v in face.Vertices()])
+    if len(corners) < 2:
         return 0.0
+    bb = frame.to_2d(corners)
     lo, hi = bb.min(axis=0), bb.max(axis=0)
     u, v = np.meshgrid(np.linspace(lo[0], hi[0], grid), np.linspace(lo[1], hi[1], grid))
     pts = frame.to_3d(np.stack([u.ravel(), v.ravel()], axis=1))
-    on_f = pts[on_face(face, pts, tol)]
+    on_f = pts[points_on_face(face, pts, tol)]
     if not len(on_f):
         return 0.0
     return float(np.mean(MplPath(outline).contains_points(camera.project(on_f)[0])))
 
 
-def _on_face(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
+def _outline_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
              tol: float) -> float:
     """The share of the outline's samples and centre that back-project onto f."""
     return fraction_on_face(face, camera.back_project_to_plane(
@@ -93,7 +80,7 @@ def stands_on_face(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline
                    tol: float) -> bool:
     """Whether a primitive with this base outline (K, 2 pixels) could stand on f: a
     quarter of the outline back-projects onto f, or its region covers half of f."""
-    return (_on_face(face, frame, camera, outline, tol) >= MOSTLY_FRACTION
+    return (_outline_share(face, frame, camera, outline, tol) >= MOSTLY_FRACTION
             or covered_share(face, frame, camera, outline, tol) >= COVER_FRACTION)
 
 
@@ -122,7 +109,7 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
             return forced
         raise FitError(f"the {forced.value} option needs its base outline on the base face, "
                        "and it is not there")
-    on = [_on_face(face, frame, camera, o, tol) for o in outlines]
+    on = [_outline_share(face, frame, camera, o, tol) for o in outlines]
     if on[0] >= ON_FACE_FRACTION:
         return Mode.ADD
     if on[1] >= ON_FACE_FRACTION:
@@ -151,6 +138,14 @@ def far_outline(op: AddSubPrism | Sweep, frame: FaceFrame) -> np.ndarray:
     return frame.to_3d(ring) + shift
 
 
+def far_outline_share(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep,
+                      tol: float) -> float:
+    """The share of the primitive's far outline (and its centre) that, back-projected
+    along the view onto f's plane, lies on f."""
+    frame = FaceFrame.of(face)
+    return _outline_share(face, frame, camera, camera.project(far_outline(op, frame))[0], tol)
+
+
 def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep,
                       tol: float) -> bool:
     """Whether the flipped Boolean explains the same strokes (the paper's Fig. 5b).
@@ -160,8 +155,5 @@ def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Swee
     when at least OTHER_FRACTION of the fitted primitive's far outline, back-projected
     along the view onto f's plane, lies on f, as a base outline should.
     """
-    if op.mode not in (Mode.ADD, Mode.SUBTRACT):
-        return False
-    frame = FaceFrame.of(face)
-    far = camera.project(far_outline(op, frame))[0]
-    return _on_face(face, frame, camera, far, tol) >= OTHER_FRACTION
+    return op.mode in (Mode.ADD, Mode.SUBTRACT) and \
+        far_outline_share(face, camera, op, tol) >= OTHER_FRACTION
