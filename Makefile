@@ -8,10 +8,10 @@ setup:
 # The main job: interpret a bundled sketch session (strokes drawn over the model, step by
 # step) into a protocol, a STEP file and a picture; then build the example protocols.
 demo: setup
-	.venv/bin/sketch2cad interpret examples/sessions/camera.json --keep-going \
+	.bin/sketch2cad interpret examples/sessions/camera.json --keep-going \
 	    --protocol out/camera-interpreted.json --step out/camera-interpreted.step \
 	    --png out/camera-interpreted.png
-	.venv/bin/sketch2cad demo --out out
+	.bin/sketch2cad demo --out out
 
 # The whole test suite, FreeCAD and GUI tests included.
 test: setup
@@ -20,14 +20,14 @@ test: setup
 # Not part of demo or test: the shipped weights from scratch (data, 90 min of
 # training on 2 CPU cores, evaluation, model card). Each step resumes where it stopped.
 weights: setup
-	.venv/bin/sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix
+	.bin/sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix
 	for n in 1 2 3; do \
-	    .venv/bin/sketch2cad datagen --out data/test-l$$n --count 400 --seed 1000$$n \
+	    .bin/sketch2cad datagen --out data/test-l$$n --count 400 --seed 1000$$n \
 	        --noise-level $$n || exit 1; done
-	.venv/bin/sketch2cad train --data data/train2 --out runs/main --minutes 90 --threads 2
+	.bin/sketch2cad train --data data/train2 --out runs/main --minutes 90 --threads 2
 	for n in 1 2 3; do \
-	    .venv/bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
+	    .bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
 	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
 	        --fitting-recovery || exit 1; done
-	.venv/bin/python scripts/model_card.py --run runs/main \
+	.bin/python scripts/model_card.py --run runs/main \
 	    --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json

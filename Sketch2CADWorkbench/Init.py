@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # FreeCAD exec()s this file at startup, in the GUI and in freecadcmd, before any workbench
 # is activated or any document restored. It puts the repository root (the parent of this
-# folder, which FreeCAD put on sys.path) and the project's venv at the front of sys.path,
-# so that the proxies of saved Sketch2CAD documents and the workbench import cadquery
-# with the venv's numpy and pyparsing. There is no __file__ here.
+# folder, which FreeCAD put on sys.path) and the workbench's dependency folder, when it has
+# been installed, at the front of sys.path, so that the proxies of saved Sketch2CAD
+# documents and the workbench import cadquery with that folder's numpy and pyparsing.
+# When the folder is missing nothing fails here: the workbench offers to install it when
+# it is first activated. There is no __file__ here.
 
 
 def _sketch2cad_bootstrap():

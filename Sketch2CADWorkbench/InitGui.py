@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # FreeCAD exec()s this file: no __file__, and top-level names are not visible inside
 # methods, so everything is imported inside them. Init.py has already put the repository
-# root and the venv at the front of sys.path; the commands (and cadquery) are imported
-# only when the workbench is first activated.
+# root and the dependency folder (when installed) at the front of sys.path; the commands
+# (and cadquery) are imported only when the workbench is first activated. When cadquery,
+# torch or VTK are missing then, a dialog offers to install them (see
+# freecad_layer/install_dialog.py); declined, the workbench holds only its Install command.
 
 
 class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
@@ -18,11 +20,34 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
 
     def Initialize(self):
         import FreeCADGui
+        from Sketch2CADWorkbench.freecad_layer import dependencies, install_dialog
+        FreeCADGui.addCommand(install_dialog.COMMAND,
+                              install_dialog.InstallDependencies(self.installed_later))
+        missing = dependencies.missing()
+        if missing and not install_dialog.offer(missing):
+            self.appendMenu("Sketch2CAD", [install_dialog.COMMAND])
+            self.appendToolbar("Sketch2CAD", [install_dialog.COMMAND])
+            return
+        self.add_commands()
+
+    def add_commands(self):
+        """Register the commands (which import cadquery) and fill the toolbar and menu."""
+        import FreeCADGui
         from Sketch2CADWorkbench.commands import COMMANDS, MENU, TOOLBAR
         for name, command in COMMANDS.items():
-            FreeCADGui.addCommand(name, command)
+            if name not in FreeCADGui.listCommands():
+                FreeCADGui.addCommand(name, command)
+        self.removeToolbar("Sketch2CAD")
+        self.removeMenu("Sketch2CAD")
         self.appendToolbar("Sketch2CAD", TOOLBAR)
-        self.appendMenu("Sketch2CAD", MENU)
+        self.appendMenu("Sketch2CAD", MENU + ["Separator", "Sketch2CAD_InstallDependencies"])
+
+    def installed_later(self):
+        """After the Install command succeeded: the full workbench, shown at once."""
+        import FreeCADGui
+        self.add_commands()
+        FreeCADGui.activateWorkbench("NoneWorkbench")  # toolbars are rebuilt on activation
+        FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"

@@ -3,7 +3,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 export LANG=C.UTF-8
-.venv/bin/python -m pytest -q "$@"
+.bin/python -m pytest -q "$@"
 rc=$?
 if [ $rc -eq 5 ]; then
     echo "run_tests: pytest collected no tests; failing" >&2

@@ -1,41 +1,66 @@
 #!/usr/bin/env bash
-# Installs what Sketch2CAD needs, idempotently: Debian's FreeCAD and Xvfb, a virtual
-# environment at .venv/ from Debian's python3.11 (the interpreter FreeCAD's modules are
-# built for) holding this package (editable) and its dependencies, and a link of this
-# repository into FreeCAD's user Mod folder. Fast when everything is already there.
+# Installs what Sketch2CAD needs, idempotently, on Debian (12 on the host; 13 and testing in
+# the chroots of scripts/chroot.sh): Debian's FreeCAD and Xvfb, a link of this checkout into
+# FreeCAD's user Mod folder (as the Addon Manager clones an addon there), and then the
+# workbench's Python dependencies through the workbench's own installer, the code behind
+# its Install button (scripts/install_dependencies.py in freecadcmd), plus the test tools.
+# Last, .bin/python and .bin/sketch2cad: FreeCAD's Python with that folder in front.
+# Fast when everything is already there.
+#
+# SKETCH2CAD_TORCH=pip (default): torch from the registry, pinned to 2.13.0 (this
+# machine's CPU build); =debian: Debian's CPU-only python3-torch (PyPI has only CUDA
+# builds for Python 3.13 and 3.14).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
+TORCH=${SKETCH2CAD_TORCH:-pip}
 
 need_apt=()
 command -v freecadcmd >/dev/null 2>&1 || need_apt+=(freecad)
-command -v xvfb-run >/dev/null 2>&1 || need_apt+=(xvfb)
+command -v xvfb-run >/dev/null 2>&1 || need_apt+=(xvfb xauth)
+command -v git >/dev/null 2>&1 || need_apt+=(git)
+dpkg -s python3-pip >/dev/null 2>&1 || need_apt+=(python3-pip)
+[ "$TORCH" = debian ] && { dpkg -s python3-torch >/dev/null 2>&1 || need_apt+=(python3-torch); }
 if [ ${#need_apt[@]} -gt 0 ]; then
     echo "setup: installing Debian packages: ${need_apt[*]}"
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+        "${need_apt[@]}" libxcursor1 >/dev/null
 fi
 
-if [ ! -x .venv/bin/python ]; then
-    echo "setup: creating .venv from /usr/bin/python3.11"
-    /usr/bin/python3.11 -m venv .venv
-fi
-stamp=.venv/.sketch2cad-installed
-if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ ! -x .venv/bin/sketch2cad ]; then
-    echo "setup: installing Python packages into .venv (first time: a few minutes)"
-    .venv/bin/python -m pip install -q --upgrade pip
-    # torch first, pinned: the CPU build; an unpinned torch would pull a multi-GB CUDA build.
-    .venv/bin/python -m pip install -q torch==2.13.0
-    .venv/bin/python -m pip install -q -e ".[test]"
-    touch "$stamp"
-fi
-
-# Link the repository root into FreeCAD's user Mod folder, as the Addon Manager would clone it.
-MOD="${HOME}/.local/share/FreeCAD/Mod"
+# FreeCAD's user folder (per version from FreeCAD 1.1 on) and its Mod link.
+USERDATA=$(freecadcmd -c "import FreeCAD; print('USERDATA=' + FreeCAD.getUserAppDataDir())" 2>/dev/null \
+           | sed -n 's/^USERDATA=//p' | tail -n 1)
+[ -n "$USERDATA" ] || { echo "setup: freecadcmd did not say where its user folder is" >&2; exit 1; }
+MOD="${USERDATA%/}/Mod"
 mkdir -p "$MOD"
 if [ "$(readlink -f "$MOD/Sketch2CAD" 2>/dev/null)" != "$ROOT" ]; then
     rm -rf "$MOD/Sketch2CAD"
     ln -s "$ROOT" "$MOD/Sketch2CAD"
     echo "setup: linked $ROOT into $MOD/Sketch2CAD"
 fi
+
+# The workbench's installer, as the Install button runs it.
+export SKETCH2CAD_EXTRAS=test
+if [ "$TORCH" = pip ]; then
+    export SKETCH2CAD_TORCH_REQUIREMENT=torch==2.13.0 SKETCH2CAD_TORCH_INDEX=""
+fi
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+# The installer's own lines and pip's main ones, as they come (the first install takes minutes).
+LANG=C.UTF-8 freecadcmd "$ROOT/scripts/install_dependencies.py" 2>&1 | tee "$log" \
+    | grep --line-buffered -E '^install_dependencies|^    (Collecting|Successfully|ERROR)' || true
+line=$(grep '^python=' "$log" | tail -n 1)
+[ -n "$line" ] || { echo "setup: the dependency installer failed:" >&2; tail -n 30 "$log" >&2; exit 1; }
+PY=${line#python=}; PY=${PY%% folder=*}
+DEPS=${line##* folder=}
+
+mkdir -p .bin
+cat >.bin/python <<EOF
+#!/bin/sh
+# Made by scripts/setup.sh: FreeCAD's Python with the workbench's dependency folder in front.
+PYTHONPATH="$DEPS:$ROOT\${PYTHONPATH:+:\$PYTHONPATH}" exec "$PY" "\$@"
+EOF
+printf '#!/bin/sh\nexec "%s/.bin/python" -m Sketch2CADWorkbench.cli "$@"\n' "$ROOT" >.bin/sketch2cad
+chmod +x .bin/python .bin/sketch2cad

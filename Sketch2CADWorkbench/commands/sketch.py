@@ -174,4 +174,5 @@ class SketchPanel:
         self.reject()
 
     def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+        flags = QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel
+        return int(getattr(flags, "value", flags))  # PySide6's flags are enums: int() fails

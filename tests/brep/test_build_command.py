@@ -3,6 +3,7 @@
 import json
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -11,11 +12,11 @@ from Sketch2CADWorkbench.brep.exchange import import_step
 from Sketch2CADWorkbench.brep.operators import build
 from Sketch2CADWorkbench.brep.protocol import load
 
-CLI = str(Path(__file__).resolve().parents[2] / ".venv" / "bin" / "sketch2cad")
+CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
 
 
 def run(*args):
-    return subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, timeout=120)
+    return subprocess.run([*CLI, *map(str, args)], capture_output=True, text=True, timeout=120)
 
 
 def test_build_writes_step_with_the_protocol_volume(tmp_path, examples_dir):

@@ -7,19 +7,20 @@ figures less a margin for the small sample. A regression cannot land silently.
 """
 import json
 import subprocess
+import sys
 from pathlib import Path
 
 from Sketch2CADWorkbench.inference.evaluate import evaluate
 from Sketch2CADWorkbench.inference.weights import DEFAULT_WEIGHTS, WEIGHTS_DIR
 
-CLI = str(Path(__file__).resolve().parents[2] / ".venv" / "bin" / "sketch2cad")
+CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
 
 
 def test_shipped_weights_meet_the_model_cards_thresholds(tmp_path):
     assert DEFAULT_WEIGHTS.is_file(), "the package must ship trained weights"
     assert DEFAULT_WEIGHTS.stat().st_size < 25 * 2 ** 20
     limits = json.loads((WEIGHTS_DIR / "thresholds.json").read_text())
-    out = subprocess.run([CLI, "datagen", "--out", str(tmp_path), "--count", "96", "--seed",
+    out = subprocess.run([*CLI, "datagen", "--out", str(tmp_path), "--count", "96", "--seed",
                           "9090", "--noise-level", "1", "--workers", "2"],
                          capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-2000:]
@@ -37,7 +38,7 @@ def test_the_shipped_sessions_rebuild_the_models_they_were_drawn_from():
     # shipped weights every step is read, and the model stays close to the intended one
     root = Path(__file__).resolve().parents[2] / "examples"
     for name in ("camera", "hammer", "mixer"):
-        out = subprocess.run([CLI, "interpret", str(root / "sessions" / f"{name}.json"),
+        out = subprocess.run([*CLI, "interpret", str(root / "sessions" / f"{name}.json"),
                               "--compare", str(root / "protocols" / f"{name}.json")],
                              capture_output=True, text=True, timeout=300)
         assert out.returncode == 0, out.stderr[-2000:]
@@ -50,7 +51,7 @@ def test_the_shipped_sessions_rebuild_the_models_they_were_drawn_from():
 
 def test_compare_needs_one_operation_per_step(tmp_path):
     root = Path(__file__).resolve().parents[2] / "examples"
-    out = subprocess.run([CLI, "interpret", str(root / "sessions" / "camera.json"),
+    out = subprocess.run([*CLI, "interpret", str(root / "sessions" / "camera.json"),
                           "--compare", str(root / "protocols" / "hammer.json")],
                          capture_output=True, text=True, timeout=300)
     assert out.returncode == 2

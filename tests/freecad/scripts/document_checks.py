@@ -43,7 +43,8 @@ def startup():
     import freecad
     import numpy
     assert "Sketch2CADWorkbench.freecad_layer.env" in sys.modules, "Init.py did not bootstrap"
-    assert ".venv" in numpy.__file__, numpy.__file__
+    from Sketch2CADWorkbench.freecad_layer import dependencies
+    assert numpy.__file__.startswith(dependencies.folder()), (numpy.__file__, dependencies.folder())
     assert all("Sketch2CADWorkbench" not in p for p in freecad.__path__), freecad.__path__
 
 

@@ -6,6 +6,7 @@ pipeline itself frames, so these tests check everything but the networks: framin
 rendering, counting, fitting, the B-rep operation, symmetry and the error path.
 """
 import subprocess
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -25,7 +26,7 @@ from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.strokes import rasterize
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
-CLI = str(Path(__file__).resolve().parents[3] / ".venv" / "bin" / "sketch2cad")
+CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
 
 
 @pytest.fixture(scope="module")
@@ -174,7 +175,7 @@ def test_a_meaningless_sketch_is_refused_and_the_solid_kept(renderer):
 
 def test_interpret_command_rejects_a_broken_session(tmp_path):
     (tmp_path / "s.json").write_text('{"format": "sketch2cad-session", "version": 1}')
-    out = subprocess.run([CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
+    out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
                          text=True, timeout=120)
     assert out.returncode == 2 and "s.json: session: missing key" in out.stderr
 
