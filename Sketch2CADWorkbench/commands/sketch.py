@@ -133,9 +133,7 @@ class SketchPanel:
         mat.diffuseColor = (0.3, 0.75, 0.4)
         mat.transparency = 0.45
         node.addChild(mat)
-        inp = coin.SoInput()
-        inp.setBuffer(shape.writeInventor())
-        node.addChild(coin.SoDB.readAll(inp))
+        node.addChild(_mesh_node(shape))
         graph.addChild(node)
         self.preview = node
 
@@ -176,3 +174,18 @@ class SketchPanel:
     def getStandardButtons(self):
         flags = QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel
         return int(getattr(flags, "value", flags))  # PySide6's flags are enums: int() fails
+
+
+def _mesh_node(shape, tolerance: float = 0.1):
+    """Coin nodes of the shape's triangles (built directly: the text of writeInventor()
+    differs between FreeCAD versions, and FreeCAD 1.0's is not read back by Coin)."""
+    points, triangles = shape.tessellate(tolerance)
+    group = coin.SoGroup()
+    coords = coin.SoCoordinate3()
+    coords.point.setValues(0, len(points), [(p.x, p.y, p.z) for p in points])
+    faces = coin.SoIndexedFaceSet()
+    faces.coordIndex.setValues(0, 4 * len(triangles),
+                               [i for tri in triangles for i in (*tri, -1)])
+    group.addChild(coords)
+    group.addChild(faces)
+    return group

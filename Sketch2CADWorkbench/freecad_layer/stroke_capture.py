@@ -73,8 +73,8 @@ class StrokeCapture:
             if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
                 return  # navigation keeps the other buttons and the wheel
             if ev.getState() == coin.SoButtonEvent.DOWN:
+                self.strokes.append([self._world(_xy(ev.getPosition()))])
                 self.drawing = True
-                self.strokes.append([self._world(ev.getPosition().getValue())])
             elif self.drawing:
                 self.drawing = False
                 if len(self.strokes[-1]) < 2:
@@ -82,7 +82,7 @@ class StrokeCapture:
                 self.redraw()
             event_cb.setHandled()
         elif ev.isOfType(coin.SoLocation2Event.getClassTypeId()) and self.drawing:
-            self.strokes[-1].append(self._world(ev.getPosition().getValue()))
+            self.strokes[-1].append(self._world(_xy(ev.getPosition())))
             self.redraw()
             event_cb.setHandled()
         elif ev.isOfType(coin.SoKeyboardEvent.getClassTypeId()) \
@@ -124,3 +124,9 @@ class StrokeCapture:
         self.view.getViewer().setRedirectToSceneGraph(self.was_redirected)
         top, events, graph, root = self.top, self.events, self.graph, self.root
         QtCore.QTimer.singleShot(0, lambda: (top.removeChild(events), graph.removeChild(root)))
+
+
+def _xy(position) -> tuple:
+    """An SbVec2s as (x, y): indexing works in every pivy, while getValue() returns an
+    opaque SWIG pointer in FreeCAD 1.1's."""
+    return float(position[0]), float(position[1])

@@ -29,9 +29,29 @@ def app():
     return QtGui.QApplication.instance()
 
 
-def settle() -> None:
-    for _ in range(3):
-        app().processEvents()
+def _camera_state():
+    doc = FreeCADGui.ActiveDocument
+    if doc is None:
+        return None
+    cam = doc.ActiveView.getCameraNode()
+    return (tuple(cam.position.getValue().getValue()), tuple(cam.orientation.getValue().getValue()),
+            tuple(cam.height.getValue() for _ in [0] if hasattr(cam, "height")))
+
+
+def settle(timeout: float = 3.0) -> None:
+    """Process events until the camera stops moving: FreeCAD 1.1 animates standard views
+    and zooms (its navigation animations, on by default), as a user waits for them."""
+    import time
+    end = time.monotonic() + timeout
+    last = None
+    while time.monotonic() < end:
+        for _ in range(3):
+            app().processEvents()
+        state = _camera_state()
+        if state == last:
+            return
+        last = state
+        time.sleep(0.05)
 
 
 def report_view() -> str:

@@ -25,8 +25,9 @@ def close(a: float, b: float, rel: float = 1e-6) -> bool:
 
 
 def say(line: str) -> None:
-    print(f"\n{line}")  # on its own line: FreeCAD's progress output has no newline
-    sys.stdout.flush()
+    # sys.__stdout__: FreeCAD 1.0's GUI sends sys.stdout to the report view only. On its
+    # own line: FreeCAD's progress output has no newline.
+    print(f"\n{line}", file=sys.__stdout__, flush=True)
 
 
 def tested_checkout() -> None:
@@ -48,12 +49,12 @@ def run_checks() -> int:
         except Exception:
             failed += 1
             say(f"CHECK FAILED {fn.__name__}")
-            traceback.print_exc(file=sys.stdout)
+            traceback.print_exc(file=sys.__stdout__)
     return 1 if failed else 0
 
 
 def finish(code: int) -> None:
     """Leave FreeCAD now with `code` (its own exit would not pass it on)."""
-    sys.stdout.flush()
-    sys.stderr.flush()
+    for stream in (sys.stdout, sys.stderr, sys.__stdout__, sys.__stderr__):
+        stream.flush()
     os._exit(code)
