@@ -6,7 +6,7 @@ pytestmark = pytest.mark.freecad
 
 CHECKS = ["startup", "addon_metadata", "tree_from_protocol", "edit_and_recompute",
           "sweep_profile_follows_its_radii", "unbuildable_value_puts_only_that_feature_in_error",
-          "save_fcstd", "step_export_and_brep_transfer"]
+          "save_fcstd", "interpret_session_inside_freecad", "step_export_and_brep_transfer"]
 
 
 @pytest.fixture(scope="module")
@@ -21,11 +21,20 @@ def test_document(document_run, assert_passed, name):
     assert_passed(document_run[1], name)
 
 
-def test_fcstd_reopens_in_a_fresh_freecad_with_the_full_tree(document_run, run_freecad,
-                                                            assert_passed):
+@pytest.fixture(scope="module")
+def reopen_run(document_run, run_freecad, assert_passed):
+    """A fresh freecadcmd reopening what document_run saved (scripts/reopen_checks.py)."""
     tmp, first = document_run
     assert_passed(first, "save_fcstd")
-    assert_passed(run_freecad("reopen_checks.py", tmp), "reopen_fcstd")
+    return run_freecad("reopen_checks.py", tmp)
+
+
+def test_fcstd_reopens_in_a_fresh_freecad_with_the_full_tree(reopen_run, assert_passed):
+    assert_passed(reopen_run, "reopen_fcstd")
+
+
+def test_fcstd_saved_by_freecad_0_20_and_1_1_opens_and_recomputes(reopen_run, assert_passed):
+    assert_passed(reopen_run, "reopen_fcstd_saved_by_other_versions")
 
 
 def test_every_check_ran(document_run):

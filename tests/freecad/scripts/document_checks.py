@@ -157,6 +157,32 @@ def save_fcstd():
 
 
 @check
+def interpret_session_inside_freecad():
+    # the whole pipeline in FreeCAD's process: torch, the weights, VTK, the fitting
+    from Sketch2CADWorkbench.brep.compare import volume_iou
+    from Sketch2CADWorkbench.brep.operators import make_box
+    from Sketch2CADWorkbench.brep.protocol import Protocol
+    from Sketch2CADWorkbench.inference.interpret import InterpretOptions, interpret
+    from Sketch2CADWorkbench.inference.session import load_session
+    from Sketch2CADWorkbench.inference.weights import load_predictor
+    from Sketch2CADWorkbench.render.maps import MapRenderer
+    session = load_session(os.path.join(ROOT, "examples", "sessions", "camera.json"))
+    predictor, renderer = load_predictor(), MapRenderer()
+    protocol, solid = Protocol(session.base), make_box(session.base)
+    for step in session.steps:
+        c = step.choices
+        got = interpret(solid, step.strokes, step.camera, predictor, renderer,
+                        InterpretOptions(c.regularize, c.option, c.symmetry))
+        for op in got.operations:
+            protocol = protocol.append(op)
+        solid = got.solid
+    assert volume_iou(solid, build(example("camera"))) >= 0.9
+    model = make_model_from_protocol(FreeCAD.newDocument("interpreted"), protocol)
+    assert not failed_features(model)
+    assert close(features(model)[-1].Shape.Volume, solid.Volume())
+
+
+@check
 def step_export_and_brep_transfer():
     p = example("nut")
     solid = build(p)

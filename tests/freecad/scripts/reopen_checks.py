@@ -9,23 +9,23 @@ from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_chec
 
 import FreeCAD  # noqa: E402
 
+DATA = os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "data")
+
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.make.make_model import (  # noqa: E402
     failed_features, features, find_models, protocol_from_model)
 
 
-@check
-def reopen_fcstd():
-    tested_checkout()
+def reopen_and_recompute(path: str):
+    """Open the hammer's FCStd: the same tree and protocol, every step rebuilt as the core
+    replays it, and the restored proxies still work. Returns the model's features."""
     p = load(os.path.join(EXAMPLES, "hammer.json"))
-    doc = FreeCAD.openDocument(os.path.join(TMP, "hammer.FCStd"))
+    doc = FreeCAD.openDocument(path)
     (model,) = find_models(doc)
     chain = features(model)
     assert [o.Name for o in model.Group] == [o.Name for o in chain]
     assert protocol_from_model(model) == p
-    saved = json.load(open(os.path.join(TMP, "hammer-volumes.json")))
-    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, saved))
     for o in chain:
         o.touch()
     doc.recompute()
@@ -36,6 +36,29 @@ def reopen_fcstd():
     inner = list(sweep.ProfileInner)
     sweep.Radius0 = sweep.Radius0.Value * 1.2  # the restored proxy still retunes
     assert list(sweep.ProfileInner) != inner
+    return chain
+
+
+@check
+def reopen_fcstd():
+    tested_checkout()
+    saved = json.load(open(os.path.join(TMP, "hammer-volumes.json")))
+    doc = FreeCAD.openDocument(os.path.join(TMP, "hammer.FCStd"))
+    (model,) = find_models(doc)
+    assert all(close(o.Shape.Volume, v) for o, v in zip(features(model), saved))
+    FreeCAD.closeDocument(doc.Name)
+    reopen_and_recompute(os.path.join(TMP, "hammer.FCStd"))
+
+
+@check
+def reopen_fcstd_saved_by_other_versions():
+    # made by this check list's save_fcstd in FreeCAD 0.20.2 and 1.1.3 (document_checks.py,
+    # its TMP/hammer.FCStd); each FreeCAD opens and rebuilds both
+    for name in sorted(os.listdir(DATA)):
+        if name.endswith(".FCStd"):
+            for doc in list(FreeCAD.listDocuments().values()):
+                FreeCAD.closeDocument(doc.Name)
+            reopen_and_recompute(os.path.join(DATA, name))
 
 
 finish(run_checks())
