@@ -1,67 +1,22 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Running scripts inside FreeCAD: freecadcmd, or the GUI on a virtual X screen.
-
-The scripts in scripts/ print "CHECK PASSED <name>" or "CHECK FAILED <name>" with a
-traceback for each check, and exit 1 if any failed (freecadcmd would exit 0 on an
-uncaught exception).
-"""
-import os
-import shutil
-import signal
+"""Fixtures running scripts inside FreeCAD (see freecad_process.py)."""
 import subprocess
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPTS = Path(__file__).resolve().parent / "scripts"
-XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"]
-
-
-def _env(tmp_path) -> dict:
-    env = dict(os.environ, LANG="C.UTF-8", SKETCH2CAD_ROOT=str(ROOT), SKETCH2CAD_TMP=str(tmp_path),
-               # as root, the Start page's web view needs these or FreeCAD exits
-               QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox", QTWEBENGINE_DISABLE_SANDBOX="1")
-    env.pop("PYTHONPATH", None)  # FreeCAD's own path set-up, as a user would have it
-    return env
-
-
-def _run(script: str, tmp_path, gui: bool, timeout: int) -> subprocess.CompletedProcess:
-    """Run the script; past `timeout` seconds FreeCAD (and Xvfb) are killed, and the
-    output so far comes back with return code -9."""
-    exe = "freecad" if gui else "freecadcmd"
-    for tool in [exe] + (XVFB[:1] if gui else []):
-        assert shutil.which(tool), f"{tool} is not installed (scripts/setup.sh installs it)"
-    cmd = (XVFB if gui else []) + [exe, str(SCRIPTS / script)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=_env(tmp_path), cwd=tmp_path, start_new_session=True)
-    try:
-        out, err = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)  # its own session: xvfb-run, Xvfb and FreeCAD
-        out, err = proc.communicate()
-        err += f"\n{script} killed after {timeout} s"
-    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
-
-
-# FreeCAD 1.0 moves its old Start workbench's settings on the first start of a user config
-# and says so in the report view; the checks' processes end by os._exit, which never saves
-# that it is done. A user's config has done it once: so does the test's, before the GUI runs.
-PRIME_USER_CONFIG = ("import FreeCAD\n"
-                     "FreeCAD.ParamGet('User parameter:BaseApp/Preferences/Mod/Start')"
-                     ".SetBool('Migration2024Complete', True)\n"
-                     "FreeCAD.saveParameter()\n")
+from freecad_process import PRIME_USER_CONFIG, freecad_env, run_script
 
 
 @pytest.fixture(scope="session")
 def run_freecad(tmp_path_factory):
     """run_freecad(script, tmp_path, gui=False, timeout=300) -> CompletedProcess."""
     primed = subprocess.run(["freecadcmd", "-c", PRIME_USER_CONFIG], capture_output=True,
-                            text=True, env=_env(tmp_path_factory.mktemp("prime")), timeout=120)
+                            text=True, env=freecad_env(tmp_path_factory.mktemp("prime")),
+                            timeout=120)
     assert primed.returncode == 0, primed.stdout + primed.stderr
 
     def run(script: str, tmp_path, gui: bool = False, timeout: int = 300):
-        return _run(script, tmp_path, gui, timeout)
+        return run_script(script, tmp_path, gui, timeout)
     return run
 
 
