@@ -59,7 +59,7 @@ bind /dev/shm /dev/shm
 # A copy of the working tree, not a bind mount: the chroot's .bin/ and caches stay its own.
 rm -rf --one-file-system "$DIR/sketch2cad"
 mkdir -p "$DIR/sketch2cad"
-tar -C "$ROOT" --exclude=./.bin --exclude=./.venv --exclude=./.git --exclude=./data --exclude=./runs --exclude=./out \
+tar -C "$ROOT" --exclude=./.bin --exclude=./.venv --exclude=./data --exclude=./runs --exclude=./out \
     --exclude=__pycache__ -cf - . | tar -C "$DIR/sketch2cad" -xf -
 
 ca=/etc/ssl/certs/sketch2cad-host-ca.crt

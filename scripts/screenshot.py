@@ -16,6 +16,7 @@ once the file is written, 1 otherwise.
 """
 import os
 import sys
+import time
 import traceback
 
 import FreeCAD
@@ -32,9 +33,12 @@ OUT = os.environ.get("SKETCH2CAD_SCREENSHOT", os.path.join(
 WINDOW = (1500, 900)  # device-independent pixels (Xvfb: 1.04 device pixels each)
 
 
-def settle() -> None:
-    for _ in range(5):
+def settle(seconds: float = 1.0) -> None:
+    """Process events for a while: FreeCAD 1.1 animates view changes."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
         QtGui.QApplication.processEvents()
+        time.sleep(0.02)
 
 
 def show_model():
@@ -121,11 +125,11 @@ def main():
             settle()
             FreeCADGui.ActiveDocument.ActiveView.fitAll()
         grab(OUT)
-        print(f"screenshot: wrote {OUT}")
+        print(f"screenshot: wrote {OUT}", file=sys.__stdout__)  # 1.0: stdout is the report view
     except Exception:
-        traceback.print_exc()
+        traceback.print_exc(file=sys.__stdout__)
         code = 1
-    sys.stdout.flush()
+    sys.__stdout__.flush()
     os._exit(code)
 
 

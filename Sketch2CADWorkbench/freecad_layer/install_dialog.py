@@ -37,7 +37,7 @@ class InstallDialog(QtGui.QDialog):
         self.info = QtGui.QLabel(
             f"Sketch2CAD needs Python packages that FreeCAD does not include: "
             f"<b>{', '.join(missing)}</b>.<br>Install them now with FreeCAD's Python "
-            f"(<tt>{plan.python}</tt>) into <tt>{plan.target}</tt>? They take about 2 GB "
+            f"(<tt>{plan.python}</tt>) into <tt>{plan.target}</tt>? They take about 3 GB "
             f"and a few minutes to download. {torch}<br>Nothing else in FreeCAD changes.")
         self.info.setWordWrap(True)
         self.info.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
@@ -117,8 +117,9 @@ def offer(missing: list) -> bool:
         shadowed = env.shadowed_modules()
         if shadowed:
             FreeCAD.Console.PrintWarning(
-                f"Sketch2CAD: {', '.join(shadowed)} were loaded before the installation; "
-                "restart FreeCAD to use the installed ones\n")
+                f"Sketch2CAD: {', '.join(shadowed)} {'was' if len(shadowed) == 1 else 'were'} "
+                "loaded by FreeCAD before the installation; restart FreeCAD to use the "
+                "installed copy\n")
         return not dependencies.missing()
     FreeCAD.Console.PrintWarning(
         f"Sketch2CAD needs {', '.join(missing)}. Install them from the menu Sketch2CAD > "

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Installed as the Addon Manager installs it: a plain copy of the repository in the Mod
 folder of an empty user folder, no dependencies, no setup script. The workbench's own
-dialog installs them on first activation and the workbench comes up (a real pip install
+dialog offers them on first activation; declined, FreeCAD goes on; from the menu
+later, they install and the workbench comes up (a real pip install
 into the temporary user folder: about a minute from pip's cache)."""
 import os
 import shutil
@@ -15,7 +16,8 @@ from freecad_process import PRIME_USER_CONFIG, ROOT, freecad_env, run_script
 pytestmark = [pytest.mark.freecad, pytest.mark.gui, pytest.mark.slow]
 
 CHECKS = ["loaded_from_the_addon_folder_with_nothing_installed",
-          "first_activation_installs_through_the_dialog",
+          "declined_at_first_activation_freecad_goes_on_and_says_what_to_run",
+          "the_install_command_installs_through_the_dialog",
           "the_workbench_is_whole_without_a_restart"]
 
 
