@@ -17,7 +17,7 @@ COMMANDS = {
     "Sketch2CADWorkbench.brep.commands": {
         "build": "replay a protocol into a solid; write STEP and a picture",
         "demo": "build every bundled example protocol into STEP + PNG"},
-    "Sketch2CADWorkbench.datagen.command": {
+    "datagen.command": {
         "datagen": "generate synthetic training/evaluation samples"},
     "Sketch2CADWorkbench.inference.train": {
         "train": "train the networks on a generated data set"},

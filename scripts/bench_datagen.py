@@ -20,8 +20,8 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from Sketch2CADWorkbench.datagen import command
-from Sketch2CADWorkbench.datagen.generate import PER_CONTEXT, generate_block
+from datagen import command
+from datagen.generate import PER_CONTEXT, generate_block
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 TARGET = 40_000

@@ -19,7 +19,7 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType, describe
-from Sketch2CADWorkbench.datagen.dataset import Dataset
+from datagen.dataset import Dataset
 from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
 from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU, read_step
 from Sketch2CADWorkbench.render.maps import MapRenderer

@@ -17,7 +17,7 @@ import numpy as np
 from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType
-from Sketch2CADWorkbench.datagen.dataset import Dataset
+from datagen.dataset import Dataset
 from Sketch2CADWorkbench.inference.fitting.primitive import far_outline_share
 from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
 from Sketch2CADWorkbench.inference.recovery import read_step

@@ -67,7 +67,7 @@ def show_sketch_step():
     top face (the strokes the data generator would draw, jittered), interpreted."""
     from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
     from Sketch2CADWorkbench.commands.sketch import SketchPanel
-    from Sketch2CADWorkbench.datagen.curves import operation_curves
+    from Sketch2CADWorkbench.sketch.curves import operation_curves
     from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model
     from Sketch2CADWorkbench.freecad_layer.shapes import from_part
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")

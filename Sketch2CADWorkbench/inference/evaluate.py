@@ -37,13 +37,12 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
-from ..brep.protocol import OperatorType
-from ..datagen.dataset import Dataset, decode_inputs
+from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
+from datagen.dataset import Dataset, decode_inputs
 
-CLASSES = list(OperatorType)
 NAMES = [c.value for c in CLASSES]
 # Curve class thresholds per operator index; a pixel's class = how many its C exceeds.
-THRESHOLDS = torch.tensor([[0.5, float("inf")], [0.5, float("inf")], [0.5, 1.5], [0.5, 1.5]])
+THRESHOLDS = torch.tensor([CURVE_THRESHOLDS[c] for c in CLASSES])
 # The paper's Table 1 ("ours"): face IoU and curve accuracy per operator.
 PAPER = {"extrude": (0.9178, 0.9804), "bevel": (0.9173, 0.9812), "addsub": (0.7826, 0.9354),
          "sweep": (0.7834, 0.9557)}

@@ -27,6 +27,7 @@ from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
+from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
@@ -37,7 +38,6 @@ from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
 
-CLASSES = list(OperatorType)
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
 BASE_FACE_TRIES = 4
@@ -154,7 +154,7 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
     face = solid.Faces()[index]
     strokes, cam = ctx.strokes, ctx.camera
     if op_type is OperatorType.EXTRUDE:
-        labels = classify_strokes(strokes, curve, (0.5,))
+        labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type][:1])
         try:
             op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
                              [s for s, l in zip(strokes, labels) if l == 0])
@@ -166,7 +166,7 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
     elif op_type is OperatorType.BEVEL:
         op, index, labels = _fit_bevel_readings(solid, index, curve, ctx)
     else:
-        labels = classify_strokes(strokes, curve, (0.5, 1.5))
+        labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
         readings = [labels]
         prism = op_type is OperatorType.ADDSUB
@@ -203,7 +203,8 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         (operation, face used, per-stroke labels).
     """
     strokes, cam = ctx.strokes, ctx.camera
-    votes = [float((sample_map(curve, resample(s)) > 0.5).sum()) for s in strokes]
+    low = CURVE_THRESHOLDS[OperatorType.BEVEL][0]
+    votes = [float((sample_map(curve, resample(s)) > low).sum()) for s in strokes]
     best, first = None, None
     for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
         face_index = index

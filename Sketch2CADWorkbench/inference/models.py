@@ -37,7 +37,9 @@ import torch
 import torch.nn as nn
 import torch.nn.functional as F
 
-N_OPS = 4          # EXTRUDE, BEVEL, ADDSUB, SWEEP: brep.protocol.OperatorType order
+from ..sketch.labels import CLASSES
+
+N_OPS = len(CLASSES)
 IN_CHANNELS = 5    # S, D, N (datagen/sample.py)
 CHECKPOINT_FORMAT = "sketch2cad-net"
 

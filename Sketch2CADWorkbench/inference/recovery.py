@@ -28,7 +28,7 @@ from ..brep.compare import volume_iou
 from ..brep.faces import OperationError
 from ..brep.operators import apply_operation, replay
 from ..brep.protocol import Mode, Operation, OperatorType
-from ..datagen.dataset import Dataset
+from datagen.dataset import Dataset
 from ..render.maps import ContextMaps, MapRenderer
 from .fitting.common import FitError
 from .interpret import (Context, InterpretError, InterpretOptions, fit_operation, interpret,

@@ -33,7 +33,7 @@ import torch
 import torch.nn.functional as F
 from tqdm import tqdm
 
-from ..datagen.dataset import Dataset, decode_inputs
+from datagen.dataset import Dataset, decode_inputs
 from .evaluate import Tally, curve_hits, face_overlap
 from .models import (N_OPS, ModelConfig, Sketch2CADNet, class_weights, load_checkpoint,
                      loss_terms, save_checkpoint)

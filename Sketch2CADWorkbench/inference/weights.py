@@ -12,12 +12,12 @@ import numpy as np
 import torch
 
 from ..brep.protocol import OperatorType
+from ..sketch.labels import CLASSES
 from .models import Sketch2CADNet, load_checkpoint
 
 WEIGHTS_DIR = Path(__file__).resolve().parent / "weights"
 WEIGHTS_NAME = "sketch2cad_net.pt"
 DEFAULT_WEIGHTS = WEIGHTS_DIR / WEIGHTS_NAME
-CLASSES = list(OperatorType)
 
 
 def resolve(path: str | Path | None = None) -> Path:

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.protocol import OperatorType
-from Sketch2CADWorkbench.datagen.generate import Context, sample_on
-from Sketch2CADWorkbench.datagen.sequences import sample_sequence
+from datagen.generate import Context, sample_on
+from datagen.sequences import sample_sequence
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 

@@ -6,8 +6,8 @@ import cv2
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.datagen import command
-from Sketch2CADWorkbench.datagen.dataset import Dataset
+from datagen import command
+from datagen.dataset import Dataset
 
 ARGS = ["--count", "14", "--seed", "3", "--shard-size", "8"]  # shards of 8 and 6 samples
 

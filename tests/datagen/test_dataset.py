@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.datagen.dataset import (ARRAYS, FORMAT, VERSION, Dataset,
+from datagen.dataset import (ARRAYS, FORMAT, VERSION, Dataset,
                                                  write_shard)
 
 

@@ -5,13 +5,13 @@ import numpy as np
 from Sketch2CADWorkbench.brep.faces import model_scale, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType
-from Sketch2CADWorkbench.datagen.curves import base_face_index, operation_curves
-from Sketch2CADWorkbench.datagen.generate import (MESH_REL_TOLERANCE, PER_CONTEXT,
+from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
+from datagen.generate import (MESH_REL_TOLERANCE, PER_CONTEXT,
                                                   generate_block, generate_sample)
-from Sketch2CADWorkbench.datagen.sample import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET,
+from Sketch2CADWorkbench.sketch.labels import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET,
                                                 EXTRUDE_PROFILE, PROFILE, START)
-from Sketch2CADWorkbench.datagen.strokes import noise_sigma
-from Sketch2CADWorkbench.datagen.views import MIN_FACE_PIXELS, relevant_visibility
+from datagen.strokes import noise_sigma
+from datagen.views import MIN_FACE_PIXELS, relevant_visibility
 from Sketch2CADWorkbench.render.mesh import tessellate
 
 LABELS = {OperatorType.EXTRUDE: {EXTRUDE_PROFILE, EXTRUDE_OFFSET},

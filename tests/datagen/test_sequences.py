@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
 from Sketch2CADWorkbench.brep.protocol import Box, OperatorType
-from Sketch2CADWorkbench.datagen.operations import (DIAG, PlanarFace, bevel_corners,
+from datagen.operations import (DIAG, PlanarFace, bevel_corners,
                                                     change_bound, random_polygon)
-from Sketch2CADWorkbench.datagen.sequences import (MIN_VOLUME_CHANGE, Stage, draw_type,
+from datagen.sequences import (MIN_VOLUME_CHANGE, Stage, draw_type,
                                                    random_box, sample_operation,
                                                    sample_sequence)
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.datagen.curves import Curve
-from Sketch2CADWorkbench.datagen.strokes import (NOISE_FRACTION, noise_sigma, perturb,
+from Sketch2CADWorkbench.sketch.curves import Curve
+from datagen.strokes import (NOISE_FRACTION, noise_sigma, perturb,
                                                  sketch_strokes, stroke_maps)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 

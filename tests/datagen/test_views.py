@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
-from Sketch2CADWorkbench.datagen.curves import operation_curves
-from Sketch2CADWorkbench.datagen.views import (frame_curves, is_informative,
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+from datagen.views import (frame_curves, is_informative,
                                                relevant_visibility, shows_base_face,
                                                up_vector, view_direction)
 from Sketch2CADWorkbench.render.camera import OrthoCamera

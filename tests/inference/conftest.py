@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.datagen.dataset import FORMAT, VERSION, Record, write_shard
+from datagen.dataset import FORMAT, VERSION, Record, write_shard
 from Sketch2CADWorkbench.inference.models import ModelConfig
 
 SIZE = 32  # side of the tiny maps

@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from Sketch2CADWorkbench.cli import main
-from Sketch2CADWorkbench.datagen.dataset import Dataset, decode_inputs
+from datagen.dataset import Dataset, decode_inputs
 from Sketch2CADWorkbench.inference.models import (Sketch2CADNet, class_weights, load_checkpoint,
                                                   loss_terms)
 from Sketch2CADWorkbench.inference import train as train_module

@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...render.camera import OrthoCamera
+from ...sketch.labels import END, PROFILE, START
 from .common import FaceFrame, FitError, resample
 
-START, PROFILE, END = 0, 1, 2
 # Largest angle (degrees) between a profile stroke's chord and n_f's image: a prism's
 # side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).
 PRISM_PROFILE_DEG, SWEEP_PROFILE_DEG = 12.0, 45.0

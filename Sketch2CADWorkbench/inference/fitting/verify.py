@@ -11,7 +11,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.protocol import Operation
-from ...datagen.curves import operation_curves
+from ...sketch.curves import operation_curves
 from ...render.camera import OrthoCamera
 from .common import DistanceField, resample, stroke_pixels
 

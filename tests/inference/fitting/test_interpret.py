@@ -18,7 +18,7 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
                                                OperatorType)
-from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.inference.interpret import (InterpretError, InterpretOptions, interpret,
                                                      to_context)
 from Sketch2CADWorkbench.render.camera import OrthoCamera

@@ -6,7 +6,7 @@ import pytest
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera

@@ -5,7 +5,7 @@ import pytest
 
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.datagen.curves import operation_curves
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, planar_faces
-from ..brep.operators import apply_operation, make_box
-from ..brep.protocol import Box, Operation, OperatorType, Protocol
+from Sketch2CADWorkbench.brep.faces import OperationError, planar_faces
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 
 LAST_OP_WEIGHTS = {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4,

@@ -2,7 +2,7 @@
 """The 3D sketch curves of an operation, labelled as the segmentation network learns them
 (paper, "The Operators" and "Operator regression").
 
-Labels (datagen/sample.py):
+Labels (sketch/labels.py):
     extrude: edges of the moved face f (offset curve) 1, side edges (profile) 0;
     bevel: profile l on f 1, its offset l' = l + (c' - c) 0;
     add/sub and sweep: start curve 0, profile 1, end curve 2, where start and end are
@@ -22,7 +22,7 @@ import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
 from ..brep.protocol import AddSubPrism, Bevel, Extrude, Mode, Operation, Sweep
-from .sample import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE,
+from .labels import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE,
                      START)
 
 CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle

@@ -32,11 +32,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..render.camera import OrthoCamera
-from ..render.frustum import context_camera
-from ..render.maps import ContextMaps
-from ..render.visibility import visible_fraction
-from .curves import Curve
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.frustum import context_camera
+from Sketch2CADWorkbench.render.maps import ContextMaps
+from Sketch2CADWorkbench.render.visibility import visible_fraction
+from Sketch2CADWorkbench.sketch.curves import Curve
 
 ANGLE_RANGE_DEG = (20.0, 80.0)
 SCALE_RANGE = (1.6, 2.4)

@@ -35,9 +35,9 @@ from typing import Iterator
 
 import numpy as np
 
-from ..brep.protocol import (OperatorType, operation_from_dict, operation_to_dict,
+from Sketch2CADWorkbench.brep.protocol import (OperatorType, operation_from_dict, operation_to_dict,
                              protocol_from_dict, protocol_to_dict)
-from ..render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.camera import OrthoCamera
 from .sample import Sample
 
 FORMAT = "sketch2cad-dataset"

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from ..render.maps import MapRenderer
+from Sketch2CADWorkbench.render.maps import MapRenderer
 from .dataset import (ARRAYS, FORMAT, VERSION, Dataset, Record, pack, shard_complete,
                       shard_name, write_shard)
 from .generate import IMAGE_SIZE, PER_CONTEXT, generate_block

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..render.camera import OrthoCamera
-from ..render.strokes import rasterize
-from .curves import Curve
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.strokes import rasterize
+from Sketch2CADWorkbench.sketch.curves import Curve
 
 NOISE_FRACTION = {1: 0.014, 2: 0.028, 3: 0.041}
 STEP_PX = 2.0          # spacing of a stroke's points

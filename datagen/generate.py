@@ -18,11 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brep.faces import ResolvedFace, model_scale
-from ..brep.protocol import OperatorType
-from ..render.maps import MapRenderer
-from ..render.mesh import FaceMesh, tessellate
-from .curves import base_face_index, operation_curves
+from Sketch2CADWorkbench.brep.faces import ResolvedFace, model_scale
+from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.render.maps import MapRenderer
+from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
+from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps

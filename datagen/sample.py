@@ -11,13 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..brep.protocol import Operation, OperatorType, Protocol
-from ..render.camera import OrthoCamera
-
-# Curve label encodings of the paper, per operator (C~ values at stroke pixels).
-EXTRUDE_OFFSET, EXTRUDE_PROFILE = 1, 0
-BEVEL_L, BEVEL_L_PRIME = 1, 0
-START, PROFILE, END = 0, 1, 2  # add/sub and sweep
+from Sketch2CADWorkbench.brep.protocol import Operation, OperatorType, Protocol
+from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 
 @dataclass
@@ -33,7 +28,8 @@ class Sample:
         face_id: (H, W) int32, which B-rep face each pixel sees (-1 background); the
             index is into `context solid`.Faces().
         face_label: (H, W) float32 in {0, 1}, F~: pixels of the base face f.
-        curve_label: (H, W) float32, C~ with the per-operator encoding above (0 off strokes).
+        curve_label: (H, W) float32, C~ with the per-operator encoding of
+            Sketch2CADWorkbench/sketch/labels.py (0 off strokes).
         stroke_mask: (H, W) float32 in {0, 1}, M~: the stroke pixels.
     Ground truth, for end-to-end evaluation:
         context: the protocol before the last operation; operation: the last operation.

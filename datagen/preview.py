@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..render.picture import contact_sheet, write_png
+from Sketch2CADWorkbench.render.picture import contact_sheet, write_png
 from .dataset import Dataset
 from .sample import Sample
 
