@@ -29,5 +29,5 @@ weights: setup
 	    .bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
 	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
 	        --fitting-recovery || exit 1; done
-	.bin/python scripts/model_card.py --run runs/main \
+	.bin/sketch2cad model-card --run runs/main \
 	    --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json

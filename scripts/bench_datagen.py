@@ -20,7 +20,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from datagen import command
+from datagen import parallel
 from datagen.generate import PER_CONTEXT, generate_block
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
@@ -34,11 +34,11 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256) -> tuple[f
     shards = list(range((blocks * PER_CONTEXT + shard_size - 1) // shard_size))
     counts = {k: min(shard_size, blocks * PER_CONTEXT - k * shard_size) for k in shards}
     start = time.perf_counter()
-    with tempfile.TemporaryDirectory() as tmp, command.start_pool(workers) as pool:
-        pool.map(command.make_block, [(seed + 1, b, "1") for b in range(workers)], chunksize=1)
+    with tempfile.TemporaryDirectory() as tmp, parallel.start_pool(workers) as pool:
+        pool.map(parallel.make_block, [(seed + 1, b, "1") for b in range(workers)], chunksize=1)
         ready = time.perf_counter()
         with tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
-            command._collect(pool.imap(command.make_block, jobs), shards, counts, Path(tmp), bar)
+            parallel._collect(pool.imap(parallel.make_block, jobs), shards, counts, Path(tmp), bar)
         secs = time.perf_counter() - ready
     return ready - start, blocks * PER_CONTEXT / secs
 

@@ -44,7 +44,7 @@ def settle(seconds: float = 1.0) -> None:
 def show_model():
     """The hammer's model tree, its last feature shown, a sweep selected."""
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features
+    from Sketch2CADWorkbench.freecad_layer.queries import features
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
     FreeCAD.newDocument("Hammer")
     model = load_protocol_file(PROTOCOL)
@@ -66,7 +66,7 @@ def show_sketch_step():
     """A new box and the Sketch panel holding a hand-drawn-looking hexagonal prism on its
     top face (the strokes the data generator would draw, jittered), interpreted."""
     from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
-    from Sketch2CADWorkbench.commands.sketch import SketchPanel
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.sketch.curves import operation_curves
     from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model
     from Sketch2CADWorkbench.freecad_layer.shapes import from_part

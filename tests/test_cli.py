@@ -22,7 +22,8 @@ def run(*args) -> str:
 
 def test_help_lists_every_command_without_loading_the_heavy_libraries():
     text = run("--help")
-    for name in ("build", "demo", "datagen", "train", "eval", "interpret"):
+    for name in ("build", "demo", "datagen", "train", "eval", "interpret", "diagnose",
+                 "option-scan", "model-card"):
         assert f"    {name}" in text, name
     assert "LOADED\n" in text or text.rstrip().endswith("LOADED"), text
 

@@ -1,13 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""What the commands share: their resources, the active model, transactions, messages."""
-from contextlib import contextmanager
-
+"""What the commands share: their resources and the active model (messages and undo
+steps: freecad_layer/gui_helpers.py)."""
 import FreeCAD
 import FreeCADGui
-from PySide import QtGui
 
 from ..freecad_layer.icons import icon_path
-from ..freecad_layer.make.make_model import find_models
+from ..freecad_layer.queries import find_models
 
 
 def resources(icon: str, menu: str, tip: str, accel: str = "") -> dict:
@@ -27,22 +25,3 @@ def active_model():
             if sel == model or sel in model.Group:
                 return model
     return models[-1] if models else None
-
-
-def error(title: str, message: str) -> None:
-    """Tell the user what went wrong: report view and a message box."""
-    FreeCAD.Console.PrintError(f"Sketch2CAD: {message}\n")
-    QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), title, message)
-
-
-@contextmanager
-def transaction(doc, name: str):
-    """One undo step; aborted, leaving the document as it was, when the body raises."""
-    doc.openTransaction(name)
-    try:
-        yield
-    except Exception:
-        doc.abortTransaction()
-        doc.recompute()
-        raise
-    doc.commitTransaction()

@@ -4,7 +4,8 @@ import FreeCADGui
 from PySide import QtGui
 
 from ..freecad_layer.export import export_step
-from .common import active_model, error, resources
+from ..freecad_layer.gui_helpers import error
+from .common import active_model, resources
 
 
 class ExportStep:

@@ -3,8 +3,9 @@
 import FreeCAD
 import FreeCADGui
 
-from ..freecad_layer.make.make_model import features, make_model
-from .common import resources, transaction
+from ..freecad_layer.queries import features, find_models
+from ..freecad_layer.gui_helpers import transaction
+from .common import resources
 
 
 class NewModel:
@@ -21,7 +22,11 @@ class NewModel:
     def Activated(self):
         doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
         with transaction(doc, "New Sketch2CAD model"):
-            model = make_model(doc)
+            # through the console, as Draft's tools do: the step lands in macros
+            FreeCADGui.addModule("Sketch2CADWorkbench.freecad_layer.make.make_model")
+            FreeCADGui.doCommand("Sketch2CADWorkbench.freecad_layer.make.make_model.make_model("
+                                 f"FreeCAD.getDocument({doc.Name!r}))")
+            model = find_models(doc)[-1]
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(features(model)[0])
         view = FreeCADGui.ActiveDocument.ActiveView

@@ -10,9 +10,10 @@ from PySide import QtGui
 from ..brep.faces import OperationError
 from ..brep.operators import replay
 from ..brep.protocol import ProtocolError, load
-from ..freecad_layer.make.make_model import (failed_features, features,
-                                             make_model_from_protocol, protocol_from_model)
-from .common import active_model, error, resources, transaction
+from ..freecad_layer.queries import (failed_features, features, find_models,
+                                     protocol_from_model)
+from ..freecad_layer.gui_helpers import error, transaction
+from .common import active_model, resources
 
 PROTOCOL_FILTER = "Sketch2CAD protocol (*.json)"
 REPLAY_STEP_S = 0.5
@@ -54,7 +55,15 @@ def load_protocol_file(path: str):
     doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
     try:
         with transaction(doc, "Load Sketch2CAD protocol"):
-            model = make_model_from_protocol(doc, protocol, label=Path(path).stem)
+            # through the console, as Draft's tools do: the step lands in macros
+            FreeCADGui.addModule("Sketch2CADWorkbench.freecad_layer.make.make_model")
+            FreeCADGui.addModule("Sketch2CADWorkbench.brep.protocol")
+            FreeCADGui.doCommand(
+                "Sketch2CADWorkbench.freecad_layer.make.make_model.make_model_from_protocol("
+                f"FreeCAD.getDocument({doc.Name!r}), "
+                f"Sketch2CADWorkbench.brep.protocol.load({str(path)!r}), "
+                f"label={Path(path).stem!r})")
+            model = find_models(doc)[-1]
             bad = failed_features(model)
             if bad:
                 raise OperationError("; ".join(f"{o.Label}: {o.getStatusString()}" for o in bad))

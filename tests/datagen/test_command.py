@@ -1,22 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad datagen`: the same data with any worker count, resumable, with a preview."""
-import argparse
-
 import cv2
 import numpy as np
 import pytest
 
-from datagen import command
+from Sketch2CADWorkbench.cli import main
 from datagen.dataset import Dataset
 
 ARGS = ["--count", "14", "--seed", "3", "--shard-size", "8"]  # shards of 8 and 6 samples
 
 
 def datagen(*args) -> int:
-    parser = argparse.ArgumentParser()
-    command.register(parser.add_subparsers())
-    ns = parser.parse_args(["datagen", *map(str, args)])
-    return ns.func(ns)
+    return main(["datagen", *map(str, args)])
 
 
 def _same_shards(a, b, shards=(0, 1)):

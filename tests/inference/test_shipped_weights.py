@@ -10,7 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from Sketch2CADWorkbench.inference.evaluate import evaluate
+from training.evaluate import evaluate
 from Sketch2CADWorkbench.inference.weights import DEFAULT_WEIGHTS, WEIGHTS_DIR
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in

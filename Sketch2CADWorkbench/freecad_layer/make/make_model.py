@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Building Sketch2CAD models in a FreeCAD document, and reading them back as protocols.
+"""Building Sketch2CAD models in a FreeCAD document (reading them back: ../queries.py).
 
 These work with or without the GUI (commands and tests share them); view providers are
 attached only when FreeCAD.GuiUp.
@@ -72,41 +72,13 @@ def add_operation(model, op: Operation):
     return obj
 
 
-def features(model) -> list:
-    """The model's features in order: the box, then each operation (following Base links
-    back from the Tip)."""
-    chain = []
-    obj = model.Tip
-    while obj is not None:
-        chain.append(obj)
-        obj = getattr(obj, "Base", None)
-    return chain[::-1]
-
-
 def make_model_from_protocol(doc, protocol: Protocol, label: str = "Model"):
     """A model tree equal to `protocol`: the box and one feature per operation, recomputed.
 
-    A step that cannot be built is left in FreeCAD's error state (see `failed_features`).
+    A step that cannot be built is left in FreeCAD's error state (see `queries.failed_features`).
     """
     model = make_model(doc, protocol.base, label)
     for op in protocol.operations:
         add_operation(model, op)
     doc.recompute()
     return model
-
-
-def protocol_from_model(model) -> Protocol:
-    """The protocol of a model tree, from its features' current property values."""
-    box, *ops = features(model)
-    return Protocol(box.Proxy.box(box), tuple(obj.Proxy.operation(obj) for obj in ops))
-
-
-def failed_features(model) -> list:
-    """The model's features that are in FreeCAD's error state, in order."""
-    return [obj for obj in features(model) if not obj.isValid()]
-
-
-def find_models(doc) -> list:
-    """The document's Sketch2CAD models, in creation order."""
-    return [o for o in doc.Objects
-            if getattr(getattr(o, "Proxy", None), "TYPE", "") == ModelFeature.TYPE]

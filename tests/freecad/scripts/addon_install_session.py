@@ -99,7 +99,7 @@ def the_workbench_is_whole_without_a_restart():
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     for _ in range(5):
         app().processEvents()
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import find_models
     (model,) = find_models(FreeCAD.ActiveDocument)
     assert model.Tip.Shape.isValid() and model.Tip.Shape.Volume > 0
 

@@ -16,8 +16,9 @@ from Sketch2CADWorkbench.brep.exchange import import_step  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import Sweep, load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.export import export_step  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.make.make_model import (  # noqa: E402
-    failed_features, features, make_model_from_protocol, protocol_from_model)
+from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer.queries import (  # noqa: E402
+    failed_features, features, protocol_from_model)
 from Sketch2CADWorkbench.freecad_layer.shapes import from_part, to_part  # noqa: E402
 
 

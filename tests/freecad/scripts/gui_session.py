@@ -15,6 +15,7 @@ import FreeCAD  # noqa: E402
 import FreeCADGui  # noqa: E402
 import numpy as np  # noqa: E402
 import Part  # noqa: E402
+import Sketch2CADWorkbench  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
@@ -62,7 +63,7 @@ def report_view() -> str:
 
 
 def model_of_document():
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import find_models
     (model,) = find_models(FreeCAD.ActiveDocument)
     return model
 
@@ -112,7 +113,7 @@ def new_model_is_one_undo_step():
     doc = FreeCAD.newDocument("gui")
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     settle()
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features
+    from Sketch2CADWorkbench.freecad_layer.queries import features
     model = model_of_document()
     box = features(model)[0]
     assert close(box.Shape.Volume, 40 * 30 * 20) and box.ViewObject.Visibility
@@ -130,7 +131,7 @@ def new_model_is_one_undo_step():
 
 def projection_error(view) -> float:
     """Largest distance (pixels) between OrthoCamera.project and view.getPointOnScreen."""
-    from Sketch2CADWorkbench.freecad_layer.view_camera import to_pixels, view_camera
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import to_pixels, view_camera
     cam = view_camera(view)
     assert (cam.width, cam.height) == tuple(view.getSize())
     ours = cam.project(BOX_CORNERS)[0]
@@ -143,7 +144,7 @@ def silhouette_error(view) -> float:
     """Largest distance (pixels) between the box's projected bounding rectangle and the
     one of the pixels Coin renders for it with the view's camera and size."""
     import cv2
-    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     cam = view_camera(view)
     path = os.path.join(TMP, "silhouette.png")
     view.saveImage(path, cam.width, cam.height, "#ffffff")
@@ -184,8 +185,8 @@ def view_camera_matches_freecads_projection():
 
 @check
 def strokes_captured_from_mouse_events():
-    from Sketch2CADWorkbench.freecad_layer.stroke_capture import StrokeCapture
-    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    from Sketch2CADWorkbench.freecad_layer.trackers.stroke_capture import StrokeCapture
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
     view.fitAll()
@@ -226,9 +227,9 @@ def strokes_captured_from_mouse_events():
 @check
 def sketch_step_adds_one_undoable_feature():
     """The Sketch command's panel: mouse strokes of a pulled top face, Enter, OK."""
-    from Sketch2CADWorkbench.commands.sketch import SketchPanel
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features
-    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     model = model_of_document()
     doc = model.Document
     before = len(features(model))
@@ -257,6 +258,20 @@ def sketch_step_adds_one_undoable_feature():
     chain = features(model)
     assert len(chain) == before + 1 and chain[-1].Proxy.TYPE == "Sketch2CAD::Extrude"
     assert close(chain[-1].Offset.Value, 0.5 * bb.ZLength, 0.15), chain[-1].Offset
+    volume = chain[-1].Shape.Volume
+    doc.undo()
+    assert len(features(model)) == before
+    # the step went through the console (as Draft's tools do): the same line, run as a
+    # macro would run it, makes the same feature
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import add_operation_command
+    import Sketch2CADWorkbench.brep.protocol  # noqa: F401 (names the line uses)
+    import Sketch2CADWorkbench.freecad_layer.make.make_model  # noqa: F401
+    line = add_operation_command(model, panel.result.operations[0])
+    doc.openTransaction("macro replay")
+    exec(line, {"FreeCAD": FreeCAD, "Sketch2CADWorkbench": Sketch2CADWorkbench})
+    doc.commitTransaction()
+    doc.recompute()
+    assert close(features(model)[-1].Shape.Volume, volume), line
     doc.undo()
     assert len(features(model)) == before
 
@@ -266,8 +281,8 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     """A low square boss in the middle of the top face: from above, its top outline
     falls inside the face, so a hole draws the same lines. The panel says so, and
     choosing subtract in its Boolean box reads the hole."""
-    from Sketch2CADWorkbench.commands.sketch import SketchPanel
-    from Sketch2CADWorkbench.freecad_layer.view_camera import view_camera
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     model = model_of_document()
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
@@ -331,7 +346,7 @@ def load_protocol_errors_change_nothing():
 @check
 def load_protocol_is_one_undo_step():
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
     doc = FreeCAD.ActiveDocument
     path = os.path.join(EXAMPLES, "mixer.json")
     objects = len(doc.Objects)
@@ -350,7 +365,7 @@ def load_protocol_is_one_undo_step():
 @check
 def save_protocol_round_trip():
     from Sketch2CADWorkbench.commands.protocol import save_protocol_file
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import find_models
     model = find_models(FreeCAD.ActiveDocument)[-1]
     path = os.path.join(TMP, "saved.json")
     assert save_protocol_file(model, path)
@@ -360,7 +375,7 @@ def save_protocol_round_trip():
 @check
 def export_step_command():
     from Sketch2CADWorkbench.commands.export import export_model_step
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
     model = find_models(FreeCAD.ActiveDocument)[-1]
     path = os.path.join(TMP, "mixer.step")
     assert export_model_step(model, path)
@@ -380,7 +395,7 @@ def export_step_command():
 @check
 def replay_command_rebuilds_step_by_step():
     from Sketch2CADWorkbench.commands.protocol import replay_model
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import features, find_models
+    from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
     model = find_models(FreeCAD.ActiveDocument)[-1]
     FreeCADGui.Selection.clearSelection()
     FreeCADGui.Selection.addSelection(model)
@@ -395,8 +410,7 @@ def replay_command_rebuilds_step_by_step():
 @check
 def fcstd_reopens_with_view_providers():
     from Sketch2CADWorkbench.freecad_layer.icons import icon_path
-    from Sketch2CADWorkbench.freecad_layer.make.make_model import (failed_features, features,
-                                                                   find_models)
+    from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features, find_models
     path = os.path.join(TMP, "gui.FCStd")
     FreeCAD.ActiveDocument.saveAs(path)
     FreeCAD.closeDocument(FreeCAD.ActiveDocument.Name)

@@ -13,7 +13,7 @@ DATA = os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "data")
 
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.make.make_model import (  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer.queries import (  # noqa: E402
     failed_features, features, find_models, protocol_from_model)
 
 

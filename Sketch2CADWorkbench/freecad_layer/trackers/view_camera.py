@@ -7,7 +7,7 @@ core's pixels have the origin at the top-left corner and pixel centres at +0.5.
 import numpy as np
 from pivy import coin
 
-from ..render.camera import OrthoCamera
+from ...render.camera import OrthoCamera
 
 
 def view_camera(view) -> OrthoCamera:

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""How often would the other Boolean be named, and how many wrong options would that
-cover? `python scripts/option_scan.py DATA [addsub|sweep]`
+"""How often would the other Boolean be named, and how many wrong options would that cover?
 
-Fits every prism (or sweep) of a generated set from its ground-truth segmentation (the
-fitting stage alone, `recovery.read_step`), then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the
-fitted primitive's far outline that back-projects onto f (`OTHER_FRACTION` in
-inference/fitting/primitive.py), prints the share of steps it would be named for and
-how many of the steps with the wrong +/- option it would cover.
+`sketch2cad option-scan DATA [addsub|sweep]`: fits every prism (or sweep) of a generated
+set from its ground-truth segmentation (the fitting stage alone, `recovery.read_step`),
+then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the fitted primitive's far
+outline that back-projects onto f (`OTHER_FRACTION` in inference/fitting/primitive.py),
+prints the share of steps it would be named for and how many of the steps with the
+wrong +/- option it would cover.
 """
 from __future__ import annotations
 
@@ -14,20 +14,21 @@ import argparse
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
-from Sketch2CADWorkbench.brep.operators import replay
-from Sketch2CADWorkbench.brep.protocol import OperatorType
+from ..brep.faces import OperationError, model_scale, resolve_face
+from ..brep.operators import replay
+from ..brep.protocol import OperatorType
 from datagen.dataset import Dataset
-from Sketch2CADWorkbench.inference.fitting.primitive import far_outline_share
-from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
-from Sketch2CADWorkbench.inference.recovery import read_step
+from ..inference.fitting.primitive import far_outline_share
+from ..inference.interpret import InterpretError, InterpretOptions
+from training.recovery import read_step
 
 
-def main() -> None:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("data")
     p.add_argument("operator", nargs="?", default="addsub", choices=["addsub", "sweep"])
-    args = p.parse_args()
+
+
+def run(args: argparse.Namespace) -> int:
     want = OperatorType(args.operator)
     shares, wrong = [], []
     ds = Dataset(args.data)
@@ -51,6 +52,3 @@ def main() -> None:
         print(f"  threshold {th:.2f}: named for {100 * named.mean():.0f}% of steps, covers "
               f"{int((named & wrong).sum())} of {int(wrong.sum())} wrong options")
 
-
-if __name__ == "__main__":
-    main()

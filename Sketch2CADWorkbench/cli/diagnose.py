@@ -1,13 +1,15 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Why does a step miss? `python scripts/diagnose_fitting.py DATA OPERATOR [N] [--networks [W]]`
+"""Why does a step miss? Fits the first N samples of one operator in a generated set and
+tallies the misses by cause.
 
-Fits the first N samples of one operator in a generated set from their ground-truth
+`sketch2cad diagnose DATA OPERATOR [N] [--networks [WEIGHTS]]`: from the ground-truth
 segmentation (the networks left out, as `sketch2cad eval --fitting-recovery` does), or
-with `--networks` runs the whole pipeline from the strokes (shipped weights, or those in
-W, as `sketch2cad eval --recovery` does; both through `recovery.read_step`), and prints
-each miss (volume IoU < 0.95) with the true and the fitted operation, then a tally: recovered, errors by message, and misses with the +/- option right or wrong;
-a wrong one is split by whether the pipeline named the other Boolean as reading as
-well (the orthographic Necker case, paper Fig. 5b) and whether that would recover it.
+with `--networks` the whole pipeline from the strokes (shipped weights, or WEIGHTS, as
+`sketch2cad eval --recovery` does; both through `recovery.read_step`). Prints each miss
+(volume IoU < 0.95) with the true and the fitted operation, then a tally: recovered,
+errors by message, and misses with the +/- option right or wrong; a wrong one is split
+by whether the pipeline named the other Boolean as reading as well (the orthographic
+Necker case, paper Fig. 5b) and whether that would recover it.
 """
 from __future__ import annotations
 
@@ -15,27 +17,28 @@ import argparse
 import collections
 import dataclasses
 
-from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError
-from Sketch2CADWorkbench.brep.operators import apply_operation, replay
-from Sketch2CADWorkbench.brep.protocol import OperatorType, describe
+from ..brep.compare import volume_iou
+from ..brep.faces import OperationError
+from ..brep.operators import apply_operation, replay
+from ..brep.protocol import OperatorType, describe
 from datagen.dataset import Dataset
-from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions
-from Sketch2CADWorkbench.inference.recovery import RECOVERY_IOU, read_step
-from Sketch2CADWorkbench.render.maps import MapRenderer
+from ..inference.interpret import InterpretError, InterpretOptions
+from training.recovery import RECOVERY_IOU, read_step
+from ..render.maps import MapRenderer
 
 
-def main() -> None:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("data")
     p.add_argument("operator", choices=[o.value for o in OperatorType])
     p.add_argument("n", type=int, nargs="?", default=60)
     p.add_argument("--networks", nargs="?", const="", default=None, metavar="WEIGHTS",
                    help="the whole pipeline with these weights (default: the shipped ones)")
-    args = p.parse_args()
+
+
+def run(args: argparse.Namespace) -> int:
     predictor = renderer = None
     if args.networks is not None:
-        from Sketch2CADWorkbench.inference.weights import load_predictor
+        from ..inference.weights import load_predictor
         predictor, renderer = load_predictor(args.networks or None), MapRenderer()
     want = OperatorType(args.operator)
     options = InterpretOptions(regularize=False)
@@ -77,6 +80,3 @@ def main() -> None:
     for what, count in tally.most_common():
         print(f"  {count:4d}  {what}")
 
-
-if __name__ == "__main__":
-    main()

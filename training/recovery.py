@@ -24,15 +24,15 @@ import cadquery as cq
 import numpy as np
 from tqdm import tqdm
 
-from ..brep.compare import volume_iou
-from ..brep.faces import OperationError
-from ..brep.operators import apply_operation, replay
-from ..brep.protocol import Mode, Operation, OperatorType
 from datagen.dataset import Dataset
-from ..render.maps import ContextMaps, MapRenderer
-from .fitting.common import FitError
-from .interpret import (Context, InterpretError, InterpretOptions, fit_operation, interpret,
-                        other_option)
+from Sketch2CADWorkbench.brep.compare import volume_iou
+from Sketch2CADWorkbench.brep.faces import OperationError
+from Sketch2CADWorkbench.brep.operators import apply_operation, replay
+from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.interpret import (Context, InterpretError, InterpretOptions,
+                                                     fit_operation, interpret, other_option)
+from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 
 RECOVERY_IOU = 0.95
 

@@ -10,8 +10,9 @@ from Sketch2CADWorkbench.cli import main
 from datagen.dataset import Dataset, decode_inputs
 from Sketch2CADWorkbench.inference.models import (Sketch2CADNet, class_weights, load_checkpoint,
                                                   loss_terms)
-from Sketch2CADWorkbench.inference import train as train_module
-from Sketch2CADWorkbench.inference.train import TrainSettings, load_pooled, split, train
+from training import train as train_module
+from training.data import load_pooled, split
+from training.train import TrainSettings, train
 
 
 def _settings(cfg, steps, **kw):

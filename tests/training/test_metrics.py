@@ -6,8 +6,7 @@ import pytest
 import torch
 
 from Sketch2CADWorkbench.cli import main
-from Sketch2CADWorkbench.inference.evaluate import (Tally, curve_classes, curve_hits, face_iou,
-                                                    face_overlap)
+from training.metrics import Tally, curve_classes, curve_hits, face_iou, face_overlap
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
 
 EXTRUDE, BEVEL, ADDSUB, SWEEP = 0, 1, 2, 3

@@ -1,10 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Ship a training run: copy its weights into the package with a model card and thresholds.
 
-    .venv/bin/python scripts/model_card.py --run runs/main \
-        --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json
-
-The card states the data, the training time and hardware, and the table measured by
+`sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json 2=... 3=...`: the card
+states the data, the training time and hardware, and the table measured by
 `sketch2cad eval` at each noise level; thresholds.json (level-1 figures less a margin
 for the 96-sample set of tests/inference/test_shipped_weights.py) guards against
 regressions. Run by `make weights`, which also makes the data and trains.
@@ -15,13 +13,14 @@ import argparse
 import json
 import platform
 import shutil
+import sys
 from pathlib import Path
 
 import torch
 
-from Sketch2CADWorkbench.inference.train import plot_curves
+from training.report import plot_curves
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 OPS = ("extrude", "bevel", "addsub", "sweep")
 # The paper's Table 1 ("ours", level-1 noise): face IoU and curve accuracy per operator.
@@ -107,18 +106,22 @@ def targets_met(level1: dict) -> str:
             f"{', '.join(missed) or 'none'}")
 
 
-def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--run", type=Path, required=True, help="training run folder")
     ap.add_argument("--eval", nargs="+", required=True, metavar="LEVEL=JSON",
                     help="`sketch2cad eval` results per noise level of the held-out sets")
-    args = ap.parse_args()
+
+
+
+def run(args: argparse.Namespace) -> int:
     evals = {}
     for item in args.eval:
         level, _, path = item.partition("=")
         evals[level] = json.loads(Path(path).read_text())
     if "1" not in evals:
-        ap.error("the level-1 evaluation sets the thresholds: pass 1=JSON")
+        print("sketch2cad model-card: error: the level-1 evaluation sets the thresholds: "
+              "pass 1=JSON", file=sys.stderr)
+        return 2
     ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
     WEIGHTS.mkdir(exist_ok=True)
     shutil.copyfile(args.run / "sketch2cad_net.pt", WEIGHTS / "sketch2cad_net.pt")
@@ -190,7 +193,7 @@ def main() -> int:
         f"--threads {s['threads']}",
         "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
         "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
-        "python scripts/model_card.py --run runs/main --eval 1=runs/eval-l1.json ...",
+        "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json ...",
         "```",
         "",
         "## Regression guard",
@@ -207,6 +210,3 @@ def main() -> int:
           "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png")
     return 0
 
-
-if __name__ == "__main__":
-    raise SystemExit(main())

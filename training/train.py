@@ -1,10 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Training: `sketch2cad train --data DIR --out DIR [--device cpu|cuda] [--minutes M]`.
-
-The data set is pooled once to the network's internal size and held in memory as bytes
-(inputs at I x I, labels at full size), cached in the run folder so that a resumed or
-repeated run skips that step. A held-out tail of the data set (whole contexts) gives
-validation metrics after every epoch. The learning rate warms up, then follows a cosine
+"""Training the networks (`sketch2cad train`), on the data pooled in memory (data.py). A
+held-out tail of the data set (whole contexts) gives validation metrics after every epoch. The learning rate warms up, then follows a cosine
 over the budget: `--minutes` of wall time (default; adapts to a busy machine) or
 `--steps` (exactly reproducible for a given machine and thread count).
 
@@ -20,10 +16,8 @@ Run folder:
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
-import sys
 import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -33,10 +27,13 @@ import torch
 import torch.nn.functional as F
 from tqdm import tqdm
 
-from datagen.dataset import Dataset, decode_inputs
-from .evaluate import Tally, curve_hits, face_overlap
-from .models import (N_OPS, ModelConfig, Sketch2CADNet, class_weights, load_checkpoint,
-                     loss_terms, save_checkpoint)
+from datagen.dataset import Dataset
+from Sketch2CADWorkbench.inference.models import (N_OPS, ModelConfig, Sketch2CADNet,
+                                                  class_weights, load_checkpoint, loss_terms,
+                                                  save_checkpoint)
+from .data import PooledData, data_key, load_pooled, split
+from .metrics import Tally, curve_hits, face_overlap
+from .report import plot_curves
 
 
 @dataclass
@@ -63,113 +60,6 @@ class TrainSettings:
     model: ModelConfig = field(default_factory=ModelConfig)
 
 
-# ---------------------------------------------------------------- data in memory
-@dataclass
-class PooledData:
-    """Samples ready for the network, compactly (first axis = sample).
-
-    x: (N, 6, I, I) uint8: S, round(255 D), round(127.5 N) x 3, and round(255 a), a the
-       foreground share of each pooled pixel (exact mirror images of N need it).
-    labels: (N, S, S) uint8 at full size: bit 0 is F~; bits 1-2 hold 1 + C~ on stroke
-       pixels (M~ = 1) and 0 off them.
-    op: (N,) int64 operator index; noise: (N,) int64 noise level.
-    """
-
-    x: torch.Tensor
-    labels: torch.Tensor
-    op: torch.Tensor
-    noise: torch.Tensor
-
-    def __len__(self) -> int:
-        return len(self.op)
-
-    def subset(self, idx) -> "PooledData":
-        return PooledData(self.x[idx], self.labels[idx], self.op[idx], self.noise[idx])
-
-    def batch(self, idx: torch.Tensor, device: str, flip: torch.Tensor | None = None
-              ) -> tuple[torch.Tensor, ...]:
-        """Decode samples `idx`: inputs (B, 5, I, I), F~, C~, M~ (B, S, S), op (B,).
-
-        flip: (B,) bool, which samples to mirror left-right. A mirrored scene is a valid
-        scene: the maps flip and the camera-space normal's x changes sign, which on the
-        pooled N = a (n + 1) reads 2a - N_x.
-        """
-        x = self.x[idx].to(device).float()
-        lab = self.labels[idx].to(device)
-        if flip is not None and flip.any():
-            f = flip.to(device)
-            x[f] = x[f].flip(-1)
-            x[f, 2] = (x[f, 5] - x[f, 2]).clamp(min=0)  # 127.5 (2a - N_x) in storage units
-            lab[f] = lab[f].flip(-1)
-        x = torch.cat([x[:, :1], x[:, 1:2] / 255.0, x[:, 2:5] / 127.5], 1)
-        code = (lab >> 1).float()
-        mask = (code > 0).float()
-        curve = (code - 1).clamp(min=0)
-        return x, (lab & 1).float(), curve, mask, self.op[idx].to(device)
-
-
-def pool_dataset(ds: Dataset, model: Sketch2CADNet, chunk: int = 32) -> PooledData:
-    """All complete shards of `ds`, pooled with the model's own `pool` (the inputs then
-    match what `predict` feeds the network, up to the 8-bit storage)."""
-    n, i, s = len(ds), model.config.internal_size, model.config.image_size
-    data = PooledData(torch.empty(n, 6, i, i, dtype=torch.uint8),
-                      torch.empty(n, s, s, dtype=torch.uint8),
-                      torch.empty(n, dtype=torch.int64), torch.empty(n, dtype=torch.int64))
-    start = 0
-    for k in tqdm(ds.shards, desc="pooling data set", unit="shard", leave=False):
-        a = ds.shard_arrays(k)
-        for j in range(0, len(a["op_type"]), chunk):
-            sl = slice(j, j + chunk)
-            full = torch.from_numpy(decode_inputs(a, sl))                    # (b, 5, S, S)
-            b = len(full)
-            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()             # (b, 1, S, S)
-            with torch.no_grad():
-                pooled = model.pool(full)                                    # (b, 5, I, I)
-                share = F.adaptive_avg_pool2d(fg, pooled.shape[-2:])
-            q = torch.cat([pooled[:, :1], pooled[:, 1:2] * 255, pooled[:, 2:5] * 127.5,
-                           share * 255], 1)
-            data.x[start:start + b] = q.round().clamp(0, 255).to(torch.uint8)
-            stroke = a["stroke_mask"][sl] > 0
-            code = np.where(stroke, a["curve_label"][sl].astype(np.uint8) + 1, 0) << 1
-            data.labels[start:start + b] = torch.from_numpy(
-                (code | (a["face_label"][sl] > 0)).astype(np.uint8))
-            data.op[start:start + b] = torch.from_numpy(a["op_type"][sl].astype(np.int64))
-            data.noise[start:start + b] = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
-            start += b
-    return data
-
-
-def data_key(ds: Dataset, config: ModelConfig) -> dict:
-    """What identifies a pooled data set: the data set and the pooling."""
-    m = ds.manifest
-    return {"data": str(ds.folder.resolve()), "count": len(ds), "seed": m.get("seed"),
-            "noise": m.get("noise"), "version": m.get("version"),
-            "image_size": config.image_size, "internal_size": config.internal_size}
-
-
-def load_pooled(ds: Dataset, model: Sketch2CADNet, out: Path) -> PooledData:
-    """The pooled data set, from the run folder's cache when it matches `ds`."""
-    key = data_key(ds, model.config)
-    path = out / f"data-cache-{model.config.internal_size}.pt"
-    if path.exists():
-        cached = torch.load(path, mmap=True, weights_only=True)
-        if cached["key"] == json.dumps(key, sort_keys=True):
-            return PooledData(cached["x"], cached["labels"], cached["op"], cached["noise"])
-    data = pool_dataset(ds, model)
-    tmp = path.with_name(path.name + ".tmp")
-    torch.save({"key": json.dumps(key, sort_keys=True), **asdict(data)}, tmp)
-    tmp.replace(path)
-    return data
-
-
-def split(n: int, fraction: float, block: int) -> tuple[slice, slice]:
-    """Training and validation samples: the validation set is the last fraction n
-    samples rounded up to whole blocks of `block` (samples sharing a context stay on
-    one side). Slices, so that the subsets are views, not copies."""
-    n_val = 0 if n < 2 * block else min(n - block, block * math.ceil(fraction * n / block))
-    return slice(0, n - n_val), slice(n - n_val, n)
-
-
 # ---------------------------------------------------------------- validation
 @torch.no_grad()
 def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch.Tensor,
@@ -192,44 +82,6 @@ def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch
     n = max(len(data), 1)
     return {"cls": losses[0] / n, "face": losses[1] / n, "curve": losses[2] / n,
             **tally.summary()}
-
-
-# ---------------------------------------------------------------- curves
-def plot_curves(log_path: Path, png: Path, face_dice: float = 0.0) -> None:
-    """Training losses per logged step and validation metrics per epoch, as a PNG
-    (face_dice: the Dice term's weight, named in the face loss's title when used)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    rows = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
-    tr = [r for r in rows if r["kind"] == "train"]
-    va = [r for r in rows if r["kind"] == "val"]
-    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8))
-    for ax, key, title in zip(axes, ("cls", "face", "curve"),
-                              ("classification (weighted CE)",
-                               "base face F (MSE + Dice)" if face_dice else "base face F (MSE)",
-                               "curve C on strokes (MSE)")):
-        ax.plot([r["step"] for r in tr], [r[key] for r in tr], lw=0.8, label="train")
-        if va:
-            ax.plot([r["step"] for r in va], [r[key] for r in va], "o-", label="validation")
-        ax.set(title=title, xlabel="step", yscale="log")
-        ax.grid(alpha=0.3)
-        ax.legend()
-    ax = axes[3]
-    if va:
-        steps = [r["step"] for r in va]
-        ax.plot(steps, [r["classification_accuracy"] for r in va], "k.-", label="class. acc.")
-        for name in ("extrude", "bevel", "addsub", "sweep"):
-            ax.plot(steps, [r["per_operator"][name]["face_iou"] or 0 for r in va], ".-",
-                    label=f"{name} face IoU")
-            ax.plot(steps, [r["per_operator"][name]["curve_accuracy"] or 0 for r in va], ".:",
-                    label=f"{name} curve acc.")
-        ax.legend(fontsize=6, ncol=2, loc="lower right")
-    ax.set(title="validation metrics", xlabel="step", ylim=(0, 1))
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(png, dpi=80)
-    plt.close(fig)
 
 
 # ---------------------------------------------------------------- training
@@ -421,51 +273,3 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
     print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs of "
           f"{n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
     return final
-
-
-# ---------------------------------------------------------------- command line
-def register(sub: argparse._SubParsersAction) -> None:
-    d = TrainSettings()
-    p = sub.add_parser("train",
-                       description="Train the operator classifier and the segmentation "
-                                   "networks (one shared-encoder network); rerunning with "
-                                   "the same --out resumes.")
-    p.add_argument("--data", type=Path, required=True, help="data set folder (sketch2cad datagen)")
-    p.add_argument("--out", type=Path, required=True,
-                   help="run folder: checkpoint, log, curves, final weights")
-    p.add_argument("--device", choices=["cpu", "cuda"],
-                   default="cuda" if torch.cuda.is_available() else "cpu")
-    p.add_argument("--minutes", type=float, default=d.minutes,
-                   help=f"wall-time budget of the training loop (default {d.minutes:g})")
-    p.add_argument("--steps", type=int, default=0,
-                   help="a step budget instead of --minutes (reproducible schedule)")
-    p.add_argument("--batch-size", type=int, default=d.batch_size)
-    p.add_argument("--lr", type=float, default=d.lr)
-    p.add_argument("--threads", type=int, default=d.threads,
-                   help="CPU threads for torch (default: torch's choice)")
-    p.add_argument("--seed", type=int, default=d.seed)
-    p.add_argument("--no-flip", action="store_true", help="no mirror-image augmentation")
-    p.add_argument("--internal-size", type=int, default=d.model.internal_size,
-                   help="working resolution of a new model (default %(default)s)")
-    p.add_argument("--widths", type=int, nargs="+", default=list(d.model.widths),
-                   help="encoder widths of a new model (default %(default)s)")
-    p.set_defaults(func=run)
-
-
-def run(args: argparse.Namespace) -> int:
-    if args.device == "cuda" and not torch.cuda.is_available():
-        print("sketch2cad train: error: --device cuda, but torch sees no CUDA device",
-              file=sys.stderr)
-        return 2
-    try:
-        settings = TrainSettings(
-            minutes=args.minutes, steps=args.steps, batch_size=args.batch_size, lr=args.lr,
-            threads=args.threads, seed=args.seed, flip=not args.no_flip, device=args.device,
-            model=ModelConfig(internal_size=args.internal_size, widths=tuple(args.widths)))
-        train(args.data, args.out, settings)
-    except KeyboardInterrupt:
-        return 130
-    except (FileNotFoundError, ValueError) as e:
-        print(f"sketch2cad train: error: {e}", file=sys.stderr)
-        return 2
-    return 0

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""`sketch2cad datagen`: generate a data set in parallel, deterministically, resumably.
+"""Generating a data set in parallel, deterministically, resumably (`sketch2cad datagen`).
 
 Sample i is a function of (seed, i) alone (generate.sample_rng), so a data set is the
 same whatever the number of workers. Workers make blocks of PER_CONTEXT samples (one
@@ -9,13 +9,13 @@ same command after an interruption finishes the set.
 """
 from __future__ import annotations
 
-import argparse
 import contextlib
 import json
 import multiprocessing as mp
 import os
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from tqdm import tqdm
@@ -35,21 +35,16 @@ SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                      "LP_NUM_THREADS": "1"}
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("datagen",
-                       description="Random modeling sequences rendered as sketches over their "
-                                   "context, with labels (paper, 'Training data generation').")
-    p.add_argument("--out", type=Path, required=True, help="data set folder")
-    p.add_argument("--count", type=int, required=True, help="number of samples")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--noise-level", default="1", choices=NOISE_CHOICES,
-                   help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal (levels 1, "
-                        "2, 3), or mix (the levels take turns per context); default 1")
-    p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
-    p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
-                   help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
-    p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
-    p.set_defaults(func=run)
+@dataclass
+class DatagenSettings:
+    """What `generate_dataset` makes (the `sketch2cad datagen` options)."""
+    out: Path
+    count: int
+    seed: int = 0
+    noise_level: str = "1"        # one of NOISE_CHOICES
+    workers: int = 2
+    shard_size: int = SHARD_SIZE  # a multiple of PER_CONTEXT
+    preview: Path | None = None   # also write a contact sheet of the first samples
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -57,12 +52,12 @@ def noise_of_block(noise: str, block: int) -> int:
     return 1 + block % 3 if noise == "mix" else int(noise)
 
 
-def manifest_of(args: argparse.Namespace) -> dict:
-    n_shards = (args.count + args.shard_size - 1) // args.shard_size
-    levels = [1, 2, 3] if args.noise_level == "mix" else [int(args.noise_level)]
-    return {"format": FORMAT, "version": VERSION, "count": args.count, "seed": args.seed,
-            "noise": args.noise_level, "noise_levels": levels, "image_size": IMAGE_SIZE,
-            "shard_size": args.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
+def manifest_of(settings: DatagenSettings) -> dict:
+    n_shards = (settings.count + settings.shard_size - 1) // settings.shard_size
+    levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
+    return {"format": FORMAT, "version": VERSION, "count": settings.count, "seed": settings.seed,
+            "noise": settings.noise_level, "noise_levels": levels, "image_size": IMAGE_SIZE,
+            "shard_size": settings.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
             "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
 
 
@@ -112,16 +107,18 @@ def _error(msg: str) -> int:
     return 2
 
 
-def run(args: argparse.Namespace) -> int:
-    if args.count <= 0:
+def generate_dataset(settings: DatagenSettings) -> int:
+    """Make (or finish) the data set; returns the exit code (2 with the reason printed
+    for bad settings or an --out that holds another data set)."""
+    if settings.count <= 0:
         return _error("--count must be positive")
-    if args.shard_size <= 0 or args.shard_size % PER_CONTEXT:
+    if settings.shard_size <= 0 or settings.shard_size % PER_CONTEXT:
         return _error(f"--shard-size must be a positive multiple of {PER_CONTEXT}")
-    if args.workers <= 0:
+    if settings.workers <= 0:
         return _error("--workers must be positive")
-    out: Path = args.out
+    out: Path = settings.out
     out.mkdir(parents=True, exist_ok=True)
-    manifest = manifest_of(args)
+    manifest = manifest_of(settings)
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
@@ -131,28 +128,28 @@ def run(args: argparse.Namespace) -> int:
                           f"size {'/'.join(str(old.get(k)) for k in keys)}); use another --out")
     mpath.write_text(json.dumps(manifest, indent=1) + "\n")
 
-    size = args.shard_size
+    size = settings.shard_size
     todo = [k for k in range(len(manifest["shards"])) if not shard_complete(out, k)]
-    counts = {k: min(size, args.count - k * size) for k in todo}
-    jobs = [(args.seed, b, args.noise_level) for k in todo
+    counts = {k: min(size, settings.count - k * size) for k in todo}
+    jobs = [(settings.seed, b, settings.noise_level) for k in todo
             for b in range(k * size // PER_CONTEXT, (k * size + counts[k] + PER_CONTEXT - 1)
                            // PER_CONTEXT)]
     made = sum(counts.values())
     start = time.perf_counter()
-    with tqdm(total=args.count, initial=args.count - made, unit="sample", desc="datagen",
+    with tqdm(total=settings.count, initial=settings.count - made, unit="sample", desc="datagen",
               smoothing=0.05) as bar:
-        if args.workers == 1:
+        if settings.workers == 1:
             _collect(map(make_block, jobs), todo, counts, out, bar)
         else:
-            with start_pool(args.workers) as pool:
+            with start_pool(settings.workers) as pool:
                 _collect(pool.imap(make_block, jobs), todo, counts, out, bar)
     secs = time.perf_counter() - start
     if made:
         print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s with "
-              f"{args.workers} worker(s); {args.count} in {out}")
-    if args.preview:
-        write_preview(Dataset(out), args.preview)
-        print(f"datagen: preview written to {args.preview}")
+              f"{settings.workers} worker(s); {settings.count} in {out}")
+    if settings.preview:
+        write_preview(Dataset(out), settings.preview)
+        print(f"datagen: preview written to {settings.preview}")
     return 0
 
 

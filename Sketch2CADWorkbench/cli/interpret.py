@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""`sketch2cad interpret SESSION.json`: every sketched step through the whole pipeline."""
+"""Run every step of a sketch session (see inference/session.py) through the networks and
+fitting, into a protocol and a solid.
+
+`sketch2cad interpret SESSION.json [--protocol P.json] [--step S.step] [--png S.png]`.
+"""
 from __future__ import annotations
 
 import argparse
@@ -10,14 +14,11 @@ from ..brep.compare import volume_iou
 from ..brep.exchange import export_step
 from ..brep.operators import make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
-from .interpret import InterpretError, InterpretOptions, interpret
-from .session import load_session
+from ..inference.interpret import InterpretError, InterpretOptions, interpret
+from ..inference.session import load_session
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("interpret",
-                       description="Run every step of a sketch session (see "
-                                   "inference/session.py) through the networks and fitting.")
+def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("session", type=Path, help="session JSON file")
     p.add_argument("--protocol", type=Path, help="write the interpreted protocol (JSON)")
     p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
@@ -29,12 +30,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--keep-going", action="store_true",
                    help="skip a step that cannot be interpreted instead of stopping (the "
                         "skipped steps are listed; the exit code is then 0)")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..render.maps import MapRenderer
-    from .weights import load_predictor
+    from ..inference.weights import load_predictor
     try:
         session = load_session(args.session)
         reference = _reference(args.compare, len(session.steps)) if args.compare else None

@@ -3,7 +3,7 @@
 import pytest
 
 from Sketch2CADWorkbench.cli import main
-from Sketch2CADWorkbench.inference.recovery import recovery
+from training.recovery import recovery
 
 
 @pytest.fixture(scope="module")
