@@ -20,6 +20,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
 
     def Initialize(self):
         import FreeCADGui
+
         from Sketch2CADWorkbench.freecad_layer import dependencies, install_dialog
         FreeCADGui.addCommand(install_dialog.COMMAND,
                               install_dialog.InstallDependencies(self.installed_later))
@@ -33,6 +34,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
     def add_commands(self):
         """Register the commands (which import cadquery) and fill the toolbar and menu."""
         import FreeCADGui
+
         from Sketch2CADWorkbench.commands import COMMANDS, MENU, TOOLBAR
         for name, command in COMMANDS.items():
             if name not in FreeCADGui.listCommands():

@@ -26,7 +26,6 @@ written.
 from __future__ import annotations
 
 import json
-import os
 import zipfile
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -35,9 +34,16 @@ from typing import Iterator
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.protocol import (OperatorType, operation_from_dict, operation_to_dict,
-                             protocol_from_dict, protocol_to_dict)
+from Sketch2CADWorkbench.brep.files import atomic_path
+from Sketch2CADWorkbench.brep.protocol import (
+    OperatorType,
+    operation_from_dict,
+    operation_to_dict,
+    protocol_from_dict,
+    protocol_to_dict,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+
 from .sample import Sample
 
 FORMAT = "sketch2cad-dataset"
@@ -79,10 +85,8 @@ def pack(s: Sample) -> Record:
 
 
 def _replace_atomically(path: Path, write) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as f:
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
         write(f)
-    os.replace(tmp, path)
 
 
 def _write_npz(f, arrays: dict[str, np.ndarray]) -> None:

@@ -23,11 +23,18 @@ from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
 from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
+
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
-from .views import (SCALE_RANGE, frame_curves, is_informative, shows_base_face, up_vector,
-                    view_direction)
+from .views import (
+    SCALE_RANGE,
+    frame_curves,
+    is_informative,
+    shows_base_face,
+    up_vector,
+    view_direction,
+)
 
 IMAGE_SIZE = 256
 PER_CONTEXT = 4

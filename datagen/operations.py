@@ -19,8 +19,16 @@ import cadquery as cq
 import numpy as np
 
 from Sketch2CADWorkbench.brep.faces import face_ref_of, points_on_face
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Extrude, FaceRef, Mode, Operation,
-                             OperatorType, Sweep)
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Extrude,
+    FaceRef,
+    Mode,
+    Operation,
+    OperatorType,
+    Sweep,
+)
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
 

@@ -21,8 +21,18 @@ from pathlib import Path
 from tqdm import tqdm
 
 from Sketch2CADWorkbench.render.maps import MapRenderer
-from .dataset import (ARRAYS, FORMAT, VERSION, Dataset, Record, pack, shard_complete,
-                      shard_name, write_shard)
+
+from .dataset import (
+    ARRAYS,
+    FORMAT,
+    VERSION,
+    Dataset,
+    Record,
+    pack,
+    shard_complete,
+    shard_name,
+    write_shard,
+)
 from .generate import IMAGE_SIZE, PER_CONTEXT, generate_block
 from .preview import write_preview
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from Sketch2CADWorkbench.render.picture import contact_sheet, write_png
+
 from .dataset import Dataset
 from .sample import Sample
 

@@ -23,6 +23,7 @@ import numpy as np
 from Sketch2CADWorkbench.brep.faces import OperationError, planar_faces
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol
+
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 
 LAST_OP_WEIGHTS = {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4,

@@ -23,9 +23,16 @@ from pathlib import Path
 import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from Sketch2CADWorkbench.inference.models import (N_OPS, ModelConfig, Sketch2CADNet,  # noqa: E402
-                                                  class_weights, count_parameters,
-                                                  flops_per_sample, load_checkpoint, loss_terms)
+from Sketch2CADWorkbench.inference.models import (  # noqa: E402
+    N_OPS,
+    ModelConfig,
+    Sketch2CADNet,
+    class_weights,
+    count_parameters,
+    flops_per_sample,
+    load_checkpoint,
+    loss_terms,
+)
 
 CANDIDATES = {
     "128 / 8..128 (shipped)": ModelConfig(),

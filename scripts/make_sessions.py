@@ -14,15 +14,15 @@ from pathlib import Path
 
 import numpy as np
 
+from datagen.strokes import sketch_strokes
+from datagen.views import frame_curves, is_informative, up_vector, view_direction
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
 from Sketch2CADWorkbench.brep.protocol import Mode, load
-from Sketch2CADWorkbench.sketch.curves import operation_curves
-from datagen.strokes import sketch_strokes
-from datagen.views import frame_curves, is_informative, up_vector, view_direction
 from Sketch2CADWorkbench.inference.session import Session, SketchStep, StepChoices
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -66,10 +66,10 @@ def show_sketch_step():
     """A new box and the Sketch panel holding a hand-drawn-looking hexagonal prism on its
     top face (the strokes the data generator would draw, jittered), interpreted."""
     from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
-    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
-    from Sketch2CADWorkbench.sketch.curves import operation_curves
     from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model
     from Sketch2CADWorkbench.freecad_layer.shapes import from_part
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+    from Sketch2CADWorkbench.sketch.curves import operation_curves
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
     doc = FreeCAD.newDocument("Sketch")
     model = make_model(doc)

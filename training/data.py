@@ -15,6 +15,7 @@ import torch.nn.functional as F
 from tqdm import tqdm
 
 from datagen.dataset import Dataset, decode_inputs
+from Sketch2CADWorkbench.brep.files import atomic_path
 from Sketch2CADWorkbench.inference.models import ModelConfig, Sketch2CADNet
 
 
@@ -110,9 +111,8 @@ def load_pooled(ds: Dataset, model: Sketch2CADNet, out: Path) -> PooledData:
         if cached["key"] == json.dumps(key, sort_keys=True):
             return PooledData(cached["x"], cached["labels"], cached["op"], cached["noise"])
     data = pool_dataset(ds, model)
-    tmp = path.with_name(path.name + ".tmp")
-    torch.save({"key": json.dumps(key, sort_keys=True), **asdict(data)}, tmp)
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        torch.save({"key": json.dumps(key, sort_keys=True), **asdict(data)}, tmp)
     return data
 
 

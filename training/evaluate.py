@@ -6,8 +6,8 @@ the median wall time of `predict` (pooling, network, upsampling of every output 
 """
 from __future__ import annotations
 
-import json
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -16,6 +16,7 @@ import torch
 from tqdm import tqdm
 
 from datagen.dataset import Dataset, decode_inputs
+
 from .metrics import Tally, curve_hits, face_overlap
 
 LATENCY_THREADS = 2

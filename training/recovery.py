@@ -30,8 +30,14 @@ from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError
-from Sketch2CADWorkbench.inference.interpret import (Context, InterpretError, InterpretOptions,
-                                                     fit_operation, interpret, other_option)
+from Sketch2CADWorkbench.inference.interpret import (
+    Context,
+    InterpretError,
+    InterpretOptions,
+    fit_operation,
+    interpret,
+    other_option,
+)
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 
 RECOVERY_IOU = 0.95

@@ -24,13 +24,19 @@ from pathlib import Path
 
 import numpy as np
 import torch
-import torch.nn.functional as F
 from tqdm import tqdm
 
 from datagen.dataset import Dataset
-from Sketch2CADWorkbench.inference.models import (N_OPS, ModelConfig, Sketch2CADNet,
-                                                  class_weights, load_checkpoint, loss_terms,
-                                                  save_checkpoint)
+from Sketch2CADWorkbench.inference.models import (
+    N_OPS,
+    ModelConfig,
+    Sketch2CADNet,
+    class_weights,
+    load_checkpoint,
+    loss_terms,
+    save_checkpoint,
+)
+
 from .data import PooledData, data_key, load_pooled, split
 from .metrics import Tally, curve_hits, face_overlap
 from .report import plot_curves

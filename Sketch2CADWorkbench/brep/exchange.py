@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import io
-import os
-import tempfile
 from pathlib import Path
 
 import cadquery as cq
@@ -12,6 +10,7 @@ from OCP.IFSelect import IFSelect_RetDone
 from OCP.Interface import Interface_Static
 
 from .faces import OperationError
+from .files import atomic_path
 
 
 def export_step(solid: cq.Shape, path: str | Path) -> None:
@@ -25,15 +24,9 @@ def export_step(solid: cq.Shape, path: str | Path) -> None:
     """
     path = Path(path)
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    fd, tmp = tempfile.mkstemp(suffix=".step", dir=path.parent if str(path.parent) else ".")
-    os.close(fd)
-    try:
-        if solid.exportStep(tmp) != IFSelect_RetDone:
+    with atomic_path(path) as tmp:
+        if solid.exportStep(str(tmp)) != IFSelect_RetDone:
             raise OSError(f"{path}: OCCT could not write the STEP file")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def import_step(path: str | Path) -> cq.Shape:

@@ -14,8 +14,7 @@ import cadquery as cq
 import numpy as np
 
 from .faces import OperationError, ResolvedFace, model_scale, resolve_face
-from .protocol import (AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol,
-                       Sweep)
+from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Sweep
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
 PLANE_TOL = 1e-3

@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Any, Union
 
 from .fields import FieldError, box_size, error, header, number, obj, points, vec
+from .files import write_atomically
 
 FORMAT = "sketch2cad-protocol"
 VERSION = 1
@@ -191,14 +192,22 @@ class Protocol:
         return Protocol(self.base, self.operations + (op,))
 
     def to_json(self) -> str:
-        return json.dumps(protocol_to_dict(self), indent=1)
+        """Standard JSON (NaN and infinities are refused: `loads` could not read them)."""
+        try:
+            return json.dumps(protocol_to_dict(self), indent=1, allow_nan=False)
+        except ValueError:
+            raise ProtocolError("a parameter is NaN or infinite; nothing was written") from None
 
     def save(self, path: str | Path) -> None:
-        """Write the protocol as JSON; the file is replaced only once fully written."""
-        path = Path(path)
-        tmp = path.with_suffix(path.suffix + ".tmp")
-        tmp.write_text(self.to_json() + "\n")
-        tmp.replace(path)
+        """Write the protocol as JSON, only if `load` accepts what would be written (the
+        loader's own rules); the file is replaced only once fully written.
+
+        Raises:
+            ProtocolError: naming the field the loader refuses; the file is untouched.
+        """
+        text = self.to_json() + "\n"
+        loads(text, "the protocol to save")
+        write_atomically(path, text)
 
     def listing(self) -> str:
         """A readable listing, one line per step, like the paper's protocol figures."""

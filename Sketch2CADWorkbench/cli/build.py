@@ -11,8 +11,9 @@ from pathlib import Path
 
 from ..brep.exchange import export_step
 from ..brep.faces import OperationError
+from ..brep.files import atomic_outputs, check_outputs
 from ..brep.operators import build
-from ..brep.protocol import ProtocolError, load
+from ..brep.protocol import Protocol, ProtocolError, load
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -22,17 +23,41 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="do not print the protocol listing")
 
 
+def write_outputs(solid, protocol: Protocol | None, step: Path | None, png: Path | None,
+                  protocol_path: Path | None = None) -> None:
+    """Write the asked-for outputs of a command all or none: each to a temporary beside it,
+    moved into place only when every one was written (brep/files.py).
+
+    Raises:
+        OSError: an output could not be written; no file was replaced.
+    """
+    writers = []
+    if protocol_path:
+        writers.append((protocol_path, lambda tmp: protocol.save(tmp)))
+    if step:
+        writers.append((step, lambda tmp: export_step(solid, tmp)))
+    if png:
+        from ..render.picture import shaded_picture  # VTK only when a picture is asked for
+        writers.append((png, lambda tmp: shaded_picture(solid, path=tmp)))
+    for path, _ in writers:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_outputs([path for path, _ in writers]) as tmps:
+        for tmp, (_, write) in zip(tmps, writers):
+            write(tmp)
+
+
 def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet: bool = False):
-    """Replay one protocol file and write its outputs; returns the final solid."""
+    """Replay one protocol file and write its outputs (all or none); returns the solid.
+
+    Raises:
+        ValueError: an output is the protocol file or the other output.
+    """
+    check_outputs({"PROTOCOL": protocol_path}, {"--step": step, "--png": png})
     protocol = load(protocol_path)
     if not quiet:
         print(f"{protocol_path}:\n{protocol.listing()}")
     solid = build(protocol)
-    if step:
-        export_step(solid, step)
-    if png:
-        from ..render.picture import shaded_picture  # VTK only when a picture is asked for
-        shaded_picture(solid, path=png)
+    write_outputs(solid, protocol, step, png)
     if not quiet:
         bb = solid.BoundingBox()
         print(f"  -> volume {solid.Volume():.2f} mm^3, size {bb.xlen:.1f} x {bb.ylen:.1f} x "
@@ -43,7 +68,7 @@ def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet:
 def run(args: argparse.Namespace) -> int:
     try:
         build_files(args.protocol, args.step, args.png, args.quiet)
-    except (ProtocolError, OperationError, OSError) as e:
+    except (ProtocolError, OperationError, OSError, ValueError) as e:
         print(f"sketch2cad build: error: {e}", file=sys.stderr)
         return 2
     return 0

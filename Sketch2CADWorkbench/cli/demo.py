@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     for f in files:
         try:
             build_files(f, args.out / f"{f.stem}.step", args.out / f"{f.stem}.png")
-        except (ProtocolError, OperationError, OSError) as e:
+        except (ProtocolError, OperationError, OSError, ValueError) as e:
             print(f"sketch2cad demo: error: {e}", file=sys.stderr)
             failed += 1
     print(f"demo: {len(files) - failed} of {len(files)} protocols built into {args.out}/")

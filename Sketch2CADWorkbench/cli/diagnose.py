@@ -17,13 +17,14 @@ import argparse
 import collections
 import dataclasses
 
+from datagen.dataset import Dataset
+from training.recovery import RECOVERY_IOU, read_step
+
 from ..brep.compare import volume_iou
 from ..brep.faces import OperationError
 from ..brep.operators import apply_operation, replay
 from ..brep.protocol import OperatorType, describe
-from datagen.dataset import Dataset
 from ..inference.interpret import InterpretError, InterpretOptions
-from training.recovery import RECOVERY_IOU, read_step
 from ..render.maps import MapRenderer
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from training.evaluate import evaluate, has_ground_truth
 from training.recovery import recovery
 from training.report import report
+
 from ..inference.weights import load_predictor
 
 

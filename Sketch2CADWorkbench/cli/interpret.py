@@ -11,11 +11,12 @@ import sys
 from pathlib import Path
 
 from ..brep.compare import volume_iou
-from ..brep.exchange import export_step
+from ..brep.files import check_outputs
 from ..brep.operators import make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
 from ..inference.interpret import InterpretError, InterpretOptions, interpret
 from ..inference.session import load_session
+from .build import write_outputs
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,8 +34,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..render.maps import MapRenderer
     from ..inference.weights import load_predictor
+    from ..render.maps import MapRenderer
+    try:
+        check_outputs({"SESSION": args.session, "--compare": args.compare,
+                       "--weights": args.weights},
+                      {"--protocol": args.protocol, "--step": args.step, "--png": args.png})
+    except ValueError as e:
+        print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
+        return 2
     try:
         session = load_session(args.session)
         reference = _reference(args.compare, len(session.steps)) if args.compare else None
@@ -72,18 +80,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
           f"volume {solid.Volume():.1f} mm^3")
     try:
-        for path in (args.protocol, args.step, args.png):
-            if path:
-                path.parent.mkdir(parents=True, exist_ok=True)
-        if args.protocol:
-            protocol.save(args.protocol)
-        if args.step:
-            export_step(solid, args.step)
-        if args.png:
-            from ..render.picture import shaded_picture
-            shaded_picture(solid, path=args.png)
+        write_outputs(solid, protocol, args.step, args.png, args.protocol)
     except OSError as e:
-        print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
+        print(f"sketch2cad interpret: error: {e}; no output was written or replaced",
+              file=sys.stderr)
         return 2
     return 0
 

@@ -14,13 +14,14 @@ import argparse
 
 import numpy as np
 
+from datagen.dataset import Dataset
+from training.recovery import read_step
+
 from ..brep.faces import OperationError, model_scale, resolve_face
 from ..brep.operators import replay
 from ..brep.protocol import OperatorType
-from datagen.dataset import Dataset
 from ..inference.fitting.primitive import far_outline_share
 from ..inference.interpret import InterpretError, InterpretOptions
-from training.recovery import read_step
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

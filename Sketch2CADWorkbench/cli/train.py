@@ -13,6 +13,7 @@ from pathlib import Path
 import torch
 
 from training.train import TrainSettings, train
+
 from ..inference.models import ModelConfig
 
 

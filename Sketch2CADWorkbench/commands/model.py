@@ -3,8 +3,8 @@
 import FreeCAD
 import FreeCADGui
 
-from ..freecad_layer.queries import features, find_models
 from ..freecad_layer.gui_helpers import transaction
+from ..freecad_layer.queries import features, find_models
 from .common import resources
 
 

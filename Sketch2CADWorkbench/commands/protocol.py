@@ -10,9 +10,9 @@ from PySide import QtGui
 from ..brep.faces import OperationError
 from ..brep.operators import replay
 from ..brep.protocol import ProtocolError, load
-from ..freecad_layer.queries import (failed_features, features, find_models,
-                                     protocol_from_model)
 from ..freecad_layer.gui_helpers import error, transaction
+from ..freecad_layer.queries import (failed_features, features, find_models,
+                                     protocol_from_model, refuse_failed_steps)
 from .common import active_model, resources
 
 PROTOCOL_FILTER = "Sketch2CAD protocol (*.json)"
@@ -96,6 +96,7 @@ class SaveProtocol:
 def save_protocol_file(model, path: str) -> bool:
     """Write the model's protocol; tell the user and return False when it cannot be."""
     try:
+        refuse_failed_steps(model, "saving the protocol")
         protocol_from_model(model).save(path)
     except (ValueError, OSError) as e:
         error("Cannot save protocol", f"{model.Label}: {e}")

@@ -1,11 +1,12 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A model's final solid as a STEP file, written by FreeCAD's own STEP writer."""
-import os
-import tempfile
 from pathlib import Path
 
 import FreeCAD  # noqa: F401  (Import needs FreeCAD imported first)
 import Import
+
+from ..brep.files import atomic_path
+from .queries import refuse_failed_steps
 
 
 def export_step(model, path) -> None:
@@ -21,21 +22,16 @@ def export_step(model, path) -> None:
         path: the .step or .stp file to write.
 
     Raises:
-        ValueError: the model's last step is in error or has no solid.
+        ValueError: a step of the model is in error (named), or the last has no solid.
         OSError: the file cannot be written.
     """
     tip, path = model.Tip, Path(path)
+    refuse_failed_steps(model, "exporting")
     if tip is None or not tip.isValid() or tip.Shape.isNull():
         name = tip.Label if tip is not None else "none"
         raise ValueError(f"{model.Label}: its last step ({name}) has no valid solid; fix it "
                          "before exporting")
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix or ".step", dir=path.parent)
-    os.close(fd)
-    try:
-        Import.export([tip], tmp)
-        if os.path.getsize(tmp) == 0:
+    with atomic_path(path) as tmp:
+        Import.export([tip], str(tmp))
+        if not tmp.exists() or tmp.stat().st_size == 0:
             raise OSError(f"{path}: FreeCAD's STEP writer wrote nothing")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)

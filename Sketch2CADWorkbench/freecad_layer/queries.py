@@ -31,3 +31,17 @@ def find_models(doc) -> list:
     """The document's Sketch2CAD models, in creation order."""
     return [o for o in doc.Objects
             if getattr(getattr(o, "Proxy", None), "TYPE", "") == ModelFeature.TYPE]
+
+
+def refuse_failed_steps(model, doing: str) -> None:
+    """Raise ValueError naming the model's first step in error, if any: the later steps'
+    solids would be those from before the edit that broke it.
+
+    Args:
+        doing: what is refused, for the message ("exporting", "saving the protocol").
+    """
+    bad = failed_features(model)
+    if bad:
+        status = bad[0].getStatusString()
+        raise ValueError(f"{model.Label}: step {bad[0].Label} failed to build ({status}); "
+                         f"fix it before {doing}")

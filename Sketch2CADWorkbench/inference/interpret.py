@@ -35,8 +35,8 @@ from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sam
 from .fitting.extrude import fit_extrude
 from .fitting.primitive import other_option_fits
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
-from .fitting.verify import reprojection_error
 from .fitting.sweep import fit_sweep
+from .fitting.verify import reprojection_error
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.

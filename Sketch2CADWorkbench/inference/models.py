@@ -37,6 +37,7 @@ import torch
 import torch.nn as nn
 import torch.nn.functional as F
 
+from ..brep.files import atomic_path
 from ..sketch.labels import CLASSES
 
 N_OPS = len(CLASSES)
@@ -227,11 +228,9 @@ def save_checkpoint(path: str | Path, model: Sketch2CADNet, **extra) -> None:
     """Write the weights with the config that rebuilds the model, plus `extra` entries
     (training state, class counts, provenance). Written to a temporary name and renamed,
     so an interrupted save never leaves a broken file."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    torch.save({"format": CHECKPOINT_FORMAT, "config": asdict(model.config),
-                "model": model.state_dict(), **extra}, tmp)
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        torch.save({"format": CHECKPOINT_FORMAT, "config": asdict(model.config),
+                    "model": model.state_dict(), **extra}, tmp)
 
 
 def load_checkpoint(path: str | Path, map_location: str = "cpu"

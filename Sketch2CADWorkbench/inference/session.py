@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..brep.fields import FieldError, box_size, error, header, number, obj, vec
+from ..brep.files import write_atomically
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
 
@@ -70,10 +71,7 @@ class Session:
 
     def save(self, path: str | Path) -> None:
         """Write the session as JSON; the file is replaced only once fully written."""
-        path = Path(path)
-        tmp = path.with_suffix(path.suffix + ".tmp")
-        tmp.write_text(json.dumps(self.to_dict()) + "\n")
-        tmp.replace(path)
+        write_atomically(path, json.dumps(self.to_dict()) + "\n")
 
 
 def _step_dict(s: SketchStep) -> dict[str, Any]:

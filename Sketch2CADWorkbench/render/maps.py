@@ -14,12 +14,11 @@ from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
+import vtkmodules.vtkRenderingOpenGL2 as _opengl  # registers the OpenGL implementations
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
 from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR, vtkPoints, vtkUnsignedCharArray
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
-                                         vtkRenderWindow)
-import vtkmodules.vtkRenderingOpenGL2 as _opengl  # registers the OpenGL implementations
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
 
 from ..brep.faces import model_scale
 from .camera import OrthoCamera

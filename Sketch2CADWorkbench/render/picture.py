@@ -15,6 +15,7 @@ import cv2
 import numpy as np
 
 from ..brep.faces import model_scale
+from ..brep.files import atomic_path
 from .camera import OrthoCamera
 from .frustum import fit_camera
 from .maps import ContextMaps, MapRenderer
@@ -157,12 +158,10 @@ def write_png(rgb: np.ndarray, path: str | Path) -> None:
     Raises:
         OSError: the file cannot be written.
     """
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp.png")
     bgr = rgb[..., ::-1] if rgb.ndim == 3 else rgb
-    if not cv2.imwrite(str(tmp), np.ascontiguousarray(bgr)):
-        raise OSError(f"{path}: cannot write the picture")
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        if not cv2.imwrite(str(tmp), np.ascontiguousarray(bgr)):
+            raise OSError(f"{path}: cannot write the picture")
 
 
 def contact_sheet(images: list[np.ndarray], cols: int, labels: list[str] | None = None,

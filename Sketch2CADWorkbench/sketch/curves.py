@@ -22,8 +22,7 @@ import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
 from ..brep.protocol import AddSubPrism, Bevel, Extrude, Mode, Operation, Sweep
-from .labels import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE,
-                     START)
+from .labels import BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE, START
 
 CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle
 # Side edges are drawn from outline vertices where the outline turns by more than this;

@@ -2,8 +2,7 @@
 """STEP files and BREP text carry the solid exactly."""
 import pytest
 
-from Sketch2CADWorkbench.brep.exchange import (export_step, from_brep_text, import_step,
-                                               to_brep_text)
+from Sketch2CADWorkbench.brep.exchange import export_step, from_brep_text, import_step, to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import build
 from Sketch2CADWorkbench.brep.protocol import load

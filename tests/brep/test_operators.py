@@ -6,8 +6,16 @@ import pytest
 
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
-                                               Protocol, Sweep)
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Box,
+    Extrude,
+    FaceRef,
+    Mode,
+    Protocol,
+    Sweep,
+)
 
 LX, LY, LZ = 40.0, 30.0, 20.0
 BOX_VOLUME = LX * LY * LZ

@@ -2,12 +2,18 @@
 """Protocol files round-trip, list readably, and reject every malformed field by name."""
 import copy
 import json
+from dataclasses import replace
 
 import pytest
 
 from Sketch2CADWorkbench.brep.operators import build
-from Sketch2CADWorkbench.brep.protocol import (OperatorType, ProtocolError, load, loads,
-                                               protocol_to_dict)
+from Sketch2CADWorkbench.brep.protocol import (
+    OperatorType,
+    ProtocolError,
+    load,
+    loads,
+    protocol_to_dict,
+)
 
 
 @pytest.fixture
@@ -119,13 +125,28 @@ def test_missing_and_binary_files_are_protocol_errors(tmp_path):
         load(tmp_path / "bin.json")
 
 
-def test_save_failure_keeps_the_previous_file(tmp_path, examples_dir):
+def test_save_failure_keeps_the_previous_file(tmp_path, examples_dir, monkeypatch):
+    from Sketch2CADWorkbench.brep import files
     f = tmp_path / "p.json"
     f.write_text("previous")
     p = load(examples_dir / "nut.json")
-    (tmp_path / "p.json.tmp").mkdir()  # the temporary file cannot be written
+    # the temporary cannot be written (a disk full, say)
+    monkeypatch.setattr(files, "temporary_path", lambda path: tmp_path / "gone" / "t.json")
     with pytest.raises(OSError):
         p.save(f)
+    assert f.read_text() == "previous" and sorted(x.name for x in tmp_path.iterdir()) == ["p.json"]
+
+
+def test_a_protocol_the_loader_would_refuse_is_not_saved(tmp_path, examples_dir):
+    p = load(examples_dir / "nut.json")
+    f = tmp_path / "p.json"
+    f.write_text("previous")
+    nan = replace(p, operations=(replace(p.operations[0], d=float("nan")),) + p.operations[1:])
+    with pytest.raises(ProtocolError, match="NaN"):
+        nan.save(f)
+    flat = replace(p, base=replace(p.base, size=(0.0, 10.0, 10.0)))
+    with pytest.raises(ProtocolError, match=r"base.size\[0\]"):
+        flat.save(f)
     assert f.read_text() == "previous"
 
 

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from Sketch2CADWorkbench.brep.faces import OperationError, face_ref_of, planar_faces
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, Mode, Sweep)
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Sweep
 
 unit = st.floats(0.0, 1.0)
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.protocol import OperatorType
 from datagen.generate import Context, sample_on
 from datagen.sequences import sample_sequence
+from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 

@@ -4,8 +4,8 @@ import cv2
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.cli import main
 from datagen.dataset import Dataset
+from Sketch2CADWorkbench.cli import main
 
 ARGS = ["--count", "14", "--seed", "3", "--shard-size", "8"]  # shards of 8 and 6 samples
 

@@ -6,13 +6,18 @@ import pytest
 
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
-                                               Sweep)
-from Sketch2CADWorkbench.sketch.curves import (base_face_index, operation_curves,
-                                                outline_corners)
-from Sketch2CADWorkbench.sketch.labels import (BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET,
-                                                EXTRUDE_PROFILE, PROFILE, START)
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves, outline_corners
+from Sketch2CADWorkbench.sketch.labels import (
+    BEVEL_L,
+    BEVEL_L_PRIME,
+    END,
+    EXTRUDE_OFFSET,
+    EXTRUDE_PROFILE,
+    PROFILE,
+    START,
+)
 
 BOX = make_box(Box((40.0, 30.0, 20.0)))
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))

@@ -5,8 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from datagen.dataset import (ARRAYS, FORMAT, VERSION, Dataset,
-                                                 write_shard)
+from datagen.dataset import ARRAYS, FORMAT, VERSION, Dataset, write_shard
 
 
 def _manifest(folder, count, shard_size, shards, version=VERSION):

@@ -6,13 +6,17 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from datagen.operations import DIAG, PlanarFace, bevel_corners, change_bound, random_polygon
+from datagen.sequences import (
+    MIN_VOLUME_CHANGE,
+    Stage,
+    draw_type,
+    random_box,
+    sample_operation,
+    sample_sequence,
+)
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
 from Sketch2CADWorkbench.brep.protocol import Box, OperatorType
-from datagen.operations import (DIAG, PlanarFace, bevel_corners,
-                                                    change_bound, random_polygon)
-from datagen.sequences import (MIN_VOLUME_CHANGE, Stage, draw_type,
-                                                   random_box, sample_operation,
-                                                   sample_sequence)
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck))

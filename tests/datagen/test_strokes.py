@@ -3,10 +3,9 @@
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.sketch.curves import Curve
-from datagen.strokes import (NOISE_FRACTION, noise_sigma, perturb,
-                                                 sketch_strokes, stroke_maps)
+from datagen.strokes import NOISE_FRACTION, noise_sigma, perturb, sketch_strokes, stroke_maps
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import Curve
 
 LINE = np.array([[20.0, 30.0], [220.0, 90.0]])
 DIAGONAL = np.hypot(256, 256)

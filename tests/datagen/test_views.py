@@ -4,12 +4,16 @@ import cadquery as cq
 import numpy as np
 import pytest
 
+from datagen.views import (
+    frame_curves,
+    is_informative,
+    relevant_visibility,
+    shows_base_face,
+    up_vector,
+    view_direction,
+)
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef, Mode
 from Sketch2CADWorkbench.sketch.curves import operation_curves
-from datagen.views import (frame_curves, is_informative,
-                                               relevant_visibility, shows_base_face,
-                                               up_vector, view_direction)
-from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 
 def test_view_directions_look_at_the_face_from_20_to_80_degrees():

@@ -3,7 +3,6 @@
 import subprocess
 
 import pytest
-
 from freecad_process import PRIME_USER_CONFIG, freecad_env, run_script
 
 

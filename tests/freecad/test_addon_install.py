@@ -10,7 +10,6 @@ import subprocess
 from pathlib import Path
 
 import pytest
-
 from freecad_process import PRIME_USER_CONFIG, ROOT, freecad_env, run_script
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui, pytest.mark.slow]

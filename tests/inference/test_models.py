@@ -4,8 +4,14 @@ import pytest
 import torch
 import torch.nn.functional as F
 
-from Sketch2CADWorkbench.inference.models import (ModelConfig, Sketch2CADNet, class_weights,
-                                                  load_checkpoint, loss_terms, save_checkpoint)
+from Sketch2CADWorkbench.inference.models import (
+    ModelConfig,
+    Sketch2CADNet,
+    class_weights,
+    load_checkpoint,
+    loss_terms,
+    save_checkpoint,
+)
 
 
 def _batch(cfg: ModelConfig, n: int = 3, seed: int = 0):

@@ -10,8 +10,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from training.evaluate import evaluate
 from Sketch2CADWorkbench.inference.weights import DEFAULT_WEIGHTS, WEIGHTS_DIR
+from training.evaluate import evaluate
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
 

@@ -5,8 +5,12 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.faces import model_scale
-from Sketch2CADWorkbench.render.mesh import (ANGULAR_TOLERANCE, REL_TOLERANCE, tessellate,
-                                             view_tolerance)
+from Sketch2CADWorkbench.render.mesh import (
+    ANGULAR_TOLERANCE,
+    REL_TOLERANCE,
+    tessellate,
+    view_tolerance,
+)
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,8 @@ import pytest
 import torch
 
 from Sketch2CADWorkbench.cli import main
-from training.metrics import Tally, curve_classes, curve_hits, face_iou, face_overlap
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
+from training.metrics import Tally, curve_classes, curve_hits, face_iou, face_overlap
 
 EXTRUDE, BEVEL, ADDSUB, SWEEP = 0, 1, 2, 3
 

@@ -6,10 +6,14 @@ import numpy as np
 import pytest
 import torch
 
-from Sketch2CADWorkbench.cli import main
 from datagen.dataset import Dataset, decode_inputs
-from Sketch2CADWorkbench.inference.models import (Sketch2CADNet, class_weights, load_checkpoint,
-                                                  loss_terms)
+from Sketch2CADWorkbench.cli import main
+from Sketch2CADWorkbench.inference.models import (
+    Sketch2CADNet,
+    class_weights,
+    load_checkpoint,
+    loss_terms,
+)
 from training import train as train_module
 from training.data import load_pooled, split
 from training.train import TrainSettings, train

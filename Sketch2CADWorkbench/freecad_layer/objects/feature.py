@@ -4,8 +4,9 @@
 A feature's FreeCAD properties are its protocol parameters; execute() turns them into the
 core's dataclass, lets the core build the solid, and hands it to FreeCAD as BREP. An
 exception raised by execute() puts the feature in FreeCAD's error state, with the
-exception's message as its status (tree icon, report view); its properties, the earlier
-features and the later ones keep their values, so the user can fix the value.
+exception's message as its status (tree icon, report view), and the later features go
+into error after it (FailurePropagation); every feature keeps its property values, so
+the user can fix the value.
 """
 import FreeCAD
 
@@ -123,7 +124,27 @@ class OperationFeature(Feature):
         from ...brep.operators import apply_operation
         if obj.Base is None:
             raise ValueError(f"{obj.Label}: no Base feature to apply the operation to")
-        if obj.Base.Shape.isNull():
-            raise ValueError(f"{obj.Label}: its Base {obj.Base.Label} has no solid "
-                             "(that step failed to build)")
+        if obj.Base.Shape.isNull() or not obj.Base.isValid():
+            raise ValueError(f"{obj.Label}: its Base {obj.Base.Label} failed to build")
         return apply_operation(from_part(obj.Base.Shape), self.operation(obj))
+
+
+class FailurePropagation:
+    """A document observer: after a recompute, every step after a failed one is rebuilt
+    too, so that it goes into error ("its Base ... failed to build") instead of keeping
+    the solid it had before the edit (FreeCAD does not recompute what depends on a failed
+    object, and would show the later steps as up to date)."""
+
+    def slotRecomputedDocument(self, doc):
+        from ..queries import features, find_models
+        for model in find_models(doc):
+            chain = features(model)
+            failed = next((i for i, o in enumerate(chain) if not o.isValid()), None)
+            if failed is not None:
+                for obj in chain[failed + 1:]:
+                    if obj.isValid():
+                        obj.recompute()
+
+
+OBSERVER = FailurePropagation()
+FreeCAD.addDocumentObserver(OBSERVER)  # once: this module is imported once per session

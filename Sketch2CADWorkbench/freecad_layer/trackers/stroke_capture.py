@@ -13,8 +13,8 @@ it was drawn. `result()` projects them with the camera of that moment, so zoomin
 panning between strokes keeps them where they were drawn over the model.
 """
 import numpy as np
-from PySide import QtCore
 from pivy import coin
+from PySide import QtCore
 
 from .view_camera import to_pixels, view_camera
 

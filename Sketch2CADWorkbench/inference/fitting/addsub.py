@@ -8,8 +8,15 @@ import numpy as np
 from ...brep.faces import face_ref_of, model_scale
 from ...brep.protocol import AddSubPrism, Mode
 from ...render.camera import OrthoCamera
-from .common import (DistanceField, FaceFrame, FitError, line_search, resample, search_range,
-                     stroke_pixels)
+from .common import (
+    DistanceField,
+    FaceFrame,
+    FitError,
+    line_search,
+    resample,
+    search_range,
+    stroke_pixels,
+)
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option, face_outline
 from .refine import refine_prism

@@ -8,8 +8,15 @@ import numpy as np
 from ...brep.faces import face_ref_of, model_scale
 from ...brep.protocol import Extrude
 from ...render.camera import OrthoCamera
-from .common import (DistanceField, FaceFrame, FitError, edge_samples, line_search,
-                     search_range, stroke_pixels)
+from .common import (
+    DistanceField,
+    FaceFrame,
+    FitError,
+    edge_samples,
+    line_search,
+    search_range,
+    stroke_pixels,
+)
 
 # Mean distance (px) between the moved face's edges and the offset strokes above which
 # the strokes are not read as an extrusion of f.

@@ -11,8 +11,8 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.protocol import Operation
-from ...sketch.curves import operation_curves
 from ...render.camera import OrthoCamera
+from ...sketch.curves import operation_curves
 from .common import DistanceField, resample, stroke_pixels
 
 

@@ -6,19 +6,16 @@ import sys
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-from harness import (EXAMPLES, ROOT, TMP, check, close, finish, run_checks,  # noqa: E402
-                     tested_checkout)
-
 import FreeCAD  # noqa: E402
 import Part  # noqa: E402
+from harness import EXAMPLES, ROOT, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
 
 from Sketch2CADWorkbench.brep.exchange import import_step  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import Sweep, load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.export import export_step  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.queries import (  # noqa: E402
-    failed_features, features, protocol_from_model)
+from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features, protocol_from_model  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.shapes import from_part, to_part  # noqa: E402
 
 
@@ -129,12 +126,27 @@ def unbuildable_value_puts_only_that_feature_in_error():
     prism = chain[3]
     prism.Polygon = prism.Polygon[:2]  # 2 vertices: no prism
     doc.recompute()
-    assert failed_features(model) == [prism], [o.State for o in chain]
+    # the later steps go into error too, rather than keep their solids from before
+    assert failed_features(model) == chain[3:], [o.State for o in chain]
     assert "Invalid" in prism.State, prism.State
     assert "3 to 6 vertices" in prism.getStatusString(), prism.getStatusString()
+    assert all(f"its Base {chain[i - 1].Label} failed to build" in chain[i].getStatusString()
+               for i in range(4, len(chain))), [o.getStatusString() for o in chain]
     assert len(prism.Polygon) == 2  # the user's value stays, for them to fix
     assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3]))
     assert [o.Proxy.operation(o) for o in chain[4:]] == later  # nothing after it is lost
+    # export and save refuse, naming the broken step; the files are not touched
+    # (Save protocol runs the same refuse_failed_steps first: commands/protocol.py)
+    from Sketch2CADWorkbench.freecad_layer.queries import refuse_failed_steps
+    step = os.path.join(TMP, "error.step")
+    for attempt in (lambda: export_step(model, step),
+                    lambda: refuse_failed_steps(model, "saving the protocol")):
+        try:
+            attempt()
+            raise AssertionError("went on with a failed step")
+        except ValueError as e:
+            assert f"step {prism.Label} failed to build" in str(e), e
+    assert not os.path.exists(step)
     prism.FaceNormal = FreeCAD.Vector(0, 0, 0)
     doc.recompute()
     assert "zero vector" in prism.getStatusString(), prism.getStatusString()
@@ -205,7 +217,7 @@ def step_export_and_brep_transfer():
         export_step(model, path)
         raise AssertionError("exported a model whose last step failed")
     except ValueError as e:
-        assert "no valid solid" in str(e), e
+        assert "step Bevel001 failed to build" in str(e), e
     assert os.path.getsize(path) == size
 
 

@@ -9,13 +9,11 @@ import sys
 from dataclasses import replace
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
-
 import FreeCAD  # noqa: E402
 import FreeCADGui  # noqa: E402
 import numpy as np  # noqa: E402
 import Part  # noqa: E402
-import Sketch2CADWorkbench  # noqa: E402
+from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
@@ -144,6 +142,7 @@ def silhouette_error(view) -> float:
     """Largest distance (pixels) between the box's projected bounding rectangle and the
     one of the pixels Coin renders for it with the view's camera and size."""
     import cv2
+
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     cam = view_camera(view)
     path = os.path.join(TMP, "silhouette.png")
@@ -227,8 +226,8 @@ def strokes_captured_from_mouse_events():
 @check
 def sketch_step_adds_one_undoable_feature():
     """The Sketch command's panel: mouse strokes of a pulled top face, Enter, OK."""
-    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.queries import features
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
     model = model_of_document()
     doc = model.Document
@@ -263,9 +262,9 @@ def sketch_step_adds_one_undoable_feature():
     assert len(features(model)) == before
     # the step went through the console (as Draft's tools do): the same line, run as a
     # macro would run it, makes the same feature
-    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import add_operation_command
     import Sketch2CADWorkbench.brep.protocol  # noqa: F401 (names the line uses)
     import Sketch2CADWorkbench.freecad_layer.make.make_model  # noqa: F401
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import add_operation_command
     line = add_operation_command(model, panel.result.operations[0])
     doc.openTransaction("macro replay")
     exec(line, {"FreeCAD": FreeCAD, "Sketch2CADWorkbench": Sketch2CADWorkbench})

@@ -5,16 +5,19 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
-
 import FreeCAD  # noqa: E402
+from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
 
 DATA = os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "data")
 
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.queries import (  # noqa: E402
-    failed_features, features, find_models, protocol_from_model)
+    failed_features,
+    features,
+    find_models,
+    protocol_from_model,
+)
 
 
 def reopen_and_recompute(path: str):

@@ -2,13 +2,12 @@
 """Extrude fitting recovers d from the moved face's outline."""
 import numpy as np
 import pytest
+from fit_sketches import edge_strokes, face_towards
 
 from Sketch2CADWorkbench.brep.faces import model_scale
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.extrude import fit_extrude
 from Sketch2CADWorkbench.render.camera import OrthoCamera
-
-from fit_sketches import edge_strokes, face_towards
 
 
 @pytest.mark.parametrize("normal,d", [((0, 0, 1), 7.3), ((0, 0, 1), -6.1), ((0, -1, 0), 11.0),

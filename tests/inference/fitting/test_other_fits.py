@@ -2,7 +2,6 @@
 """Bevel, prism and sweep fitting recover the operation that produced the strokes."""
 import numpy as np
 import pytest
-
 from fit_sketches import circle3d, curve_stroke, face_towards, polygon_strokes, stroke
 
 from Sketch2CADWorkbench.brep.operators import apply_operation

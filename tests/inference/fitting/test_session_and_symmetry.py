@@ -9,8 +9,14 @@ import pytest
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.brep.symmetry import mid_plane, reflect
-from Sketch2CADWorkbench.inference.session import (Session, SessionError, SketchStep,
-                                                   StepChoices, load_session, session_from_dict)
+from Sketch2CADWorkbench.inference.session import (
+    Session,
+    SessionError,
+    SketchStep,
+    StepChoices,
+    load_session,
+    session_from_dict,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 CAM = OrthoCamera((0, 0, 0), (0.5, 0.6, -0.62), (0, 0, 1), 40.0, 400, 300)

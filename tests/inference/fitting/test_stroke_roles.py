@@ -6,10 +6,10 @@ import pytest
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 BOX = Box((40, 30, 20))

@@ -5,9 +5,9 @@ import pytest
 
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 

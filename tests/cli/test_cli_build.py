@@ -4,7 +4,6 @@ import json
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
@@ -45,3 +44,41 @@ def test_unbuildable_step_keeps_an_existing_output_file(tmp_path, examples_dir):
     out = run("build", tmp_path / "p.json", "--step", tmp_path / "keep.step")
     assert out.returncode == 2 and "step 3 (extrude)" in out.stderr
     assert (tmp_path / "keep.step").read_text() == (examples_dir / "nut.json").read_text()
+
+
+def test_an_output_that_is_the_protocol_is_refused_and_the_protocol_kept(tmp_path,
+                                                                        examples_dir):
+    p = tmp_path / "p.json"
+    shutil.copy(examples_dir / "nut.json", p)
+    before = p.read_bytes()
+    for option in ("--step", "--png"):
+        out = run("build", p, option, p)
+        assert out.returncode == 2 and "same file as PROTOCOL" in out.stderr, out.stderr
+        assert p.read_bytes() == before
+
+
+def test_two_outputs_on_one_path_are_refused_before_any_work(tmp_path, examples_dir):
+    out = run("build", examples_dir / "nut.json", "--step", tmp_path / "x", "--png",
+              tmp_path / "x")
+    assert out.returncode == 2 and "--png" in out.stderr and "--step" in out.stderr
+    assert not (tmp_path / "x").exists()
+
+
+def test_an_output_that_cannot_be_written_replaces_no_other(tmp_path, examples_dir):
+    step = tmp_path / "out.step"
+    step.write_text("the previous export")
+    blocked = tmp_path / "not-a-folder"
+    blocked.write_text("a file where the picture's folder would be")
+    out = run("build", examples_dir / "nut.json", "--step", step, "--png", blocked / "x.png")
+    assert out.returncode == 2, out.stdout
+    assert step.read_text() == "the previous export"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["not-a-folder", "out.step"]
+
+
+def test_a_replaced_output_keeps_its_mode(tmp_path, examples_dir):
+    step = tmp_path / "out.step"
+    step.write_text("old")
+    step.chmod(0o644)
+    assert run("build", examples_dir / "nut.json", "--step", step).returncode == 0
+    assert step.stat().st_mode & 0o777 == 0o644
+    assert "ISO-10303-21" in step.read_text()[:100]

@@ -8,22 +8,32 @@ rendering, counting, fitting, the B-rep operation, symmetry and the error path.
 import subprocess
 import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.compare import volume_iou
+from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import (AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode,
-                                               OperatorType)
-from Sketch2CADWorkbench.sketch.curves import operation_curves
-from Sketch2CADWorkbench.inference.interpret import (InterpretError, InterpretOptions, interpret,
-                                                     to_context)
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Box,
+    Extrude,
+    FaceRef,
+    Mode,
+    OperatorType,
+)
+from Sketch2CADWorkbench.inference.interpret import (
+    InterpretError,
+    InterpretOptions,
+    interpret,
+    to_context,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.strokes import rasterize
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
