@@ -19,6 +19,7 @@ import cadquery as cq
 import numpy as np
 
 from Sketch2CADWorkbench.brep.faces import face_ref_of, points_on_face
+from Sketch2CADWorkbench.brep.geometry import bezier_points, plane_basis
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -85,9 +86,7 @@ def face_size(face: cq.Face) -> float:
 
 def plane_frame(n: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """A randomly rotated orthonormal basis (u, v) of the plane with normal n."""
-    a = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
-    a /= np.linalg.norm(a)
-    b = np.cross(n, a)
+    a, b = plane_basis(n)
     t = rng.uniform(0, 2 * np.pi)
     return np.cos(t) * a + np.sin(t) * b, -np.sin(t) * a + np.cos(t) * b
 
@@ -268,12 +267,6 @@ SAMPLERS = {OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bev
 
 # ----------------------------------------------------------------- size bound
 
-def _bezier(ctrl: np.ndarray, k: int = 33) -> np.ndarray:
-    t = np.linspace(0, 1, k)[:, None]
-    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
-            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
-
-
 def _area(points: np.ndarray, n: np.ndarray) -> float:
     """Area (mm^2) of a planar polygon (K, 3) with normal n."""
     cross = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
@@ -289,10 +282,10 @@ def change_bound(op: Operation, f: PlanarFace) -> float:
     elif isinstance(op, AddSubPrism):
         volume = _area(np.array(op.polygon), f.normal) * op.d
     elif isinstance(op, Sweep):
-        rh = _bezier(np.array(op.control_points(), float))
+        rh = bezier_points(np.array(op.control_points(), float), 33)
         volume = float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
     else:
-        region = np.concatenate([[op.corner], _bezier(np.array(op.profile, float))])
+        region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
         volume = _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite,
                                                                              op.corner)))
     return 1.1 * volume

@@ -21,7 +21,7 @@ LIGHT = np.array([0.35, 0.5, 0.8]) / np.linalg.norm([0.35, 0.5, 0.8])  # camera 
 def overlay(sample: Sample) -> np.ndarray:
     """(H, W, 3) uint8 RGB: the context shaded from its normals (N, camera space), the
     base face tinted blue, and each stroke pixel coloured by its curve label."""
-    fg = sample.depth > 0
+    fg = sample.face_id >= 0  # D is 0 on the farthest foreground pixels too
     n = np.moveaxis(sample.normal, 0, -1) - 1.0
     light = np.clip(n @ LIGHT, 0.0, 1.0)
     shade = np.where(fg, 90 + 150 * light, 255.0)

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from Sketch2CADWorkbench.brep.geometry import plane_basis
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.render.maps import ContextMaps
@@ -51,9 +52,7 @@ MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 2
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
     """A unit view direction (into the scene) 20 to 80 degrees from -n_f, random azimuth."""
     n = np.asarray(normal, float)
-    a = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
-    a /= np.linalg.norm(a)
-    b = np.cross(n, a)
+    a, b = plane_basis(n)
     phi = rng.uniform(0, 2 * np.pi)
     theta = np.radians(rng.uniform(*ANGLE_RANGE_DEG))
     w = np.cos(phi) * a + np.sin(phi) * b

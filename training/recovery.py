@@ -67,7 +67,8 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
         return StepReading(got.operations[0], got.solid, got.other_option,
                            got.timings_ms["total"])
     ctx = Context(sample.camera, sample.strokes,
-                  ContextMaps(sample.depth, sample.normal, sample.face_id, None), sample.inputs())
+                  ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
+                  sample.inputs())
     try:
         op, index, _ = fit_operation(context, sample.op_type, sample.face_label,
                                      sample.curve_label, ctx, options)

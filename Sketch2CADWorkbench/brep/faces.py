@@ -97,6 +97,10 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
     tol = 1e-6 * max(scale, 1.0)
     n_ref = np.asarray(ref.normal, dtype=float)
     p_ref = np.asarray(ref.point, dtype=float)
+    if not (np.isfinite(n_ref).all() and np.isfinite(p_ref).all()) \
+            or abs(float(np.linalg.norm(n_ref)) - 1.0) > 1e-6:
+        raise OperationError(f"{what} reference (point {ref.point}, normal {ref.normal}): "
+                             "expected a finite point and a unit normal")
     best: tuple[cq.Face, np.ndarray, float] | None = None
     for face, n, offset in planar_faces(solid):
         if float(n @ n_ref) < NORMAL_COS_TOL:
@@ -115,7 +119,22 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
             f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no planar face "
             "with that outward normal contains the point")
     face, n, shift = best
+    if abs(shift) > tol:
+        _refuse_inward_normal(solid, ref, p_ref, n_ref, tol, what)
     return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
+
+
+def _refuse_inward_normal(solid: cq.Shape, ref: FaceRef, p_ref: np.ndarray, n_ref: np.ndarray,
+                          tol: float, what: str) -> None:
+    """A point on a face whose outward normal is the opposite of ref's: the reference's
+    normal points into the solid (it would otherwise match the face across the solid)."""
+    for face, n, offset in planar_faces(solid):
+        if float(n @ n_ref) <= -NORMAL_COS_TOL and abs(offset - float(n @ p_ref)) <= tol \
+                and face.distance(cq.Vertex.makeVertex(*p_ref)) <= tol:
+            raise OperationError(
+                f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
+                f"{tuple(round(x, 4) for x in ref.normal)}): the normal points into the "
+                f"solid; the face there faces {tuple(round(float(x), 4) for x in n)}")
 
 
 def face_ref_of(face: cq.Face) -> FaceRef:

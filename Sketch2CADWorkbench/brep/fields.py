@@ -16,7 +16,8 @@ class FieldError(ValueError):
 
 
 def error(path: str, msg: str, value: Any) -> FieldError:
-    shown = json.dumps(value, default=repr)
+    shown = value if isinstance(value, str) and value.startswith("an integer of") else \
+        json.dumps(value, default=repr)
     if len(shown) > 80:
         shown = shown[:77] + "..."
     return FieldError(f"{path}: {msg}, got {shown}")
@@ -36,9 +37,20 @@ def obj(v: Any, path: str, required: set[str], optional: set[str] = frozenset())
     return v
 
 
+# The base box's sides (mm): from a micrometre to 100 m; OCCT fails outside.
+MIN_BOX_MM, MAX_BOX_MM = 1e-3, 1e5
+
+
 def number(v: Any, path: str, positive: bool = False, nonzero: bool = False) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise error(path, "expected a finite number", v)
+    try:
+        finite = math.isfinite(v)
+    except OverflowError:  # an integer of hundreds of digits
+        finite = False
+    if not finite:
+        raise error(path, "expected a finite number", v if isinstance(v, float) else
+                    f"an integer of {len(str(abs(v)))} digits")
     if positive and v <= 0:
         raise error(path, "expected a positive number", v)
     if nonzero and v == 0:
@@ -63,7 +75,7 @@ def header(o: dict, fmt: str, version: int) -> None:
     """The format name, version and units (mm) every file of ours starts with."""
     if o["format"] != fmt:
         raise error("format", f"expected '{fmt}'", o["format"])
-    if o["version"] != version:
+    if isinstance(o["version"], bool) or o["version"] != version:
         raise error("version", f"unsupported version (this build reads {version})", o["version"])
     if o["units"] != "mm":
         raise error("units", "expected 'mm'", o["units"])
@@ -77,4 +89,7 @@ def box_size(v: Any) -> tuple[float, float, float]:
     size = vec(base["size"], "base.size")
     for i, s in enumerate(size):
         number(s, f"base.size[{i}]", positive=True)
+        if not MIN_BOX_MM <= s <= MAX_BOX_MM:
+            raise error(f"base.size[{i}]", f"expected a side from {MIN_BOX_MM:g} to "
+                        f"{MAX_BOX_MM:g} mm", s)
     return size

@@ -8,12 +8,14 @@ solid; anything else raises `OperationError` with the reason.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import cadquery as cq
 import numpy as np
 
 from .faces import OperationError, ResolvedFace, model_scale, resolve_face
+from .geometry import bezier, plane_basis
 from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Sweep
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
@@ -132,7 +134,7 @@ def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: f
         return np.stack([(p - c) @ u, (p - c) @ v], axis=-1)
 
     a, b = flat(ctrl[0]), flat(ctrl[3])
-    q = flat(_bezier(ctrl, np.linspace(0, 1, 129)))[1:-1]
+    q = flat(bezier(ctrl, np.linspace(0, 1, 129)))[1:-1]
     s = np.sign(a[0] * b[1] - a[1] * b[0])
     if s == 0:
         raise OperationError("bevel: the ends of profile l are in line with corner c")
@@ -175,9 +177,7 @@ def prism_tool(solid: cq.Solid, op: AddSubPrism) -> cq.Solid:
 
 def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
     """Reject polygons with repeated vertices, no area, or crossing sides."""
-    u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
-    u /= np.linalg.norm(u)
-    v = np.cross(n, u)
+    u, v = plane_basis(n)
     q = np.stack([pts @ u, pts @ v], axis=1)
     k = len(q)
     for i in range(k):
@@ -233,7 +233,7 @@ def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
         raise OperationError(f"sweep: r0, r1 and d must be positive, got r0={op.r0}, "
                              f"r1={op.r1}, d={op.d}")
     ctrl = np.array(op.control_points(), dtype=float)
-    radii = _bezier(ctrl, np.linspace(0, 1, 65))[:, 0]
+    radii = bezier(ctrl, np.linspace(0, 1, 65))[:, 0]
     if radii.min() <= 0:
         raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
     center, axis = sweep_axis(solid, op)
@@ -263,12 +263,6 @@ def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
     return tool
 
 
-def _bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
-    t = t[:, None]
-    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
-            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
-
-
 def sweep(solid: cq.Solid, op: Sweep) -> cq.Solid:
     """Combine the solid with the shape swept by c_p along circles c0 and c1.
 
@@ -291,10 +285,45 @@ def sweep(solid: cq.Solid, op: Sweep) -> cq.Solid:
 _APPLY = {Extrude: extrude, Bevel: bevel, AddSubPrism: add_sub_prism, Sweep: sweep}
 
 
+# Lengths and points an operation may hold, relative to the model's size (its bounding
+# box diagonal): OCCT's own failures outside this range say nothing a user can act on.
+MIN_LENGTH_REL, MAX_EXTENT_REL = 1e-6, 100.0
+LENGTHS = ("d", "r0", "r1")
+
+
+def check_ranges(solid: cq.Shape, op: Operation) -> None:
+    """Refuse parameters no operator builds, in the user's terms, before OCCT sees them.
+
+    Raises:
+        OperationError: naming the parameter, its value and the range for this model.
+    """
+    scale = model_scale(solid)
+    center = np.array(solid.BoundingBox().center.toTuple())
+    for f in dataclasses.fields(op):
+        value = getattr(op, f.name)
+        if f.name in LENGTHS:
+            lo, hi = MIN_LENGTH_REL * scale, MAX_EXTENT_REL * scale
+            if not lo <= abs(value) <= hi:
+                raise OperationError(
+                    f"{op.type.value}: {f.name} = {value:g} mm is out of range for this model "
+                    f"(size {scale:.4g} mm): |{f.name}| must be from {lo:.3g} to {hi:.3g} mm")
+        elif f.name != "face" and isinstance(value, tuple):
+            pts = np.asarray(value, float)
+            pts = pts.reshape(-1, pts.shape[-1])
+            # 3D points from the model's centre; a sweep's (r, h) profile as they are
+            far = float(np.abs(pts - center if pts.shape[1] == 3 else pts).max())
+            if far > MAX_EXTENT_REL * scale:
+                raise OperationError(
+                    f"{op.type.value}: {f.name} lies {far:.4g} mm from the model (size "
+                    f"{scale:.4g} mm); at most {MAX_EXTENT_REL * scale:.4g} mm")
+
+
 def apply_operation(solid: cq.Solid, op: Operation) -> cq.Solid:
-    """Apply one protocol operation; see the per-operator functions."""
+    """Apply one protocol operation; see the per-operator functions. `solid` is not
+    changed (the operators work on a copy: OCCT adds p-curves to what it cuts)."""
+    check_ranges(solid, op)
     try:
-        return _APPLY[type(op)](solid, op)
+        return _APPLY[type(op)](solid.copy(), op)
     except OperationError:
         raise
     except Exception as e:  # an OCCT failure deep in a Boolean is still a user-level error

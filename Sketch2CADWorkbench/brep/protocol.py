@@ -333,7 +333,7 @@ def _operation(v: Any, path: str) -> Operation:
     if not isinstance(v, dict):
         raise _fail(path, "expected an object", v)
     kind = v.get("type")
-    if kind not in _KEYS:
+    if not isinstance(kind, str) or kind not in _KEYS:
         raise _fail(f"{path}.type", f"expected one of {sorted(_KEYS)}", kind)
     o = obj(v, path, _KEYS[kind])
     face = _face_ref(o["face"], f"{path}.face")
@@ -380,6 +380,10 @@ def loads(text: str, source: str = "<string>") -> Protocol:
         data = json.loads(text)
     except json.JSONDecodeError as e:
         raise ProtocolError(f"{source}: not valid JSON: {e}") from None
+    except RecursionError:
+        raise ProtocolError(f"{source}: not a protocol: nested too deeply") from None
+    except ValueError as e:  # an integer past Python's digit limit
+        raise ProtocolError(f"{source}: not a protocol: {e}") from None
     try:
         return protocol_from_dict(data)
     except ProtocolError as e:

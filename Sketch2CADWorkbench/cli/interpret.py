@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
         session = load_session(args.session)
         reference = _reference(args.compare, len(session.steps)) if args.compare else None
         predictor = load_predictor(args.weights)
-    except (ProtocolError, FileNotFoundError) as e:
+    except (ProtocolError, FileNotFoundError, ValueError) as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
         return 2
     renderer = MapRenderer()

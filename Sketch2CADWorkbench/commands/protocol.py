@@ -11,8 +11,13 @@ from ..brep.faces import OperationError
 from ..brep.operators import replay
 from ..brep.protocol import ProtocolError, load
 from ..freecad_layer.gui_helpers import error, transaction
-from ..freecad_layer.queries import (failed_features, features, find_models,
-                                     protocol_from_model, refuse_failed_steps)
+from ..freecad_layer.queries import (
+    failed_features,
+    features,
+    find_models,
+    protocol_from_model,
+    refuse_failed_steps,
+)
 from .common import active_model, resources
 
 PROTOCOL_FILTER = "Sketch2CAD protocol (*.json)"

@@ -28,6 +28,10 @@ from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
 from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
+
+# What one sketch step may hold: a person draws tens of strokes for an operation.
+MAX_STROKES, MAX_POINTS = 200, 20000
+MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
@@ -251,6 +255,30 @@ def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None
     return (op, mirrored), apply_operation(result, mirrored)
 
 
+def check_sketch(strokes: list[np.ndarray]) -> None:
+    """Refuse at once what no operation can be read from: too many strokes or points for a
+    sketch a person draws (the fitting's cost grows with them), non-finite points, or
+    strokes that span less than MIN_SPAN_PX (a dot).
+
+    Raises:
+        InterpretError: saying which.
+    """
+    if not strokes:
+        raise InterpretError("no strokes: draw the operation's edges over the model")
+    if len(strokes) > MAX_STROKES:
+        raise InterpretError(f"{len(strokes)} strokes: one operation takes at most "
+                             f"{MAX_STROKES}; clear the strokes and draw it again")
+    points = sum(len(s) for s in strokes)
+    if points > MAX_POINTS:
+        raise InterpretError(f"{points} stroke points: at most {MAX_POINTS} per operation")
+    every = np.concatenate([np.asarray(s, float).reshape(-1, 2) for s in strokes])
+    if not np.isfinite(every).all():
+        raise InterpretError("a stroke point is not a finite number")
+    if float(np.ptp(every, axis=0).max()) < MIN_SPAN_PX:
+        raise InterpretError(f"the strokes span less than {MIN_SPAN_PX} pixels: draw the "
+                             "operation's edges, not a dot")
+
+
 def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
               predictor: Predictor, renderer: MapRenderer | None = None,
               options: InterpretOptions = InterpretOptions(),
@@ -270,6 +298,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     Raises:
         InterpretError: with the reason, when the sketch matches no operation.
     """
+    check_sketch(strokes)
     t0 = time.perf_counter()
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())
     t1 = time.perf_counter()

@@ -240,14 +240,28 @@ def load_checkpoint(path: str | Path, map_location: str = "cpu"
     Returns:
         the model (in eval mode) and the whole checkpoint dictionary.
     Raises:
-        ValueError: when the file is not a Sketch2CAD network checkpoint.
+        ValueError: when the file is not a Sketch2CAD network checkpoint (named, with why).
+
+    A checkpoint is a pickle (it holds numpy scalars of the training log): load only the
+    project's own files or files from a source you trust.
     """
-    ckpt = torch.load(path, map_location=map_location, weights_only=False)
+    try:
+        ckpt = torch.load(path, map_location=map_location, weights_only=False)
+    except FileNotFoundError:
+        raise
+    except Exception as e:  # a truncated or foreign file: pickle, zip and torch errors alike
+        raise ValueError(f"{path}: not a readable {CHECKPOINT_FORMAT} checkpoint "
+                         f"({type(e).__name__}: {str(e)[:120]})") from None
     if not isinstance(ckpt, dict) or ckpt.get("format") != CHECKPOINT_FORMAT:
         raise ValueError(f"{path}: not a {CHECKPOINT_FORMAT} checkpoint")
     known = {f.name for f in fields(ModelConfig)}
-    model = Sketch2CADNet(ModelConfig(**{k: v for k, v in ckpt["config"].items() if k in known}))
-    model.load_state_dict(ckpt["model"])
+    try:
+        model = Sketch2CADNet(ModelConfig(**{k: v for k, v in ckpt["config"].items()
+                                             if k in known}))
+        model.load_state_dict(ckpt["model"])
+    except (KeyError, TypeError, RuntimeError) as e:
+        raise ValueError(f"{path}: a {CHECKPOINT_FORMAT} checkpoint that does not rebuild "
+                         f"the network ({type(e).__name__}: {str(e)[:120]})") from None
     return model.eval(), ckpt
 
 

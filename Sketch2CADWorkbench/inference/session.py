@@ -98,9 +98,9 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
             vec(o[k], f"{path}.{k}", n)
         number(o["scale"], f"{path}.scale")
         return OrthoCamera.from_dict(o)
+    except FieldError as e:  # already names the field
+        raise SessionError(str(e)) from None
     except ValueError as e:
-        if isinstance(e, SessionError):
-            raise
         raise SessionError(f"{path}: {e}") from None
 
 
@@ -162,6 +162,10 @@ def load_session(path: str | Path) -> Session:
         raise SessionError(f"{path}: cannot read session file: {e}") from None
     except json.JSONDecodeError as e:
         raise SessionError(f"{path}: not valid JSON: {e}") from None
+    except RecursionError:
+        raise SessionError(f"{path}: not a session: nested too deeply") from None
+    except ValueError as e:  # an integer past Python's digit limit
+        raise SessionError(f"{path}: not a session: {e}") from None
     try:
         return session_from_dict(data)
     except SessionError as e:

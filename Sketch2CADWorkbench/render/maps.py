@@ -50,13 +50,14 @@ class ContextMaps:
             -1 on background.
         view_depth: float32 depth in mm along camera.direction from the plane through
             camera.center, as camera.project measures it (larger is farther); +inf on
-            background.
+            background. None for maps read back from a stored sample, which keeps D only
+            (what needs it, visibility and pictures, takes rendered maps).
     """
 
     depth: np.ndarray
     normal: np.ndarray
     face_id: np.ndarray
-    view_depth: np.ndarray
+    view_depth: np.ndarray | None
 
     @property
     def foreground(self) -> np.ndarray:

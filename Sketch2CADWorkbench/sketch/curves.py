@@ -21,6 +21,7 @@ import cadquery as cq
 import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
+from ..brep.geometry import bezier_points
 from ..brep.protocol import AddSubPrism, Bevel, Extrude, Mode, Operation, Sweep
 from .labels import BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE, START
 
@@ -57,13 +58,6 @@ def _segment(a, b) -> np.ndarray:
     return np.stack([np.asarray(a, float), np.asarray(b, float)])
 
 
-def bezier(ctrl: np.ndarray, k: int = CURVE_POINTS) -> np.ndarray:
-    """Points of a cubic Bezier (any dimension) at k evenly spaced parameters."""
-    t = np.linspace(0, 1, k)[:, None]
-    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
-            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
-
-
 def outline_corners(face: cq.Face) -> list[np.ndarray]:
     """The vertices of a face's outline (holes included) where it has a corner."""
     leaving: dict[tuple, list[np.ndarray]] = {}
@@ -86,7 +80,7 @@ def extrude_curves(rf: ResolvedFace, op: Extrude) -> list[Curve]:
 
 
 def bevel_curves(rf: ResolvedFace, op: Bevel) -> list[Curve]:
-    l_curve = bezier(np.array(op.profile, float)) + rf.offset
+    l_curve = bezier_points(np.array(op.profile, float), CURVE_POINTS) + rf.offset
     crease = np.subtract(op.opposite, op.corner)
     return [Curve(l_curve, BEVEL_L, relevant=True), Curve(l_curve + crease, BEVEL_L_PRIME)]
 
@@ -138,7 +132,7 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
     start, end = _start_end(base, far, op.mode)
     out = [Curve(start, START, closed=True, relevant=start is base),
            Curve(end, END, closed=True, relevant=end is base)]
-    rh = bezier(np.array(op.control_points(), float))
+    rh = bezier_points(np.array(op.control_points(), float), CURVE_POINTS)
     for s in (1.0, -1.0):
         out.append(Curve(c0 + s * rh[:, :1] * side + rh[:, 1:2] * axis, PROFILE))
     return out

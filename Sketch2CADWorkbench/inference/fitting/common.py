@@ -12,6 +12,7 @@ import cadquery as cq
 import numpy as np
 from scipy import ndimage
 
+from ...brep.geometry import bezier, plane_basis
 from ...render.camera import OrthoCamera
 
 
@@ -31,9 +32,7 @@ class FaceFrame:
     @staticmethod
     def of(face: cq.Face) -> "FaceFrame":
         n = np.array(face.normalAt().toTuple())
-        u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
-        u /= np.linalg.norm(u)
-        return FaceFrame(np.array(face.Center().toTuple()), n, u, np.cross(n, u))
+        return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
 
     def to_2d(self, pts: np.ndarray) -> np.ndarray:
         q = np.atleast_2d(pts) - self.origin
@@ -170,13 +169,6 @@ def edge_samples(face: cq.Face, spacing: float) -> np.ndarray:
         n = max(int(np.ceil(e.Length() / spacing)), 2)
         pts += [e.positionAt(t).toTuple() for t in np.linspace(0, 1, n)]
     return np.array(pts)
-
-
-def bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Points of a cubic Bezier with control points (4, D) at parameters t (K,)."""
-    t = np.asarray(t, float)[:, None]
-    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
-            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
 
 
 def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,

@@ -4,11 +4,12 @@ import numpy as np
 import pytest
 from fit_sketches import circle3d, curve_stroke, face_towards, polygon_strokes, stroke
 
+from Sketch2CADWorkbench.brep.geometry import bezier
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import Mode
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.bevel import fit_bevel
-from Sketch2CADWorkbench.inference.fitting.common import FitError, bezier
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.primitive import other_option_fits
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 
