@@ -4,6 +4,7 @@ import math
 
 import pytest
 
+from Sketch2CADWorkbench.brep.exchange import to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
 from Sketch2CADWorkbench.brep.protocol import (
@@ -53,9 +54,12 @@ def test_extrude_through_the_whole_solid_is_an_error(box):
 
 
 def test_operator_leaves_its_input_solid_unchanged(box):
-    before = box.Volume()
+    before, text = box.Volume(), to_brep_text(box)
     apply_operation(box, Extrude(TOP, 5.0))
-    assert box.Volume() == before
+    apply_operation(box, AddSubPrism(TOP, square(4, LZ / 2), 3.0, Mode.SUBTRACT))
+    with pytest.raises(OperationError):
+        apply_operation(box, Extrude(TOP, -LZ - 1))
+    assert box.Volume() == before and to_brep_text(box) == text  # not even p-curves added
 
 
 @pytest.mark.parametrize("mode,sign", [(Mode.ADD, 1), (Mode.SUBTRACT, -1)])
@@ -153,6 +157,15 @@ def test_rounded_bevel_removes_less_than_the_chamfer(box):
     (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, ((-9.0, 2.0), (4.0, 3.0))), "crosses the axis"),
     (Bevel(FRONT, (LX / 2, -LY / 2, LZ / 2), (LX / 2, -LY / 2, -LZ / 2),
            ((14, -15, 10), (16, -15, 10), (20, -15, 8), (20, -15, 6))), "crease"),
+    # out of the range any operator builds for a 54 mm model, said before OCCT runs
+    (Extrude(TOP, 1e300), r"d = 1e\+300 mm is out of range for this model"),
+    (Extrude(TOP, 1e-12), r"d = 1e-12 mm is out of range"),
+    (AddSubPrism(TOP, square(4, LZ / 2), 1e-12), "out of range"),
+    (Sweep(TOP, (0, 0, LZ / 2), 1e9, 4.0, 5.0, straight(1e9, 4.0, 5.0)), "r0 = 1e"),
+    (AddSubPrism(TOP, ((0, 0, 1e9), (5, 0, 1e9), (0, 5, 1e9)), 3.0), "polygon lies 1e"),
+    # a point on the top with the normal into the solid: not the bottom face 20 mm away
+    (Extrude(FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, -1.0)), 3.0), "points into the solid"),
+    (Extrude(FaceRef((0.0, 0.0, LZ / 2), (math.nan, 0.0, 1.0)), 3.0), "unit normal"),
 ])
 def test_unbuildable_operation_raises_operation_error_saying_why(box, op, message):
     with pytest.raises(OperationError, match=message):

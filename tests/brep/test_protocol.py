@@ -82,6 +82,13 @@ BAD = [
     (["operations", 2, "d"], True, r"operations\[2\].d: expected a finite number, got true"),
     (["operations", 4, "profile"], [[0, 0, 0]] * 3, r"operations\[4\].profile: expected a list of 4 points"),
     (["operations", 4, "corner"], None, r"operations\[4\].corner: expected a list of 3 numbers, got null"),
+    # found by a hostile tester: each was a traceback or was accepted
+    (["version"], True, r"version: unsupported version \(this build reads 1\), got true"),
+    (["operations", 0, "type"], ["addsub"], r"operations\[0\].type: expected one of .*got \[\"addsub\"\]"),
+    (["operations", 0, "type"], {"a": 1}, r"operations\[0\].type: expected one of"),
+    (["base", "size", 0], 10 ** 400, r"base.size\[0\]: expected a finite number, got an integer of 401 digits"),
+    (["base", "size", 0], 1e300, r"base.size\[0\]: expected a side from 0.001 to 100000 mm"),
+    (["base", "size", 2], 1e-9, r"base.size\[2\]: expected a side from 0.001"),
 ]
 
 
@@ -109,6 +116,8 @@ def test_extrude_by_zero_is_rejected(camera_dict):
 @pytest.mark.parametrize("text,message", [
     ("", "not valid JSON"), ("{", "not valid JSON"), ("[]", "protocol: expected an object"),
     ('{"format": "sketch2cad-protocol"}', "missing key"),
+    ("[" * 100000 + "]" * 100000, "nested too deeply"),
+    ('{"version": ' + "9" * 4301 + "}", "not a protocol: Exceeds the limit"),
 ])
 def test_broken_file_names_the_file(tmp_path, text, message):
     f = tmp_path / "broken.json"

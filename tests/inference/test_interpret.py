@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.brep.protocol import (
 from Sketch2CADWorkbench.inference.interpret import (
     InterpretError,
     InterpretOptions,
+    check_sketch,
     interpret,
     to_context,
 )
@@ -220,3 +221,14 @@ def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer
     chosen = interpret(box, strokes, cam, oracle, renderer,
                        InterpretOptions(regularize=False, option=Mode.ADD))
     assert chosen.other_option is None
+
+
+@pytest.mark.parametrize("strokes,message", [
+    ([np.array([[100.0, 100.0], [100.0, 100.0]])], "span less than 3.0 pixels"),
+    ([np.array([[0.0, 0.0], [5.0, 5.0]])] * 201, "201 strokes: one operation takes at most 200"),
+    ([np.array([[0.0, 0.0], [np.nan, 5.0]])], "not a finite number"),
+    ([], "no strokes"),
+])
+def test_a_sketch_no_operation_can_be_read_from_is_refused_at_once(strokes, message):
+    with pytest.raises(InterpretError, match=message):
+        check_sketch(strokes)

@@ -34,3 +34,11 @@ def test_the_predictor_classifies_and_segments_from_one_pass(tiny_config, tmp_pa
     assert np.array_equal(c, c_all[0, 3].numpy())
     predictor.segment(x.copy(), OperatorType.SWEEP)  # another sketch: another pass
     assert len(passes) == 2
+
+
+def test_a_garbage_weights_file_is_a_clean_error_naming_it(tmp_path):
+    from Sketch2CADWorkbench.inference.models import load_checkpoint
+    bad = tmp_path / "bad.pt"
+    bad.write_bytes(bytes(range(256)) * 10)
+    with pytest.raises(ValueError, match="bad.pt: not a readable sketch2cad-net checkpoint"):
+        load_checkpoint(bad)
