@@ -299,6 +299,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         InterpretError: with the reason, when the sketch matches no operation.
     """
     check_sketch(strokes)
+    solid = solid.copy()  # rendering meshes it and fitting adds p-curves: the caller's stays
     t0 = time.perf_counter()
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())
     t1 = time.perf_counter()
