@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -330,9 +331,12 @@ def apply_operation(solid: cq.Solid, op: Operation) -> cq.Solid:
         raise OperationError(f"{op.type.value}: OCCT failed to build the result: {e}") from None
 
 
-def replay(protocol: Protocol) -> list[cq.Solid]:
+def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None
+           ) -> list[cq.Solid]:
     """The solid after the base box and after each operation, in order.
 
+    Args:
+        on_step: called with each step's number (1-based) once it is built (progress).
     Raises:
         OperationError: naming the step (1-based) that could not be built.
     """
@@ -342,9 +346,11 @@ def replay(protocol: Protocol) -> list[cq.Solid]:
             solids.append(apply_operation(solids[-1], op))
         except OperationError as e:
             raise OperationError(f"step {i} ({op.type.value}): {e}") from None
+        if on_step:
+            on_step(i)
     return solids
 
 
-def build(protocol: Protocol) -> cq.Solid:
-    """The final solid of a protocol."""
-    return replay(protocol)[-1]
+def build(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> cq.Solid:
+    """The final solid of a protocol (on_step: as for `replay`)."""
+    return replay(protocol, on_step)[-1]

@@ -9,11 +9,15 @@ import argparse
 import sys
 from pathlib import Path
 
+from tqdm import tqdm
+
 from ..brep.exchange import export_step
 from ..brep.faces import OperationError
 from ..brep.files import atomic_outputs, check_outputs
 from ..brep.operators import build
 from ..brep.protocol import Protocol, ProtocolError, load
+
+PROGRESS_FROM = 20  # operations: a protocol this long shows a progress bar while it builds
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -56,7 +60,10 @@ def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet:
     protocol = load(protocol_path)
     if not quiet:
         print(f"{protocol_path}:\n{protocol.listing()}")
-    solid = build(protocol)
+    steps = len(protocol.operations)
+    with tqdm(total=steps, desc=f"build {protocol_path.name}", unit="step", leave=False,
+              disable=steps < PROGRESS_FROM) as bar:
+        solid = build(protocol, on_step=lambda i: bar.update(1))
     write_outputs(solid, protocol, step, png)
     if not quiet:
         bb = solid.BoundingBox()

@@ -70,6 +70,8 @@ def run(args: argparse.Namespace) -> int:
                 print(f"step {i}: {describe(op)}")
             print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
                   f"{got.timings_ms['total']:.0f} ms)")
+            if got.doubtful:
+                print(f"         (warning: {got.doubt()})")
             if got.other_option is not None:
                 print(f"         (the strokes read just as well as {got.other_option.value}: "
                       f"set this step's choices.option to have it)")

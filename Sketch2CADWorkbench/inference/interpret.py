@@ -32,6 +32,10 @@ from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
 # What one sketch step may hold: a person draws tens of strokes for an operation.
 MAX_STROKES, MAX_POINTS = 200, 20000
 MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
+# A reading whose own sketch lies farther from the strokes (context pixels, symmetric
+# mean) is flagged as doubtful: scribbles otherwise read as something. The 99th
+# percentile on held-out level-1 sketches (scripts/misfit_threshold.py, docs/NOTES.md).
+SKETCH_MISFIT_PX = 10.4
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
@@ -88,6 +92,20 @@ class Interpretation:
     # The Boolean that explains the same strokes as well (a boss on f and a hole into f
     # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
     other_option: Mode | None = None
+    # How far (px, symmetric mean) the operation's own sketch lies from the strokes.
+    misfit_px: float = 0.0
+
+    @property
+    def doubtful(self) -> bool:
+        """The strokes do not look like this operation (SKETCH_MISFIT_PX): say so."""
+        return self.misfit_px > SKETCH_MISFIT_PX
+
+    def doubt(self) -> str:
+        """The warning for a doubtful reading ("" when it is not)."""
+        return (f"the strokes do not look much like this {self.op_type.value}: its own sketch "
+                f"lies {self.misfit_px:.1f} px from them (99% of held-out synthetic sketches "
+                f"lie within {SKETCH_MISFIT_PX:g}); check it, or clear and draw again"
+                if self.doubtful else "")
 
 
 @dataclass
@@ -317,6 +335,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         networks_s += tb - ta
         try:
             op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
+            misfit = reprojection_error(solid, op, ctx.camera, ctx.strokes)
             other = other_option(solid, op, index, ctx.camera, options)
             tc = time.perf_counter()
             ops, result = apply_with_symmetry(solid, op, options.symmetry)
@@ -332,4 +351,4 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
                           index, labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
                            "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)}, other)
+                           "total": 1e3 * (td - t0)}, other, misfit)

@@ -4,7 +4,8 @@ models, writers killed midway, concurrent writers. Each campaign returns a Tally
 happened; tests/fuzz/test_fuzz.py runs small seeded campaigns, `python tests/fuzz/run.py`
 the full ones with their counts.
 
-Outcomes: "accepted" (a valid input, or a reading), "clean" (the error the API documents:
+Outcomes: "accepted" (a valid input, or a reading), "flagged" (a reading said to be
+doubtful: its own sketch lies far from the strokes), "clean" (the error the API documents:
 ProtocolError, SessionError, OperationError, InterpretError, a ValueError with a
 message), "crash" (anything else: a traceback), "invalid" (an accepted result that is
 not one valid solid), "changed" (the caller's solid changed), "broken" (a reader saw a
@@ -164,7 +165,8 @@ def random_strokes(n: int, seed: int, predictor=None) -> Tally:
         t = time.perf_counter()
         try:
             got = interpret(solid, strokes, cam, predictor, renderer)
-            outcome = "accepted" if got.solid.isValid() else "invalid"
+            outcome = ("invalid" if not got.solid.isValid() else
+                       "flagged" if got.doubtful else "accepted")
         except (InterpretError, OperationError) as e:
             outcome = "clean" if str(e) else "crash"
         except Exception as e:  # noqa: BLE001

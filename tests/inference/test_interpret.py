@@ -232,3 +232,12 @@ def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer
 def test_a_sketch_no_operation_can_be_read_from_is_refused_at_once(strokes, message):
     with pytest.raises(InterpretError, match=message):
         check_sketch(strokes)
+
+
+def test_a_reading_whose_sketch_lies_far_from_the_strokes_is_flagged():
+    from dataclasses import replace as with_
+    from Sketch2CADWorkbench.inference.interpret import SKETCH_MISFIT_PX, Interpretation
+    base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None)
+    assert not with_(base, misfit_px=SKETCH_MISFIT_PX).doubtful
+    far = with_(base, misfit_px=SKETCH_MISFIT_PX + 6.2)
+    assert far.doubtful and f"lies {SKETCH_MISFIT_PX + 6.2:.1f} px" in far.doubt()

@@ -102,6 +102,8 @@ class SketchPanel:
             other = (f"<p>The strokes read just as well as <b>{r.other_option.value}</b>: "
                      f"from this view its primitive draws the same lines. Set Boolean to "
                      f"{r.other_option.value} if that was meant.</p>")
+        if r.doubtful:
+            other += f"<p style='color:#b60'><b>Warning:</b> {r.doubt()}.</p>"
         self.text.setHtml(f"<b>Read as {r.op_type.value}</b> ({probs})<ul>{lines}</ul>{other}"
                           f"{r.timings_ms['total']:.0f} ms. OK adds it to the model.")
         self.preview.show(to_part(r.solid))
