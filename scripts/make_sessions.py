@@ -19,7 +19,8 @@ from datagen.views import frame_curves, is_informative, up_vector, view_directio
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
 from Sketch2CADWorkbench.brep.protocol import Mode, load
-from Sketch2CADWorkbench.inference.session import Session, SketchStep, StepChoices
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -52,7 +53,7 @@ def make(name: str, seed: int = 0) -> Session:
                           direction, up, 1.2, (800, 600))
         moved = [view.project(ctx.unproject(s))[0] for s in strokes]
         option = op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT) else None
-        steps.append(SketchStep(view, moved, StepChoices(option=option, regularize=False)))
+        steps.append(SketchStep(view, moved, InterpretOptions(option=option, regularize=False)))
     return Session(protocol.base, steps)
 
 

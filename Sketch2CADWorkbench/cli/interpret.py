@@ -14,7 +14,7 @@ from ..brep.compare import volume_iou
 from ..brep.files import check_outputs
 from ..brep.operators import make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
-from ..inference.interpret import InterpretError, InterpretOptions, interpret
+from ..inference.interpret import InterpretError, interpret
 from ..inference.session import load_session
 from .build import write_outputs
 
@@ -55,10 +55,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
     failed = 0
     for i, step in enumerate(session.steps, 1):
-        c = step.choices
         try:
             got = interpret(solid, step.strokes, step.camera, predictor, renderer,
-                            InterpretOptions(c.regularize, c.option, c.symmetry))
+                            step.choices)
         except InterpretError as e:
             failed += 1
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)

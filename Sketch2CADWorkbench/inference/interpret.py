@@ -45,6 +45,7 @@ from .fitting.primitive import other_option_fits
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.sweep import fit_sweep
 from .fitting.verify import reprojection_error
+from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
@@ -66,15 +67,6 @@ class Predictor(TypingProtocol):
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         """(5, H, W) inputs -> F (H, W) base-face probability and C (H, W) curve map."""
-
-
-@dataclass(frozen=True)
-class InterpretOptions:
-    """The designer's choices: regularization, a forced option, a symmetry plane."""
-
-    regularize: bool = True
-    option: Mode | None = None
-    symmetry: str | None = None
 
 
 @dataclass

@@ -29,6 +29,7 @@ from ..brep.fields import FieldError, box_size, error, header, number, obj, vec
 from ..brep.files import write_atomically
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
+from .options import InterpretOptions
 
 FORMAT = "sketch2cad-session"
 VERSION = 1
@@ -39,22 +40,13 @@ class SessionError(ProtocolError):
     """A session file or value is malformed; the message names the field and value."""
 
 
-@dataclass(frozen=True)
-class StepChoices:
-    """The designer's per-step choices: a forced option, a symmetry plane, regularization."""
-
-    option: Mode | None = None
-    symmetry: str | None = None
-    regularize: bool = True
-
-
 @dataclass
 class SketchStep:
     """One sketched step: the view and the strokes (each a (K, 2) pixel polyline)."""
 
     camera: OrthoCamera
     strokes: list[np.ndarray]
-    choices: StepChoices = field(default_factory=StepChoices)
+    choices: InterpretOptions = field(default_factory=InterpretOptions)
 
 
 @dataclass
@@ -104,7 +96,7 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
         raise SessionError(f"{path}: {e}") from None
 
 
-def _choices(v: Any, path: str) -> StepChoices:
+def _choices(v: Any, path: str) -> InterpretOptions:
     o = obj(v, path, set(), {"option", "symmetry", "regularize"})
     option = o.get("option")
     if option is not None:
@@ -119,7 +111,7 @@ def _choices(v: Any, path: str) -> StepChoices:
     reg = o.get("regularize", True)
     if not isinstance(reg, bool):
         raise _err(f"{path}.regularize", "expected true or false", reg)
-    return StepChoices(option, sym, reg)
+    return InterpretOptions(reg, option, sym)
 
 
 def _step(v: Any, path: str) -> SketchStep:

@@ -236,6 +236,7 @@ def test_a_sketch_no_operation_can_be_read_from_is_refused_at_once(strokes, mess
 
 def test_a_reading_whose_sketch_lies_far_from_the_strokes_is_flagged():
     from dataclasses import replace as with_
+
     from Sketch2CADWorkbench.inference.interpret import SKETCH_MISFIT_PX, Interpretation
     base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None)
     assert not with_(base, misfit_px=SKETCH_MISFIT_PX).doubtful

@@ -175,7 +175,7 @@ def interpret_session_inside_freecad():
     from Sketch2CADWorkbench.brep.compare import volume_iou
     from Sketch2CADWorkbench.brep.operators import make_box
     from Sketch2CADWorkbench.brep.protocol import Protocol
-    from Sketch2CADWorkbench.inference.interpret import InterpretOptions, interpret
+    from Sketch2CADWorkbench.inference.interpret import interpret
     from Sketch2CADWorkbench.inference.session import load_session
     from Sketch2CADWorkbench.inference.weights import load_predictor
     from Sketch2CADWorkbench.render.maps import MapRenderer
@@ -183,9 +183,8 @@ def interpret_session_inside_freecad():
     predictor, renderer = load_predictor(), MapRenderer()
     protocol, solid = Protocol(session.base), make_box(session.base)
     for step in session.steps:
-        c = step.choices
         got = interpret(solid, step.strokes, step.camera, predictor, renderer,
-                        InterpretOptions(c.regularize, c.option, c.symmetry))
+                        step.choices)
         for op in got.operations:
             protocol = protocol.append(op)
         solid = got.solid

@@ -9,11 +9,11 @@ import pytest
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.brep.symmetry import mid_plane, reflect
+from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import (
     Session,
     SessionError,
     SketchStep,
-    StepChoices,
     load_session,
     session_from_dict,
 )
@@ -26,7 +26,7 @@ def session():
     strokes = [np.array([[10.0, 20.0], [30.5, 40.25], [50, 45]]), np.array([[1, 2], [3, 4.0]])]
     return Session(Box((40, 30, 20)), [
         SketchStep(CAM, strokes),
-        SketchStep(CAM, strokes[:1], StepChoices(Mode.SUBTRACT, "x", False))])
+        SketchStep(CAM, strokes[:1], InterpretOptions(False, Mode.SUBTRACT, "x"))])
 
 
 def test_session_round_trips_through_a_file(tmp_path):
@@ -43,7 +43,7 @@ def test_session_round_trips_through_a_file(tmp_path):
 def test_choices_default_to_regularized_and_free():
     d = session().to_dict()
     del d["steps"][0]["choices"]
-    assert session_from_dict(d).steps[0].choices == StepChoices()
+    assert session_from_dict(d).steps[0].choices == InterpretOptions()
 
 
 @pytest.mark.parametrize("mutate,message", [
