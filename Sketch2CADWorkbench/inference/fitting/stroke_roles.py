@@ -111,10 +111,13 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
             chords[k] = (p[0], p[-1]) if chord @ n2 >= 0 else (p[-1], p[0])
     if prism and chords and same_chord is not None:
         share, px = same_chord
-        vec = {k: b - a for k, (a, b) in chords.items()}
-        groups = [[j for j in vec if np.linalg.norm(vec[j] - vec[k])
-                   <= share * np.linalg.norm(vec[k]) + px] for k in vec]
-        chords = {k: chords[k] for k in max(groups, key=len)}
+        keys = list(chords)
+        vec = np.array([chords[k][1] - chords[k][0] for k in keys])         # (m, 2)
+        # the largest group of chords alike (each within share of one's length plus px)
+        near = np.linalg.norm(vec[None] - vec[:, None], axis=2) \
+            <= share * np.linalg.norm(vec, axis=1)[:, None] + px           # (m, m)
+        best = int(np.argmax(near.sum(axis=1)))
+        chords = {k: chords[k] for k, kept in zip(keys, near[best]) if kept}
     if not chords and not prism:
         return _two_circles(strokes, n2)
     if not chords:
