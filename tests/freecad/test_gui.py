@@ -9,6 +9,7 @@ pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_one_undo_step",
           "view_camera_matches_freecads_projection", "strokes_captured_from_mouse_events",
           "sketch_step_adds_one_undoable_feature",
+          "sketching_in_a_perspective_view_switches_it_to_orthographic",
           "a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one",
           "load_protocol_errors_change_nothing", "load_protocol_is_one_undo_step",
           "save_protocol_round_trip", "export_step_command", "replay_command_rebuilds_step_by_step",

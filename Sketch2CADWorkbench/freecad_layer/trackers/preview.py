@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The green, see-through preview of a reading over the 3D view."""
+"""The see-through preview of a reading over the 3D view."""
 from pivy import coin
 
-COLOUR = (0.3, 0.75, 0.4)
-TRANSPARENCY = 0.45
+# Blue, see-through: unlike FreeCAD's green selection, yellow pre-selection and the
+# strokes' orange.
+COLOUR = (0.25, 0.45, 0.95)
+TRANSPARENCY = 0.5
 
 
 class Preview:

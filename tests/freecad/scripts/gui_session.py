@@ -276,6 +276,23 @@ def sketch_step_adds_one_undoable_feature():
 
 
 @check
+def sketching_in_a_perspective_view_switches_it_to_orthographic():
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.setCameraType("Perspective")
+    settle()
+    FreeCADGui.Selection.addSelection(model_of_document())
+    FreeCADGui.runCommand("Sketch2CAD_Sketch")
+    settle()
+    assert view.getCameraType() == "Orthographic", view.getCameraType()
+    assert FreeCADGui.Control.activeDialog(), "the Sketch panel did not open"
+    assert "switched to orthographic" in report_view(), report_view()[-500:]
+    assert not FreeCADGui.Selection.getSelection()  # the preview is not hidden by selection
+    key(view.graphicsView().viewport(), QtCore.Qt.Key_Escape)  # the panel's own cancel
+    settle()
+    assert not FreeCADGui.Control.activeDialog()
+
+
+@check
 def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     """A low square boss in the middle of the top face: from above, its top outline
     falls inside the face, so a hole draws the same lines. The panel says so, and
