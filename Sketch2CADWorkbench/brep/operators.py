@@ -21,7 +21,6 @@ from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protoco
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
 PLANE_TOL = 1e-3
-CORNER_TOL = 1e-4  # a bevel's corner c lies on a vertex of f, within this share of the model
 
 
 def make_box(box: Box) -> cq.Solid:
@@ -100,11 +99,6 @@ def bevel_tool(solid: cq.Solid, op: Bevel) -> cq.Solid:
     scale = model_scale(solid)
     rf = resolve_face(solid, op.face, "bevel face f")
     (c,) = _check_on_plane([op.corner], rf, scale, "bevel corner c")
-    vertices = np.array([v.toTuple() for v in rf.face.Vertices()])
-    off = float(np.linalg.norm(vertices - c, axis=1).min())
-    if off > CORNER_TOL * scale:
-        raise OperationError(f"bevel: corner c {tuple(round(float(x), 4) for x in c)} is not a "
-                             f"corner of face f (the nearest lies {off:.4g} mm away)")
     ctrl = _check_on_plane(op.profile, rf, scale, "bevel profile l")
     crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
     length = float(np.linalg.norm(crease))
