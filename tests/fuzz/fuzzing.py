@@ -33,7 +33,7 @@ from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.files import MARK
 from Sketch2CADWorkbench.brep.operators import build, make_box
 from Sketch2CADWorkbench.brep.protocol import ProtocolError, loads
-from Sketch2CADWorkbench.inference.session import SessionError, session_from_dict
+from Sketch2CADWorkbench.inference.session import SessionError, load_session
 
 ROOT = Path(__file__).resolve().parents[2]
 CLEAN = (ProtocolError, SessionError, OperationError, ValueError)
@@ -112,35 +112,31 @@ def _classify(fn, case: str) -> tuple[str, float, str]:
     return outcome, time.perf_counter() - t, case
 
 
-def malformed_protocols(n: int, seed: int) -> Tally:
-    """n mutations of the example protocols, loaded and built."""
+def _mutated(examples: str, n: int, seed: int, read) -> Tally:
+    """n mutations of the examples/<examples> files, each given to read(text, i)."""
     rng, tally = random.Random(seed), Tally()
     docs = [json.loads(p.read_text())
-            for p in sorted((ROOT / "examples" / "protocols").glob("*.json"))]
+            for p in sorted((ROOT / "examples" / examples).glob("*.json"))]
     for i in range(n):
         text = mutate(rng.choice(docs), rng)
-        outcome, secs, case = _classify(lambda: build(loads(text, f"case {i}")), f"protocol {i}")
-        tally.add(outcome, secs, case)
+        tally.add(*_classify(lambda: read(text, i), f"{examples} {i}"))
     return tally
+
+
+def malformed_protocols(n: int, seed: int) -> Tally:
+    """n mutations of the example protocols, loaded and built."""
+    return _mutated("protocols", n, seed, lambda text, i: build(loads(text, f"case {i}")))
 
 
 def malformed_sessions(n: int, seed: int) -> Tally:
-    """n mutations of the example sessions, parsed."""
-    rng, tally = random.Random(seed), Tally()
-    docs = [json.loads(p.read_text())
-            for p in sorted((ROOT / "examples" / "sessions").glob("*.json"))]
-    for i in range(n):
-        text = mutate(rng.choice(docs), rng)
+    """n mutations of the example sessions, read as files (load_session)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "session.json"
 
-        def parse():
-            try:
-                data = json.loads(text)
-            except RecursionError:
-                raise SessionError("nested too deeply") from None
-            session_from_dict(data)
-        outcome, secs, case = _classify(parse, f"session {i}")
-        tally.add(outcome, secs, case)
-    return tally
+        def read(text: str, i: int) -> None:
+            path.write_text(text)
+            load_session(path)
+        return _mutated("sessions", n, seed, read)
 
 
 def random_strokes(n: int, seed: int, predictor=None) -> Tally:
