@@ -29,12 +29,12 @@ def test_recovery_limit_counts_samples(generated):
     assert sum(v["recovery_n"] for v in r["per_operator"].values()) == 5
 
 
-def test_the_rate_with_the_one_click_flip_is_at_least_the_strict_rate(generated):
-    r = recovery(generated, None, 16, oracle=True)
-    for v in r["per_operator"].values():
-        if v["recovery_n"]:
-            assert v["recovery_rate"] <= v["recovery_rate_with_flip"] <= 1.0
-            assert 0.0 <= v["other_option_share"] <= 1.0
-    # extrusions and bevels have no Boolean to flip
-    for op in ("extrude", "bevel"):
-        assert r["per_operator"][op]["other_option_share"] in (0.0, None)
+def test_a_prism_read_with_the_wrong_boolean_is_recovered_by_the_named_flip(tmp_path):
+    # seed 6, sample 7 (found by a scan): from its one parallel view the fitting alone
+    # reads this prism with the wrong Boolean (paper Fig. 5b) and names the other one,
+    # which recovers it; so the rate with the flip is above the strict rate
+    assert main(["datagen", "--out", str(tmp_path), "--count", "8", "--seed", "6",
+                 "--noise-level", "1", "--workers", "1", "--shard-size", "8"]) == 0
+    r = recovery(tmp_path, None, 8, oracle=True)["per_operator"]["addsub"]
+    assert r["recovery_n"] and r["recovery_rate"] < r["recovery_rate_with_flip"], r
+    assert r["other_option_share"] > 0
