@@ -15,6 +15,7 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 TORCH=${SKETCH2CAD_TORCH:-pip}
 
+SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
 need_apt=()
 command -v freecadcmd >/dev/null 2>&1 || need_apt+=(freecad)
 command -v xvfb-run >/dev/null 2>&1 || need_apt+=(xvfb xauth)
@@ -23,10 +24,24 @@ dpkg -s python3-pip >/dev/null 2>&1 || need_apt+=(python3-pip)
 [ "$TORCH" = debian ] && { dpkg -s python3-torch >/dev/null 2>&1 || need_apt+=(python3-torch); }
 if [ ${#need_apt[@]} -gt 0 ]; then
     echo "setup: installing Debian packages: ${need_apt[*]}"
-    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
         "${need_apt[@]}" libxcursor1 >/dev/null
+fi
+
+# The Qt bindings FreeCAD recommends: its Addon Manager imports QtWebEngineWidgets at start
+# and warns in the report view without them (`apt install freecad` brings them; the
+# --no-install-recommends above does not). Package lists first where a machine has none.
+apt-cache show freecad >/dev/null 2>&1 || $SUDO apt-get update -qq
+fc_pkgs="freecad $(apt-cache depends freecad | awk '/Depends: freecad/ {print $2}' | sort -u)"
+recommended=()
+for pkg in $(apt-cache depends $fc_pkgs | awk '/Recommends: python3-pyside/ {print $2}' | sort -u); do
+    dpkg -s "$pkg" >/dev/null 2>&1 || recommended+=("$pkg")
+done
+if [ ${#recommended[@]} -gt 0 ]; then
+    echo "setup: installing the Qt bindings FreeCAD recommends: ${recommended[*]}"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+        "${recommended[@]}" >/dev/null
 fi
 
 # FreeCAD's user folder (per version from FreeCAD 1.1 on) and its Mod link.
