@@ -397,13 +397,13 @@ def export_step_command():
     assert export_model_step(model, path)
     assert close(Part.read(path).Volume, build(load(os.path.join(EXAMPLES, "mixer.json"))).Volume())
     last = features(model)[-1]
-    profile = last.Profile
-    last.Profile = profile[:3]
+    normal = last.FaceNormal
+    last.FaceNormal = FreeCAD.Vector(0, 0, 0)
     FreeCAD.ActiveDocument.recompute()
     assert not export_model_step(model, os.path.join(TMP, "failed.step"))
     assert MESSAGES[-1][0] == "Cannot export STEP", MESSAGES[-1]
     assert not os.path.exists(os.path.join(TMP, "failed.step"))
-    last.Profile = profile
+    last.FaceNormal = normal
     FreeCAD.ActiveDocument.recompute()
     assert last.isValid()
 
@@ -433,7 +433,8 @@ def fcstd_reopens_with_view_providers():
     doc = FreeCAD.openDocument(path)
     model = find_models(doc)[-1]
     icons = {o.ViewObject.Proxy.getIcon() for o in [model] + features(model)}
-    assert icons == {icon_path(n) for n in ("Model", "Box", "AddSubPrism", "Sweep", "Bevel")}
+    assert icons == {icon_path(n) for n in ("Model", "Box", "Boss", "Revolution", "Groove",
+                                                   "Bevel")}
     for o in features(model):
         o.touch()
     doc.recompute()
