@@ -8,7 +8,7 @@ them (FreeCAD's parameters at User parameter:BaseApp/Preferences/Mod/Sketch2CAD)
   radii and height) are rounded to this step when regularizing; 0 keeps them as fitted.
 - DependencyFolder: where the Install command puts cadquery, torch and VTK
   (dependencies.folder(); read when FreeCAD starts).
-- NetworkThreads: the CPU threads the networks use; 0 leaves torch's default.
+- NetworkThreads: the CPU threads the networks use; 0 leaves the predictor's default.
 """
 import FreeCAD
 
@@ -32,17 +32,16 @@ def snap_step() -> float:
 
 
 def network_threads() -> int:
-    """CPU threads for the networks (0: torch's default)."""
+    """CPU threads for the networks (0: the predictor's own default)."""
     return max(0, parameters().GetInt("NetworkThreads", 0))
 
 
-def use_network_threads() -> None:
-    """Give torch the thread count the user chose (no-op for 0)."""
+def use_network_threads(predictor) -> None:
+    """Give the predictor (inference.weights.NetworkPredictor) the thread count the user
+    chose; with 0 it keeps the count it was loaded with."""
     n = network_threads()
     if n:
-        import torch
-        if torch.get_num_threads() != n:
-            torch.set_num_threads(n)
+        predictor.threads = n
 
 
 class PreferencesPage:
@@ -52,6 +51,7 @@ class PreferencesPage:
     def __init__(self):
         from PySide import QtGui
         self.form = QtGui.QWidget()
+        self.form.setObjectName("Sketch2CADPreferences")
         self.form.setWindowTitle(translate("Sketch2CAD", "Sketch2CAD"))
         lay = QtGui.QFormLayout(self.form)
         self.regularize = QtGui.QCheckBox(translate("Sketch2CAD", "Regularize sketches"))
@@ -75,8 +75,8 @@ class PreferencesPage:
         self.threads = QtGui.QSpinBox()
         self.threads.setRange(0, 256)
         self.threads.setSpecialValueText(translate("Sketch2CAD", "automatic"))
-        self.threads.setToolTip(translate("Sketch2CAD",
-                                          "CPU threads the networks use (0: automatic)"))
+        self.threads.setToolTip(translate("Sketch2CAD", "CPU threads the networks use "
+                                          "(automatic: the workbench's default)"))
         lay.addRow(translate("Sketch2CAD", "Networks' threads"), self.threads)
 
     def loadSettings(self):
@@ -97,4 +97,7 @@ class PreferencesPage:
 def add_page() -> None:
     """Register the page (once per FreeCAD session)."""
     import FreeCADGui
+
+    from .icons import ICONS
+    FreeCADGui.addIconPath(ICONS)  # the page's group icon: preferences-sketch2cad.svg
     FreeCADGui.addPreferencePage(PreferencesPage, PAGE)

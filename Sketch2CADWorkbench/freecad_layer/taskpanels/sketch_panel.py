@@ -159,6 +159,11 @@ class SketchPanel:
         panel, the solid it applies to, and read the strokes again."""
         from ...inference.session import step_from_dict
         obj = self.feature
+        # FreeCAD's tree opens an "Edit" transaction on a double-click: the step's own
+        # transaction is opened by OK, and Cancel leaves no undo step (showing the solid
+        # before the step is not an edit)
+        if FreeCAD.getActiveTransaction():
+            FreeCAD.closeActiveTransaction(True)
         if not obj.SketchStep:
             self.text.setHtml(tr("<b>{} keeps no strokes</b> (it came from a protocol). "
                                  "Draw new strokes to replace it, or edit its values in "
@@ -218,8 +223,9 @@ class SketchPanel:
         options = self.options()
         try:
             solid = self._base_solid()
-            use_network_threads()
-            r = interpret(solid, strokes, camera, predictor(), options=options)
+            networks = predictor()
+            use_network_threads(networks)
+            r = interpret(solid, strokes, camera, networks, options=options)
             step = snap_step() if options.regularize else 0.0
             if step:
                 ops = tuple(snap_lengths(op, step) for op in r.operations)
