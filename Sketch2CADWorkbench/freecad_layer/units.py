@@ -12,8 +12,12 @@ def length(mm: float) -> str:
 
 
 def point(p) -> str:
-    """A point in mm as '(x, y, z)' in the user's units."""
-    return "(" + ", ".join(length(c) for c in p) + ")"
+    """A point in mm as '(x, y, z) unit' in the user's units ('(0.00, 0.00, 10.00) mm')."""
+    largest = max(abs(float(c)) for c in p) or 1.0
+    _, factor, unit = FreeCAD.Units.Quantity(largest, FreeCAD.Units.Length).getUserPreferred()
+    decimals = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Units").GetInt("Decimals", 2)
+    coords = (round(float(c) / factor, decimals) + 0.0 for c in p)  # no "-0.00"
+    return "(" + ", ".join(f"{c:.{decimals}f}" for c in coords) + f") {unit}"
 
 
 def direction(n) -> str:

@@ -140,6 +140,7 @@ class SketchPanel:
         self.text = QtGui.QTextEdit()
         self.text.setReadOnly(True)
         self.text.setMinimumWidth(0)
+        self.text.setMinimumHeight(260)  # the reading without scrolling, most of the time
         lay.addWidget(self.text)
         for widget in (self.option, self.symmetry):
             # combo boxes size to their longest entry by default
@@ -250,8 +251,10 @@ class SketchPanel:
             other += f"<p style='color:#b60'><b>{tr('Warning:')}</b> {r.doubt()}.</p>"
         done = tr("OK adds it to the model.") if self.feature is None else \
             tr("OK applies it to {}.").format(self.feature.Label)
-        self.text.setHtml(f"<b>{tr('Read as')} {r.op_type.value}</b> ({probs})<ul>{lines}"
-                          f"</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
+        first = r.operations[0]
+        kind = FEATURE_OF_OPERATION[type(first)].kind_of(first)
+        self.text.setHtml(f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
+                          f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
         self.preview.show(to_part(r.solid))
 
     def sketch_json(self) -> str:

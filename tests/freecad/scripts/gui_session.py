@@ -442,7 +442,11 @@ def fcstd_reopens_with_view_providers():
 
 
 def new_model_document(name: str):
-    """A new document with a new model (the New model command), in an isometric view."""
+    """A new document with a new model (the New model command), in an isometric view.
+
+    The checks leave their documents open: FreeCAD 1.1.3 crashes deleting a 3D view whose
+    viewer Python asked for several times (view.getViewer(), as the stroke capture does);
+    see docs/NOTES.md."""
     FreeCAD.newDocument(name)
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     settle()
@@ -540,7 +544,6 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     assert FreeCADGui.ActiveDocument.getInEdit() is None
     doc.undo()
     assert close(pad.Offset.Value, offset, 1e-9), pad.Offset
-    FreeCAD.closeDocument(doc.Name)
 
 
 @check
@@ -564,7 +567,6 @@ def sketch_panel_fits_the_default_combo_view():
     say_width = (form.width(), form.minimumSizeHint().width(), area.viewport().width())
     panel.reject()
     settle()
-    FreeCAD.closeDocument(model.Document.Name)
     assert right <= visible, (right, visible, say_width)
     assert not area.horizontalScrollBar().isVisible(), say_width
 
@@ -601,7 +603,6 @@ def sketch_panel_reads_in_the_users_units_and_names_follow_the_offset():
     assert (pad.Label, pad.Operator) == ("Pocket", "Extrude"), (pad.Label, pad.Operator)
     assert pad.ViewObject.Proxy.getIcon() == icon_path("Pocket")
     assert pad.isValid() and pad.Shape.Volume < features(model)[0].Shape.Volume
-    FreeCAD.closeDocument(model.Document.Name)
 
 
 @check
@@ -653,7 +654,6 @@ def preferences_page_is_shown_and_its_values_are_used():
         assert torch.get_num_threads() == 1, (torch.get_num_threads(), torch.__file__)
         panel.reject()
         settle()
-        FreeCAD.closeDocument(model.Document.Name)
     finally:
         p = parameters()
         p.RemBool("Regularize")
