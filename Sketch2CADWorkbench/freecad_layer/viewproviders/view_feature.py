@@ -65,6 +65,9 @@ class ViewProviderSketch2CAD:
         from ..gui_helpers import error
         from ..taskpanels.sketch_panel import SketchPanel
         from ..translate import translate
+        view = FreeCADGui.ActiveDocument.ActiveView
+        if view.getCameraType() != "Orthographic":  # as the Sketch command does
+            view.setCameraType("Orthographic")
         try:
             panel = SketchPanel(_model_of(vobj.Object), vobj.Object)
         except ValueError as e:

@@ -2,6 +2,7 @@
 """Document-level checks, run by test_document.py in one freecadcmd process."""
 import json
 import os
+from dataclasses import replace
 import sys
 import xml.etree.ElementTree as ET
 
@@ -283,6 +284,31 @@ def step_part_is_named_after_the_model():
     reread = FreeCAD.newDocument("reread")
     Import.insert(path, reread.Name)
     assert [o.Label for o in reread.Objects] == ["Hex nut"], [o.Label for o in reread.Objects]
+
+
+@check
+def a_step_read_again_replaces_its_feature_in_place():
+    """What OK does after a step's panel was re-opened (make_model.replace_operation): the
+    same operator changes the feature's values; another operator puts a new feature in
+    its place, the later steps rebased on it."""
+    from Sketch2CADWorkbench.brep.protocol import Extrude
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import replace_operation
+    p = example("mixer")
+    doc = FreeCAD.newDocument("replace")
+    model = make_model_from_protocol(doc, p)
+    chain = features(model)
+    boss = chain[1]
+    taller = replace(p.operations[0], d=p.operations[0].d + 5)
+    assert replace_operation(boss, taller, sketch="{}") == boss
+    assert (boss.Length.Value, boss.SketchStep) == (taller.d, "{}")
+    pad, name = Extrude(p.operations[0].face, 60.0), boss.Name
+    new = replace_operation(boss, pad)
+    doc.recompute()
+    assert name not in [o.Name for o in doc.Objects]
+    assert (new.Label, new.Base, chain[2].Base) == ("Pad", chain[0], new)
+    assert [o.Name for o in model.Group] == [o.Name for o in features(model)]
+    assert features(model)[1] == new and model.Tip == chain[-1]
+    assert protocol_from_model(model).operations == (pad,) + p.operations[1:]
 
 
 finish(run_checks())
