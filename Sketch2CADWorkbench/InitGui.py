@@ -21,7 +21,8 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
     def Initialize(self):
         import FreeCADGui
 
-        from Sketch2CADWorkbench.freecad_layer import dependencies, install_dialog
+        from Sketch2CADWorkbench.freecad_layer import dependencies, install_dialog, preferences
+        preferences.add_page()
         FreeCADGui.addCommand(install_dialog.COMMAND,
                               install_dialog.InstallDependencies(self.installed_later))
         missing = dependencies.missing()

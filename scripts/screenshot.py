@@ -7,12 +7,13 @@ Run inside FreeCAD's GUI on a virtual X screen, from the repository root:
         freecad scripts/screenshot.py
 
 It loads examples/protocols/hammer.json (all four operators) through the Load protocol
-command, selects a sweep so that the property editor shows its parameters, and writes
-the main window to docs/workbench.png (or to $SKETCH2CAD_SCREENSHOT). With
-SKETCH2CAD_SCREENSHOT_MODE=sketch it shows a sketch step instead: a new box, the
-strokes of a prism on its top face in the Sketch panel, interpreted by the shipped
-weights, with the green preview (docs/sketch-step.png). FreeCAD exits with status 0
-once the file is written, 1 otherwise.
+command, selects its first Revolution so that the property editor shows its parameters
+(in the user's units), and writes the main window to docs/workbench.png (or to
+$SKETCH2CAD_SCREENSHOT). With SKETCH2CAD_SCREENSHOT_MODE=sketch it shows a sketch step
+instead: a new box, the strokes of a prism on its top face in the Sketch panel,
+interpreted by the shipped weights, read as a Boss with the blue preview
+(docs/sketch-step.png). FreeCAD exits with status 0 once the file is written, 1
+otherwise.
 """
 import os
 import sys
@@ -42,7 +43,7 @@ def settle(seconds: float = 1.0) -> None:
 
 
 def show_model():
-    """The hammer's model tree, its last feature shown, a sweep selected."""
+    """The hammer's model tree, its last feature shown, a Revolution selected."""
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
     from Sketch2CADWorkbench.freecad_layer.queries import features
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
@@ -89,11 +90,7 @@ def show_sketch_step():
             curve.points))), rng.normal(0, 0.3, 3))
         panel.capture.strokes.append(list(curve.points + wobble))
     panel.capture.redraw()
-    mw = FreeCADGui.getMainWindow()
-    combo = mw.findChild(QtGui.QDockWidget, "Combo View")
-    if combo is not None:  # wide enough for the panel's text
-        mw.resizeDocks([combo], [430], QtCore.Qt.Horizontal)
-    panel.interpret()
+    panel.interpret()  # in FreeCAD's default layout: the panel fits the combo view
     if panel.result is None:
         raise RuntimeError(panel.text.toPlainText())
 

@@ -5,6 +5,7 @@ from PySide import QtGui
 
 from ..freecad_layer.export import export_step
 from ..freecad_layer.gui_helpers import error
+from ..freecad_layer.translate import QT_TRANSLATE_NOOP, translate
 from .common import active_model, resources
 
 
@@ -12,8 +13,9 @@ class ExportStep:
     """Export STEP: the selected model's final solid, through FreeCAD's STEP writer."""
 
     def GetResources(self):
-        return resources("ExportStep", "Export STEP...",
-                         "Write the selected model's final solid as a STEP file (AP214, mm)")
+        return resources("ExportStep", QT_TRANSLATE_NOOP("Sketch2CAD_ExportStep", "Export STEP..."),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_ExportStep", "Write the selected model's final "
+                             "solid as a STEP file (AP214, mm)"))
 
     def IsActive(self):
         return active_model() is not None
@@ -31,6 +33,6 @@ def export_model_step(model, path: str) -> bool:
     try:
         export_step(model, path)
     except (ValueError, OSError) as e:
-        error("Cannot export STEP", str(e))
+        error(translate("Sketch2CAD", "Cannot export STEP"), str(e))
         return False
     return True

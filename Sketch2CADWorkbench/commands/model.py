@@ -5,6 +5,7 @@ import FreeCADGui
 
 from ..freecad_layer.gui_helpers import transaction
 from ..freecad_layer.queries import features, find_models
+from ..freecad_layer.translate import QT_TRANSLATE_NOOP
 from .common import resources
 
 
@@ -12,9 +13,10 @@ class NewModel:
     """New model: a base box of the default size, shown in an orthographic isometric view."""
 
     def GetResources(self):
-        return resources("Model", "New model",
-                         "Start a Sketch2CAD model from a box; select the Box to edit its "
-                         "size in the property editor", "S, N")
+        return resources("Model", QT_TRANSLATE_NOOP("Sketch2CAD_NewModel", "New model"),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_NewModel", "Start a Sketch2CAD model from a box; "
+                             "select the Box to edit its size in the property editor"),
+                         "S, N")
 
     def IsActive(self):
         return True

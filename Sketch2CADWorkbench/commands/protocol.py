@@ -18,6 +18,7 @@ from ..freecad_layer.queries import (
     protocol_from_model,
     refuse_failed_steps,
 )
+from ..freecad_layer.translate import QT_TRANSLATE_NOOP, translate
 from .common import active_model, resources
 
 PROTOCOL_FILTER = "Sketch2CAD protocol (*.json)"
@@ -28,8 +29,9 @@ class LoadProtocol:
     """Load protocol: a file dialog, then `load_protocol_file`."""
 
     def GetResources(self):
-        return resources("LoadProtocol", "Load protocol...",
-                         "Build a new model tree from a protocol file (JSON)")
+        return resources("LoadProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_LoadProtocol", "Load protocol..."),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_LoadProtocol",
+                             "Build a new model tree from a protocol file (JSON)"))
 
     def IsActive(self):
         return True
@@ -55,7 +57,7 @@ def load_protocol_file(path: str):
         protocol = load(path)
         replay(protocol)
     except (ProtocolError, OperationError) as e:
-        error("Cannot load protocol", str(e))
+        error(translate("Sketch2CAD", "Cannot load protocol"), str(e))
         return None
     doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
     try:
@@ -73,7 +75,7 @@ def load_protocol_file(path: str):
             if bad:
                 raise OperationError("; ".join(f"{o.Label}: {o.getStatusString()}" for o in bad))
     except (OperationError, ValueError) as e:
-        error("Cannot build protocol", f"{path}: {e}")
+        error(translate("Sketch2CAD", "Cannot build protocol"), f"{path}: {e}")
         return None
     if FreeCAD.GuiUp:
         FreeCADGui.SendMsgToActiveView("ViewFit")
@@ -84,8 +86,9 @@ class SaveProtocol:
     """Save protocol: the selected model's protocol as JSON."""
 
     def GetResources(self):
-        return resources("SaveProtocol", "Save protocol...",
-                         "Save the selected model's steps as a protocol file (JSON)")
+        return resources("SaveProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_SaveProtocol", "Save protocol..."),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_SaveProtocol",
+                             "Save the selected model's steps as a protocol file (JSON)"))
 
     def IsActive(self):
         return active_model() is not None
@@ -104,7 +107,7 @@ def save_protocol_file(model, path: str) -> bool:
         refuse_failed_steps(model, "saving the protocol")
         protocol_from_model(model).save(path)
     except (ValueError, OSError) as e:
-        error("Cannot save protocol", f"{model.Label}: {e}")
+        error(translate("Sketch2CAD", "Cannot save protocol"), f"{model.Label}: {e}")
         return False
     return True
 
@@ -113,8 +116,9 @@ class ReplayProtocol:
     """Replay protocol: `replay_model` on the selected model."""
 
     def GetResources(self):
-        return resources("ReplayProtocol", "Replay protocol",
-                         "Rebuild the selected model step by step, showing each step's result")
+        return resources("ReplayProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_ReplayProtocol", "Replay protocol"),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_ReplayProtocol", "Rebuild the selected model step "
+                             "by step, showing each step's result"))
 
     def IsActive(self):
         return active_model() is not None
@@ -142,7 +146,7 @@ def replay_model(model, step_s: float = REPLAY_STEP_S) -> bool:
         obj.ViewObject.Visibility = True
         FreeCADGui.updateGui()
         if not built:
-            error("Replay stopped", f"step {i} ({obj.Label}): {obj.getStatusString()}")
+            error(translate("Sketch2CAD", "Replay stopped"), f"step {i} ({obj.Label}): {obj.getStatusString()}")
             return False
         time.sleep(step_s)
     return True

@@ -5,14 +5,16 @@ import FreeCAD
 import FreeCADGui
 
 from ..freecad_layer.taskpanels.sketch_panel import SketchPanel
+from ..freecad_layer.translate import QT_TRANSLATE_NOOP
 from .common import active_model, resources
 
 
 class Sketch:
     def GetResources(self):
-        return resources("Sketch", "Sketch an operation",
-                         "Draw strokes over the model (left drag); Enter interprets them as "
-                         "an extrude, bevel, add/subtract prism or sweep; Esc cancels", "S, S")
+        return resources("Sketch", QT_TRANSLATE_NOOP("Sketch2CAD_Sketch", "Sketch an operation"),
+                         QT_TRANSLATE_NOOP("Sketch2CAD_Sketch", "Draw strokes over the model (left drag); "
+                             "Enter reads them as a pad or pocket, bevel, boss or hole, or "
+                             "revolution or groove; Esc cancels"), "S, S")
 
     def IsActive(self):
         return active_model() is not None and FreeCADGui.Control.activeDialog() is False

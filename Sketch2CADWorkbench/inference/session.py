@@ -74,6 +74,19 @@ def _step_dict(s: SketchStep) -> dict[str, Any]:
                         "symmetry": s.choices.symmetry, "regularize": s.choices.regularize}}
 
 
+def step_to_dict(step: SketchStep) -> dict[str, Any]:
+    """One step as it is written in a session file (the FreeCAD features keep theirs)."""
+    return _step_dict(step)
+
+
+def step_from_dict(v: Any, path: str = "step") -> SketchStep:
+    """Parse one step of a session file; errors name the field and value."""
+    try:
+        return _step(v, path)
+    except FieldError as e:
+        raise e if isinstance(e, SessionError) else SessionError(str(e)) from None
+
+
 # ----------------------------------------------------------------- loading
 
 def _err(path: str, msg: str, value: Any) -> SessionError:

@@ -6,7 +6,10 @@ pytestmark = pytest.mark.freecad
 
 CHECKS = ["startup", "addon_metadata", "tree_from_protocol", "edit_and_recompute",
           "sweep_profile_follows_its_radii", "unbuildable_value_puts_only_that_feature_in_error",
-          "save_fcstd", "interpret_session_inside_freecad", "step_export_and_brep_transfer"]
+          "save_fcstd", "interpret_session_inside_freecad", "step_export_and_brep_transfer",
+          "features_are_named_as_freecad_users_read_them",
+          "parameters_are_quantities_in_the_users_units", "step_part_is_named_after_the_model",
+          "a_step_read_again_replaces_its_feature_in_place"]
 
 
 @pytest.fixture(scope="module")
@@ -35,6 +38,11 @@ def test_fcstd_reopens_in_a_fresh_freecad_with_the_full_tree(reopen_run, assert_
 
 def test_fcstd_saved_by_freecad_0_20_and_1_1_opens_and_recomputes(reopen_run, assert_passed):
     assert_passed(reopen_run, "reopen_fcstd_saved_by_other_versions")
+
+
+def test_fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names(reopen_run,
+                                                                            assert_passed):
+    assert_passed(reopen_run, "fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names")
 
 
 def test_every_check_ran(document_run):

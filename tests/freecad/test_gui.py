@@ -13,7 +13,11 @@ CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_on
           "a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one",
           "load_protocol_errors_change_nothing", "load_protocol_is_one_undo_step",
           "save_protocol_round_trip", "export_step_command", "replay_command_rebuilds_step_by_step",
-          "fcstd_reopens_with_view_providers"]
+          "fcstd_reopens_with_view_providers",
+          "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
+          "sketch_panel_fits_the_default_combo_view",
+          "sketch_panel_reads_in_the_users_units_and_names_follow_the_offset",
+          "preferences_page_is_shown_and_its_values_are_used"]
 
 
 @pytest.fixture(scope="module")

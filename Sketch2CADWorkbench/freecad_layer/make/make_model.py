@@ -50,26 +50,69 @@ def make_model(doc, box: Box = DEFAULT_BOX, label: str = "Model"):
     return model
 
 
-def add_operation(model, op: Operation):
+def _new_feature(doc, op: Operation, sketch: str):
+    cls = FEATURE_OF_OPERATION[type(op)]
+    obj = doc.addObject("Part::FeaturePython", cls.kind_of(op))  # Pad, Hole...
+    cls(obj)
+    obj.Proxy.set_operation(obj, op)
+    obj.SketchStep = sketch
+    _view(obj)
+    return obj
+
+
+def add_operation(model, op: Operation, sketch: str = ""):
     """Append a feature for `op` after the model's Tip; it becomes the new Tip.
 
     The previous Tip is hidden, as PartDesign does, so the view shows the result. The
     document is not recomputed here (callers append several steps, then recompute once).
 
+    Args:
+        model: the model (see make_model).
+        op: the operation.
+        sketch: the sketch it was read from, as a step of a session file in JSON
+            (`inference.session.step_to_dict`), kept so that it can be read again;
+            "" when there is none (protocols).
+
     Returns:
-        The new Part::FeaturePython.
+        The new Part::FeaturePython, named and labelled as a FreeCAD user reads it (a
+        Pad, Pocket, Boss, Hole, Revolution, Groove or Bevel).
     """
-    cls = FEATURE_OF_OPERATION[type(op)]
-    obj = model.Document.addObject("Part::FeaturePython", cls.LABEL)
-    cls(obj)
-    obj.Proxy.set_operation(obj, op)
+    obj = _new_feature(model.Document, op, sketch)
     obj.Base = model.Tip
-    _view(obj)
     model.addObject(obj)
     if FreeCAD.GuiUp:
         model.Tip.ViewObject.Visibility = False
     model.Tip = obj
     return obj
+
+
+def replace_operation(obj, op: Operation, sketch: str = ""):
+    """Make the feature `obj` stand for `op` (read again from its sketch): its values
+    change in place when `op` is of the same operator; else a feature of the new operator
+    takes its place in the model (the later steps are rebased on it) and `obj` is removed.
+    The document is not recomputed here.
+
+    Returns:
+        The feature that now stands for `op`.
+    """
+    if type(op) is obj.Proxy.OPERATION:
+        obj.Proxy.set_operation(obj, op)
+        obj.Proxy.update_kind(obj)
+        obj.SketchStep = sketch
+        return obj
+    model = next(m for m in obj.InList if obj in getattr(m, "Group", []))
+    new = _new_feature(obj.Document, op, sketch)
+    new.Base = obj.Base
+    for later in obj.InList:
+        if getattr(later, "Base", None) == obj:
+            later.Base = new
+    model.Group = [new if o == obj else o for o in model.Group]
+    if model.Tip == obj:
+        model.Tip = new
+    if FreeCAD.GuiUp:
+        new.ViewObject.Visibility = obj.ViewObject.Visibility
+    obj.Document.removeObject(obj.Name)
+    return new
 
 
 def make_model_from_protocol(doc, protocol: Protocol, label: str = "Model"):

@@ -1,7 +1,19 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Bevel: corner c of face f rounded by profile l along the crease c -> c'."""
+import FreeCAD
+
 from ...brep.protocol import Bevel
-from .feature import GROUP, OperationFeature, tup, vec
+from ..units import point
+from .feature import ALL_KINDS, GROUP, OperationFeature, retype, tup, vec
+
+ALL_KINDS.append("Bevel")
+PROFILE = "Profile l"
+# l's four control points, each a position in the user's units (FreeCAD has no list of
+# lengths)
+PROFILE_POINTS = (("ProfileStart", "l: the profile's start, on one edge of f at c"),
+                  ("ProfileControl1", "l: the profile's first inner control point"),
+                  ("ProfileControl2", "l: the profile's second inner control point"),
+                  ("ProfileEnd", "l: the profile's end, on the other edge of f at c"))
 
 
 class BevelFeature(OperationFeature):
@@ -10,19 +22,33 @@ class BevelFeature(OperationFeature):
     LABEL = "Bevel"
 
     def add_operation_properties(self, obj) -> None:
-        obj.addProperty("App::PropertyVector", "Corner", GROUP, "c: the corner of f to round (mm)")
-        obj.addProperty("App::PropertyVector", "OppositeCorner", GROUP,
-                        "c': the other end of the crease from c (mm)")
-        obj.addProperty("App::PropertyVectorList", "Profile", GROUP,
-                        "l: the 4 control points of the cubic Bezier profile on f (mm)")
+        retype(obj, "Corner", "App::PropertyPosition", GROUP, "c: the corner of f to round")
+        retype(obj, "OppositeCorner", "App::PropertyPosition", GROUP,
+               "c': the other end of the crease from c")
+        for name, tip in PROFILE_POINTS:
+            if name not in obj.PropertiesList:
+                obj.addProperty("App::PropertyPosition", name, PROFILE, tip)
+
+    def migrate(self, obj) -> None:
+        old = [FreeCAD.Vector(p) for p in obj.Profile] if "Profile" in obj.PropertiesList else None
+        if old is not None:  # saved by an earlier version: one vector list
+            obj.removeProperty("Profile")
+        super().migrate(obj)
+        if old is not None and len(old) == len(PROFILE_POINTS):
+            for (name, _), p in zip(PROFILE_POINTS, old):
+                setattr(obj, name, p)
+
+    @classmethod
+    def reading(cls, op: Bevel) -> str:
+        return (f"Bevel: the corner at {point(op.corner)} rounded along the edge to "
+                f"{point(op.opposite)}, {cls.on_face(op.face)}")
 
     def operation(self, obj) -> Bevel:
-        if len(obj.Profile) != 4:
-            raise ValueError(f"{obj.Label}: Profile needs 4 control points, has {len(obj.Profile)}")
         return Bevel(self.face(obj), tup(obj.Corner), tup(obj.OppositeCorner),
-                     tuple(tup(p) for p in obj.Profile))
+                     tuple(tup(getattr(obj, name)) for name, _ in PROFILE_POINTS))
 
     def set_operation(self, obj, op: Bevel) -> None:
         super().set_operation(obj, op)
         obj.Corner, obj.OppositeCorner = vec(op.corner), vec(op.opposite)
-        obj.Profile = [vec(p) for p in op.profile]
+        for (name, _), p in zip(PROFILE_POINTS, op.profile):
+            setattr(obj, name, vec(p))

@@ -8,13 +8,21 @@ exception's message as its status (tree icon, report view), and the later featur
 into error after it (FailurePropagation); every feature keeps its property values, so
 the user can fix the value.
 """
+import re
+
 import FreeCAD
 
-from ...brep.protocol import FaceRef
+from ...brep.protocol import FaceRef, describe
 from ..shapes import from_part, to_part
+from ..units import direction, point
 
 GROUP = "Operation"  # property editor group of the operators' parameters
 BASE = "Base"  # where FreeCAD and PartDesign show the links to other features
+FACE = "Base face f"
+SKETCH = "Sketch"  # the strokes the step was read from
+# Labels the workbench gave before features were named as FreeCAD users read them
+# (files saved by earlier versions): they count as not renamed by the user.
+OLD_LABELS = ("Extrude", "Prism", "Sweep")
 
 
 def mm(value) -> float:
@@ -30,6 +38,31 @@ def vec(p) -> "FreeCAD.Vector":
 def tup(v) -> tuple:
     """A FreeCAD vector as the core's (x, y, z) tuple of floats (mm)."""
     return (float(v.x), float(v.y), float(v.z))
+
+
+def retype(obj, name: str, kind: str, group: str, tip: str, convert=lambda v: v) -> None:
+    """Give property `name` the type `kind`, keeping its value (through `convert`): files
+    saved by earlier versions of the workbench hold unit-less vectors where lengths are
+    now Quantity properties."""
+    if name in obj.PropertiesList and obj.getTypeIdOfProperty(name) == kind:
+        return
+    value = convert(getattr(obj, name)) if name in obj.PropertiesList else None
+    if name in obj.PropertiesList:
+        obj.removeProperty(name)
+    obj.addProperty(kind, name, group, tip)
+    if value is not None:
+        setattr(obj, name, value)
+
+
+def unique_label(obj, base: str) -> str:
+    """`base`, numbered as FreeCAD numbers names (Hole001) when another object of the
+    document has that label (FreeCAD does not number labels set while a file loads)."""
+    taken = {o.Label for o in obj.Document.Objects if o != obj}
+    label, n = base, 0
+    while label in taken:
+        n += 1
+        label = f"{base}{n:03d}"
+    return label
 
 
 class Proxy:
@@ -77,6 +110,12 @@ class Feature(Proxy):
     def execute(self, obj):
         obj.Shape = to_part(self.solid(obj))
 
+    def onDocumentRestored(self, obj):
+        self.migrate(obj)
+
+    def migrate(self, obj) -> None:
+        """Bring the properties of a file saved by an earlier version up to date."""
+
 
 class OperationFeature(Feature):
     """An operation of the protocol applied to the previous feature's solid (`Base`).
@@ -87,16 +126,81 @@ class OperationFeature(Feature):
 
     OPERATION = None
     LABEL = "Operation"
+    KIND_PROPERTIES = ()  # the properties whose value changes the kind (Pad or Pocket...)
 
     def add_properties(self, obj) -> None:
         obj.addProperty("App::PropertyLink", "Base", BASE,
                         "The previous feature; this operation applies to its solid")
-        obj.addProperty("App::PropertyVector", "FacePoint", "Base face f",
-                        "A point inside the base face f (mm); the face is looked up again "
-                        "on every recompute, so it follows edits of earlier steps")
-        obj.addProperty("App::PropertyVector", "FaceNormal", "Base face f",
-                        "The outward normal of the base face f (normalised when used)")
+        self.add_face_properties(obj)
         self.add_operation_properties(obj)
+        self.add_record_properties(obj)
+
+    def add_face_properties(self, obj) -> None:
+        retype(obj, "FacePoint", "App::PropertyPosition", FACE,
+               "A point inside the base face f; the face is looked up again on every "
+               "recompute, so it follows edits of earlier steps")
+        if "FaceNormal" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyVector", "FaceNormal", FACE,
+                            "The outward normal of the base face f (normalised when used)")
+
+    def add_record_properties(self, obj) -> None:
+        """The paper's operator (read only) and the sketch the step was read from."""
+        if "Operator" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyString", "Operator", BASE,
+                            "The paper's operator this step is (Sketch2CAD's protocol)")
+            obj.setEditorMode("Operator", 1)
+        if "SketchStep" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyString", "SketchStep", SKETCH,
+                            "The strokes, view and choices the step was read from (JSON, "
+                            "as a step of a session file); double-click the feature to "
+                            "read them again")
+            obj.setEditorMode("SketchStep", 2)
+
+    def migrate(self, obj) -> None:
+        self.add_face_properties(obj)
+        self.add_operation_properties(obj)
+        self.add_record_properties(obj)
+        self.update_kind(obj, rename=obj.Label.rstrip("0123456789") in OLD_LABELS)
+
+    @classmethod
+    def kind_of(cls, op) -> str:
+        """The name a FreeCAD user reads for `op` (Pad, Pocket, Boss, Hole...): its label
+        and the name of its icon."""
+        return cls.LABEL
+
+    def kind(self, obj) -> str:
+        """The feature's kind from its current values (see `kind_of`)."""
+        return self.LABEL
+
+    @classmethod
+    def reading(cls, op) -> str:
+        """`op` in words and in the user's units, as the Sketch panel shows it (the
+        paper's notation stays in the protocol and the command line)."""
+        raise NotImplementedError
+
+    @staticmethod
+    def on_face(face: FaceRef) -> str:
+        return f"on the {direction(face.normal)} face at {point(face.point)}"
+
+    def update_kind(self, obj, rename: bool = False) -> None:
+        """After the Boolean or the offset's sign changed: the paper's operator, the icon,
+        and the label too unless the user renamed the feature (or `rename`)."""
+        try:
+            obj.Operator = describe(self.operation(obj)).split(" ", 1)[0]
+        except (ValueError, TypeError, AttributeError):
+            pass  # values being edited; execute() reports them
+        kind = self.kind(obj)
+        auto = re.fullmatch(rf"({'|'.join(ALL_KINDS)})\d*", obj.Label)
+        if (rename or auto) and obj.Label.rstrip("0123456789") != kind:
+            obj.Label = unique_label(obj, kind)
+
+    def onChanged(self, obj, prop):
+        # Undo, redo and file loading restore the label and the operator themselves; the
+        # view provider changes the icon (ViewProviderSketch2CAD.updateData).
+        if prop in self.KIND_PROPERTIES and "Operator" in obj.PropertiesList \
+                and not (obj.Document.Restoring or obj.Document.Transacting
+                         or "Restore" in obj.State):
+            self.update_kind(obj)
 
     def add_operation_properties(self, obj) -> None:
         raise NotImplementedError
@@ -119,6 +223,7 @@ class OperationFeature(Feature):
         """Write a protocol operation into the properties (subclasses add theirs)."""
         obj.FacePoint = vec(op.face.point)
         obj.FaceNormal = vec(op.face.normal)
+        obj.Operator = describe(op).split(" ", 1)[0]
 
     def solid(self, obj):
         from ...brep.operators import apply_operation
@@ -127,6 +232,11 @@ class OperationFeature(Feature):
         if obj.Base.Shape.isNull() or not obj.Base.isValid():
             raise ValueError(f"{obj.Label}: its Base {obj.Base.Label} failed to build")
         return apply_operation(from_part(obj.Base.Shape), self.operation(obj))
+
+
+# Every kind's name (filled by the operators' modules): a label that is one of these, with
+# FreeCAD's number, was given by the workbench.
+ALL_KINDS = list(OLD_LABELS)
 
 
 class FailurePropagation:

@@ -1,12 +1,18 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Sweep: the solid of revolution of profile c_p between circles c0 and c1."""
-import FreeCAD
-
+"""Sweep: the solid of revolution of profile c_p between circles c0 and c1; a Revolution
+when it adds, a Groove when it subtracts (as PartDesign names solids of revolution)."""
 from ...brep.protocol import FaceRef, Mode, Sweep
-from .feature import GROUP, OperationFeature, mm, tup, vec
+from ..units import length, point
+from .feature import ALL_KINDS, GROUP, OperationFeature, mm, retype, tup, vec
 from .prism import MODE_TIP, MODES
 
 TUNED = ("Radius0", "Radius1", "Offset")
+PROFILE = "Profile c_p"
+# c_p's two inner control points as (r, h): distance from the axis and height above c0
+INNER = (("Control1Radius", "Control1Height"), ("Control2Radius", "Control2Height"))
+SWEEP_KINDS = {Mode.ADD: "Revolution", Mode.SUBTRACT: "Groove",
+               Mode.INTERSECT: "RevolutionCommon", Mode.REPLACE: "RevolutionOnly"}
+ALL_KINDS.extend(SWEEP_KINDS.values())
 
 
 class SweepFeature(OperationFeature):
@@ -16,26 +22,50 @@ class SweepFeature(OperationFeature):
 
     TYPE = "Sketch2CAD::Sweep"
     OPERATION = Sweep
-    LABEL = "Sweep"
+    LABEL = "Revolution"
+    KIND_PROPERTIES = ("Mode",)
 
     def add_operation_properties(self, obj) -> None:
-        obj.addProperty("App::PropertyVector", "Center", GROUP, "Centre of c0 on face f (mm)")
-        obj.addProperty("App::PropertyLength", "Radius0", GROUP, "r0: radius of c0 (mm)")
-        obj.addProperty("App::PropertyLength", "Radius1", GROUP, "r1: radius of c1 (mm)")
-        obj.addProperty("App::PropertyLength", "Offset", GROUP,
-                        "d: distance from c0's centre to c1's along the axis (mm)")
-        obj.addProperty("App::PropertyVectorList", "ProfileInner", GROUP,
-                        "c_p: its two inner control points as (r, h, 0): distance from the "
-                        "axis and height above c0 (mm)")
-        obj.addProperty("App::PropertyEnumeration", "Mode", GROUP, MODE_TIP)
-        obj.Mode = MODES
+        retype(obj, "Center", "App::PropertyPosition", GROUP, "Centre of c0 on face f")
+        for name, tip in (("Radius0", "r0: radius of c0"), ("Radius1", "r1: radius of c1"),
+                          ("Offset", "d: distance from c0's centre to c1's along the axis")):
+            if name not in obj.PropertiesList:
+                obj.addProperty("App::PropertyLength", name, GROUP, tip)
+        for i, (r, h) in enumerate(INNER, 1):
+            if r not in obj.PropertiesList:
+                obj.addProperty("App::PropertyDistance", r, PROFILE,
+                                f"c_p: inner control point {i}'s distance from the axis")
+                obj.addProperty("App::PropertyDistance", h, PROFILE,
+                                f"c_p: inner control point {i}'s height above c0")
+        if "Mode" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Mode", GROUP, MODE_TIP)
+            obj.Mode = MODES
+
+    @classmethod
+    def kind_of(cls, op: Sweep) -> str:
+        return SWEEP_KINDS[op.mode]
+
+    def kind(self, obj) -> str:
+        return SWEEP_KINDS[Mode(obj.Mode)]
+
+    @classmethod
+    def reading(cls, op: Sweep) -> str:
+        return (f"{cls.kind_of(op)} ({op.mode.value}): radius {length(op.r0)} to "
+                f"{length(op.r1)} over {length(op.d)}, centred at {point(op.center)} "
+                f"{cls.on_face(op.face)}")
+
+    def inner(self, obj) -> tuple:
+        """c_p's inner control points as ((r, h), (r, h)) in mm."""
+        return tuple((mm(getattr(obj, r)), mm(getattr(obj, h))) for r, h in INNER)
+
+    def set_inner(self, obj, profile) -> None:
+        for (r, h), (rv, hv) in zip(INNER, profile):
+            setattr(obj, r, float(rv))
+            setattr(obj, h, float(hv))
 
     def operation(self, obj) -> Sweep:
-        if len(obj.ProfileInner) != 2:
-            raise ValueError(f"{obj.Label}: ProfileInner needs 2 points, has "
-                             f"{len(obj.ProfileInner)}")
         return Sweep(self.face(obj), tup(obj.Center), mm(obj.Radius0), mm(obj.Radius1),
-                     mm(obj.Offset), tuple((p.x, p.y) for p in obj.ProfileInner), Mode(obj.Mode))
+                     mm(obj.Offset), self.inner(obj), Mode(obj.Mode))
 
     def set_operation(self, obj, op: Sweep) -> None:
         self._tuning = True  # these values are a whole operation: nothing to retune
@@ -43,15 +73,16 @@ class SweepFeature(OperationFeature):
             super().set_operation(obj, op)
             obj.Center = vec(op.center)
             obj.Radius0, obj.Radius1, obj.Offset = op.r0, op.r1, op.d
-            obj.ProfileInner = [FreeCAD.Vector(r, h, 0) for r, h in op.profile]
+            self.set_inner(obj, op.profile)
             obj.Mode = op.mode.value
         finally:
             self._tuning = False
         self._last = (op.r0, op.r1, op.d)
 
     def onChanged(self, obj, prop):
+        super().onChanged(obj, prop)
         if prop not in TUNED or getattr(self, "_tuning", False) \
-                or not all(hasattr(obj, p) for p in TUNED + ("ProfileInner", "Mode")):
+                or not all(hasattr(obj, p) for p in TUNED + INNER[1] + ("Mode",)):
             return
         last = getattr(self, "_last", None)
         now = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
@@ -59,16 +90,26 @@ class SweepFeature(OperationFeature):
         # Undo, redo and file loading set the profile themselves.
         if "Restore" in obj.State or obj.Document.Transacting or obj.Document.Restoring:
             return
-        if last is None or min(last) <= 0 or min(now) <= 0 or len(obj.ProfileInner) != 2:
+        if last is None or min(last) <= 0 or min(now) <= 0:
             return
-        inner = tuple((p.x, p.y) for p in obj.ProfileInner)
         face = FaceRef(tup(obj.FacePoint), tup(obj.FaceNormal))  # unused by retuned()
-        new = Sweep(face, tup(obj.Center), *last, inner, Mode(obj.Mode)).retuned(*now)
+        new = Sweep(face, tup(obj.Center), *last, self.inner(obj), Mode(obj.Mode)).retuned(*now)
         self._tuning = True
         try:
-            obj.ProfileInner = [FreeCAD.Vector(r, h, 0) for r, h in new.profile]
+            self.set_inner(obj, new.profile)
         finally:
             self._tuning = False
 
-    def onDocumentRestored(self, obj):
+    def migrate(self, obj) -> None:
+        old = None
+        if "ProfileInner" in obj.PropertiesList:  # saved by an earlier version: (r, h, 0)s
+            old = [(p.x, p.y) for p in obj.ProfileInner]
+            obj.removeProperty("ProfileInner")
+        self._tuning = True
+        try:
+            super().migrate(obj)
+            if old is not None and len(old) == len(INNER):
+                self.set_inner(obj, old)
+        finally:
+            self._tuning = False
         self._last = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))

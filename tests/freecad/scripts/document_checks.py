@@ -2,6 +2,7 @@
 """Document-level checks, run by test_document.py in one freecadcmd process."""
 import json
 import os
+from dataclasses import replace
 import sys
 import xml.etree.ElementTree as ET
 
@@ -124,7 +125,7 @@ def unbuildable_value_puts_only_that_feature_in_error():
     before = volumes(model)
     later = [o.Proxy.operation(o) for o in chain[4:]]
     prism = chain[3]
-    prism.Polygon = prism.Polygon[:2]  # 2 vertices: no prism
+    prism.Proxy.set_polygon(prism, prism.Proxy.polygon(prism)[:2])  # 2 vertices: no prism
     doc.recompute()
     # the later steps go into error too, rather than keep their solids from before
     assert failed_features(model) == chain[3:], [o.State for o in chain]
@@ -132,7 +133,7 @@ def unbuildable_value_puts_only_that_feature_in_error():
     assert "3 to 6 vertices" in prism.getStatusString(), prism.getStatusString()
     assert all(f"its Base {chain[i - 1].Label} failed to build" in chain[i].getStatusString()
                for i in range(4, len(chain))), [o.getStatusString() for o in chain]
-    assert len(prism.Polygon) == 2  # the user's value stays, for them to fix
+    assert len(prism.Proxy.polygon(prism)) == 2  # the user's value stays, for them to fix
     assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3]))
     assert [o.Proxy.operation(o) for o in chain[4:]] == later  # nothing after it is lost
     # export and save refuse, naming the broken step; the files are not touched
@@ -150,7 +151,7 @@ def unbuildable_value_puts_only_that_feature_in_error():
     prism.FaceNormal = FreeCAD.Vector(0, 0, 0)
     doc.recompute()
     assert "zero vector" in prism.getStatusString(), prism.getStatusString()
-    prism.Polygon = [FreeCAD.Vector(*v) for v in p.operations[2].polygon]
+    prism.Proxy.set_polygon(prism, p.operations[2].polygon)
     prism.FaceNormal = FreeCAD.Vector(*p.operations[2].face.normal)
     doc.recompute()
     assert not failed_features(model)
@@ -209,7 +210,8 @@ def step_export_and_brep_transfer():
     read = Part.read(path)
     assert read.isValid() and len(read.Solids) == 1
     assert close(read.Volume, solid.Volume()) and close(import_step(path).Volume(), solid.Volume())
-    features(model)[-1].Profile = []  # a failing last step: no export, the file is kept
+    features(model)[-1].FaceNormal = FreeCAD.Vector(0, 0, 0)  # a failing last step: no
+    # export, the file is kept
     doc.recompute()
     size = os.path.getsize(path)
     try:
@@ -218,6 +220,95 @@ def step_export_and_brep_transfer():
     except ValueError as e:
         assert "step Bevel001 failed to build" in str(e), e
     assert os.path.getsize(path) == size
+
+
+@check
+def features_are_named_as_freecad_users_read_them():
+    doc = FreeCAD.newDocument("names")
+    model = make_model_from_protocol(doc, example("hammer"))
+    chain = features(model)
+    assert [o.Label for o in chain] == ["Box", "Revolution", "Bevel", "Pad", "Hole",
+                                        "Revolution001"], [o.Label for o in chain]
+    assert [o.Operator for o in chain[1:]] == ["AddSweepShape", "Bevel", "Extrude",
+                                               "SubtractPolyhedron", "AddSweepShape"]
+    assert all(o.getEditorMode("Operator") == ["ReadOnly"] for o in chain[1:])
+    pad, hole = chain[3], chain[4]
+    pad.Offset = -2.0  # the sign of the offset makes it a pocket
+    hole.Mode = "add"  # the Boolean makes it a boss
+    assert (pad.Label, pad.Operator, hole.Label, hole.Operator) == (
+        "Pocket", "Extrude", "Boss", "AddPolyhedron"), (pad.Label, hole.Label, hole.Operator)
+    hole.Label = "Handle slot"  # the user's name stays when the Boolean flips back
+    hole.Mode = "subtract"
+    assert (hole.Label, hole.Operator) == ("Handle slot", "SubtractPolyhedron")
+    assert hole.Proxy.kind(hole) == "Hole"
+    doc.recompute()
+    assert not failed_features(model)
+
+
+LENGTHS = {"App::PropertyLength", "App::PropertyDistance", "App::PropertyPosition"}
+
+
+@check
+def parameters_are_quantities_in_the_users_units():
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import FEATURE_OF_OPERATION
+    doc = FreeCAD.newDocument("units")
+    model = make_model_from_protocol(doc, example("hammer"))
+    for o in features(model):
+        own = [n for n in o.PropertiesList if o.getGroupOfProperty(n) not in
+               ("Base", "Sketch", "") and n not in ("Placement", "Shape", "Label", "Label2")]
+        unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
+        # a normal has no unit, the Boolean is a choice
+        assert set(unitless) <= {"FaceNormal", "Mode"}, (o.Label, unitless)
+    schema = FreeCAD.Units.getSchema()
+    try:
+        FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
+        for op in example("hammer").operations:
+            text = FEATURE_OF_OPERATION[type(op)].reading(op)
+            assert " in" in text and " mm" not in text and "f[n=" not in text, text
+        pad = FEATURE_OF_OPERATION[type(example("hammer").operations[2])].reading(
+            example("hammer").operations[2])
+        assert pad.startswith("Pad: the face moved out by 0.20 in"), pad
+    finally:
+        FreeCAD.Units.setSchema(schema)
+
+
+@check
+def step_part_is_named_after_the_model():
+    import Import
+    doc = FreeCAD.newDocument("named")
+    model = make_model_from_protocol(doc, example("nut"), label="Hex nut")
+    path = os.path.join(TMP, "hex-nut.step")
+    export_step(model, path)
+    assert FreeCAD.ActiveDocument == doc
+    assert "Sketch2CADExport" not in FreeCAD.listDocuments()
+    reread = FreeCAD.newDocument("reread")
+    Import.insert(path, reread.Name)
+    assert [o.Label for o in reread.Objects] == ["Hex nut"], [o.Label for o in reread.Objects]
+
+
+@check
+def a_step_read_again_replaces_its_feature_in_place():
+    """What OK does after a step's panel was re-opened (make_model.replace_operation): the
+    same operator changes the feature's values; another operator puts a new feature in
+    its place, the later steps rebased on it."""
+    from Sketch2CADWorkbench.brep.protocol import Extrude
+    from Sketch2CADWorkbench.freecad_layer.make.make_model import replace_operation
+    p = example("mixer")
+    doc = FreeCAD.newDocument("replace")
+    model = make_model_from_protocol(doc, p)
+    chain = features(model)
+    boss = chain[1]
+    taller = replace(p.operations[0], d=p.operations[0].d + 5)
+    assert replace_operation(boss, taller, sketch="{}") == boss
+    assert (boss.Length.Value, boss.SketchStep) == (taller.d, "{}")
+    pad, name = Extrude(p.operations[0].face, 60.0), boss.Name
+    new = replace_operation(boss, pad)
+    doc.recompute()
+    assert name not in [o.Name for o in doc.Objects]
+    assert (new.Label, new.Base, chain[2].Base) == ("Pad", chain[0], new)
+    assert [o.Name for o in model.Group] == [o.Name for o in features(model)]
+    assert features(model)[1] == new and model.Tip == chain[-1]
+    assert protocol_from_model(model).operations == (pad,) + p.operations[1:]
 
 
 finish(run_checks())

@@ -36,9 +36,9 @@ def reopen_and_recompute(path: str):
     want = [s.Volume() for s in replay(p)]
     assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want))
     sweep = next(o for o in chain if o.Proxy.TYPE == "Sketch2CAD::Sweep")
-    inner = list(sweep.ProfileInner)
+    inner = sweep.Proxy.inner(sweep)
     sweep.Radius0 = sweep.Radius0.Value * 1.2  # the restored proxy still retunes
-    assert list(sweep.ProfileInner) != inner
+    assert sweep.Proxy.inner(sweep) != inner
     return chain
 
 
@@ -62,6 +62,25 @@ def reopen_fcstd_saved_by_other_versions():
             for doc in list(FreeCAD.listDocuments().values()):
                 FreeCAD.closeDocument(doc.Name)
             reopen_and_recompute(os.path.join(DATA, name))
+
+
+@check
+def fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names():
+    for doc in list(FreeCAD.listDocuments().values()):
+        FreeCAD.closeDocument(doc.Name)
+    doc = FreeCAD.openDocument(os.path.join(DATA, "hammer-saved-by-0.20.2.FCStd"))
+    (model,) = find_models(doc)
+    chain = features(model)
+    assert [o.Label for o in chain] == ["Box", "Revolution", "Bevel", "Pad", "Hole",
+                                        "Revolution001"], [o.Label for o in chain]
+    prism = chain[4]
+    assert "Polygon" not in prism.PropertiesList
+    assert [prism.getTypeIdOfProperty(f"Vertex{i}") for i in range(1, 5)] == \
+        ["App::PropertyPosition"] * 4
+    assert prism.getTypeIdOfProperty("FacePoint") == "App::PropertyPosition"
+    assert chain[2].getTypeIdOfProperty("ProfileEnd") == "App::PropertyPosition"
+    assert chain[1].getTypeIdOfProperty("Control2Height") == "App::PropertyDistance"
+    assert prism.Operator == "SubtractPolyhedron" and prism.SketchStep == ""
 
 
 finish(run_checks())

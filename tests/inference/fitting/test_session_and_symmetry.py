@@ -16,6 +16,8 @@ from Sketch2CADWorkbench.inference.session import (
     SketchStep,
     load_session,
     session_from_dict,
+    step_from_dict,
+    step_to_dict,
 )
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
@@ -38,6 +40,18 @@ def test_session_round_trips_through_a_file(tmp_path):
     assert [st.choices for st in back.steps] == [st.choices for st in s.steps]
     for a, b in zip(back.steps, s.steps):
         assert all(np.allclose(x, y, atol=1e-3) for x, y in zip(a.strokes, b.strokes))
+
+
+def test_one_step_round_trips_as_json_and_a_bad_one_names_its_field():
+    # a FreeCAD feature keeps the step it was read from this way, to read it again
+    step = session().steps[1]
+    back = step_from_dict(json.loads(json.dumps(step_to_dict(step))))
+    assert (back.camera, back.choices) == (step.camera, step.choices)
+    assert np.allclose(back.strokes[0], step.strokes[0], atol=1e-3)
+    bad = step_to_dict(step)
+    bad["strokes"][0] = [[1, 2]]
+    with pytest.raises(SessionError, match=r"step.strokes\[0\]"):
+        step_from_dict(bad)
 
 
 def test_choices_default_to_regularized_and_free():
