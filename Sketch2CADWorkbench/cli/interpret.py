@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from ..brep.compare import volume_iou
@@ -28,6 +29,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--compare", type=Path, metavar="PROTOCOL",
                    help="the model the sketches mean (a protocol with one operation per "
                         "step): print each step's volume IoU with it")
+    p.add_argument("--regularize", choices=("session", "on", "off"), default="session",
+                   help="snapping and rectification: as each step's choices say (default), "
+                        "or on or off for every step")
+    p.add_argument("--snap-step", type=float, default=0.0, metavar="MM",
+                   help="with regularization, round lengths to multiples of this step "
+                        "(default 0: no grid)")
     p.add_argument("--keep-going", action="store_true",
                    help="skip a step that cannot be interpreted instead of stopping (the "
                         "skipped steps are listed; the exit code is then 0)")
@@ -55,9 +62,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
     failed = 0
     for i, step in enumerate(session.steps, 1):
+        choices = replace(step.choices, snap_step=args.snap_step)
+        if args.regularize != "session":
+            choices = replace(choices, regularize=args.regularize == "on")
         try:
-            got = interpret(solid, step.strokes, step.camera, predictor, renderer,
-                            step.choices)
+            got = interpret(solid, step.strokes, step.camera, predictor, renderer, choices)
         except InterpretError as e:
             failed += 1
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)
@@ -67,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
             for op in got.operations:
                 protocol = protocol.append(op)
                 print(f"step {i}: {describe(op)}")
+            for snap in got.snaps:
+                print(f"         (snapped: {snap.describe()})")
             print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
                   f"{got.timings_ms['total']:.0f} ms)")
             if got.doubtful:

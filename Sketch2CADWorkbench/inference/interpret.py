@@ -42,6 +42,7 @@ from .fitting.bevel import fit_bevel
 from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
 from .fitting.primitive import other_option_fits
+from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.sweep import fit_sweep
 from .fitting.verify import reprojection_error
@@ -86,6 +87,8 @@ class Interpretation:
     other_option: Mode | None = None
     # How far (px, symmetric mean) the operation's own sketch lies from the strokes.
     misfit_px: float = 0.0
+    # The snaps regularization applied, in order (InterpretOptions.skip_snaps undoes one).
+    snaps: tuple[Snap, ...] = ()
 
     @property
     def doubtful(self) -> bool:
@@ -194,7 +197,8 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
         fitted, first = [], None
         for reading in readings:
             try:
-                op = fit(solid, face, cam, strokes, reading, options.regularize, options.option)
+                # regularized after the choice of face and reading (regularize_operation)
+                op = fit(solid, face, cam, strokes, reading, False, options.option)
             except FitError as e:
                 first = first or e
                 continue
@@ -327,6 +331,12 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         networks_s += tb - ta
         try:
             op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
+            snaps = ()
+            if options.regularize:
+                reg = regularize_operation(solid, op, solid.Faces()[index], view,
+                                           options.snap_step, options.snap_px,
+                                           options.skip_snaps)
+                op, snaps = reg.operation, reg.snaps
             misfit = reprojection_error(solid, op, ctx.camera, ctx.strokes)
             other = other_option(solid, op, index, ctx.camera, options)
             tc = time.perf_counter()
@@ -343,4 +353,4 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
                           index, labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
                            "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)}, other, misfit)
+                           "total": 1e3 * (td - t0)}, other, misfit, snaps)

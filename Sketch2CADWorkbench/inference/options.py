@@ -5,12 +5,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..brep.protocol import Mode
+from .fitting.regularize import SNAP_PX
 
 
 @dataclass(frozen=True)
 class InterpretOptions:
-    """Regularization (snap and rectify), a forced Boolean option, a mirror plane."""
+    """Regularization (snap and rectify), a forced Boolean option, a mirror plane.
+
+    With `regularize`, values snap to targets within `snap_px` pixels of the view the
+    strokes were drawn in and lengths to multiples of `snap_step` mm (0: no grid);
+    `skip_snaps` names snaps the designer undid (keys of
+    inference.fitting.regularize.SNAP_KINDS).
+    """
 
     regularize: bool = True
     option: Mode | None = None
     symmetry: str | None = None  # "x", "y" or "z": mirror through the model's mid-plane
+    snap_step: float = 0.0
+    snap_px: float = SNAP_PX
+    skip_snaps: frozenset[str] = frozenset()

@@ -1,0 +1,120 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Regularization snaps what the designer drew close to something regular, on screen, and
+leaves a designed off-centre feature where it was drawn; every snap can be undone."""
+import numpy as np
+import pytest
+from fit_sketches import face_towards
+
+from Sketch2CADWorkbench.brep.faces import face_ref_of
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, Extrude, Mode, Sweep
+from Sketch2CADWorkbench.inference.fitting.regularize import SNAP_PX, regularize_operation
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+
+BIG = (400.0, 300.0, 100.0)
+TOP = BIG[2] / 2
+
+
+@pytest.fixture
+def big():
+    return make_box(Box(BIG))
+
+
+@pytest.fixture
+def view():
+    """The whole big box in an 800 x 600 view, from above, in front and to the left."""
+    d = np.array([0.7, 1.0, -1.1])
+    return OrthoCamera((0.0, 0.0, 0.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 250.0,
+                       800, 600)
+
+
+def square(center, side, z=TOP):
+    h = side / 2
+    return tuple((center[0] + dx, center[1] + dy, z)
+                 for dx, dy in ((-h, -h), (h, -h), (h, h), (-h, h)))
+
+
+def prism(solid, center, side, d=37.0):
+    face = face_towards(solid, (0, 0, 1))
+    return face, AddSubPrism(face_ref_of(face), square(center, side), d, Mode.ADD)
+
+
+def test_an_off_centre_feature_on_a_big_face_stays_where_drawn(big, view):
+    # 45 mm from the centre of a face 500 mm across: the paper's 10% rule moved it there
+    face, op = prism(big, (36.0, 27.0), 20.0)
+    got = regularize_operation(big, op, face, view)
+    assert got.snaps == ()
+    assert got.operation == op
+
+
+def test_a_nearly_centred_feature_snaps_to_the_face_centre(big, view):
+    face, op = prism(big, (2.0, -1.5), 20.0)  # a few pixels off in this view
+    got = regularize_operation(big, op, face, view)
+    assert np.mean(got.operation.polygon, axis=0) == pytest.approx((0, 0, TOP), abs=1e-9)
+    assert [s.key for s in got.snaps] == ["position"]
+    assert got.snaps[0].target == "the face's centre"
+    # from where to where, in the face's frame (centred on the face)
+    assert np.linalg.norm(got.snaps[0].before) == pytest.approx(2.5)
+    assert got.snaps[0].after == pytest.approx((0, 0), abs=1e-9)
+
+
+def test_the_tolerance_is_in_pixels_of_the_view(big, view):
+    # 5 mm off the centre: a few pixels in the view of the whole box, dozens zoomed in 8x
+    face, op = prism(big, (4.0, -3.0), 1.0)
+    near = OrthoCamera(view.center, view.direction, view.up, view.scale / 8, 800, 600)
+    assert regularize_operation(big, op, face, near).snaps == ()
+    assert [s.key for s in regularize_operation(big, op, face, view).snaps] == ["position"]
+
+
+def test_a_nearly_concentric_hole_snaps_to_an_earlier_sweeps_axis(big, view):
+    top = face_towards(big, (0, 0, 1))
+    boss = Sweep(face_ref_of(top), (60.0, 45.0, TOP), 10.0, 10.0, 20.0,
+                 ((10.0, 20 / 3), (10.0, 40 / 3)), Mode.ADD)
+    solid = apply_operation(big, boss)
+    bottom = face_towards(solid, (0, 0, -1))
+    hole = Sweep(face_ref_of(bottom), (61.5, 44.0, -TOP), 6.0, 6.0, 30.0,
+                 ((6.0, 10.0), (6.0, 20.0)), Mode.SUBTRACT)
+    got = regularize_operation(solid, hole, bottom, view)
+    assert got.operation.center == pytest.approx((60.0, 45.0, -TOP), abs=1e-9)
+    assert any(s.key == "position" and "axis of an earlier round feature" in s.target
+               for s in got.snaps)
+    assert apply_operation(solid, got.operation).isValid()
+
+
+def test_lengths_round_to_the_grid_step(big, view):
+    face = face_towards(big, (0, 0, 1))
+    pad = Extrude(face_ref_of(face), 12.3)
+    assert regularize_operation(big, pad, face, view).operation.d == 12.3  # no grid
+    got = regularize_operation(big, pad, face, view, step=1.0)
+    assert got.operation.d == pytest.approx(12.0)
+    assert [(s.key, s.before, s.after) for s in got.snaps] == [("d", (12.3,), (12.0,))]
+    # a pocket keeps its sign
+    assert regularize_operation(big, Extrude(face_ref_of(face), -7.8), face, view,
+                                step=0.5).operation.d == pytest.approx(-8.0)
+
+
+def test_a_grid_step_too_coarse_for_the_view_leaves_the_length(big, view):
+    face = face_towards(big, (0, 0, 1))
+    pad = Extrude(face_ref_of(face), 30.0)
+    # rounding 30 to the 100 mm grid would move the face by dozens of pixels
+    assert regularize_operation(big, pad, face, view, step=100.0).snaps == ()
+
+
+def test_a_side_snaps_to_an_earlier_features_size(big, view):
+    # 99 mm is within a pixel of the box's 100 mm height
+    face, op = prism(big, (36.0, 27.0), 99.0)
+    got = regularize_operation(big, op, face, view, tol_px=SNAP_PX)
+    sides = np.linalg.norm(np.diff(np.array(got.operation.polygon)[:3], axis=0), axis=1)
+    assert sides == pytest.approx([100.0, 100.0])
+    assert any(s.key == "size" and "earlier length" in s.target for s in got.snaps)
+
+
+def test_a_recorded_snap_can_be_undone(big, view):
+    face = face_towards(big, (0, 0, 1))
+    _, op = prism(big, (2.0, -1.5), 20.0, d=12.3)
+    both = regularize_operation(big, op, face, view, step=1.0)
+    assert {s.key for s in both.snaps} == {"position", "d"}
+    kept = regularize_operation(big, op, face, view, step=1.0, skip=frozenset({"position"}))
+    assert [s.key for s in kept.snaps] == ["d"]
+    assert kept.operation.polygon == op.polygon  # where it was drawn
+    assert kept.operation.d == both.operation.d
