@@ -209,6 +209,8 @@ class SnapTargets:
     lines: list[tuple[np.ndarray, np.ndarray, str]]    # point, unit direction, name
     sizes: list[tuple[float, str]]                     # earlier lengths
     radii: list[tuple[float, str]]                     # earlier circles' radii
+    origin: np.ndarray                                 # the face's centre: grid origin
+    axes: tuple[np.ndarray, np.ndarray]                # grid directions: along f's edges
 
 
 def _circle(edge: cq.Edge) -> tuple[np.ndarray, np.ndarray, float]:
@@ -261,7 +263,9 @@ def snap_targets(solid: cq.Shape, face: cq.Face, frame: FaceFrame) -> SnapTarget
             points += [(a, "a vertex of the model"), (b, "a vertex of the model")]
             if abs((q - p) @ n) < 1e-6 * np.linalg.norm(q - p) and np.linalg.norm(b - a) > 0:
                 lines.append((a, (b - a) / np.linalg.norm(b - a), "an edge of the model"))
-    return SnapTargets(points, lines, sizes, radii)
+    first = next((d for _, d, name in lines if name == "a face edge"), np.array([1.0, 0.0]))
+    return SnapTargets(points, lines, sizes, radii, centre,
+                       (first, np.array([-first[1], first[0]])))
 
 
 class _Snapper:
@@ -307,23 +311,23 @@ class _Snapper:
         self.record(key, best[2], value, new)
         return new
 
-    def position(self, anchors: np.ndarray, targets: SnapTargets,
-                 points: bool = True) -> np.ndarray:
+    def position(self, anchors: np.ndarray, targets: SnapTargets) -> np.ndarray:
         """The translation (2D) that puts one of the anchors on the closest target point
-        within the tolerance; failing that, on up to two non-parallel target lines."""
+        within the tolerance; failing that, on up to two non-parallel target lines; and,
+        with a grid step, the anchors' offsets from the face's centre along its edges
+        that no target fixed onto multiples of the step."""
         if "position" in self.skip:
             return np.zeros(2)
         best = None
-        for p, name in targets.points if points else ():
+        for p, name in targets.points:
             for a in anchors:
                 px = self.px2(p - a)
                 if px <= self.tol and (best is None or px < best[0]):
                     best = (px, p - a, name)
         if best is not None:
-            move = best[1]
-            if np.linalg.norm(move) > 1e-9:
-                self.record("position", best[2], anchors[0], anchors[0] + move)
-            return move
+            if np.linalg.norm(best[1]) > 1e-9:
+                self.record("position", best[2], anchors[0], anchors[0] + best[1])
+            return best[1]
         found = []
         for p, d, name in targets.lines:
             for a in anchors:
@@ -331,20 +335,31 @@ class _Snapper:
                 px = self.px2(off)
                 if px <= self.tol:
                     found.append((px, off, p, d, name, a))
-        if not found:
-            return np.zeros(2)
         found.sort(key=lambda f: f[0])
-        _, move, _, d1, name, _ = found[0]
-        names = [name]
-        for _, _, p2, d2, name2, a2 in found[1:]:
-            if abs(d1[0] * d2[1] - d1[1] * d2[0]) < PARALLEL_SIN:
-                continue
-            n2 = np.array([-d2[1], d2[0]])
-            s = -(n2 @ (a2 + move - p2)) / (n2 @ d1)
-            if self.px2(s * d1) <= self.tol:
-                move, names = move + s * d1, names + [name2]
-                break
-        if np.linalg.norm(move) > 1e-9:
+        move, names, free = np.zeros(2), [], [targets.axes[0], targets.axes[1]]
+        if found:
+            _, move, _, d1, name, _ = found[0]
+            names, free = [name], [d1]
+            for _, _, p2, d2, name2, a2 in found[1:]:
+                if abs(d1[0] * d2[1] - d1[1] * d2[0]) < PARALLEL_SIN:
+                    continue
+                n2 = np.array([-d2[1], d2[0]])
+                shift = -(n2 @ (a2 + move - p2)) / (n2 @ d1) * d1
+                if self.px2(shift) <= self.tol:
+                    move, names, free = move + shift, names + [name2], []
+                    break
+        if self.step > 0 and free:
+            moved = False
+            for d in free:  # slide along d until an anchor's offset is on the grid
+                g = max(targets.axes, key=lambda g: abs(g @ d))
+                rest = [(self.step * round(t / self.step) - t) / (g @ d) * d
+                        for t in ((anchors + move - targets.origin) @ g)]
+                shift = min(rest, key=lambda r: float(np.linalg.norm(r)))
+                if self.px2(shift) <= self.tol:
+                    move, moved = move + shift, moved or np.linalg.norm(shift) > 1e-9
+            if moved:
+                names.append(f"the {self.step:g} mm grid")
+        if names and np.linalg.norm(move) > 1e-9:
             self.record("position", " and ".join(names), anchors[0], anchors[0] + move)
         return move
 
