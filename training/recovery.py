@@ -4,9 +4,9 @@
 For each sample the interpreted operation is applied to the sample's context solid and
 compared with the ground truth's result: recovered when the volume IoU is >= 0.95.
 The pipeline is the one the workbench runs (context frustum, render, networks, fitting,
-B-rep), from the sample's raw strokes and camera. Regularization is off: the synthetic
-shapes are random, so snapping them to regular ones would only move them away from the
-ground truth.
+B-rep), from the sample's raw strokes and camera. Regularization is off unless asked
+(`options`): the synthetic shapes are random, and it should not move them away from the
+ground truth (the strokes' camera is the view its pixel tolerance is measured in).
 
 A boss on f and a hole into f can draw the same lines (paper, Fig. 5b); the pipeline
 then takes the addition and names the other Boolean (`Interpretation.other_option`),
@@ -30,6 +30,7 @@ from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -74,25 +75,28 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
                                      sample.curve_label, ctx, options)
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
+    if options.regularize:  # as interpret() does after fitting
+        op = regularize_operation(context, op, context.Faces()[index], sample.camera,
+                                  options.snap_step, options.snap_px).operation
     return StepReading(op, apply_operation(context, op),
                        other_option(context, op, index, ctx.camera, options), None)
 
 
-def recovery(data, predictor, limit: int, oracle: bool = False) -> dict:
+def recovery(data, predictor, limit: int, oracle: bool = False,
+             options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
     """Recovery rate per operator (and per noise level) over the first `limit` samples,
     and the median time of one interpret step (render + networks + fitting + B-rep).
 
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
-    tells a network shortfall from a fitting one.
+    tells a network shortfall from a fitting one. `options`: regularization (off by
+    default) and its grid step.
     """
     renderer = MapRenderer()
     ds = Dataset(data)
     hits: dict[tuple[str, int], list[bool]] = {}
     flips: dict[str, list[tuple[bool, bool]]] = {}  # (offered, recovered with the flip)
     times, reasons = [], {}
-    options = InterpretOptions(regularize=False)
-
     reader = None if oracle else predictor
 
     with tqdm(total=min(limit, len(ds)), desc="fitting" if oracle else "interpret",

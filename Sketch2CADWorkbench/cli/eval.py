@@ -15,6 +15,7 @@ from training.evaluate import evaluate, has_ground_truth
 from training.recovery import recovery
 from training.report import report
 
+from ..inference.options import InterpretOptions
 from ..inference.weights import load_predictor
 
 
@@ -31,6 +32,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--recovery", type=int, default=200, metavar="N",
                    help="run the whole interpret pipeline on the first N samples for the "
                         "end-to-end recovery rate (0 skips it; default %(default)s)")
+    p.add_argument("--regularize", action="store_true",
+                   help="regularize the readings in the recovery runs (off by default)")
+    p.add_argument("--snap-step", type=float, default=0.0, metavar="MM",
+                   help="with --regularize, round lengths to this step (default 0: no grid)")
     p.add_argument("--fitting-recovery", action="store_true",
                    help="also the recovery rate of the fitting stage alone, given the "
                         "ground-truth operator, F and C (tells network from fitting errors)")
@@ -43,13 +48,15 @@ def run(args: argparse.Namespace) -> int:
             print(f"sketch2cad eval: warning: {args.data} stores no ground-truth operations; "
                   "the end-to-end recovery is skipped", file=sys.stderr)
         elif args.recovery:
-            rec = recovery(args.data, load_predictor(args.weights), args.recovery)
+            options = InterpretOptions(regularize=args.regularize, snap_step=args.snap_step)
+            rec = recovery(args.data, load_predictor(args.weights), args.recovery,
+                           options=options)
             for op, v in rec["per_operator"].items():
                 result["per_operator"][op].update(v)
             result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
             result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
             if args.fitting_recovery:
-                fit = recovery(args.data, None, args.recovery, oracle=True)
+                fit = recovery(args.data, None, args.recovery, oracle=True, options=options)
                 for op, v in fit["per_operator"].items():
                     result["per_operator"][op]["fitting_recovery_rate"] = v["recovery_rate"]
                     result["per_operator"][op]["fitting_recovery_rate_with_flip"] = \

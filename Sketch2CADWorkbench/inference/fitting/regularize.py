@@ -291,20 +291,21 @@ class _Snapper:
 
     def length(self, key: str, value: float, direction: np.ndarray,
                sizes: list[tuple[float, str]]) -> float:
-        """`value` (mm, its sign kept) snapped to the closest earlier size or grid multiple
-        within the tolerance, seen as a change along `direction` (3D unit)."""
+        """`value` (mm, its sign kept) snapped to the closest earlier size within the
+        tolerance, seen as a change along `direction` (3D unit), or else rounded to the
+        grid step: the designer chose that resolution, so it applies at any zoom (never
+        to 0: a length is at least one step)."""
         if key in self.skip:
             return value
         mag = abs(value)
-        cands = list(sizes)
-        if self.step > 0:
-            cands.append((max(self.step, round(mag / self.step) * self.step),
-                          f"the {self.step:g} mm grid"))
         best = None
-        for size, name in cands:
-            px = self.px(abs(size - mag) * direction)
-            if size > 0 and px <= self.tol and (best is None or px < best[0]):
-                best = (px, size, name)
+        if self.step > 0:
+            grid = max(self.step, round(mag / self.step) * self.step)
+            best = (abs(grid - mag), grid, f"the {self.step:g} mm grid")
+        for size, name in sizes:
+            if size > 0 and self.px(abs(size - mag) * direction) <= self.tol \
+                    and (best is None or abs(size - mag) < best[0]):
+                best = (abs(size - mag), size, name)
         if best is None or abs(best[1] - mag) <= 1e-9 * max(mag, 1.0):
             return value
         new = float(np.sign(value) * best[1]) if value else best[1]

@@ -93,11 +93,15 @@ def test_lengths_round_to_the_grid_step(big, view):
                                 step=0.5).operation.d == pytest.approx(-8.0)
 
 
-def test_a_grid_step_too_coarse_for_the_view_leaves_the_length(big, view):
+def test_the_grid_is_the_designers_resolution_at_any_zoom(big, view):
     face = face_towards(big, (0, 0, 1))
     pad = Extrude(face_ref_of(face), 30.0)
-    # rounding 30 to the 100 mm grid would move the face by dozens of pixels
-    assert regularize_operation(big, pad, face, view, step=100.0).snaps == ()
+    # rounding to a 100 mm grid moves the face by dozens of pixels: the step was chosen
+    assert regularize_operation(big, pad, face, view, step=100.0).operation.d == 100.0
+    # an earlier length closer than the grid value wins (the box is 100 mm tall)
+    near = Extrude(face_ref_of(face), 99.2)
+    got = regularize_operation(big, near, face, view, step=7.0)  # grid value 98
+    assert got.operation.d == 100.0 and "earlier length" in got.snaps[0].target
 
 
 def test_a_side_snaps_to_an_earlier_features_size(big, view):
