@@ -5,14 +5,13 @@ or discard. The same panel re-opens a sketched step (double-click in the tree): 
 strokes are shown again in the view they were drawn in, and OK applies the new reading
 to that step."""
 import json
-from dataclasses import replace
 
 import FreeCAD
 import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
-from ...brep.protocol import Extrude, Mode, Operation, AddSubPrism, Sweep, operation_to_dict
+from ...brep.protocol import Mode, Operation, operation_to_dict
 from ..gui_helpers import error, transaction
 from ..networks import predictor
 from ..preferences import regularize_default, snap_step, use_network_threads
@@ -45,21 +44,6 @@ def replace_operation_command(obj, op: Operation, sketch: str = "") -> str:
     (make_model.replace_operation)."""
     return _call("replace_operation", f"FreeCAD.getDocument({obj.Document.Name!r})"
                  f".getObject({obj.Name!r})", op, sketch)
-
-
-def snap_lengths(op: Operation, step: float) -> Operation:
-    """`op` with its lengths (offset, prism length, radii and height) rounded to
-    multiples of `step` mm (never to 0); unchanged for step 0 and for bevels."""
-    if step <= 0:
-        return op
-
-    def snap(x: float) -> float:
-        return float(np.sign(x) * max(step, round(abs(x) / step) * step))
-    if isinstance(op, (Extrude, AddSubPrism)):
-        return replace(op, d=snap(op.d))
-    if isinstance(op, Sweep):
-        return op.retuned(snap(op.r0), snap(op.r1), snap(op.d))
-    return op
 
 
 def set_view_camera(view, cam) -> None:
@@ -103,6 +87,8 @@ class SketchPanel:
         self.capture = StrokeCapture(self.view, self.interpret, self.cancel)
         self.shown = None  # features' visibility before an edit
         self.closed = False
+        self.skipped = set()  # SNAP_KINDS keys the designer undid for these strokes
+        self.snap_buttons = []
         if feature is not None:
             self._open_feature()
 
@@ -137,6 +123,10 @@ class SketchPanel:
         buttons.addWidget(self.interpret_button)
         buttons.addWidget(self.clear_button)
         lay.addLayout(buttons)
+        # one button per snap the reading applied: a click reads the strokes again
+        # without it (InterpretOptions.skip_snaps); undone snaps stay off until cleared
+        self.snap_box = QtGui.QVBoxLayout()
+        lay.addLayout(self.snap_box)
         self.text = QtGui.QTextEdit()
         self.text.setReadOnly(True)
         self.text.setMinimumWidth(0)
@@ -204,20 +194,50 @@ class SketchPanel:
         sym = self.symmetry.currentText()
         return InterpretOptions(self.regularize.isChecked(),
                                 None if opt == "auto" else Mode(opt),
-                                None if sym == "none" else sym)
+                                None if sym == "none" else sym,
+                                snap_step=snap_step(),
+                                skip_snaps=frozenset(self.skipped))
+
+    def undo_snap(self, key: str) -> None:
+        """Read the strokes again without the snap `key` (a SNAP_KINDS key)."""
+        self.skipped.add(key)
+        self.reinterpret()
+
+    def redo_snaps(self) -> None:
+        self.skipped.clear()
+        self.reinterpret()
+
+    def _show_snaps(self, snaps) -> None:
+        """A button per applied snap (its undo), and one to snap again what was undone."""
+        while self.snap_box.count():
+            w = self.snap_box.takeAt(0).widget()
+            if w is not None:
+                w.deleteLater()
+        self.snap_buttons = []
+        for snap in snaps:
+            b = QtGui.QPushButton(tr("Undo snap: {}").format(snap.describe()))
+            b.setToolTip(tr("Read the strokes again without this snap"))
+            b.clicked.connect(lambda _=False, k=snap.key: self.undo_snap(k))
+            self.snap_box.addWidget(b)
+            self.snap_buttons.append(b)
+        if self.skipped:
+            b = QtGui.QPushButton(tr("Snap again ({} undone)").format(len(self.skipped)))
+            b.clicked.connect(self.redo_snaps)
+            self.snap_box.addWidget(b)
+            self.snap_buttons.append(b)
 
     def reinterpret(self, *_):
         if self.capture.strokes:
             self.interpret()
 
     def interpret(self):
-        from ...brep.operators import apply_operation
         from ...inference.interpret import InterpretError, interpret
         from ...inference.session import SketchStep
         from ..make.make_model import FEATURE_OF_OPERATION
         strokes, camera = self.capture.result()
         self.result = self.step = None
         self.preview.show(None)
+        self._show_snaps(())
         if not strokes:
             self.text.setHtml(tr("<b>No strokes yet.</b> Draw over the model first."))
             return
@@ -227,13 +247,6 @@ class SketchPanel:
             networks = predictor()
             use_network_threads(networks)
             r = interpret(solid, strokes, camera, networks, options=options)
-            step = snap_step() if options.regularize else 0.0
-            if step:
-                ops = tuple(snap_lengths(op, step) for op in r.operations)
-                result = solid
-                for op in ops:
-                    result = apply_operation(result, op)
-                r = replace(r, operations=ops, solid=result)
         except (InterpretError, ValueError, FileNotFoundError) as e:
             self.text.setHtml(f"<b style='color:#b00'>{tr('Not interpreted:')}</b> {e}<br>"
                               + tr("Nothing was changed. Add or clear strokes and try again."))
@@ -256,6 +269,7 @@ class SketchPanel:
         self.text.setHtml(f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
                           f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
         self.preview.show(to_part(r.solid))
+        self._show_snaps(r.snaps)
 
     def sketch_json(self) -> str:
         """The strokes, view and choices of the current reading, as a session step."""
@@ -264,6 +278,8 @@ class SketchPanel:
 
     def clear(self):
         self.capture.clear()
+        self.skipped.clear()
+        self._show_snaps(())
         self.result = self.step = None
         self.preview.show(None)
         self.text.clear()

@@ -651,6 +651,15 @@ def preferences_page_is_shown_and_its_values_are_used():
         d = panel.result.operations[0].d
         assert abs(d / 2.0 - round(d / 2.0)) < 1e-9 and d > 0, d
         assert close(panel.result.solid.Volume(), 40 * 30 * (20 + d), 1e-6)
+        # the panel lists the snap; one click reads the strokes again without it
+        texts = [b.text() for b in panel.snap_buttons]
+        assert any("length snapped to the 2 mm grid" in t for t in texts), texts
+        panel.snap_buttons[[i for i, t in enumerate(texts) if "length" in t][0]].click()
+        settle()
+        assert panel.result is not None and "d" in panel.skipped, panel.text.toPlainText()
+        undone = panel.result.operations[0].d
+        assert abs(undone / 2.0 - round(undone / 2.0)) > 1e-6, undone
+        assert [b.text() for b in panel.snap_buttons][-1].startswith("Snap again")
         assert torch.get_num_threads() == 1, (torch.get_num_threads(), torch.__file__)
         panel.reject()
         settle()
