@@ -242,3 +242,25 @@ def test_a_reading_whose_sketch_lies_far_from_the_strokes_is_flagged():
     assert not with_(base, misfit_px=SKETCH_MISFIT_PX).doubtful
     far = with_(base, misfit_px=SKETCH_MISFIT_PX + 6.2)
     assert far.doubtful and f"lies {SKETCH_MISFIT_PX + 6.2:.1f} px" in far.doubt()
+
+
+def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
+    box = make_box(Box((40, 30, 20)))
+    # a square boss drawn 0.4 mm off the top face's centre, 7.3 mm tall
+    op = AddSubPrism(TOP, ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0),
+                           (-4.6, 5.0, 10.0)), 7.3, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    strokes = [cam.project(p)[0] for p in pts]
+    got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
+    keys = [s.key for s in got.snaps]
+    assert "position" in keys and "d" in keys, [s.describe() for s in got.snaps]
+    (snapped,) = got.operations
+    assert np.mean(snapped.polygon, axis=0)[:2] == pytest.approx((0, 0), abs=1e-6)
+    assert snapped.d == pytest.approx(7.0)
+    undone = interpret(box, strokes, cam, oracle, renderer,
+                       InterpretOptions(snap_step=1.0, skip_snaps=frozenset({"position"})))
+    assert "position" not in [s.key for s in undone.snaps]
+    assert np.mean(undone.operations[0].polygon, axis=0)[0] == pytest.approx(0.4, abs=0.3)
+    assert undone.operations[0].d == pytest.approx(7.0)
