@@ -15,6 +15,7 @@ from ..brep.compare import volume_iou
 from ..brep.files import check_outputs
 from ..brep.operators import make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
+from ..inference.fitting.regularize import SNAP_PX
 from ..inference.interpret import InterpretError, interpret
 from ..inference.session import load_session
 from .build import write_outputs
@@ -35,6 +36,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--snap-step", type=float, default=0.0, metavar="MM",
                    help="with regularization, round lengths to multiples of this step "
                         "(default 0: no grid)")
+    p.add_argument("--snap-px", type=float, default=SNAP_PX, metavar="PX",
+                   help="with regularization, snap to targets within this many pixels of "
+                        "the view the strokes were drawn in (default %(default)s)")
     p.add_argument("--keep-going", action="store_true",
                    help="skip a step that cannot be interpreted instead of stopping (the "
                         "skipped steps are listed; the exit code is then 0)")
@@ -62,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
     failed = 0
     for i, step in enumerate(session.steps, 1):
-        choices = replace(step.choices, snap_step=args.snap_step)
+        choices = replace(step.choices, snap_step=args.snap_step, snap_px=args.snap_px)
         if args.regularize != "session":
             choices = replace(choices, regularize=args.regularize == "on")
         try:
