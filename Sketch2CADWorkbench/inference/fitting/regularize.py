@@ -187,10 +187,14 @@ class Snap:
     after: tuple[float, ...]
 
     def describe(self) -> str:
+        """One line for the user; values are shown for points and lengths, not for
+        whole outlines (shape, direction, profile)."""
         def fmt(v: tuple[float, ...]) -> str:
             return ", ".join(f"{x:.4g}" for x in v)
-        return (f"{SNAP_KINDS[self.key]} snapped to {self.target}: "
-                f"({fmt(self.before)}) -> ({fmt(self.after)}) mm")
+        text = f"{SNAP_KINDS[self.key]} snapped to {self.target}"
+        if len(self.before) <= 2:
+            text += f": ({fmt(self.before)}) -> ({fmt(self.after)}) mm"
+        return text
 
 
 @dataclass(frozen=True)

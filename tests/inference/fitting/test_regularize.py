@@ -122,3 +122,10 @@ def test_a_recorded_snap_can_be_undone(big, view):
     assert [s.key for s in kept.snaps] == ["d"]
     assert kept.operation.polygon == op.polygon  # where it was drawn
     assert kept.operation.d == both.operation.d
+
+
+def test_a_snap_says_what_moved_to_what(big, view):
+    face = face_towards(big, (0, 0, 1))
+    (snap,) = regularize_operation(big, Extrude(face_ref_of(face), 12.3), face, view,
+                                   step=1.0).snaps
+    assert snap.describe() == "length snapped to the 1 mm grid: (12.3) -> (12) mm"
