@@ -154,8 +154,8 @@ def regularize_polygon(poly: np.ndarray, outline: FaceOutline) -> np.ndarray:
 # ---------------------------------------------------------------- intent-aware snapping
 
 # A value snaps to a target within this many pixels of the view the strokes were drawn
-# in (the hand's error); measured on the example sessions, docs/NOTES.md.
-SNAP_PX = 10.0
+# in (the hand's error): 10 px lost held-out recoveries, 5 did not (docs/NOTES.md).
+SNAP_PX = 5.0
 # A displacement seen nearly along the view looks short on screen but is not: it counts
 # at least this share of its true length in pixels.
 FORESHORTEN_FLOOR = 0.5
