@@ -393,6 +393,8 @@ def _snap_rectangle_sides(poly: np.ndarray, s: _Snapper, sizes) -> np.ndarray:
 
 
 def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> AddSubPrism:
+    """Rectify the base polygon and align it with f's edges (the paper's angle and length
+    thresholds), snap a rectangle's sides, then its position, then d."""
     frame = s.frame
     poly = frame.to_2d(np.array(op.polygon, float))
     outline = FaceOutline(np.zeros((0, 2)), np.array([d for _, d, nm in targets.lines
@@ -415,6 +417,8 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
 
 
 def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
+    """A nearly straight profile becomes a cone (a cylinder when the radii are within 20%
+    and the tolerance); then c0's centre, the radii and d snap."""
     frame, n = s.frame, s.frame.normal
     r0, r1, d = op.r0, op.r1, op.d
     mid = np.array(op.profile, float)
