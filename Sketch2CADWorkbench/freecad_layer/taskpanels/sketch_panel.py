@@ -6,7 +6,7 @@ from PySide import QtGui
 
 from ...brep.protocol import Mode, Operation, describe, operation_to_dict
 from ..gui_helpers import error, transaction
-from ..networks import predictor
+from ..networks import loading, predictor, when_loaded
 from ..shapes import from_part, to_part
 from ..trackers.preview import Preview
 from ..trackers.stroke_capture import StrokeCapture
@@ -31,6 +31,10 @@ class SketchPanel:
         self.preview = Preview(self.view)
         self.form = self._build_form()
         self.capture = StrokeCapture(self.view, self.interpret, self.cancel)
+        if loading():  # started with the workbench (freecad_layer/networks.py)
+            self.text.setHtml("<i>Loading networks…</i> You can draw meanwhile.")
+            when_loaded(lambda: self.text.toPlainText().startswith("Loading networks")
+                        and self.text.setHtml("Networks ready."), self.text)
 
     def _build_form(self):
         w = QtGui.QWidget()
@@ -80,13 +84,17 @@ class SketchPanel:
             self.interpret()
 
     def interpret(self):
-        from ...inference.interpret import InterpretError, interpret
         strokes, camera = self.capture.result()
         self.result = None
         self.preview.show(None)
         if not strokes:
             self.text.setHtml("<b>No strokes yet.</b> Draw over the model first.")
             return
+        if loading():
+            self.text.setHtml("<i>Loading networks…</i> The reading follows when they "
+                              "are ready.")
+            self.text.repaint()  # the import and predictor() below wait for the load
+        from ...inference.interpret import InterpretError, interpret
         try:
             solid = from_part(self.model.Tip.Shape)
             self.result = interpret(solid, strokes, camera, predictor(), options=self.options())
