@@ -1,5 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep: the solid of revolution of profile c_p between circles c0 and c1."""
+import math
+
 import FreeCAD
 
 from ...brep.protocol import FaceRef, Mode, Sweep
@@ -55,15 +57,23 @@ class SweepFeature(OperationFeature):
             return
         last = getattr(self, "_last", None)
         now = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
-        self._last = now
         # Undo, redo and file loading set the profile themselves.
         if "Restore" in obj.State or obj.Document.Transacting or obj.Document.Restoring:
+            self._last = now
             return
-        if last is None or min(last) <= 0 or min(now) <= 0 or len(obj.ProfileInner) != 2:
+        # NaN, inf or 0 typed in: the step goes into error (checks.py, the core), and the
+        # profile and `_last` stay as they were, so fixing the value restores the step
+        if not _positive(now):
+            return
+        if last is None or not _positive(last) or len(obj.ProfileInner) != 2:
+            self._last = now
             return
         inner = tuple((p.x, p.y) for p in obj.ProfileInner)
         face = FaceRef(tup(obj.FacePoint), tup(obj.FaceNormal))  # unused by retuned()
         new = Sweep(face, tup(obj.Center), *last, inner, Mode(obj.Mode)).retuned(*now)
+        if not all(math.isfinite(c) for p in new.profile for c in p):
+            return  # near the largest double the profile overflows: keep it
+        self._last = now
         self._tuning = True
         try:
             obj.ProfileInner = [FreeCAD.Vector(r, h, 0) for r, h in new.profile]
@@ -72,3 +82,8 @@ class SweepFeature(OperationFeature):
 
     def onDocumentRestored(self, obj):
         self._last = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
+
+
+def _positive(values) -> bool:
+    """All values finite and above 0."""
+    return all(math.isfinite(v) and v > 0 for v in values)
