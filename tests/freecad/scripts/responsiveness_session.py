@@ -164,7 +164,8 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
     moves come from the X server as a mouse's do. The event loop turns (and the view
     redraws, in Mesa's software renderer under Xvfb) after every 4 moves, 4 ms apart, as
     when moves arrive faster than the view draws; the share that reached the stroke is
-    printed. The press and release are sent events (a warp moves no button)."""
+    printed. The press and release are sent events (a warp moves no button), with the
+    mouse grabbed by the viewport between them, as a real press grabs it."""
     from Sketch2CADWorkbench.freecad_layer.trackers.stroke_capture import StrokeCapture
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
@@ -187,6 +188,7 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
     left = QtCore.Qt.LeftButton
     app().sendEvent(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, local[0], left,
                                                 left, QtCore.Qt.NoModifier))
+    viewport.grabMouse()  # as a real press does: the moves go to the viewport, whatever is over it
     start = time.perf_counter()
     for i, p in enumerate(local[1:]):
         QtGui.QCursor.setPos(viewport.mapToGlobal(p))
@@ -197,6 +199,7 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         turn()
         time.sleep(0.02)
     seconds = time.perf_counter() - start
+    viewport.releaseMouse()
     app().sendEvent(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, local[-1],
                                                 left, QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
     turn()
@@ -204,10 +207,12 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         (stroke,) = capture.strokes
         got = len(stroke) - 1  # the press's point is not a move
         say(f"FIGURE mouse_moves_captured {got}/{n} = {got / n:.0%} in {seconds:.1f} s")
-        assert got >= 0.99 * n, (got, n)
-        assert app().testAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents) == compressing
         strokes, cam = capture.result()
         sent = np.array([(p.x() * dpr + 0.5, p.y() * dpr + 0.5) for p in local], float)
+        missed = [i for i, p in enumerate(sent)
+                  if np.min(np.linalg.norm(strokes[0] - p, axis=1)) > 0.75]
+        assert got >= 0.99 * n, (got, n, "missed moves", missed)
+        assert app().testAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents) == compressing
         far = max(float(np.min(np.linalg.norm(sent - q, axis=1))) for q in strokes[0])
         assert far <= 1.5, far  # each captured point is one the pointer went through
         assert capture.lines.numVertices.getValues()[0] == len(stroke)  # the overlay follows
