@@ -2,6 +2,7 @@
 """Waiting and mouse capture in FreeCAD's GUI, on a virtual X screen (see
 scripts/responsiveness_session.py, which prints the measured figures as FIGURE lines)."""
 import pytest
+from freecad_process import print_figures
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 
@@ -14,7 +15,9 @@ CHECKS = ["first_activation_imports_no_cadquery_and_starts_the_background_load",
 @pytest.fixture(scope="module")
 def gui_run(tmp_path_factory, run_freecad):
     """One FreeCAD GUI process running every check of scripts/responsiveness_session.py."""
-    return run_freecad("responsiveness_session.py", tmp_path_factory.mktemp("waiting"), gui=True)
+    out = run_freecad("responsiveness_session.py", tmp_path_factory.mktemp("waiting"), gui=True)
+    print_figures(out)
+    return out
 
 
 @pytest.mark.parametrize("name", CHECKS)

@@ -2,6 +2,7 @@
 """Impossible values typed into the features' properties, in freecadcmd (see
 scripts/value_checks.py)."""
 import pytest
+from freecad_process import print_figures
 
 pytestmark = pytest.mark.freecad
 
@@ -12,7 +13,9 @@ CHECKS = ["impossible_values_are_refused_naming_the_property_and_lose_nothing",
 @pytest.fixture(scope="module")
 def values_run(tmp_path_factory, run_freecad):
     """One freecadcmd process running every check of scripts/value_checks.py."""
-    return run_freecad("value_checks.py", tmp_path_factory.mktemp("values"))
+    out = run_freecad("value_checks.py", tmp_path_factory.mktemp("values"))
+    print_figures(out)
+    return out
 
 
 @pytest.mark.parametrize("name", CHECKS)

@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad
 import FreeCAD  # noqa: E402
 import FreeCADGui  # noqa: E402
 import numpy as np  # noqa: E402
-from harness import check, finish, run_checks, say, tested_checkout  # noqa: E402
+from harness import check, finish, run_checks, say, send_drag, tested_checkout  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 from Sketch2CADWorkbench.freecad_layer import networks  # noqa: E402
@@ -125,7 +125,8 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
                     [bb.XMax, bb.YMax, bb.ZMax], [bb.XMin, bb.YMax, bb.ZMax]])
     up = top + [0, 0, 0.5 * bb.ZLength]
     for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
-        _drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+        send_drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+        turn()
     threading.Timer(1.0, GATE.set).start()  # the load ends while interpret waits for it
     panel.interpret()
     try:
@@ -140,22 +141,6 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
     finally:
         panel.reject()
         turn()
-
-
-def _drag(viewport, pixels) -> None:
-    """A left drag through core pixels as Qt events sent to the viewport."""
-    dpr = viewport.devicePixelRatioF()
-    points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
-    left = QtCore.Qt.LeftButton
-    send = app().sendEvent
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, points[0], left, left,
-                                     QtCore.Qt.NoModifier))
-    for p in points[1:]:
-        send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, left,
-                                         QtCore.Qt.NoModifier))
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, points[-1], left,
-                                     QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
-    turn()
 
 
 @check

@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
 import FreeCAD  # noqa: E402
-from harness import EXAMPLES, check, close, finish, run_checks, tested_checkout  # noqa: E402
+from harness import EXAMPLES, check, close, finish, run_checks, say, tested_checkout  # noqa: E402
 
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol  # noqa: E402
@@ -101,8 +101,7 @@ def impossible_values_are_refused_naming_the_property_and_lose_nothing():
             doc = FreeCAD.newDocument("values")
             model = make_model_from_protocol(doc, load(os.path.join(EXAMPLES, "lamp.json")))
             chain = features(model)
-    print(f"\nFIGURE impossible_values_refused {len(CASES) - len(failures)}/{len(CASES)}",
-          file=sys.__stdout__)
+    say(f"FIGURE impossible_values_refused {len(CASES) - len(failures)}/{len(CASES)}")
     assert not failures, "\n".join(failures)
 
 
