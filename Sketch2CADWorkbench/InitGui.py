@@ -34,9 +34,12 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
         self.add_commands()
 
     def Activated(self):
+        from PySide import QtCore
+
         from Sketch2CADWorkbench.freecad_layer import networks
-        if getattr(self, "complete", False) and networks.start_loading():
-            networks.show_status()
+        if getattr(self, "complete", False):
+            # once FreeCAD has finished switching: the thread would slow the switch down
+            QtCore.QTimer.singleShot(0, networks.load_in_background)
 
     def add_commands(self):
         """Register the commands and fill the toolbar and menu."""

@@ -66,6 +66,13 @@ def start_loading() -> bool:
         return True
 
 
+def load_in_background() -> None:
+    """`start_loading`, and `show_status` when that started the load (the workbench's
+    activation calls this)."""
+    if start_loading():
+        show_status()
+
+
 def loading() -> bool:
     """Whether the background load is still running."""
     return _thread is not None and _thread.is_alive()
