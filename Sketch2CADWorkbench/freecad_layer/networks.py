@@ -3,15 +3,14 @@
 
 Importing cadquery, torch and the interpret pipeline and reading the weights takes seconds
 (see docs/NOTES.md), so the workbench starts it in a background thread when it is
-activated (`start_loading`), while the user draws; the status bar says so (`show_status`)
-and so does the Sketch panel (`when_loaded`).
-`predictor()` waits for that load instead of starting a second one, and loads in the
+activated (`load_in_background`), while the user draws; the status bar says so
+(`show_status`) and so does the Sketch panel (`when_loaded`). `predictor()` waits for that load instead of starting a second one, and loads in the
 calling thread when none was started (freecadcmd, scripts).
 
 The thread only imports modules and reads the weights file: it never touches a FreeCAD
 object or a widget, which belong to the GUI thread. It still holds the GIL in stretches
-(OCP's module initialisation is one C++ call of about 3 s), when the GUI stalls; the
-GUI check prints the longest stall (tests/freecad/scripts/responsiveness_session.py).
+(OCP's module initialisation is one long C++ call), when the GUI stalls; the GUI check
+prints the longest stall (tests/freecad/scripts/responsiveness_session.py).
 """
 import threading
 import time
