@@ -4,8 +4,9 @@
 Importing cadquery, torch and the interpret pipeline and reading the weights takes seconds
 (see docs/NOTES.md), so the workbench starts it in a background thread when it is
 activated (`load_in_background`), while the user draws; the status bar says so
-(`show_status`) and so does the Sketch panel (`when_loaded`). `predictor()` waits for that load instead of starting a second one, and loads in the
-calling thread when none was started (freecadcmd, scripts).
+(`show_status`) and so does the Sketch panel (`when_loaded`). `predictor()` waits for
+that load instead of starting a second one, and loads in the calling thread when none was
+started (freecadcmd, scripts).
 
 The thread only imports modules and reads the weights file: it never touches a FreeCAD
 object or a widget, which belong to the GUI thread. It still holds the GIL in stretches
