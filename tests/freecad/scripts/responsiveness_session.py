@@ -134,6 +134,8 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
         assert len(LOADS) == 1, LOADS  # waited for the background load, loaded nothing twice
         assert panel.result is not None, panel.text.toPlainText()
         assert panel.result.op_type.value == "extrude", panel.text.toPlainText()
+        # the session's first reading, once the networks are in (the pipeline's own clock)
+        say(f"FIGURE first_interpret_ms {panel.result.timings_ms['total']:.0f}")
         assert networks.predictor() is LOADS[0]
         turn()
         time.sleep(2 * networks.POLL_MS / 1000)
