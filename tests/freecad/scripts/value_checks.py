@@ -63,6 +63,10 @@ CASES = [
      "polygon vertices 0 and 1 coincide"),
     ("AddSubPrism", "Polygon", lambda o: _polygon(o, lambda i, p: p * 1e300),
      "polygon lies"),
+    ("AddSubPrism", "Polygon", lambda o: [V(o.Polygon[0]), (o.Polygon[0] + o.Polygon[1]) * 0.5,
+                                          V(o.Polygon[1])], "base polygon c has no area"),
+    ("AddSubPrism", "Polygon", lambda o: [V(o.Polygon[i]) for i in (0, 2, 1, 3)],
+     "cross each other"),  # a bow tie
     ("Sweep", "Radius0", NAN, "Radius0 is nan; type a finite number"),
     ("Sweep", "Radius1", INF, "r1 = 1.79769e+308 mm is out of range"),  # FreeCAD clamps inf
     ("Sweep", "Offset", NAN, "Offset is nan; type a finite number"),
