@@ -14,7 +14,7 @@ from PySide import QtGui
 
 from ...brep.protocol import Extrude, Mode, Operation, AddSubPrism, Sweep, operation_to_dict
 from ..gui_helpers import error, transaction
-from ..networks import predictor
+from ..networks import loading, predictor, when_loaded
 from ..preferences import regularize_default, snap_step, use_network_threads
 from ..shapes import from_part, to_part
 from ..trackers.preview import Preview
@@ -105,6 +105,10 @@ class SketchPanel:
         self.closed = False
         if feature is not None:
             self._open_feature()
+        if loading():  # started with the workbench (freecad_layer/networks.py)
+            self.text.setHtml(tr("<i>Loading networks…</i> You can draw meanwhile."))
+            when_loaded(lambda: self.text.toPlainText().startswith(tr("Loading networks"))
+                        and self.text.setHtml(tr("Networks ready.")), self.text)
 
     def _build_form(self):
         w = QtGui.QWidget()
@@ -211,10 +215,6 @@ class SketchPanel:
             self.interpret()
 
     def interpret(self):
-        from ...brep.operators import apply_operation
-        from ...inference.interpret import InterpretError, interpret
-        from ...inference.session import SketchStep
-        from ..make.make_model import FEATURE_OF_OPERATION
         strokes, camera = self.capture.result()
         self.result = self.step = None
         self.preview.show(None)
@@ -222,6 +222,14 @@ class SketchPanel:
             self.text.setHtml(tr("<b>No strokes yet.</b> Draw over the model first."))
             return
         options = self.options()
+        if loading():
+            self.text.setHtml(tr("<i>Loading networks…</i> The reading follows when they "
+                                 "are ready."))
+            self.text.repaint()  # the imports and predictor() below wait for the load
+        from ...brep.operators import apply_operation
+        from ...inference.interpret import InterpretError, interpret
+        from ...inference.session import SketchStep
+        from ..make.make_model import FEATURE_OF_OPERATION
         try:
             solid = self._base_solid()
             networks = predictor()
