@@ -36,6 +36,12 @@ MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
 # mean) is flagged as doubtful: scribbles otherwise read as something. The 99th
 # percentile on held-out level-1 sketches (scripts/misfit_threshold.py, docs/NOTES.md).
 SKETCH_MISFIT_PX = 10.4
+# A result whose volume (and bounding box, in model diagonals) differs from the model's by
+# less than this share is the model unchanged: such a step is refused.
+SAME_VOLUME = 1e-6
+# A face whose outward normal is within this cosine of edge-on, or turned away from the
+# view, is one the user cannot see from it.
+FACING_COS = 0.05
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
@@ -124,41 +130,125 @@ def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     return Context(cam, ctx, maps, inputs)
 
 
-def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
-                  curve: np.ndarray, ctx: Context, options: InterpretOptions
-                  ) -> tuple[Operation, int, list[int]]:
-    """Stage three: the base face by counting, then the operator's fitting.
+@dataclass
+class Reading:
+    """One base face's fitted operation: how far its own sketch lies from the strokes,
+    whether the face is hidden from the sketch view, and (once built) the result."""
+
+    error: float
+    op: Operation
+    index: int
+    labels: list[int]
+    hidden: bool
+    result: cq.Solid | None = None
+    refused: str = ""   # why it cannot be the step: its Boolean fails or changes nothing
+
+
+def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
+    """Whether a step's result is the model it started from: the same volume (within
+    SAME_VOLUME of it), bounding box and number of faces (a primitive wholly in the air,
+    cut away, or wholly inside the model, added)."""
+    vb = float(before.Volume())
+    if abs(float(after.Volume()) - vb) > SAME_VOLUME * vb:
+        return False
+    tol = SAME_VOLUME * model_scale(before)
+    a, b = before.BoundingBox(), after.BoundingBox()
+    box = lambda bb: (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)  # noqa: E731
+    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and \
+        len(before.Faces()) == len(after.Faces())
+
+
+def _builds_a_change(solid: cq.Shape, reading: Reading) -> bool:
+    """Build the reading's operation; keep the result, or say why it cannot be the step."""
+    if reading.result is None and not reading.refused:
+        try:
+            result = apply_operation(solid, reading.op)
+        except OperationError as e:
+            reading.refused = str(e)
+        else:
+            if leaves_unchanged(solid, result):
+                reading.refused = (f"the {reading.op.type.value} it reads would leave the model "
+                                   "as it is (it adds or removes nothing there); draw it over "
+                                   "the face it stands on")
+            else:
+                reading.result = result
+    return reading.result is not None
+
+
+def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
+    """Planar faces the user cannot see from the view: turned away from it, or seen
+    within FACING_COS of edge-on."""
+    d = np.asarray(camera.basis()[2], float)
+    return {i for i, f in enumerate(solid.Faces()) if f.geomType() == "PLANE"
+            and float(np.asarray(f.normalAt().toTuple()) @ d) > -FACING_COS}
+
+
+def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context) -> list[int]:
+    """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
+    the planar faces most of a stroke lies on (an outline is drawn on its base face, so
+    a face F missed is still tried), faces hidden from the view after all others."""
+    ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid)[:BASE_FACE_TRIES]
+    faces = solid.Faces()
+    for s in ctx.strokes:
+        under = face_under_stroke(s, ctx.maps.face_id)
+        if under is not None and under not in ranked and faces[under].geomType() == "PLANE":
+            ranked.append(under)
+    hidden = hidden_faces(solid, ctx.camera)
+    return sorted(ranked, key=lambda i: i in hidden)
+
+
+def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
+                   curve: np.ndarray, ctx: Context, options: InterpretOptions) -> Reading:
+    """Stage three: the base face by counting, then the operator's fitting, then the
+    operation built.
 
     The paper takes the planar face with the most F > 0.5 pixels. A network unsure of
     F often ranks the right face second, so when that face's fit fails or leaves its
-    own sketch more than GOOD_FIT_PX from the strokes, the next faces (BASE_FACE_TRIES
-    in all) are fitted too, and the reading whose sketch reprojects closest wins.
+    own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
+    (`candidate_faces`): of the readings that build and change the model, one on a face
+    the user sees wins over one on a hidden face, then the one whose sketch reprojects
+    closest. A reading that changes nothing (a hole cut into the air above a lower
+    face) is never the step.
 
     Returns:
-        (operation, base face index, per-stroke labels).
+        The reading, with its result built (without any mirror image).
     Raises:
         FitError: the strokes do not fit the operator on this model (the reason given
-            for the face the counting ranked first).
+            for the best face), or every fitted reading fails to build or changes nothing.
     """
-    ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid)[:BASE_FACE_TRIES]
-    if not ranked:
+    order = candidate_faces(solid, face_prob, ctx)
+    if not order:
         raise FitError("no face of the model was recognised under the sketch; draw on a "
                        "visible face")
-    best, first = None, None
-    for index in ranked:
+    hidden = hidden_faces(solid, ctx.camera)
+    readings, first = [], None
+    for index in order:
         try:
             op, used, labels = _fit_on_face(solid, op_type, index, curve, ctx, options)
         except FitError as e:
             first = first or e
             continue
-        error = reprojection_error(solid, op, ctx.camera, ctx.strokes)
-        if best is None or error < best[0]:
-            best = (error, op, used, labels)
-        if error <= GOOD_FIT_PX:
-            break
-    if best is None:
-        raise first
-    return best[1], best[2], best[3]
+        reading = Reading(reprojection_error(solid, op, ctx.camera, ctx.strokes), op, used,
+                          labels, used in hidden)
+        readings.append(reading)
+        if reading.error <= GOOD_FIT_PX and not reading.hidden and \
+                _builds_a_change(solid, reading):
+            return reading
+    readings.sort(key=lambda r: (r.hidden, r.error))
+    for reading in readings:
+        if _builds_a_change(solid, reading):
+            return reading
+    if readings:
+        raise FitError(readings[0].refused)
+    raise first
+
+
+def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
+                  curve: np.ndarray, ctx: Context, options: InterpretOptions
+                  ) -> tuple[Operation, int, list[int]]:
+    """`read_operation`'s (operation, base face index, per-stroke labels)."""
+    r = read_operation(solid, op_type, face_prob, curve, ctx, options)
+    return r.op, r.index, r.labels
 
 
 def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.ndarray,
@@ -254,10 +344,12 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
     return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
 
 
-def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None
+def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None,
+                        result: cq.Solid | None = None
                         ) -> tuple[tuple[Operation, ...], cq.Solid]:
-    """Apply the operation and, if asked, its mirror image through a mid-plane."""
-    result = apply_operation(solid, op)
+    """Apply the operation (unless its `result` is given) and, if asked, its mirror image
+    through a mid-plane."""
+    result = apply_operation(solid, op) if result is None else result
     if symmetry is None:
         return (op,), result
     origin, normal = mid_plane(solid, symmetry)
@@ -326,11 +418,11 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         tb = time.perf_counter()
         networks_s += tb - ta
         try:
-            op, index, labels = fit_operation(solid, kind, face_prob, curve, ctx, options)
-            misfit = reprojection_error(solid, op, ctx.camera, ctx.strokes)
+            reading = read_operation(solid, kind, face_prob, curve, ctx, options)
+            op, index, labels = reading.op, reading.index, reading.labels
             other = other_option(solid, op, index, ctx.camera, options)
             tc = time.perf_counter()
-            ops, result = apply_with_symmetry(solid, op, options.symmetry)
+            ops, result = apply_with_symmetry(solid, op, options.symmetry, reading.result)
             break
         except (FitError, OperationError) as e:
             errors.append(f"read as {kind.value}, but {e}")
@@ -343,4 +435,4 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
                           index, labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
                            "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)}, other, misfit)
+                           "total": 1e3 * (td - t0)}, other, reading.error)
