@@ -274,13 +274,16 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
         fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
         readings = [labels]
         prism = op_type is OperatorType.ADDSUB
+        # a prism drawn with all its edges: three strokes per side
+        sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
         for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
-            try:  # C may mix up the strokes' roles: read them from the geometry too
-                roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol)
-            except FitError:
-                continue
-            if roles not in readings:
-                readings.append(roles)
+            for count in sides:
+                try:  # C may mix up the strokes' roles: read them from the geometry too
+                    roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol, count)
+                except FitError:
+                    continue
+                if roles not in readings:
+                    readings.append(roles)
         fitted, first = [], None
         for reading in readings:
             try:

@@ -76,8 +76,8 @@ def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple
 
 
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
-                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX)
-                 ) -> list[int]:
+                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX),
+                 sides: int | None = None) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
@@ -89,6 +89,11 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     is an outline and joins the end of the profiles it touches: an open stroke by its
     two end points, a closed one by passing through all of that end's points; of two
     closed outlines (a sweep's circles), the one centred lower along n_f is the start.
+
+    With `sides` (a prism drawn with all its edges has three strokes per side), a
+    group of alike chords larger than that keeps the `sides` chords nearest the group's
+    median: outline sides that run along n_f's image and happen to match the side
+    edges' length within the tolerance would otherwise join the profiles.
 
     A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
     on its two closed strokes (`_two_circles`).
@@ -117,7 +122,12 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         near = np.linalg.norm(vec[None] - vec[:, None], axis=2) \
             <= share * np.linalg.norm(vec, axis=1)[:, None] + px           # (m, m)
         best = int(np.argmax(near.sum(axis=1)))
-        chords = {k: chords[k] for k, kept in zip(keys, near[best]) if kept}
+        kept = near[best]
+        if sides is not None and kept.sum() > sides:
+            gap = np.linalg.norm(vec - np.median(vec[kept], axis=0), axis=1)
+            kept = np.zeros_like(kept)
+            kept[np.argsort(np.where(near[best], gap, np.inf))[:sides]] = True
+        chords = {k: chords[k] for k, keep in zip(keys, kept) if keep}
     if not chords and not prism:
         return _two_circles(strokes, n2)
     if not chords:
