@@ -93,7 +93,9 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     With `sides` (a prism drawn with all its edges has three strokes per side), a
     group of alike chords larger than that keeps the `sides` chords nearest the group's
     median: outline sides that run along n_f's image and happen to match the side
-    edges' length within the tolerance would otherwise join the profiles.
+    edges' length within the tolerance would otherwise join the profiles; and when the
+    other strokes are 2 * `sides` open ones, the `sides` nearest the profiles' start
+    ends are the start outline and the rest the end outline.
 
     A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
     on its two closed strokes (`_two_circles`).
@@ -141,6 +143,7 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         return float(np.min(np.linalg.norm(points[:, None] - cloud[None], axis=2), axis=1).sum())
 
     closed = {}  # stroke index -> (gap to the start points, gap to the end points)
+    leaning = {}  # open stroke index -> how much nearer the start ends than the end ends
     for k, s in enumerate(strokes):
         if roles[k] is not None:
             continue
@@ -152,7 +155,13 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
             closed[k] = (gap(starts, q), gap(ends, q))
         else:  # an open outline (a prism's side) runs between two ends of its side
             ends_of = p[[0, -1]]
-            roles[k] = START if gap(ends_of, starts) <= gap(ends_of, ends) else END
+            leaning[k] = gap(ends_of, ends) - gap(ends_of, starts)
+    if sides is not None and len(leaning) == 2 * sides:
+        # all edges drawn: `sides` sides of each outline, the most start-like ones start
+        ranked = sorted(leaning, key=lambda k: -leaning[k])
+        leaning = {k: (1.0 if i < sides else -1.0) for i, k in enumerate(ranked)}
+    for k, lean in leaning.items():
+        roles[k] = START if lean >= 0 else END
     if len(closed) == 2:  # a sweep's two circles, ordered by their centres along n_f
         a, b = closed
         roles[a], roles[b] = _ordered(strokes, a, b, n2)
