@@ -10,6 +10,7 @@ this machine's budget often do) need not lose a clear sketch.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ...render.camera import OrthoCamera
 from ...sketch.labels import END, PROFILE, START
@@ -120,15 +121,18 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         share, px = same_chord
         keys = list(chords)
         vec = np.array([chords[k][1] - chords[k][0] for k in keys])         # (m, 2)
-        # the largest group of chords alike (each within share of one's length plus px)
-        near = np.linalg.norm(vec[None] - vec[:, None], axis=2) \
-            <= share * np.linalg.norm(vec, axis=1)[:, None] + px           # (m, m)
-        best = int(np.argmax(near.sum(axis=1)))
-        kept = near[best]
+        # the largest group of chords alike (each within share of one's length plus px);
+        # a k-d tree counts each chord's neighbours without comparing every pair
+        radii = share * np.linalg.norm(vec, axis=1) + px
+        tree = cKDTree(vec)
+        best = int(np.argmax(tree.query_ball_point(vec, radii, return_length=True)))
+        kept = np.zeros(len(keys), bool)
+        kept[tree.query_ball_point(vec[best], radii[best])] = True
         if sides is not None and kept.sum() > sides:
             gap = np.linalg.norm(vec - np.median(vec[kept], axis=0), axis=1)
+            nearest = np.argsort(np.where(kept, gap, np.inf))[:sides]
             kept = np.zeros_like(kept)
-            kept[np.argsort(np.where(near[best], gap, np.inf))[:sides]] = True
+            kept[nearest] = True
         chords = {k: chords[k] for k, keep in zip(keys, kept) if keep}
     if not chords and not prism:
         return _two_circles(strokes, n2)
@@ -138,24 +142,20 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     starts = np.array([a for a, _ in chords.values()])
     ends = np.array([b for _, b in chords.values()])
 
-    def gap(points: np.ndarray, cloud: np.ndarray) -> float:
-        """Summed distance from each point to its nearest point of the cloud."""
-        return float(np.min(np.linalg.norm(points[:, None] - cloud[None], axis=2), axis=1).sum())
+    start_tree, end_tree = cKDTree(starts), cKDTree(ends)
 
-    closed = {}  # stroke index -> (gap to the start points, gap to the end points)
-    leaning = {}  # open stroke index -> how much nearer the start ends than the end ends
-    for k, s in enumerate(strokes):
-        if roles[k] is not None:
-            continue
-        p = np.asarray(s, float)
-        if _closed(p):
-            # a closed outline passes through all the profile ends of its side: a short
-            # sweep's two ellipses cross each other, so one nearest point would not do
-            q = resample(p)
-            closed[k] = (gap(starts, q), gap(ends, q))
-        else:  # an open outline (a prism's side) runs between two ends of its side
-            ends_of = p[[0, -1]]
-            leaning[k] = gap(ends_of, ends) - gap(ends_of, starts)
+    def gap(points: np.ndarray, cloud: cKDTree) -> np.ndarray:
+        """Summed distance from each pair of points (..., 2, 2) to the nearest points of
+        the cloud."""
+        return cloud.query(points)[0].sum(axis=-1)
+
+    others = [k for k in range(len(strokes)) if roles[k] is None]
+    closed = [k for k in others if _closed(np.asarray(strokes[k], float))]
+    opened = sorted(set(others) - set(closed))
+    # an open outline (a prism's side) runs between two ends of its side
+    pairs = np.array([np.asarray(strokes[k], float)[[0, -1]] for k in opened]).reshape(-1, 2, 2)
+    lean = gap(pairs, end_tree) - gap(pairs, start_tree) if opened else []
+    leaning = dict(zip(opened, map(float, lean)))  # how much nearer the start ends
     if sides is not None and len(leaning) == 2 * sides:
         # all edges drawn: `sides` sides of each outline, the most start-like ones start
         ranked = sorted(leaning, key=lambda k: -leaning[k])
@@ -166,6 +166,9 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         a, b = closed
         roles[a], roles[b] = _ordered(strokes, a, b, n2)
     else:
-        for k, (s_gap, e_gap) in closed.items():
-            roles[k] = START if s_gap <= e_gap else END
+        for k in closed:
+            # a closed outline passes through all the profile ends of its side: a short
+            # sweep's two ellipses cross each other, so one nearest point would not do
+            q = cKDTree(resample(np.asarray(strokes[k], float)))
+            roles[k] = START if q.query(starts)[0].sum() <= q.query(ends)[0].sum() else END
     return [int(r) for r in roles]
