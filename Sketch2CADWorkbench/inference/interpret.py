@@ -34,7 +34,7 @@ MAX_STROKES, MAX_POINTS = 200, 20000
 MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
 # A reading is flagged as doubtful when a measure of SketchFit passes its threshold
 # here (context pixels): each the 99.5% quantile of held-out level-1 sketches (datagen
-# seed 30001), so together they flag at most 1% of them (scripts/misfit_threshold.py).
+# seed 30001, scripts/misfit_threshold.py; figures on another seed in docs/NOTES.md).
 DOUBT = {"misfit_px": 7.7, "sketch_off_px": 7.7}
 # A sample of the strokes or of the sketch farther than this (context pixels) from the
 # other is not explained by it.

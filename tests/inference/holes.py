@@ -5,7 +5,8 @@ A hole is a subtract prism on a planar face of a random model (a box, or a box a
 one or two random operations, so that faces stand above others), drawn through the
 data generator's own synthesis: an informative view of f's front, the curves the
 generator draws for the prism, and level-1 freehand strokes (end points moved, a
-wobble across each stroke). `scripts/hole_rate.py` prints the rate.
+wobble across each stroke). Used by tests/inference/test_holes.py and by
+`scripts/hole_rate.py`, which prints the rates for more holes.
 """
 from __future__ import annotations
 

@@ -101,8 +101,9 @@ def test_a_reading_that_would_change_nothing_is_refused_saying_so(
         interpret(stepped, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
 
 
+@pytest.mark.parametrize("option", [None, Mode.SUBTRACT])  # the designer chose subtract
 def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
-        stepped, renderer, monkeypatch):
+        stepped, renderer, monkeypatch, option):
     # drawn in the air beside the block, at its top's height; F says the block's top
     cam = view()
     pts, labels = sketch(stepped, IN_THE_AIR, cam)
@@ -118,7 +119,7 @@ def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
     monkeypatch.setattr(pipeline, "_fit_on_face", the_air_on_the_blocks_top)
     try:
         got = interpret(stepped, strokes, cam, oracle, renderer,
-                        InterpretOptions(regularize=False))
+                        InterpretOptions(regularize=False, option=option))
     except InterpretError as e:
         assert "would leave the model as it is" in str(e)
     else:  # another face's reading, which does change the model
