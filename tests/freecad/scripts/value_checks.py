@@ -25,53 +25,61 @@ def _feature(model, kind: str):
 
 
 def _lists(chain) -> dict:
-    """The point lists of the steps (a sweep retunes its profile when a radius changes)."""
-    return {(o.Name, p): getattr(o, p) for o in chain for p in ("ProfileInner", "Polygon")
-            if hasattr(o, p)}
+    """The polygons' vertices and the sweeps' inner profile points (a sweep retunes its
+    profile when a radius changes), as numbers."""
+    return {(o.Name, p): _floats(getattr(o, p)) for o in chain for p in o.PropertiesList
+            if p.startswith(("Vertex", "Control"))}
+
+
+def _floats(v) -> tuple:
+    return (v.x, v.y, v.z) if isinstance(v, FreeCAD.Vector) else (float(getattr(v, "Value", v)),)
 
 
 def _same(a: dict, b: dict) -> bool:
-    """The same point lists, to a relative 1e-9 (a retune there and back rounds)."""
+    """The same points, to a relative 1e-9 (a retune there and back rounds)."""
     return a.keys() == b.keys() and all(
-        len(a[k]) == len(b[k]) and all(close(p[i], q[i], 1e-9) or abs(p[i] - q[i]) < 1e-9
-                                       for p, q in zip(a[k], b[k]) for i in range(3))
-        for k in a)
+        close(p, q, 1e-9) or abs(p - q) < 1e-9 for k in a for p, q in zip(a[k], b[k]))
 
 
-def _polygon(prism, change):
-    return [change(i, V(p)) for i, p in enumerate(prism.Polygon)]
+def _vertices(prism) -> list:
+    return [V(getattr(prism, p)) for p in prism.PropertiesList if p.startswith("Vertex")]
 
 
-# (feature kind, property, value or function of the feature giving it, expected text)
+def _polygon(change):
+    """Changes of a prism's vertices (Vertex1...): change(i, point, all points) -> point."""
+    def changes(prism):
+        pts = _vertices(prism)
+        return {f"Vertex{i + 1}": change(i, p, pts) for i, p in enumerate(pts)}
+    return changes
+
+
+# (feature kind, {property: value} or a function of the feature giving it, expected text)
 CASES = [
-    ("Box", "Length", 0.0, "Length = 0 mm; a side of the box must be from"),
-    ("Box", "Width", 1e-12, "Width = 1e-12 mm; a side of the box must be from"),
-    ("Box", "Height", 1e300, "Height = 1e+300 mm; a side of the box must be from"),
-    ("Box", "Length", NAN, "Length is nan; type a finite number"),
-    ("Box", "Length", INF, "Length = 1.79769e+308 mm; a side of the box"),  # FreeCAD clamps inf
-    ("Extrude", "Offset", NAN, "Offset is nan; type a finite number"),
-    ("Extrude", "Offset", INF, "Offset is inf; type a finite number"),
-    ("Extrude", "Offset", 0.0, "d = 0 mm is out of range for this model"),
-    ("Extrude", "Offset", -1e300, "d = -1e+300 mm is out of range for this model"),
-    ("Extrude", "FaceNormal", V(NAN, 0, 1), "FaceNormal.x is nan; type a finite number"),
-    ("Extrude", "FacePoint", V(0, INF, 0), "FacePoint.y is inf; type a finite number"),
-    ("AddSubPrism", "Length", NAN, "Length is nan; type a finite number"),
-    ("AddSubPrism", "Length", 1e-12, "d = 1e-12 mm is out of range for this model"),
-    ("AddSubPrism", "Polygon", lambda o: _polygon(o, lambda i, p: V(NAN, p.y, p.z) if i == 1 else p),
-     "Polygon[1].x is nan; type a finite number"),
-    ("AddSubPrism", "Polygon", lambda o: _polygon(o, lambda i, p: V(o.Polygon[0])),
-     "polygon vertices 0 and 1 coincide"),
-    ("AddSubPrism", "Polygon", lambda o: _polygon(o, lambda i, p: p * 1e300),
-     "polygon lies"),
-    ("AddSubPrism", "Polygon", lambda o: [V(o.Polygon[0]), (o.Polygon[0] + o.Polygon[1]) * 0.5,
-                                          V(o.Polygon[1])], "base polygon c has no area"),
-    ("AddSubPrism", "Polygon", lambda o: [V(o.Polygon[i]) for i in (0, 2, 1, 3)],
+    ("Box", {"Length": 0.0}, "Length = 0 mm; a side of the box must be from"),
+    ("Box", {"Width": 1e-12}, "Width = 1e-12 mm; a side of the box must be from"),
+    ("Box", {"Height": 1e300}, "Height = 1e+300 mm; a side of the box must be from"),
+    ("Box", {"Length": NAN}, "Length is nan; type a finite number"),
+    ("Box", {"Length": INF}, "Length = 1.79769e+308 mm; a side of the box"),  # FreeCAD clamps inf
+    ("Extrude", {"Offset": NAN}, "Offset is nan; type a finite number"),
+    ("Extrude", {"Offset": INF}, "Offset is inf; type a finite number"),
+    ("Extrude", {"Offset": 0.0}, "d = 0 mm is out of range for this model"),
+    ("Extrude", {"Offset": -1e300}, "d = -1e+300 mm is out of range for this model"),
+    ("Extrude", {"FaceNormal": V(NAN, 0, 1)}, "FaceNormal.x is nan; type a finite number"),
+    ("Extrude", {"FacePoint": V(0, INF, 0)}, "FacePoint.y is inf; type a finite number"),
+    ("AddSubPrism", {"Length": NAN}, "Length is nan; type a finite number"),
+    ("AddSubPrism", {"Length": 1e-12}, "d = 1e-12 mm is out of range for this model"),
+    ("AddSubPrism", {"Vertex2": V(NAN, 0, 0)}, "Vertex2.x is nan; type a finite number"),
+    ("AddSubPrism", lambda o: {"Vertex2": V(o.Vertex1)}, "polygon vertices 0 and 1 coincide"),
+    ("AddSubPrism", _polygon(lambda i, p, pts: p * 1e300), "polygon lies"),
+    ("AddSubPrism", _polygon(lambda i, p, pts: pts[0] + (pts[1] - pts[0]) * i),
+     "base polygon c has no area"),  # every vertex on one line
+    ("AddSubPrism", _polygon(lambda i, p, pts: pts[{1: 2, 2: 1}.get(i, i)]),
      "cross each other"),  # a bow tie
-    ("Sweep", "Radius0", NAN, "Radius0 is nan; type a finite number"),
-    ("Sweep", "Radius1", INF, "r1 = 1.79769e+308 mm is out of range"),  # FreeCAD clamps inf
-    ("Sweep", "Offset", NAN, "Offset is nan; type a finite number"),
-    ("Sweep", "Radius0", 0.0, "r0 = 0 mm is out of range"),
-    ("Sweep", "Center", V(NAN, 0, 0), "Center.x is nan; type a finite number"),
+    ("Sweep", {"Radius0": NAN}, "Radius0 is nan; type a finite number"),
+    ("Sweep", {"Radius1": INF}, "r1 = 1.79769e+308 mm is out of range"),  # FreeCAD clamps inf
+    ("Sweep", {"Offset": NAN}, "Offset is nan; type a finite number"),
+    ("Sweep", {"Radius0": 0.0}, "r0 = 0 mm is out of range"),
+    ("Sweep", {"Center": V(NAN, 0, 0)}, "Center.x is nan; type a finite number"),
 ]
 
 
@@ -83,20 +91,23 @@ def impossible_values_are_refused_naming_the_property_and_lose_nothing():
     chain = features(model)
     volumes = [o.Shape.Volume for o in chain]
     failures = []
-    for kind, prop, value, expected in CASES:
+    for kind, changes, expected in CASES:
         obj = _feature(model, kind)
-        old = getattr(obj, prop)
+        changes = changes(obj) if callable(changes) else changes
+        old = {prop: getattr(obj, prop) for prop in changes}
         kept = _lists(chain)
-        setattr(obj, prop, value(obj) if callable(value) else value)
+        for prop, value in changes.items():
+            setattr(obj, prop, value)
         doc.recompute()
         failed = failed_features(model)
         status = failed[0].getStatusString() if failed else "built"
-        case = f"{kind}.{prop} = {str(value)[:30]}"
+        case = f"{kind} {str(changes)[:60]}"
         if not failed or failed[0] != obj or failed != chain[chain.index(obj):]:
             failures.append(f"{case}: the failed steps are {[o.Label for o in failed]}")
         elif expected not in status or any(t in status for t in OCCT_TEXTS):
             failures.append(f"{case}: {status!r} does not say {expected!r}")
-        setattr(obj, prop, old)
+        for prop, value in old.items():
+            setattr(obj, prop, value)
         doc.recompute()
         if failed_features(model) or not all(
                 close(o.Shape.Volume, v) for o, v in zip(chain, volumes)) or not _same(_lists(chain), kept):
