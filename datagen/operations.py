@@ -29,6 +29,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Operation,
     OperatorType,
     Sweep,
+    per_operator,
 )
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
@@ -261,8 +262,10 @@ def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
                  tuple(tuple(map(float, p)) for p in ctrl))
 
 
-SAMPLERS = {OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
-            OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep}
+# The sampler of each operator: (generator, solid, face f) -> operation or None.
+SAMPLERS = per_operator({OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
+                         OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep},
+                        "datagen.operations.SAMPLERS")
 
 
 # ----------------------------------------------------------------- size bound
@@ -273,19 +276,33 @@ def _area(points: np.ndarray, n: np.ndarray) -> float:
     return 0.5 * abs(float(cross @ n))
 
 
+def _extrude_volume(op: Extrude, f: PlanarFace) -> float:
+    return f.face.Area() * abs(op.d)
+
+
+def _prism_volume(op: AddSubPrism, f: PlanarFace) -> float:
+    return _area(np.array(op.polygon), f.normal) * op.d
+
+
+def _sweep_volume(op: Sweep, f: PlanarFace) -> float:
+    rh = bezier_points(np.array(op.control_points(), float), 33)
+    return float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
+
+
+def _bevel_volume(op: Bevel, f: PlanarFace) -> float:
+    region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
+    return _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite, op.corner)))
+
+
+# The volume (mm^3) of the primitive each operator adds or removes, from its face f.
+PRIMITIVE_VOLUMES = per_operator(
+    {OperatorType.EXTRUDE: _extrude_volume, OperatorType.BEVEL: _bevel_volume,
+     OperatorType.ADDSUB: _prism_volume, OperatorType.SWEEP: _sweep_volume},
+    "datagen.operations.PRIMITIVE_VOLUMES")
+
+
 def change_bound(op: Operation, f: PlanarFace) -> float:
     """An upper bound (mm^3) on how much `op` can change the solid's volume: the volume
     of the primitive it adds or removes (10% over, as sampled curves cut corners). Lets
     a too-small operation be rejected without running its Boolean."""
-    if isinstance(op, Extrude):
-        volume = f.face.Area() * abs(op.d)
-    elif isinstance(op, AddSubPrism):
-        volume = _area(np.array(op.polygon), f.normal) * op.d
-    elif isinstance(op, Sweep):
-        rh = bezier_points(np.array(op.control_points(), float), 33)
-        volume = float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
-    else:
-        region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
-        volume = _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite,
-                                                                             op.corner)))
-    return 1.1 * volume
+    return 1.1 * PRIMITIVE_VOLUMES[op.type](op, f)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from Sketch2CADWorkbench.brep.geometry import plane_basis
+from Sketch2CADWorkbench.brep.protocol import OperatorType, per_operator
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.render.maps import ContextMaps
@@ -47,6 +48,10 @@ FREE_ROLL_SHARE = 0.1   # views with any roll at all
 OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
 DEPTH_SLACK_PX = 2.0    # depth slack of the occlusion test, in pixel sizes
 MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 256)
+# Which solid the occlusion filter tests each operator's relevant curve against (above).
+OCCLUDED_BY = per_operator({OperatorType.EXTRUDE: "result", OperatorType.BEVEL: "context",
+                            OperatorType.ADDSUB: "context", OperatorType.SWEEP: "context"},
+                           "datagen.views.OCCLUDED_BY")
 
 
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:

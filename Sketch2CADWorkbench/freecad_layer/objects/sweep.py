@@ -2,7 +2,7 @@
 """Sweep: the solid of revolution of profile c_p between circles c0 and c1."""
 import FreeCAD
 
-from ...brep.protocol import FaceRef, Mode, Sweep
+from ...brep.protocol import Mode, Sweep, retuned_profile
 from .feature import GROUP, OperationFeature, mm, tup, vec
 from .prism import MODE_TIP, MODES
 
@@ -11,7 +11,7 @@ TUNED = ("Radius0", "Radius1", "Offset")
 
 class SweepFeature(OperationFeature):
     """Editing Radius0, Radius1 or Offset moves the profile's inner control points in
-    proportion (`Sweep.retuned`), as in the paper's parameter tuning, so the shape keeps
+    proportion (`retuned_profile`), as in the paper's parameter tuning, so the shape keeps
     its character instead of kinking."""
 
     TYPE = "Sketch2CAD::Sweep"
@@ -62,11 +62,10 @@ class SweepFeature(OperationFeature):
         if last is None or min(last) <= 0 or min(now) <= 0 or len(obj.ProfileInner) != 2:
             return
         inner = tuple((p.x, p.y) for p in obj.ProfileInner)
-        face = FaceRef(tup(obj.FacePoint), tup(obj.FaceNormal))  # unused by retuned()
-        new = Sweep(face, tup(obj.Center), *last, inner, Mode(obj.Mode)).retuned(*now)
+        profile = retuned_profile(inner, last, now)
         self._tuning = True
         try:
-            obj.ProfileInner = [FreeCAD.Vector(r, h, 0) for r, h in new.profile]
+            obj.ProfileInner = [FreeCAD.Vector(r, h, 0) for r, h in profile]
         finally:
             self._tuning = False
 
