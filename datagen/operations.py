@@ -13,12 +13,11 @@ no bevel corner); the caller then draws another face.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import cadquery as cq
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import face_ref_of, points_on_face
+from Sketch2CADWorkbench.brep.corners import BevelCorner, bevel_corners
+from Sketch2CADWorkbench.brep.faces import face_ref_of, inside_face
 from Sketch2CADWorkbench.brep.geometry import bezier_points, plane_basis
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -57,27 +56,6 @@ class PlanarFace:
         if self._ref is None:
             self._ref = face_ref_of(self.face)
         return self._ref
-
-
-@dataclass(frozen=True)
-class BevelCorner:
-    """A convex corner c of face f with a straight crease c -> c' along -n_f.
-
-    `a` and `b` are the unit directions of f's two edges leaving c, `la` and `lb`
-    their lengths (mm).
-    """
-
-    c: np.ndarray
-    opposite: np.ndarray
-    a: np.ndarray
-    b: np.ndarray
-    la: float
-    lb: float
-
-
-def inside_face(face: cq.Face, point: np.ndarray) -> bool:
-    """Whether a point of f's plane lies strictly inside f (holes excluded)."""
-    return bool(points_on_face(face, np.asarray(point, float)[None], 1e-7, boundary=False)[0])
 
 
 def face_size(face: cq.Face) -> float:
@@ -184,45 +162,6 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
 
 # ----------------------------------------------------------------- bevel
 
-def _line_ends(e: cq.Edge) -> tuple[np.ndarray, np.ndarray]:
-    return np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())
-
-
-def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray) -> list[BevelCorner]:
-    """The corners of f that a bevel can round.
-
-    A corner qualifies when two straight edges of f meet at c at an angle below 180
-    degrees inside f (convex), and a straight edge of the solid leaves c along -n_f
-    (the crease c -> c', perpendicular to f).
-    """
-    tol = 1e-6 * DIAG
-    edges = [_line_ends(e) for e in face.Edges() if e.geomType() == "LINE"]
-    creases = []
-    for e in solid.Edges():
-        if e.geomType() != "LINE":
-            continue
-        p, q = _line_ends(e)
-        length = np.linalg.norm(q - p)
-        for s, t in ((p, q), (q, p)):
-            if float((t - s) @ n) < -0.999 * length:
-                creases.append((s, t))
-    out = []
-    for c, cp in creases:
-        legs = [b - a if np.linalg.norm(a - c) < tol else a - b
-                for a, b in edges if min(np.linalg.norm(a - c), np.linalg.norm(b - c)) < tol]
-        if len(legs) != 2:
-            continue
-        la, lb = (float(np.linalg.norm(v)) for v in legs)
-        a, b = legs[0] / la, legs[1] / lb
-        if abs(float(np.cross(a, b) @ n)) < 1e-3:  # straight through, or folded back
-            continue
-        bisector = (a + b) / np.linalg.norm(a + b) if np.linalg.norm(a + b) > 1e-9 else None
-        if bisector is None or not inside_face(face, c + 1e-3 * min(la, lb) * bisector):
-            continue  # reflex corner: the short way between the edges is outside f
-        out.append(BevelCorner(c, cp, a, b, la, lb))
-    return out
-
-
 def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
     """The four control points (4, 3) of a random profile l around corner c.
 
@@ -252,7 +191,7 @@ def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
 def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
                  ) -> Operation | None:
     """Round or chamfer a random convex corner of f along its crease."""
-    corners = bevel_corners(solid, f.face, f.normal)
+    corners = bevel_corners(solid, f.face, f.normal, 1e-6 * DIAG)
     if not corners:
         return None
     corner = corners[int(rng.integers(len(corners)))]

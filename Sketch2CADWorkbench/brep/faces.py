@@ -72,6 +72,11 @@ def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
     return out
 
 
+def inside_face(face: cq.Face, point: np.ndarray) -> bool:
+    """Whether a point of f's plane lies strictly inside f (holes excluded)."""
+    return bool(points_on_face(face, np.asarray(point, float)[None], 1e-7, boundary=False)[0])
+
+
 def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:
     """Each planar face with its outward unit normal and plane offset n . p."""
     out = []

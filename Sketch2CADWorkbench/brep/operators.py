@@ -19,7 +19,7 @@ import cadquery as cq
 import numpy as np
 
 from .faces import OperationError, ResolvedFace, model_scale, resolve_face
-from .geometry import bezier, plane_basis
+from .geometry import bezier, crossing_sides, plane_basis
 from .protocol import (
     AddSubPrism,
     Bevel,
@@ -172,23 +172,14 @@ def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
     for i in range(k):
         if np.linalg.norm(q[i] - q[(i + 1) % k]) < 1e-6 * scale:
             raise OperationError(f"prism: polygon vertices {i} and {(i + 1) % k} coincide")
-    for i in range(k):
-        for j in range(i + 2, k):
-            if i == 0 and j == k - 1:
-                continue
-            if _segments_cross(q[i], q[(i + 1) % k], q[j], q[(j + 1) % k]):
-                raise OperationError(f"prism: polygon sides {i} and {j} cross each other")
+    crossing = crossing_sides(q)
+    if crossing:
+        raise OperationError(f"prism: polygon sides {crossing[0]} and {crossing[1]} cross "
+                             "each other")
     area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
                          for i in range(k)))
     if area < 1e-8 * scale ** 2:
         raise OperationError("prism: base polygon c has no area")
-
-
-def _segments_cross(a, b, c, d) -> bool:
-    def orient(p, q, r):
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
-    o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
-    return o1 * o2 < 0 and o3 * o4 < 0
 
 
 def sweep_tool(rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
@@ -206,9 +197,7 @@ def sweep_tool(rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
         if abs(op.r0 - op.r1) <= 1e-12 * max(op.r0, op.r1):
             return cq.Solid.makeCylinder(op.r0, op.d, _vec(center), _vec(axis))
         return cq.Solid.makeCone(op.r0, op.r1, op.d, _vec(center), _vec(axis))
-    # Any radial direction works for a full revolution; pick one perpendicular to the axis.
-    radial = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
-    radial /= np.linalg.norm(radial)
+    radial, _ = plane_basis(axis)  # any direction square to the axis, for a full turn
 
     def world(rh):
         return _vec(center + radial * rh[0] + axis * rh[1])

@@ -35,7 +35,7 @@ from typing import Any, Callable, ClassVar, TypeVar, Union
 
 import numpy as np
 
-from .fields import FieldError, box_size, error, header, number, obj, points, vec
+from .fields import FieldError, box_size, error, header, number, obj, parse_json, points, vec
 from .files import write_atomically
 from .geometry import bezier
 
@@ -543,14 +543,7 @@ def _protocol(v: Any) -> Protocol:
 
 def loads(text: str, source: str = "<string>") -> Protocol:
     """Parse protocol JSON text; errors are prefixed with `source`."""
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ProtocolError(f"{source}: not valid JSON: {e}") from None
-    except RecursionError:
-        raise ProtocolError(f"{source}: not a protocol: nested too deeply") from None
-    except ValueError as e:  # an integer past Python's digit limit
-        raise ProtocolError(f"{source}: not a protocol: {e}") from None
+    data = parse_json(text, source, ProtocolError, "protocol")
     try:
         return protocol_from_dict(data)
     except ProtocolError as e:

@@ -22,7 +22,7 @@ import cadquery as cq
 import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
-from ..brep.geometry import bezier_points
+from ..brep.geometry import bezier_points, plane_basis
 from ..brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -118,7 +118,7 @@ def silhouette_side(axis: np.ndarray, direction: np.ndarray) -> np.ndarray:
     the axis facing the view (as square to the view direction as such a plane can be)."""
     side = np.cross(axis, direction)
     if np.linalg.norm(side) < 1e-6:  # looking along the axis: every such plane faces it
-        side = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
+        return plane_basis(axis)[0]
     return side / np.linalg.norm(side)
 
 
