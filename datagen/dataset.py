@@ -50,7 +50,7 @@ VERSION = 2
 ARRAYS = {"sketch": "uint8", "stroke_mask": "uint8", "face_label": "uint8",
           "curve_label": "uint8", "depth": "float16", "normal": "float16",
           "face_id": "int16", "op_type": "uint8", "noise_level": "uint8"}
-COMPRESS_LEVEL = 3  # zlib: level 6 is 2.5x slower for 20% smaller files
+COMPRESS_LEVEL = 3  # zlib level of the shards: speed over size (docs/NOTES.md)
 CACHED_SHARDS = 2   # decoded shards kept by a reader (a shard is ~100 MB decoded)
 
 
