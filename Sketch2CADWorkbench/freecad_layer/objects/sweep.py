@@ -3,7 +3,7 @@
 when it adds, a Groove when it subtracts (as PartDesign names solids of revolution)."""
 import math
 
-from ...brep.protocol import FaceRef, Mode, Sweep
+from ...brep.protocol import Mode, Sweep, retuned_profile
 from ..units import length, point
 from .feature import ALL_KINDS, GROUP, OperationFeature, mm, retype, tup, vec
 from .prism import MODE_TIP, MODES
@@ -19,7 +19,7 @@ ALL_KINDS.extend(SWEEP_KINDS.values())
 
 class SweepFeature(OperationFeature):
     """Editing Radius0, Radius1 or Offset moves the profile's inner control points in
-    proportion (`Sweep.retuned`), as in the paper's parameter tuning, so the shape keeps
+    proportion (`retuned_profile`), as in the paper's parameter tuning, so the shape keeps
     its character instead of kinking."""
 
     TYPE = "Sketch2CAD::Sweep"
@@ -99,14 +99,13 @@ class SweepFeature(OperationFeature):
         if last is None or not _positive(last):
             self._last = now
             return
-        face = FaceRef(tup(obj.FacePoint), tup(obj.FaceNormal))  # unused by retuned()
-        new = Sweep(face, tup(obj.Center), *last, self.inner(obj), Mode(obj.Mode)).retuned(*now)
-        if not all(math.isfinite(c) for p in new.profile for c in p):
+        profile = retuned_profile(self.inner(obj), last, now)
+        if not all(math.isfinite(c) for p in profile for c in p):
             return  # near the largest double the profile overflows: keep it
         self._last = now
         self._tuning = True
         try:
-            self.set_inner(obj, new.profile)
+            self.set_inner(obj, profile)
         finally:
             self._tuning = False
 

@@ -248,7 +248,7 @@ class SketchPanel:
             return
         self.result, self.step = r, SketchStep(camera, strokes, options)
         probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
-        lines = "".join(f"<li>{FEATURE_OF_OPERATION[type(op)].reading(op)}</li>"
+        lines = "".join(f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>"
                         for op in r.operations)
         other = ""
         if r.other_option is not None:  # a boss and a hole that draw the same lines
@@ -260,7 +260,7 @@ class SketchPanel:
         done = tr("OK adds it to the model.") if self.feature is None else \
             tr("OK applies it to {}.").format(self.feature.Label)
         first = r.operations[0]
-        kind = FEATURE_OF_OPERATION[type(first)].kind_of(first)
+        kind = FEATURE_OF_OPERATION[first.type].kind_of(first)
         self.text.setHtml(f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
                           f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
         self.preview.show(to_part(r.solid))
