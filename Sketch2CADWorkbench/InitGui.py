@@ -2,7 +2,9 @@
 # FreeCAD exec()s this file: no __file__, and top-level names are not visible inside
 # methods, so everything is imported inside them. Init.py has already put the repository
 # root and the dependency folder (when installed) at the front of sys.path; the commands
-# (and cadquery) are imported only when the workbench is first activated. When cadquery,
+# are imported when the workbench is first activated (without cadquery, which they import
+# on first use), and each activation starts loading the networks in the background
+# (freecad_layer/networks.py) unless they are loaded or loading. When cadquery,
 # torch or VTK are missing then, a dialog offers to install them (see
 # freecad_layer/install_dialog.py); declined, the workbench holds only its Install command.
 
@@ -32,8 +34,16 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
             return
         self.add_commands()
 
+    def Activated(self):
+        from PySide import QtCore
+
+        from Sketch2CADWorkbench.freecad_layer import networks
+        if getattr(self, "complete", False):
+            # once FreeCAD has finished switching: the thread would slow the switch down
+            QtCore.QTimer.singleShot(0, networks.load_in_background)
+
     def add_commands(self):
-        """Register the commands (which import cadquery) and fill the toolbar and menu."""
+        """Register the commands and fill the toolbar and menu."""
         import FreeCADGui
 
         from Sketch2CADWorkbench.commands import COMMANDS, MENU, TOOLBAR
@@ -44,6 +54,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
         self.removeMenu("Sketch2CAD")
         self.appendToolbar("Sketch2CAD", TOOLBAR)
         self.appendMenu("Sketch2CAD", MENU + ["Separator", "Sketch2CAD_InstallDependencies"])
+        self.complete = True  # the dependencies are there: Activated may load the networks
 
     def installed_later(self):
         """After the Install command succeeded: the full workbench, shown at once."""

@@ -15,7 +15,7 @@ Layout of a data set folder (format "sketch2cad-dataset", version 2)::
 Arrays (H x W maps in the camera's pixel convention, render/camera.py):
     sketch, stroke_mask, face_label: uint8 0/1; curve_label: uint8 label;
     depth: float16 (N, H, W); normal: float16 (N, 3, H, W); face_id: int16 (-1 none);
-    op_type: uint8 index into list(OperatorType); noise_level: uint8.
+    op_type: uint8 index into sketch.labels.CLASSES; noise_level: uint8.
 Version 1 sets (depth as round(255 D), normal as round(127.5 N), both uint8) are still
 read; their maps decode to within 1/255 and 1/127.5.
 
@@ -36,23 +36,21 @@ import numpy as np
 
 from Sketch2CADWorkbench.brep.files import atomic_path
 from Sketch2CADWorkbench.brep.protocol import (
-    OperatorType,
     operation_from_dict,
-    operation_to_dict,
     protocol_from_dict,
     protocol_to_dict,
 )
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.labels import CLASSES
 
 from .sample import Sample
 
 FORMAT = "sketch2cad-dataset"
 VERSION = 2
-CLASSES = list(OperatorType)
 ARRAYS = {"sketch": "uint8", "stroke_mask": "uint8", "face_label": "uint8",
           "curve_label": "uint8", "depth": "float16", "normal": "float16",
           "face_id": "int16", "op_type": "uint8", "noise_level": "uint8"}
-COMPRESS_LEVEL = 3  # zlib: level 6 is 2.5x slower for 20% smaller files
+COMPRESS_LEVEL = 3  # zlib level of the shards: speed over size (docs/NOTES.md)
 CACHED_SHARDS = 2   # decoded shards kept by a reader (a shard is ~100 MB decoded)
 
 
@@ -77,7 +75,7 @@ def pack(s: Sample) -> Record:
         "depth": s.depth, "normal": s.normal, "face_id": s.face_id,
         "op_type": CLASSES.index(s.op_type), "noise_level": s.noise_level,
     }
-    meta = {"context": protocol_to_dict(s.context), "operation": operation_to_dict(s.operation),
+    meta = {"context": protocol_to_dict(s.context), "operation": s.operation.to_dict(),
             "camera": s.camera.to_dict(),
             "strokes": [np.round(st, 3).tolist() for st in s.strokes],
             "stroke_parts": [int(p) for p in s.stroke_parts]}

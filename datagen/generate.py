@@ -28,6 +28,7 @@ from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
 from .views import (
+    OCCLUDED_BY,
     SCALE_RANGE,
     frame_curves,
     is_informative,
@@ -130,7 +131,7 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
     None when VIEW_TRIES views all hide too much of the relevant curve or of the base
     face (datagen/views.py says which curve, and against which solid)."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
-    rf = ResolvedFace(drawn.face.face, drawn.face.normal, 0.0)  # what resolve_face finds
+    rf = ResolvedFace.of(drawn.face.face)  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
     result_mesh = None
     for _ in range(VIEW_TRIES):
@@ -139,7 +140,7 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
         curves = operation_curves(solid, op, direction, rf)
         camera = frame_curves(np.concatenate([c.points for c in curves]), direction, up,
                               rng.uniform(*SCALE_RANGE), size)
-        if op.type is OperatorType.EXTRUDE:
+        if OCCLUDED_BY[op.type] == "result":
             if result_mesh is None:
                 result_mesh = tessellate(result.solid,
                                          MESH_REL_TOLERANCE * model_scale(result.solid))

@@ -13,12 +13,11 @@ no bevel corner); the caller then draws another face.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import cadquery as cq
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import face_ref_of, points_on_face
+from Sketch2CADWorkbench.brep.corners import BevelCorner, bevel_corners
+from Sketch2CADWorkbench.brep.faces import face_ref_of, inside_face
 from Sketch2CADWorkbench.brep.geometry import bezier_points, plane_basis
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -29,6 +28,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Operation,
     OperatorType,
     Sweep,
+    per_operator,
 )
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
@@ -56,27 +56,6 @@ class PlanarFace:
         if self._ref is None:
             self._ref = face_ref_of(self.face)
         return self._ref
-
-
-@dataclass(frozen=True)
-class BevelCorner:
-    """A convex corner c of face f with a straight crease c -> c' along -n_f.
-
-    `a` and `b` are the unit directions of f's two edges leaving c, `la` and `lb`
-    their lengths (mm).
-    """
-
-    c: np.ndarray
-    opposite: np.ndarray
-    a: np.ndarray
-    b: np.ndarray
-    la: float
-    lb: float
-
-
-def inside_face(face: cq.Face, point: np.ndarray) -> bool:
-    """Whether a point of f's plane lies strictly inside f (holes excluded)."""
-    return bool(points_on_face(face, np.asarray(point, float)[None], 1e-7, boundary=False)[0])
 
 
 def face_size(face: cq.Face) -> float:
@@ -183,45 +162,6 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
 
 # ----------------------------------------------------------------- bevel
 
-def _line_ends(e: cq.Edge) -> tuple[np.ndarray, np.ndarray]:
-    return np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())
-
-
-def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray) -> list[BevelCorner]:
-    """The corners of f that a bevel can round.
-
-    A corner qualifies when two straight edges of f meet at c at an angle below 180
-    degrees inside f (convex), and a straight edge of the solid leaves c along -n_f
-    (the crease c -> c', perpendicular to f).
-    """
-    tol = 1e-6 * DIAG
-    edges = [_line_ends(e) for e in face.Edges() if e.geomType() == "LINE"]
-    creases = []
-    for e in solid.Edges():
-        if e.geomType() != "LINE":
-            continue
-        p, q = _line_ends(e)
-        length = np.linalg.norm(q - p)
-        for s, t in ((p, q), (q, p)):
-            if float((t - s) @ n) < -0.999 * length:
-                creases.append((s, t))
-    out = []
-    for c, cp in creases:
-        legs = [b - a if np.linalg.norm(a - c) < tol else a - b
-                for a, b in edges if min(np.linalg.norm(a - c), np.linalg.norm(b - c)) < tol]
-        if len(legs) != 2:
-            continue
-        la, lb = (float(np.linalg.norm(v)) for v in legs)
-        a, b = legs[0] / la, legs[1] / lb
-        if abs(float(np.cross(a, b) @ n)) < 1e-3:  # straight through, or folded back
-            continue
-        bisector = (a + b) / np.linalg.norm(a + b) if np.linalg.norm(a + b) > 1e-9 else None
-        if bisector is None or not inside_face(face, c + 1e-3 * min(la, lb) * bisector):
-            continue  # reflex corner: the short way between the edges is outside f
-        out.append(BevelCorner(c, cp, a, b, la, lb))
-    return out
-
-
 def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
     """The four control points (4, 3) of a random profile l around corner c.
 
@@ -251,7 +191,7 @@ def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
 def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
                  ) -> Operation | None:
     """Round or chamfer a random convex corner of f along its crease."""
-    corners = bevel_corners(solid, f.face, f.normal)
+    corners = bevel_corners(solid, f.face, f.normal, 1e-6 * DIAG)
     if not corners:
         return None
     corner = corners[int(rng.integers(len(corners)))]
@@ -261,8 +201,10 @@ def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
                  tuple(tuple(map(float, p)) for p in ctrl))
 
 
-SAMPLERS = {OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
-            OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep}
+# The sampler of each operator: (generator, solid, face f) -> operation or None.
+SAMPLERS = per_operator({OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
+                         OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep},
+                        "datagen.operations.SAMPLERS")
 
 
 # ----------------------------------------------------------------- size bound
@@ -273,19 +215,33 @@ def _area(points: np.ndarray, n: np.ndarray) -> float:
     return 0.5 * abs(float(cross @ n))
 
 
+def _extrude_volume(op: Extrude, f: PlanarFace) -> float:
+    return f.face.Area() * abs(op.d)
+
+
+def _prism_volume(op: AddSubPrism, f: PlanarFace) -> float:
+    return _area(np.array(op.polygon), f.normal) * op.d
+
+
+def _sweep_volume(op: Sweep, f: PlanarFace) -> float:
+    rh = bezier_points(np.array(op.control_points(), float), 33)
+    return float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
+
+
+def _bevel_volume(op: Bevel, f: PlanarFace) -> float:
+    region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
+    return _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite, op.corner)))
+
+
+# The volume (mm^3) of the primitive each operator adds or removes, from its face f.
+PRIMITIVE_VOLUMES = per_operator(
+    {OperatorType.EXTRUDE: _extrude_volume, OperatorType.BEVEL: _bevel_volume,
+     OperatorType.ADDSUB: _prism_volume, OperatorType.SWEEP: _sweep_volume},
+    "datagen.operations.PRIMITIVE_VOLUMES")
+
+
 def change_bound(op: Operation, f: PlanarFace) -> float:
     """An upper bound (mm^3) on how much `op` can change the solid's volume: the volume
     of the primitive it adds or removes (10% over, as sampled curves cut corners). Lets
     a too-small operation be rejected without running its Boolean."""
-    if isinstance(op, Extrude):
-        volume = f.face.Area() * abs(op.d)
-    elif isinstance(op, AddSubPrism):
-        volume = _area(np.array(op.polygon), f.normal) * op.d
-    elif isinstance(op, Sweep):
-        rh = bezier_points(np.array(op.control_points(), float), 33)
-        volume = float(np.pi * np.trapezoid(rh[:, 0] ** 2, rh[:, 1]))
-    else:
-        region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
-        volume = _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite,
-                                                                             op.corner)))
-    return 1.1 * volume
+    return 1.1 * PRIMITIVE_VOLUMES[op.type](op, f)

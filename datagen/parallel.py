@@ -40,7 +40,7 @@ SHARD_SIZE = 256  # a multiple of PER_CONTEXT: shards hold whole blocks
 NOISE_CHOICES = ["1", "2", "3", "mix"]
 # Each worker runs on one thread: the workers already fill the cores, and threads of
 # OpenBLAS (spinning while they wait) and of Mesa's software rasteriser would only
-# compete with the other workers (measured: 25% more samples per second with 2 workers).
+# compete with the other workers (docs/NOTES.md).
 SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
                      "LP_NUM_THREADS": "1"}
 

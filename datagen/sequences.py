@@ -22,12 +22,13 @@ import numpy as np
 
 from Sketch2CADWorkbench.brep.faces import OperationError, planar_faces
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol
+from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol, per_operator
 
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 
-LAST_OP_WEIGHTS = {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4,
-                   OperatorType.SWEEP: 2}
+LAST_OP_WEIGHTS = per_operator({OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1,
+                                OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
+                               "datagen.sequences.LAST_OP_WEIGHTS")
 EARLIER_OP_WEIGHTS = {t: 1 for t in OperatorType}
 BOX_SIDES = (0.35, 1.0)  # side lengths before scaling to the diagonal: aspect up to ~3
 MIN_VOLUME_CHANGE = 0.01  # of the solid's volume: smaller changes are degenerate

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from Sketch2CADWorkbench.brep.geometry import arc_lengths, resample_every
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.strokes import rasterize
 from Sketch2CADWorkbench.sketch.curves import Curve
@@ -52,15 +53,6 @@ def noise_sigma(level: int, width: int, height: int) -> float:
     return NOISE_FRACTION[level] * float(np.hypot(width, height)) / np.sqrt(2.0)
 
 
-def densify(points: np.ndarray, step: float = STEP_PX) -> np.ndarray:
-    """A polyline resampled every ~`step` (at least its two end points)."""
-    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    s = np.concatenate([[0.0], np.cumsum(seg)])
-    n = max(int(np.ceil(s[-1] / step)) + 1, 2)
-    t = np.linspace(0, s[-1], n)
-    return np.stack([np.interp(t, s, points[:, k]) for k in range(points.shape[1])], axis=1)
-
-
 def _smooth(p: np.ndarray, passes: int = 2) -> np.ndarray:
     """[1 2 1]/4 smoothing with the end points held."""
     p = p.copy()
@@ -85,8 +77,8 @@ def perturb(points: np.ndarray, rng: np.random.Generator, sigma: float,
     if closed:
         p = np.roll(p, -int(rng.integers(len(p))), axis=0)
         p = np.concatenate([p, p[:1]])
-    p = densify(p)
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    p = resample_every(p, STEP_PX)
+    s = arc_lengths(p)
     t = (s / max(s[-1], 1e-9))[:, None]
     a, b = rng.normal(0, sigma, (2, 2))
     disp = (1 - t) * a + t * b

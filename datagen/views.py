@@ -32,7 +32,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.geometry import plane_basis
+from Sketch2CADWorkbench.brep.geometry import arc_lengths, plane_basis, resample_polyline
+from Sketch2CADWorkbench.brep.protocol import OperatorType, per_operator
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.render.maps import ContextMaps
@@ -47,6 +48,10 @@ FREE_ROLL_SHARE = 0.1   # views with any roll at all
 OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
 DEPTH_SLACK_PX = 2.0    # depth slack of the occlusion test, in pixel sizes
 MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 256)
+# Which solid the occlusion filter tests each operator's relevant curve against (above).
+OCCLUDED_BY = per_operator({OperatorType.EXTRUDE: "result", OperatorType.BEVEL: "context",
+                            OperatorType.ADDSUB: "context", OperatorType.SWEEP: "context"},
+                           "datagen.views.OCCLUDED_BY")
 
 
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
@@ -98,14 +103,11 @@ def resample(curves: list[Curve], count: int = OCCLUSION_SAMPLES) -> np.ndarray:
     """About `count` points (N, 3) spread evenly by arc length over the curves."""
     pieces = [np.concatenate([c.points, c.points[:1]]) if c.closed else c.points
               for c in curves]
-    lengths = [np.linalg.norm(np.diff(p, axis=0), axis=1) for p in pieces]
-    total = sum(float(s.sum()) for s in lengths)
+    total = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in pieces)
     out = []
-    for p, seg in zip(pieces, lengths):
-        s = np.concatenate([[0.0], np.cumsum(seg)])
-        k = max(int(np.ceil(count * s[-1] / max(total, 1e-12))), 2)
-        t = np.linspace(0.0, s[-1], k)
-        out.append(np.stack([np.interp(t, s, p[:, j]) for j in range(3)], axis=1))
+    for p in pieces:
+        length = arc_lengths(p)[-1]
+        out.append(resample_polyline(p, max(int(np.ceil(count * length / max(total, 1e-12))), 2)))
     return np.concatenate(out)
 
 

@@ -40,7 +40,7 @@ def make(name: str, seed: int = 0) -> Session:
         for _ in range(200):
             direction = view_direction(rng, rf.normal)
             up = up_vector(rng, direction)
-            curves = operation_curves(solid, op, direction)
+            curves = operation_curves(solid, op, direction, rf)
             pts = np.concatenate([c.points for c in curves])
             ctx = frame_curves(pts, direction, up, 2.0)
             if is_informative(curves, ctx, renderer.render(solid, ctx)):

@@ -1,8 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Training the networks (`sketch2cad train`), on the data pooled in memory (data.py). A
-held-out tail of the data set (whole contexts) gives validation metrics after every epoch. The learning rate warms up, then follows a cosine
-over the budget: `--minutes` of wall time (default; adapts to a busy machine) or
-`--steps` (exactly reproducible for a given machine and thread count).
+held-out tail of the data set (whole contexts) gives validation metrics after every
+epoch. The learning rate warms up, then follows a cosine over the budget: `--minutes` of
+wall time (default; adapts to a busy machine) or `--steps` (exactly reproducible for a
+given machine and thread count).
+
+As nanoGPT keeps them apart: `lr_at` is the schedule, `validate` the held-out losses and
+metrics, `Run` the run's state and files (opening, resuming, checkpoints, the log),
+`train_step` one optimiser step, and `train` the loop (epochs, logging, interruption).
 
 Run folder:
     checkpoint.pt       everything needed to resume (written every few minutes and at
@@ -66,7 +71,7 @@ class TrainSettings:
     model: ModelConfig = field(default_factory=ModelConfig)
 
 
-# ---------------------------------------------------------------- validation
+# ---------------------------------------------------------------- validation (estimate_loss)
 @torch.no_grad()
 def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch.Tensor,
              face_dice: float = 0.0, batch: int = 64) -> dict:
@@ -90,7 +95,7 @@ def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch
             **tally.summary()}
 
 
-# ---------------------------------------------------------------- training
+# ---------------------------------------------------------------- schedule
 def lr_at(s: TrainSettings, step: int, progress: float) -> float:
     """Linear warmup over warmup_steps, then a cosine from lr down to final_lr_fraction lr
     over the budget (progress 0..1)."""
@@ -99,8 +104,168 @@ def lr_at(s: TrainSettings, step: int, progress: float) -> float:
     return cosine * min(1.0, (step + 1) / s.warmup_steps)
 
 
+# ---------------------------------------------------------------- the run
+class Run:
+    """A training run in its folder: the model, optimizer, data and counters the loop
+    advances, and the log and checkpoint it leaves (module docstring).
+
+    Attributes:
+        s: the settings (the architecture is the checkpoint's on a resume).
+        state: "step", "epoch", "pos" (samples of this epoch done) and "elapsed" (s of
+            the loop): all that a resume restores besides the weights and the optimizer.
+        resumed: whether it started from out/checkpoint.pt.
+    """
+
+    def __init__(self, data_dir: Path, out: Path, settings: TrainSettings):
+        """Open the run: resume from out/checkpoint.pt if there is one, else start anew.
+
+        Raises:
+            FileNotFoundError: no data set at data_dir.
+            ValueError: the data set is empty, or the checkpoint belongs to another data
+                set or map size.
+        """
+        s = settings
+        if s.threads:
+            torch.set_num_threads(s.threads)
+        out.mkdir(parents=True, exist_ok=True)
+        self.out, self.ckpt_path, self.log_path = out, out / "checkpoint.pt", out / "log.jsonl"
+        self.ds = ds = Dataset(data_dir)
+        if len(ds) == 0:
+            raise ValueError(f"{data_dir}: the data set has no complete shard yet")
+        ckpt = None
+        if self.ckpt_path.exists():
+            model, ckpt = load_checkpoint(self.ckpt_path)
+            s = _resumed_settings(s, model, ckpt, ds, self.ckpt_path)
+        else:
+            # a new model takes the data set's map size
+            s = replace(s, model=replace(s.model,
+                                         image_size=int(ds.manifest.get("image_size", 256))))
+            torch.manual_seed(s.seed)
+            model = Sketch2CADNet(s.model)
+        size = int(ds.manifest.get("image_size", model.config.image_size))
+        if size != model.config.image_size:
+            raise ValueError(f"{data_dir} holds {size} x {size} maps, but the model in "
+                             f"{self.ckpt_path} takes {model.config.image_size} x "
+                             f"{model.config.image_size}")
+        self.s, self.model, self.resumed = s, model, ckpt is not None
+        model.to(s.device).train()
+
+        t_load = time.perf_counter()
+        data = load_pooled(ds, model, out)
+        self.load_s = time.perf_counter() - t_load
+        tr_idx, va_idx = split(len(data), s.val_fraction, int(ds.manifest.get("per_context", 4)))
+        self.train_data, self.val_data = data.subset(tr_idx), data.subset(va_idx)
+        self.counts = torch.bincount(self.train_data.op, minlength=N_OPS)
+        self.weights = class_weights(self.counts).to(s.device)
+        self.n = len(self.train_data)
+
+        self.opt = torch.optim.AdamW(model.parameters(), lr=s.lr, weight_decay=s.weight_decay)
+        self.state = {"step": 0, "epoch": 0, "pos": 0, "elapsed": 0.0}
+        if ckpt is not None:
+            self.opt.load_state_dict(ckpt["optimizer"])
+            self.state = dict(ckpt["state"])
+            torch.set_rng_state(ckpt["rng"])
+        else:
+            self.log_path.write_text("")
+        self.log = open(self.log_path, "a")
+
+    def write(self, row: dict) -> None:
+        """One row of log.jsonl, flushed at once."""
+        self.log.write(json.dumps(row) + "\n")
+        self.log.flush()
+
+    def progress(self) -> float:
+        """How much of the budget is spent (0..1): steps, or minutes of the loop."""
+        s = self.s
+        return self.state["step"] / s.steps if s.steps else \
+            self.state["elapsed"] / (60 * s.minutes)
+
+    def order(self, epoch: int) -> torch.Tensor:
+        """The epoch's order of the training samples (seeded by the epoch)."""
+        return torch.randperm(self.n, generator=torch.Generator().manual_seed(
+            self.s.seed * 1000 + epoch))
+
+    def flips(self, count: int) -> torch.Tensor | None:
+        """Which of the step's samples are mirrored (seeded by the step), or None."""
+        if not self.s.flip:
+            return None
+        return torch.rand(count, generator=torch.Generator().manual_seed(
+            self.s.seed * 1000003 + self.state["step"])) < 0.5
+
+    def save(self, rng: torch.Tensor) -> None:
+        """The checkpoint (with the torch RNG state `rng` to resume from) and the curves."""
+        save_checkpoint(self.ckpt_path, self.model, optimizer=self.opt.state_dict(),
+                        state=dict(self.state), settings=asdict(self.s),
+                        data_key=data_key(self.ds, self.model.config),
+                        class_counts=self.counts.tolist(), rng=rng)
+        plot_curves(self.log_path, self.out / "loss_curves.png", self.s.face_dice)
+
+    def validation(self) -> dict | None:
+        """The validation metrics now, logged (None without validation samples)."""
+        if not len(self.val_data):
+            return None
+        v = validate(self.model, self.val_data, self.s.device, self.weights, self.s.face_dice)
+        self.write({"kind": "val", "step": self.state["step"], "epoch": self.state["epoch"],
+                    "elapsed_s": round(self.state["elapsed"], 1), **v})
+        return v
+
+    def finish(self) -> Path:
+        """Validate, checkpoint, and write the final weights; close the log."""
+        s, state = self.s, self.state
+        v = self.validation()
+        self.save(torch.get_rng_state())
+        final = self.out / "sketch2cad_net.pt"
+        self.model.cpu()
+        save_checkpoint(final, self.model, class_counts=self.counts.tolist(),
+                        trained_steps=state["step"],
+                        trained_epochs=state["epoch"] + state["pos"] / self.n,
+                        trained_minutes=state["elapsed"] / 60, settings=asdict(s),
+                        data_key=data_key(self.ds, self.model.config), validation=v)
+        self.write({"kind": "event", "what": "end", "step": state["step"],
+                    "elapsed_s": round(state["elapsed"], 1)})
+        self.log.close()
+        return final
+
+
+def _resumed_settings(s: TrainSettings, model: Sketch2CADNet, ckpt: dict, ds: Dataset,
+                      ckpt_path: Path) -> TrainSettings:
+    """The settings of a resumed run: the checkpoint's architecture; say which of the
+    other settings changed. Raises ValueError for a checkpoint of another data set."""
+    saved = ckpt["settings"]
+    s = replace(s, model=model.config)  # the architecture is the checkpoint's
+    if ckpt["data_key"] != data_key(ds, model.config):
+        raise ValueError(f"{ckpt_path} was trained on another data set "
+                         f"({ckpt['data_key']}); use a new --out folder")
+    for name in ("batch_size", "lr", "seed", "val_fraction", "flip"):
+        if getattr(s, name) != saved[name]:
+            print(f"train: resuming with {name}={getattr(s, name)} "
+                  f"(checkpoint had {saved[name]})")
+    return s
+
+
+# ---------------------------------------------------------------- one step
+def train_step(run: Run, idx: torch.Tensor) -> list[torch.Tensor]:
+    """One optimiser step on the training samples `idx`, at the scheduled learning rate;
+    returns the loss terms (classification, face, curve). Counters are not advanced."""
+    s = run.s
+    flip = run.flips(len(idx))
+    for g in run.opt.param_groups:
+        g["lr"] = lr_at(s, run.state["step"], run.progress())
+    x, face, curve, mask, op = run.train_data.batch(idx, s.device, flip)
+    terms = loss_terms(run.model, run.model(x), op, face, curve, mask, run.weights, s.face_dice)
+    run.opt.zero_grad(set_to_none=True)
+    sum(terms).backward()
+    torch.nn.utils.clip_grad_norm_(run.model.parameters(), s.grad_clip)
+    return terms
+
+
+# ---------------------------------------------------------------- the loop
 def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
     """Train, or resume from out/checkpoint.pt, until the budget is spent.
+
+    Every epoch ends in validation; a "train" log row every log_every steps; a checkpoint
+    every checkpoint_minutes. Ctrl-C saves a checkpoint that resumes exactly (unless it
+    came while the optimizer was updating the weights: then the last one is kept).
 
     Returns:
         the path of the final weights (out/sketch2cad_net.pt).
@@ -108,90 +273,18 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
         FileNotFoundError: no data set at data_dir.
         ValueError: the checkpoint belongs to another data set or model config.
     """
-    s = settings
-    if s.threads:
-        torch.set_num_threads(s.threads)
-    out.mkdir(parents=True, exist_ok=True)
-    ckpt_path, log_path = out / "checkpoint.pt", out / "log.jsonl"
-    ds = Dataset(data_dir)
-    if len(ds) == 0:
-        raise ValueError(f"{data_dir}: the data set has no complete shard yet")
+    run = Run(data_dir, out, settings)
+    s, state, n = run.s, run.state, run.n
+    run.write({"kind": "event", "what": "resume" if run.resumed else "start",
+               "step": state["step"], "train_samples": n, "val_samples": len(run.val_data),
+               "class_counts": run.counts.tolist(), "load_s": round(run.load_s, 1),
+               "settings": asdict(s), "threads": torch.get_num_threads()})
+    print(f"train: {n} training / {len(run.val_data)} validation samples (pooled in "
+          f"{run.load_s:.0f} s); class counts {run.counts.tolist()}; "
+          f"{torch.get_num_threads()} threads"
+          + (f"; resuming at step {state['step']}" if run.resumed else ""))
 
-    ckpt = None
-    if ckpt_path.exists():
-        model, ckpt = load_checkpoint(ckpt_path)
-        saved = ckpt["settings"]
-        s = replace(s, model=model.config)  # the architecture is the checkpoint's
-        if ckpt["data_key"] != data_key(ds, model.config):
-            raise ValueError(f"{ckpt_path} was trained on another data set "
-                             f"({ckpt['data_key']}); use a new --out folder")
-        for name in ("batch_size", "lr", "seed", "val_fraction", "flip"):
-            if getattr(s, name) != saved[name]:
-                print(f"train: resuming with {name}={getattr(s, name)} "
-                      f"(checkpoint had {saved[name]})")
-    else:
-        # a new model takes the data set's map size
-        s = replace(s, model=replace(s.model, image_size=int(ds.manifest.get("image_size", 256))))
-        torch.manual_seed(s.seed)
-        model = Sketch2CADNet(s.model)
-    size = int(ds.manifest.get("image_size", model.config.image_size))
-    if size != model.config.image_size:
-        raise ValueError(f"{data_dir} holds {size} x {size} maps, but the model in {ckpt_path} "
-                         f"takes {model.config.image_size} x {model.config.image_size}")
-    model.to(s.device).train()
-
-    t_load = time.perf_counter()
-    data = load_pooled(ds, model, out)
-    t_load = time.perf_counter() - t_load
-    tr_idx, va_idx = split(len(data), s.val_fraction, int(ds.manifest.get("per_context", 4)))
-    train_data, val_data = data.subset(tr_idx), data.subset(va_idx)
-    counts = torch.bincount(train_data.op, minlength=N_OPS)
-    weights = class_weights(counts).to(s.device)
-    n = len(train_data)
-
-    opt = torch.optim.AdamW(model.parameters(), lr=s.lr, weight_decay=s.weight_decay)
-    state = {"step": 0, "epoch": 0, "pos": 0, "elapsed": 0.0}
-    if ckpt is not None:
-        opt.load_state_dict(ckpt["optimizer"])
-        state = dict(ckpt["state"])
-        torch.set_rng_state(ckpt["rng"])
-    else:
-        log_path.write_text("")
-
-    log = open(log_path, "a")
-
-    def write(row: dict) -> None:
-        log.write(json.dumps(row) + "\n")
-        log.flush()
-
-    write({"kind": "event", "what": "resume" if ckpt else "start", "step": state["step"],
-           "train_samples": n, "val_samples": len(val_data), "class_counts": counts.tolist(),
-           "load_s": round(t_load, 1), "settings": asdict(s), "threads": torch.get_num_threads()})
-    print(f"train: {n} training / {len(val_data)} validation samples (pooled in "
-          f"{t_load:.0f} s); class counts {counts.tolist()}; {torch.get_num_threads()} threads"
-          + (f"; resuming at step {state['step']}" if ckpt else ""))
-
-    def progress() -> float:
-        return state["step"] / s.steps if s.steps else state["elapsed"] / (60 * s.minutes)
-
-    def order(epoch: int) -> torch.Tensor:
-        return torch.randperm(n, generator=torch.Generator().manual_seed(s.seed * 1000 + epoch))
-
-    def save(rng: torch.Tensor) -> None:
-        save_checkpoint(ckpt_path, model, optimizer=opt.state_dict(), state=dict(state),
-                        settings=asdict(s), data_key=data_key(ds, model.config),
-                        class_counts=counts.tolist(), rng=rng)
-        plot_curves(log_path, out / "loss_curves.png", s.face_dice)
-
-    def run_validation() -> dict | None:
-        if not len(val_data):
-            return None
-        v = validate(model, val_data, s.device, weights, s.face_dice)
-        write({"kind": "val", "step": state["step"], "epoch": state["epoch"],
-               "elapsed_s": round(state["elapsed"], 1), **v})
-        return v
-
-    perm = order(state["epoch"])
+    perm = run.order(state["epoch"])
     total = s.steps if s.steps else int(60 * s.minutes)
     bar = tqdm(total=total, unit="step" if s.steps else "s", desc="train", dynamic_ncols=True)
     bar.update(state["step"] if s.steps else int(state["elapsed"]))
@@ -200,34 +293,24 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
     sums, seen, t_log = np.zeros(3), 0, time.perf_counter()
     stepping, rng, buffers = False, torch.get_rng_state(), []
     try:
-        while progress() < 1.0:
+        while run.progress() < 1.0:
             # what an interrupted step must start from again: its forward pass draws
             # dropout masks and moves the batch-norm statistics (a few hundred numbers)
-            rng, buffers = torch.get_rng_state(), [b.clone() for b in model.buffers()]
+            rng, buffers = torch.get_rng_state(), [b.clone() for b in run.model.buffers()]
             if state["pos"] >= n:  # end of an epoch: validate and reshuffle
                 state["epoch"] += 1
                 state["pos"] = 0
-                perm = order(state["epoch"])
-                v = run_validation()
+                perm = run.order(state["epoch"])
+                v = run.validation()
                 if v:
                     bar.write(f"epoch {state['epoch']}: val acc "
                               f"{v['classification_accuracy']:.4f}, face IoU " +
                               " ".join(f"{k[:2]} {d['face_iou']:.3f}"
                                        for k, d in v["per_operator"].items() if d["n"]))
             idx = perm[state["pos"]:state["pos"] + s.batch_size]
-            flip = None
-            if s.flip:  # seeded by the step: the same after a resume
-                flip = torch.rand(len(idx), generator=torch.Generator().manual_seed(
-                    s.seed * 1000003 + state["step"])) < 0.5
-            for g in opt.param_groups:
-                g["lr"] = lr_at(s, state["step"], progress())
-            x, face, curve, mask, op = train_data.batch(idx, s.device, flip)
-            terms = loss_terms(model, model(x), op, face, curve, mask, weights, s.face_dice)
-            opt.zero_grad(set_to_none=True)
-            sum(terms).backward()
-            torch.nn.utils.clip_grad_norm_(model.parameters(), s.grad_clip)
+            terms = train_step(run, idx)
             stepping = True
-            opt.step()
+            run.opt.step()
             state["step"] += 1
             state["pos"] += len(idx)
             stepping = False
@@ -238,44 +321,34 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
             state["elapsed"] = now - t0
             if state["step"] % s.log_every == 0:
                 c, f, cu = sums / seen
-                write({"kind": "train", "step": state["step"], "epoch": state["epoch"],
-                       "samples": state["step"] * s.batch_size, "cls": c, "face": f,
-                       "curve": cu, "loss": c + f + cu, "lr": opt.param_groups[0]["lr"],
-                       "elapsed_s": round(state["elapsed"], 1),
-                       "ms_per_sample": 1e3 * (now - t_log) / (seen * s.batch_size)})
+                run.write({"kind": "train", "step": state["step"], "epoch": state["epoch"],
+                           "samples": state["step"] * s.batch_size, "cls": c, "face": f,
+                           "curve": cu, "loss": c + f + cu, "lr": run.opt.param_groups[0]["lr"],
+                           "elapsed_s": round(state["elapsed"], 1),
+                           "ms_per_sample": 1e3 * (now - t_log) / (seen * s.batch_size)})
                 bar.set_postfix(cls=f"{c:.3f}", face=f"{f:.4f}", curve=f"{cu:.3f}",
                                 epoch=state["epoch"])
                 sums, seen, t_log = np.zeros(3), 0, now
             bar.update(1 if s.steps else int(state["elapsed"]) - bar.n)
             if now - last_save > 60 * s.checkpoint_minutes:
-                save(torch.get_rng_state())
-                write({"kind": "event", "what": "checkpoint", "step": state["step"]})
+                run.save(torch.get_rng_state())
+                run.write({"kind": "event", "what": "checkpoint", "step": state["step"]})
                 last_save = time.perf_counter()
     except KeyboardInterrupt:
         bar.close()
         if not stepping:  # else the weights may be half updated: keep the last checkpoint
             with torch.no_grad():
-                for b, saved in zip(model.buffers(), buffers):
+                for b, saved in zip(run.model.buffers(), buffers):
                     b.copy_(saved)
-            save(rng)
-            write({"kind": "event", "what": "interrupted", "step": state["step"]})
+            run.save(rng)
+            run.write({"kind": "event", "what": "interrupted", "step": state["step"]})
             print(f"train: interrupted at step {state['step']}; checkpoint saved, run the "
                   "same command again to resume")
-        log.close()
+        run.log.close()
         raise
     bar.close()
 
-    v = run_validation()
-    save(torch.get_rng_state())
-    final = out / "sketch2cad_net.pt"
-    model.cpu()
-    save_checkpoint(final, model, class_counts=counts.tolist(), trained_steps=state["step"],
-                    trained_epochs=state["epoch"] + state["pos"] / n,
-                    trained_minutes=state["elapsed"] / 60, settings=asdict(s),
-                    data_key=data_key(ds, model.config), validation=v)
-    write({"kind": "event", "what": "end", "step": state["step"],
-           "elapsed_s": round(state["elapsed"], 1)})
-    log.close()
+    final = run.finish()
     print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs of "
           f"{n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
     return final

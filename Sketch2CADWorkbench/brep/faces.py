@@ -12,14 +12,10 @@ from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
-from .protocol import FaceRef
+from .protocol import FaceRef, OperationError  # OperationError is imported from here too
 
 # Normals within this angle (cosine) are taken as the same direction.
 NORMAL_COS_TOL = 1.0 - 1e-6
-
-
-class OperationError(ValueError):
-    """An operation cannot be built on the given solid; the message says why."""
 
 
 @dataclass(frozen=True)
@@ -34,6 +30,12 @@ class ResolvedFace:
     face: cq.Face
     normal: np.ndarray
     shift: float
+
+    @staticmethod
+    def of(face: cq.Face) -> "ResolvedFace":
+        """A planar face of the solid itself, as `resolve_face` finds it from the face's
+        own `face_ref_of` (no shift): for callers that already hold the face."""
+        return ResolvedFace(face, np.array(face.normalAt().toTuple()), 0.0)
 
     @property
     def offset(self) -> np.ndarray:
@@ -68,6 +70,11 @@ def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
         classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
         out[i] = classifier.State() in states
     return out
+
+
+def inside_face(face: cq.Face, point: np.ndarray) -> bool:
+    """Whether a point of f's plane lies strictly inside f (holes excluded)."""
+    return bool(points_on_face(face, np.asarray(point, float)[None], 1e-7, boundary=False)[0])
 
 
 def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:

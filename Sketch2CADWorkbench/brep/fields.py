@@ -23,6 +23,20 @@ def error(path: str, msg: str, value: Any) -> FieldError:
     return FieldError(f"{path}: {msg}, got {shown}")
 
 
+def parse_json(text: str, source: str, fail: type[FieldError], what: str) -> Any:
+    """JSON text as Python values, or `fail` prefixed with `source` when it is not JSON,
+    is nested too deeply, or holds an integer past Python's digit limit (`what` names
+    what the text should have been, as in "not a protocol")."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise fail(f"{source}: not valid JSON: {e}") from None
+    except RecursionError:
+        raise fail(f"{source}: not a {what}: nested too deeply") from None
+    except ValueError as e:  # an integer past Python's digit limit
+        raise fail(f"{source}: not a {what}: {e}") from None
+
+
 def obj(v: Any, path: str, required: set[str], optional: set[str] = frozenset()) -> dict:
     """A JSON object with exactly the required keys and perhaps some optional ones."""
     if not isinstance(v, dict):

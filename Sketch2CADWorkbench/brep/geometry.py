@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Small numeric geometry shared by every layer (numpy only): cubic Beziers and an
-orthonormal basis of a plane."""
+"""Small numeric geometry shared by every layer (numpy only): cubic Beziers, an
+orthonormal basis of a plane, and polylines resampled by arc length."""
 import numpy as np
 
 
@@ -22,3 +22,44 @@ def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
     u /= np.linalg.norm(u)
     return u, np.cross(n, u)
+
+
+def arc_lengths(points: np.ndarray) -> np.ndarray:
+    """The arc length (K,) from a polyline's first point (K, D) to each of its points."""
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    return np.concatenate([[0.0], np.cumsum(seg)])
+
+
+def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
+    """`count` points (count, D) evenly spaced by arc length along a polyline (K, D) of
+    at least two points, both ends included (linear between its points)."""
+    p = np.asarray(points, float)
+    s = arc_lengths(p)
+    t = np.linspace(0.0, s[-1], count)
+    return np.stack([np.interp(t, s, p[:, k]) for k in range(p.shape[1])], axis=1)
+
+
+def resample_every(points: np.ndarray, step: float) -> np.ndarray:
+    """A polyline (K, D) of at least two points resampled every ~`step` of arc length
+    (its units), both ends included: at least two points."""
+    p = np.asarray(points, float)
+    return resample_polyline(p, max(int(np.ceil(arc_lengths(p)[-1] / step)) + 1, 2))
+
+
+def crossing_sides(polygon: np.ndarray) -> tuple[int, int] | None:
+    """The first two non-adjacent sides (i, j), i < j, of a closed 2D polygon (K, 2) that
+    properly cross each other, or None when none do (side i runs from vertex i to i + 1)."""
+    k = len(polygon)
+    for i in range(k):
+        for j in range(i + 2, k):
+            if i == 0 and j == k - 1:
+                continue
+            if _segments_cross(polygon[i], polygon[(i + 1) % k], polygon[j], polygon[(j + 1) % k]):
+                return i, j
+    return None
+
+
+def _segments_cross(a, b, c, d) -> bool:
+    def orient(p, q, r):
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    return orient(a, b, c) * orient(a, b, d) < 0 and orient(c, d, a) * orient(c, d, b) < 0

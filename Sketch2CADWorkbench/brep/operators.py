@@ -1,23 +1,37 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The four operators of the paper as real B-rep operations through cadquery/OCCT.
 
-Every function takes the current solid and returns a new one; the input is never
-modified. Lengths are millimetres, points and vectors are in the world frame, and
-n_f is the outward unit normal of the base face f. A result is always one valid
-solid; anything else raises `OperationError` with the reason.
+`apply_operation` is the one way in, and every operation takes the same path there:
+its parameters are checked (`check_ranges`, `Operation.check`), its base face f is
+resolved once on the current solid, the operator's builder (`TOOLS`) makes the
+primitive from that geometry, and `combine` joins the primitive to the solid by the
+operation's Boolean (`Operation.boolean`), as build123d's operations end in one
+combine by mode. The input solid is never modified. Lengths are millimetres, points
+and vectors are in the world frame, and n_f is the outward unit normal of f. A result
+is always one valid solid; anything else raises `OperationError` with the reason.
 """
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Callable
 
 import cadquery as cq
 import numpy as np
 
 from .faces import OperationError, ResolvedFace, model_scale, resolve_face
-from .geometry import bezier, plane_basis
-from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Sweep
+from .geometry import bezier, crossing_sides, plane_basis
+from .protocol import (
+    AddSubPrism,
+    Bevel,
+    Box,
+    Extrude,
+    Mode,
+    Operation,
+    OperatorType,
+    Protocol,
+    Sweep,
+    per_operator,
+)
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
 PLANE_TOL = 1e-3
@@ -35,7 +49,7 @@ def _vec(p) -> cq.Vector:
     return cq.Vector(*[float(c) for c in p])
 
 
-def _check_on_plane(points, rf: ResolvedFace, scale: float, what: str) -> np.ndarray:
+def on_face_plane(points, rf: ResolvedFace, scale: float, what: str) -> np.ndarray:
     """Points moved onto f's (possibly shifted) plane; far-off points are an error."""
     pts = np.asarray(points, dtype=float) + rf.offset
     plane_d = float(rf.normal @ np.array(rf.face.Center().toTuple()))
@@ -46,14 +60,22 @@ def _check_on_plane(points, rf: ResolvedFace, scale: float, what: str) -> np.nda
     return pts - np.outer(dist, rf.normal)
 
 
-def _combine(solid: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
+def combine(solid: cq.Shape, tool: cq.Shape, mode: Mode, what: str) -> cq.Solid:
+    """The solid combined with an operation's primitive by `mode`: the one place every
+    operation ends.
+
+    Raises:
+        OperationError: naming the step (`what`) when the result is not one valid solid.
+    """
     if mode is Mode.ADD:
-        return solid.fuse(tool)
-    if mode is Mode.SUBTRACT:
-        return solid.cut(tool)
-    if mode is Mode.INTERSECT:
-        return solid.intersect(tool)
-    return tool
+        result = solid.fuse(tool)
+    elif mode is Mode.SUBTRACT:
+        result = solid.cut(tool)
+    elif mode is Mode.INTERSECT:
+        result = solid.intersect(tool)
+    else:
+        result = tool
+    return _single_solid(result, what, solid)
 
 
 def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> cq.Solid:
@@ -72,34 +94,21 @@ def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> cq.Solid:
     return solid
 
 
-def extrude(solid: cq.Solid, op: Extrude) -> cq.Solid:
-    """Move face f along n_f by d (pad for d > 0, pocket for d < 0).
+# ----------------------------------------------------------------- builders
+# Each takes the resolved base face f, the operation and the model's size (mm, for
+# tolerances), and returns the primitive that `combine` joins to the solid.
 
-    Args:
-        solid: the current solid.
-        op: face f (FaceRef) and signed offset d in mm.
-    Raises:
-        OperationError: f does not resolve, d is zero, or the result is not one solid.
-    Returns:
-        A new solid; `solid` is unchanged.
-    """
-    if op.d == 0 or not math.isfinite(op.d):
-        raise OperationError(f"extrude: offset d must be a non-zero number, got {op.d}")
-    rf = resolve_face(solid, op.face, "extrude face f")
-    face = rf.face
-    tool = cq.Solid.extrudeLinear(face.outerWire(), face.innerWires(),
+def extrude_tool(rf: ResolvedFace, op: Extrude, scale: float) -> cq.Solid:
+    """Face f swept by d along n_f: a pad (d > 0) or the pocket's volume (d < 0)."""
+    return cq.Solid.extrudeLinear(rf.face.outerWire(), rf.face.innerWires(),
                                   _vec(rf.normal * op.d))
-    result = solid.fuse(tool) if op.d > 0 else solid.cut(tool)
-    return _single_solid(result, "extrude", solid)
 
 
-def bevel_tool(solid: cq.Solid, op: Bevel) -> cq.Solid:
-    """The prism removed by a bevel: the region between corner c and profile l on f,
+def bevel_tool(rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
+    """The prism a bevel removes: the region between corner c and profile l on f,
     extruded along c -> c'."""
-    scale = model_scale(solid)
-    rf = resolve_face(solid, op.face, "bevel face f")
-    (c,) = _check_on_plane([op.corner], rf, scale, "bevel corner c")
-    ctrl = _check_on_plane(op.profile, rf, scale, "bevel profile l")
+    (c,) = on_face_plane([op.corner], rf, scale, "bevel corner c")
+    ctrl = on_face_plane(op.profile, rf, scale, "bevel profile l")
     crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
     length = float(np.linalg.norm(crease))
     if length < 1e-6 * scale:
@@ -146,31 +155,10 @@ def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: f
                              "face edges at c); keep it between the two edges")
 
 
-def bevel(solid: cq.Solid, op: Bevel) -> cq.Solid:
-    """Round corner c of face f with profile l along the crease c -> c'.
-
-    Args:
-        solid: the current solid.
-        op: face f, corner c, opposite corner c' and the cubic Bezier profile l on f
-            (world mm).
-    Raises:
-        OperationError: f does not resolve, l or c is off f's plane, the crease is not
-            along -n_f, the region is degenerate, or the result is not one solid.
-    Returns:
-        A new solid with the region between c and l removed along c -> c'.
-    """
-    return _single_solid(solid.cut(bevel_tool(solid, op)), "bevel", solid)
-
-
-def prism_tool(solid: cq.Solid, op: AddSubPrism) -> cq.Solid:
-    """The right prism of an add/subtract: polygon c on f extruded by d along +-n_f."""
-    scale = model_scale(solid)
-    if not 3 <= len(op.polygon) <= 6:
-        raise OperationError(f"prism: base polygon c needs 3 to 6 vertices, got {len(op.polygon)}")
-    if not op.d > 0:
-        raise OperationError(f"prism: length d must be positive, got {op.d}")
-    rf = resolve_face(solid, op.face, "prism face f")
-    pts = _check_on_plane(op.polygon, rf, scale, "prism polygon c")
+def prism_tool(rf: ResolvedFace, op: AddSubPrism, scale: float) -> cq.Solid:
+    """The right prism of an add/subtract: polygon c on f extruded by d along n_f, or
+    into the solid (-n_f) for SUBTRACT."""
+    pts = on_face_plane(op.polygon, rf, scale, "prism polygon c")
     _check_simple_polygon(pts, rf.normal, scale)
     wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
     return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
@@ -184,69 +172,32 @@ def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
     for i in range(k):
         if np.linalg.norm(q[i] - q[(i + 1) % k]) < 1e-6 * scale:
             raise OperationError(f"prism: polygon vertices {i} and {(i + 1) % k} coincide")
-    for i in range(k):
-        for j in range(i + 2, k):
-            if i == 0 and j == k - 1:
-                continue
-            if _segments_cross(q[i], q[(i + 1) % k], q[j], q[(j + 1) % k]):
-                raise OperationError(f"prism: polygon sides {i} and {j} cross each other")
+    crossing = crossing_sides(q)
+    if crossing:
+        raise OperationError(f"prism: polygon sides {crossing[0]} and {crossing[1]} cross "
+                             "each other")
     area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
                          for i in range(k)))
     if area < 1e-8 * scale ** 2:
         raise OperationError("prism: base polygon c has no area")
 
 
-def _segments_cross(a, b, c, d) -> bool:
-    def orient(p, q, r):
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
-    o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
-    return o1 * o2 < 0 and o3 * o4 < 0
+def sweep_tool(rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
+    """The solid of revolution of profile c_p about the axis through c0 and c1 (c0's
+    centre on f, the axis along n_f, or into the solid for SUBTRACT).
 
-
-def add_sub_prism(solid: cq.Solid, op: AddSubPrism) -> cq.Solid:
-    """Combine the solid with a right prism standing on face f.
-
-    Args:
-        solid: the current solid.
-        op: face f, base polygon c (3-6 vertices on f, world mm), length d > 0 mm, and
-            the option o as a Mode (ADD: union, prism outwards; SUBTRACT: difference,
-            prism inwards; INTERSECT; REPLACE: keep only the prism).
-    Raises:
-        OperationError: f does not resolve, c is off f or not simple, or the result is
-            not one solid.
-    Returns:
-        A new solid.
+    A straight c_p gives an analytic cylinder (r0 == r1) or cone, exact in STEP and
+    fast in Booleans; otherwise c_p is revolved.
     """
-    tool = prism_tool(solid, op)
-    return _single_solid(_combine(solid, tool, op.mode), f"{op.mode.value} prism", solid)
-
-
-def sweep_axis(solid: cq.Solid, op: Sweep) -> tuple[np.ndarray, np.ndarray]:
-    """c0's centre on f and the unit direction from c0 towards c1."""
-    rf = resolve_face(solid, op.face, "sweep face f")
-    (center,) = _check_on_plane([op.center], rf, model_scale(solid), "sweep centre of c0")
-    return center, rf.normal * op.mode.sign
-
-
-def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
-    """The solid of revolution of profile c_p about the axis through c0 and c1."""
-    if not (op.r0 > 0 and op.r1 > 0 and op.d > 0):
-        raise OperationError(f"sweep: r0, r1 and d must be positive, got r0={op.r0}, "
-                             f"r1={op.r1}, d={op.d}")
+    (center,) = on_face_plane([op.center], rf, scale, "sweep centre of c0")
+    axis = rf.normal * op.mode.sign
     ctrl = np.array(op.control_points(), dtype=float)
-    radii = bezier(ctrl, np.linspace(0, 1, 65))[:, 0]
-    if radii.min() <= 0:
-        raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
-    center, axis = sweep_axis(solid, op)
     chord = ctrl[0] + (ctrl[3] - ctrl[0]) * np.array([[1 / 3], [2 / 3]])
     if np.allclose(ctrl[1:3], chord, rtol=0, atol=1e-9 * max(op.d, op.r0, op.r1)):
-        # A straight c_p: an analytic cylinder or cone, exact in STEP and fast in Booleans.
         if abs(op.r0 - op.r1) <= 1e-12 * max(op.r0, op.r1):
             return cq.Solid.makeCylinder(op.r0, op.d, _vec(center), _vec(axis))
         return cq.Solid.makeCone(op.r0, op.r1, op.d, _vec(center), _vec(axis))
-    # Any radial direction works for a full revolution; pick one perpendicular to the axis.
-    radial = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
-    radial /= np.linalg.norm(radial)
+    radial, _ = plane_basis(axis)  # any direction square to the axis, for a full turn
 
     def world(rh):
         return _vec(center + radial * rh[0] + axis * rh[1])
@@ -264,26 +215,10 @@ def sweep_tool(solid: cq.Solid, op: Sweep) -> cq.Solid:
     return tool
 
 
-def sweep(solid: cq.Solid, op: Sweep) -> cq.Solid:
-    """Combine the solid with the shape swept by c_p along circles c0 and c1.
-
-    Args:
-        solid: the current solid.
-        op: face f, c0 (centre on f, radius r0), c1 (radius r1, centre d mm along the
-            primitive's direction), profile c_p (inner (r, h) control points, mm) and
-            the option o as a Mode. A straight c_p with r0 == r1 gives a cylinder,
-            otherwise a cone or a curved body of revolution.
-    Raises:
-        OperationError: f does not resolve, the centre is off f, a size is not
-            positive, c_p crosses the axis, or the result is not one solid.
-    Returns:
-        A new solid.
-    """
-    tool = sweep_tool(solid, op)
-    return _single_solid(_combine(solid, tool, op.mode), f"{op.mode.value} sweep", solid)
-
-
-_APPLY = {Extrude: extrude, Bevel: bevel, AddSubPrism: add_sub_prism, Sweep: sweep}
+# The builder of each operator's primitive.
+TOOLS: dict[OperatorType, Callable[[ResolvedFace, Operation, float], cq.Solid]] = per_operator(
+    {OperatorType.EXTRUDE: extrude_tool, OperatorType.BEVEL: bevel_tool,
+     OperatorType.ADDSUB: prism_tool, OperatorType.SWEEP: sweep_tool}, "operators.TOOLS")
 
 
 # Lengths and points an operation may hold, relative to the model's size (its bounding
@@ -320,11 +255,25 @@ def check_ranges(solid: cq.Shape, op: Operation) -> None:
 
 
 def apply_operation(solid: cq.Solid, op: Operation) -> cq.Solid:
-    """Apply one protocol operation; see the per-operator functions. `solid` is not
-    changed (the operators work on a copy: OCCT adds p-curves to what it cuts)."""
+    """Apply one protocol operation to `solid`.
+
+    The parameters are checked, f is resolved on the solid (following it when an earlier
+    step moved it), the operator's primitive is built there (`TOOLS`) and combined with
+    the solid by the operation's Boolean. `solid` is not changed (the work is done on a
+    copy: OCCT adds p-curves to what it cuts).
+
+    Raises:
+        OperationError: a parameter is out of range, f does not resolve, the geometry is
+            off f or degenerate, or the result is not one valid solid; the message says
+            which.
+    """
     check_ranges(solid, op)
     try:
-        return _APPLY[type(op)](solid.copy(), op)
+        op.check()
+        solid = solid.copy()
+        rf = resolve_face(solid, op.face, f"{op.NOUN} face f")
+        tool = TOOLS[op.type](rf, op, model_scale(solid))
+        return combine(solid, tool, op.boolean, op.name)
     except OperationError:
         raise
     except Exception as e:  # an OCCT failure deep in a Boolean is still a user-level error

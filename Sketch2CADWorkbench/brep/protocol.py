@@ -31,10 +31,13 @@ import math
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Any, Union
+from typing import Any, Callable, ClassVar, TypeVar, Union
 
-from .fields import FieldError, box_size, error, header, number, obj, points, vec
+import numpy as np
+
+from .fields import FieldError, box_size, error, header, number, obj, parse_json, points, vec
 from .files import write_atomically
+from .geometry import bezier
 
 FORMAT = "sketch2cad-protocol"
 VERSION = 1
@@ -74,12 +77,87 @@ class ProtocolError(FieldError):
     """A protocol file or value is malformed; the message names the field and value."""
 
 
+class OperationError(ValueError):
+    """An operation cannot be built on the given solid; the message says why."""
+
+
+T = TypeVar("T")
+
+
+def per_operator(table: dict[OperatorType, T], what: str) -> dict[OperatorType, T]:
+    """A table of per-operator behaviour, keyed by `OperatorType`, checked to have one
+    entry for each operator when its module is imported.
+
+    Behaviour of the protocol itself (JSON, description, mirror image) lives on the
+    operation dataclasses; every other layer keeps what it does per operator (B-rep
+    builders, sketch curves, samplers, fits, FreeCAD features) in such a table, looked
+    up with `TABLE[op.type]`.
+
+    Raises:
+        TypeError: an operator is missing or a key is not an `OperatorType`.
+    """
+    missing = [t.value for t in OperatorType if t not in table]
+    extra = [k for k in table if not isinstance(k, OperatorType)]
+    if missing or extra:
+        raise TypeError(f"{what}: one entry per OperatorType expected; missing {missing}, "
+                        f"not operators {extra}")
+    return table
+
+
+def _num(x: float) -> str:
+    # to the micrometre (mm units), and no "-0" or "1e-15" from round-off
+    return f"{round(x, 3) + 0.0:g}"
+
+
+def _fmt(v) -> str:
+    return "(" + ", ".join(_num(x) for x in v) + ")"
+
+
+def _fail(path: str, msg: str, value: Any) -> ProtocolError:
+    return ProtocolError(str(error(path, msg, value)))
+
+
+def _unit(v: Any, path: str) -> Vec3:
+    x = vec(v, path)
+    n = math.sqrt(sum(c * c for c in x))
+    if n < 1e-9:
+        raise _fail(path, "expected a non-zero normal vector", v)
+    if abs(n - 1.0) > 1e-6:
+        raise _fail(path, "expected a unit normal vector (length 1)", v)
+    return x  # type: ignore[return-value]
+
+
+def _mode(v: Any, path: str) -> Mode:
+    try:
+        return Mode(v)
+    except ValueError:
+        raise _fail(path, f"expected one of {[m.value for m in Mode]}", v) from None
+
+
+# A mirror: world point -> mirrored point, world vector -> mirrored vector.
+PointMap = Callable[[Vec3], Vec3]
+
+
 @dataclass(frozen=True)
 class FaceRef:
     """A planar base face f: a point inside it and its outward unit normal (world, mm)."""
 
     point: Vec3
     normal: Vec3
+
+    def describe(self) -> str:
+        return f"f[n={_fmt(self.normal)} at {_fmt(self.point)}]"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"point": list(self.point), "normal": list(self.normal)}
+
+    @staticmethod
+    def from_dict(v: Any, path: str) -> "FaceRef":
+        o = obj(v, path, {"point", "normal"})
+        return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "FaceRef":
+        return FaceRef(point(self.point), vector(self.normal))
 
 
 @dataclass(frozen=True)
@@ -89,18 +167,94 @@ class Box:
     size: Vec3
 
 
+class _Operation:
+    """What every operation of the protocol does; each dataclass below fills it in.
+
+    Class attributes: `type` (its OperatorType) and `KEYS` (its JSON keys besides "type"
+    and "face", in the order they are written).
+    """
+
+    type: ClassVar[OperatorType]
+    KEYS: ClassVar[tuple[str, ...]]
+    NOUN: ClassVar[str]  # what errors call it: "extrude", "bevel", "prism", "sweep"
+    face: FaceRef
+
+    @property
+    def boolean(self) -> Mode:
+        """How the operation's primitive combines with the solid."""
+        return Mode.SUBTRACT
+
+    @property
+    def name(self) -> str:
+        """The step as errors name it ("extrude", "add prism", ...)."""
+        return self.NOUN
+
+    def check(self) -> None:
+        """Refuse parameter values no solid can take (the solid's own checks come later).
+
+        Raises:
+            OperationError: naming the parameter and its value.
+        """
+
+    def describe(self) -> str:
+        """One line naming the operator and its parameters with the paper's symbols."""
+        raise NotImplementedError
+
+    def parameters(self) -> dict[str, Any]:
+        """The JSON values of KEYS."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict[str, Any]:
+        """The operation as a JSON object (schema in the module docstring)."""
+        return {"type": self.type.value, "face": self.face.to_dict(), **self.parameters()}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> "_Operation":
+        """The operation from a JSON object `o` that holds exactly its keys (checked);
+        raises FieldError naming the field and value."""
+        raise NotImplementedError
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "_Operation":
+        """The operation mirrored: `point` and `vector` map world points and vectors."""
+        raise NotImplementedError
+
+
 @dataclass(frozen=True)
-class Extrude:
+class Extrude(_Operation):
     """Move face f along its outward normal by d mm (d > 0 pads, d < 0 pockets)."""
 
     face: FaceRef
     d: float
 
     type = OperatorType.EXTRUDE
+    KEYS = ("d",)
+    NOUN = "extrude"
+
+    @property
+    def boolean(self) -> Mode:
+        """A pad fuses, a pocket cuts."""
+        return Mode.ADD if self.d > 0 else Mode.SUBTRACT
+
+    def check(self) -> None:
+        if self.d == 0 or not math.isfinite(self.d):
+            raise OperationError(f"extrude: offset d must be a non-zero number, got {self.d}")
+
+    def describe(self) -> str:
+        return f"Extrude {self.face.describe()} d={_num(self.d)}"
+
+    def parameters(self) -> dict[str, Any]:
+        return {"d": self.d}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> "Extrude":
+        return cls(face, number(o["d"], f"{path}.d", nonzero=True))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "Extrude":
+        return Extrude(self.face.reflected(point, vector), self.d)
 
 
 @dataclass(frozen=True)
-class Bevel:
+class Bevel(_Operation):
     """Round corner c of face f with profile l, along the crease from c to c'.
 
     `corner` is c (a vertex of f), `opposite` is c' (the other end of the crease,
@@ -114,10 +268,30 @@ class Bevel:
     profile: tuple[Vec3, Vec3, Vec3, Vec3]
 
     type = OperatorType.BEVEL
+    KEYS = ("corner", "opposite", "profile")
+    NOUN = "bevel"
+
+    def describe(self) -> str:
+        return (f"Bevel {self.face.describe()} c={_fmt(self.corner)} c'={_fmt(self.opposite)} "
+                f"l=Bezier[{', '.join(_fmt(p) for p in self.profile)}]")
+
+    def parameters(self) -> dict[str, Any]:
+        return {"corner": list(self.corner), "opposite": list(self.opposite),
+                "profile": [list(p) for p in self.profile]}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> "Bevel":
+        return cls(face, vec(o["corner"], f"{path}.corner"),
+                   vec(o["opposite"], f"{path}.opposite"),
+                   points(o["profile"], f"{path}.profile", 4, 4))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "Bevel":
+        return Bevel(self.face.reflected(point, vector), point(self.corner),
+                     point(self.opposite), tuple(point(p) for p in self.profile))
 
 
 @dataclass(frozen=True)
-class AddSubPrism:
+class AddSubPrism(_Operation):
     """A right prism on face f: base polygon c (3-6 vertices on f's plane), length d > 0.
 
     The prism goes outwards along n_f for ADD/INTERSECT/REPLACE and inwards for SUBTRACT.
@@ -129,10 +303,48 @@ class AddSubPrism:
     mode: Mode = Mode.ADD
 
     type = OperatorType.ADDSUB
+    KEYS = ("polygon", "d", "mode")
+    NOUN = "prism"
+    NAMES = {Mode.ADD: "AddPolyhedron", Mode.SUBTRACT: "SubtractPolyhedron",
+             Mode.INTERSECT: "IntersectPolyhedron", Mode.REPLACE: "ReplaceByPolyhedron"}
+
+    @property
+    def boolean(self) -> Mode:
+        return self.mode
+
+    @property
+    def name(self) -> str:
+        return f"{self.mode.value} prism"
+
+    def check(self) -> None:
+        if not 3 <= len(self.polygon) <= 6:
+            raise OperationError(f"prism: base polygon c needs 3 to 6 vertices, got "
+                                 f"{len(self.polygon)}")
+        if not self.d > 0:
+            raise OperationError(f"prism: length d must be positive, got {self.d}")
+
+    def describe(self) -> str:
+        return (f"{self.NAMES[self.mode]} {self.face.describe()} c={len(self.polygon)}-gon"
+                f"[{', '.join(_fmt(p) for p in self.polygon)}] d={_num(self.d)}")
+
+    def parameters(self) -> dict[str, Any]:
+        return {"polygon": [list(p) for p in self.polygon], "d": self.d,
+                "mode": self.mode.value}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> "AddSubPrism":
+        return cls(face, points(o["polygon"], f"{path}.polygon", 3, 6),
+                   number(o["d"], f"{path}.d", positive=True), _mode(o["mode"], f"{path}.mode"))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "AddSubPrism":
+        """Mirrored, with the polygon's vertex order reversed so that it keeps its
+        orientation on the mirrored face."""
+        return AddSubPrism(self.face.reflected(point, vector),
+                           tuple(point(p) for p in reversed(self.polygon)), self.d, self.mode)
 
 
 @dataclass(frozen=True)
-class Sweep:
+class Sweep(_Operation):
     """A swept solid of revolution standing on face f.
 
     c0 is the circle of radius r0 centred at `center` on f's plane; c1 is the circle
@@ -152,6 +364,49 @@ class Sweep:
     mode: Mode = Mode.ADD
 
     type = OperatorType.SWEEP
+    KEYS = ("center", "r0", "r1", "d", "profile", "mode")
+    NOUN = "sweep"
+    NAMES = {Mode.ADD: "AddSweepShape", Mode.SUBTRACT: "SubtractSweepShape",
+             Mode.INTERSECT: "IntersectSweepShape", Mode.REPLACE: "ReplaceBySweepShape"}
+
+    @property
+    def boolean(self) -> Mode:
+        return self.mode
+
+    @property
+    def name(self) -> str:
+        return f"{self.mode.value} sweep"
+
+    def check(self) -> None:
+        if not (self.r0 > 0 and self.r1 > 0 and self.d > 0):
+            raise OperationError(f"sweep: r0, r1 and d must be positive, got r0={self.r0}, "
+                                 f"r1={self.r1}, d={self.d}")
+        radii = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 65))[:, 0]
+        if radii.min() <= 0:
+            raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
+
+    def describe(self) -> str:
+        ctrl = ", ".join(_fmt(p) for p in self.control_points())
+        return (f"{self.NAMES[self.mode]} {self.face.describe()} c0=(center "
+                f"{_fmt(self.center)}, r {_num(self.r0)}) c1=(r {_num(self.r1)}, offset "
+                f"{_num(self.d)}) c_p=Bezier(r,h)[{ctrl}]")
+
+    def parameters(self) -> dict[str, Any]:
+        return {"center": list(self.center), "r0": self.r0, "r1": self.r1, "d": self.d,
+                "profile": [list(p) for p in self.profile], "mode": self.mode.value}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> "Sweep":
+        return cls(face, vec(o["center"], f"{path}.center"),
+                   number(o["r0"], f"{path}.r0", positive=True),
+                   number(o["r1"], f"{path}.r1", positive=True),
+                   number(o["d"], f"{path}.d", positive=True),
+                   points(o["profile"], f"{path}.profile", 2, 2, dim=2),
+                   _mode(o["mode"], f"{path}.mode"))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> "Sweep":
+        return Sweep(self.face.reflected(point, vector), point(self.center), self.r0, self.r1,
+                     self.d, self.profile, self.mode)
 
     def control_points(self) -> tuple[Vec2, Vec2, Vec2, Vec2]:
         """All four (r, h) control points of c_p."""
@@ -159,26 +414,38 @@ class Sweep:
 
     def retuned(self, r0: float | None = None, r1: float | None = None,
                 d: float | None = None) -> "Sweep":
-        """The same sweep with new r0, r1 or d; the inner control points follow.
+        """The same sweep with new r0, r1 or d; the inner control points follow
+        (`retuned_profile`)."""
+        new = (self.r0 if r0 is None else r0, self.r1 if r1 is None else r1,
+               self.d if d is None else d)
+        return Sweep(self.face, self.center, *new,
+                     retuned_profile(self.profile, (self.r0, self.r1, self.d), new), self.mode)
 
-        As in the paper's parameter tuning, each control point keeps its relative
-        position: its height scales with d, and its radius is re-interpolated
-        between the (scaled) end radii in proportion to where it sat before.
-        """
-        nr0 = self.r0 if r0 is None else r0
-        nr1 = self.r1 if r1 is None else r1
-        nd = self.d if d is None else d
-        pts = []
-        for r, h in self.profile:
-            t = h / self.d if self.d else 0.0
-            old_axis = self.r0 + (self.r1 - self.r0) * t
-            new_axis = nr0 + (nr1 - nr0) * t
-            scale = new_axis / old_axis if old_axis > 0 else 1.0
-            pts.append((r * scale, h * nd / self.d if self.d else h))
-        return Sweep(self.face, self.center, nr0, nr1, nd, (pts[0], pts[1]), self.mode)
+
+def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[Vec2, Vec2]:
+    """A sweep's inner (r, h) control points after its (r0, r1, d) change from `old` to
+    `new`.
+
+    As in the paper's parameter tuning, each control point keeps its relative position:
+    its height scales with d, and its radius is re-interpolated between the (scaled) end
+    radii in proportion to where it sat before.
+    """
+    (r0, r1, d), (nr0, nr1, nd) = old, new
+    pts = []
+    for r, h in profile:
+        t = h / d if d else 0.0
+        old_axis = r0 + (r1 - r0) * t
+        new_axis = nr0 + (nr1 - nr0) * t
+        scale = new_axis / old_axis if old_axis > 0 else 1.0
+        pts.append((r * scale, h * nd / d if d else h))
+    return (pts[0], pts[1])
 
 
 Operation = Union[Extrude, Bevel, AddSubPrism, Sweep]
+# The operation dataclass of each operator.
+OPERATIONS: dict[OperatorType, type] = per_operator(
+    {OperatorType.EXTRUDE: Extrude, OperatorType.BEVEL: Bevel,
+     OperatorType.ADDSUB: AddSubPrism, OperatorType.SWEEP: Sweep}, "OPERATIONS")
 
 
 @dataclass(frozen=True)
@@ -212,113 +479,28 @@ class Protocol:
     def listing(self) -> str:
         """A readable listing, one line per step, like the paper's protocol figures."""
         lines = [f"0  Box {_fmt(self.base.size)} mm"]
-        lines += [f"{i}  {describe(op)}" for i, op in enumerate(self.operations, 1)]
+        lines += [f"{i}  {op.describe()}" for i, op in enumerate(self.operations, 1)]
         return "\n".join(lines)
-
-
-# ----------------------------------------------------------------- description
-
-_MODE_NAMES = {
-    OperatorType.ADDSUB: {Mode.ADD: "AddPolyhedron", Mode.SUBTRACT: "SubtractPolyhedron",
-                          Mode.INTERSECT: "IntersectPolyhedron",
-                          Mode.REPLACE: "ReplaceByPolyhedron"},
-    OperatorType.SWEEP: {Mode.ADD: "AddSweepShape", Mode.SUBTRACT: "SubtractSweepShape",
-                         Mode.INTERSECT: "IntersectSweepShape",
-                         Mode.REPLACE: "ReplaceBySweepShape"},
-}
-
-
-def _num(x: float) -> str:
-    # to the micrometre (mm units), and no "-0" or "1e-15" from round-off
-    return f"{round(x, 3) + 0.0:g}"
-
-
-def _fmt(v) -> str:
-    return "(" + ", ".join(_num(x) for x in v) + ")"
-
-
-def _face(f: FaceRef) -> str:
-    return f"f[n={_fmt(f.normal)} at {_fmt(f.point)}]"
 
 
 def describe(op: Operation) -> str:
     """One line naming the operator and its parameters with the paper's symbols."""
-    if isinstance(op, Extrude):
-        return f"Extrude {_face(op.face)} d={_num(op.d)}"
-    if isinstance(op, Bevel):
-        return (f"Bevel {_face(op.face)} c={_fmt(op.corner)} c'={_fmt(op.opposite)} "
-                f"l=Bezier[{', '.join(_fmt(p) for p in op.profile)}]")
-    if isinstance(op, AddSubPrism):
-        name = _MODE_NAMES[OperatorType.ADDSUB][op.mode]
-        return (f"{name} {_face(op.face)} c={len(op.polygon)}-gon"
-                f"[{', '.join(_fmt(p) for p in op.polygon)}] d={_num(op.d)}")
-    name = _MODE_NAMES[OperatorType.SWEEP][op.mode]
-    return (f"{name} {_face(op.face)} c0=(center {_fmt(op.center)}, r {_num(op.r0)}) "
-            f"c1=(r {_num(op.r1)}, offset {_num(op.d)}) "
-            f"c_p=Bezier(r,h)[{', '.join(_fmt(p) for p in op.control_points())}]")
+    return op.describe()
 
 
-# ----------------------------------------------------------------- to JSON
-
-def _face_dict(f: FaceRef) -> dict:
-    return {"point": list(f.point), "normal": list(f.normal)}
-
+# ----------------------------------------------------------------- JSON
 
 def operation_to_dict(op: Operation) -> dict[str, Any]:
-    d: dict[str, Any] = {"type": op.type.value, "face": _face_dict(op.face)}
-    if isinstance(op, Extrude):
-        d["d"] = op.d
-    elif isinstance(op, Bevel):
-        d.update(corner=list(op.corner), opposite=list(op.opposite),
-                 profile=[list(p) for p in op.profile])
-    elif isinstance(op, AddSubPrism):
-        d.update(polygon=[list(p) for p in op.polygon], d=op.d, mode=op.mode.value)
-    else:
-        d.update(center=list(op.center), r0=op.r0, r1=op.r1, d=op.d,
-                 profile=[list(p) for p in op.profile], mode=op.mode.value)
-    return d
+    return op.to_dict()
 
 
 def protocol_to_dict(p: Protocol) -> dict[str, Any]:
     return {"format": FORMAT, "version": VERSION, "units": "mm",
             "base": {"type": "box", "size": list(p.base.size)},
-            "operations": [operation_to_dict(op) for op in p.operations]}
+            "operations": [op.to_dict() for op in p.operations]}
 
 
-# ----------------------------------------------------------------- from JSON
-
-def _fail(path: str, msg: str, value: Any) -> ProtocolError:
-    return ProtocolError(str(error(path, msg, value)))
-
-
-def _unit(v: Any, path: str) -> Vec3:
-    x = vec(v, path)
-    n = math.sqrt(sum(c * c for c in x))
-    if n < 1e-9:
-        raise _fail(path, "expected a non-zero normal vector", v)
-    if abs(n - 1.0) > 1e-6:
-        raise _fail(path, "expected a unit normal vector (length 1)", v)
-    return x  # type: ignore[return-value]
-
-
-def _mode(v: Any, path: str) -> Mode:
-    try:
-        return Mode(v)
-    except ValueError:
-        raise _fail(path, f"expected one of {[m.value for m in Mode]}", v) from None
-
-
-def _face_ref(v: Any, path: str) -> FaceRef:
-    o = obj(v, path, {"point", "normal"})
-    return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"))
-
-
-_KEYS = {
-    "extrude": {"type", "face", "d"},
-    "bevel": {"type", "face", "corner", "opposite", "profile"},
-    "addsub": {"type", "face", "polygon", "d", "mode"},
-    "sweep": {"type", "face", "center", "r0", "r1", "d", "profile", "mode"},
-}
+_KINDS = {t.value: cls for t, cls in OPERATIONS.items()}
 
 
 def operation_from_dict(v: Any, path: str = "operation") -> Operation:
@@ -333,26 +515,11 @@ def _operation(v: Any, path: str) -> Operation:
     if not isinstance(v, dict):
         raise _fail(path, "expected an object", v)
     kind = v.get("type")
-    if not isinstance(kind, str) or kind not in _KEYS:
-        raise _fail(f"{path}.type", f"expected one of {sorted(_KEYS)}", kind)
-    o = obj(v, path, _KEYS[kind])
-    face = _face_ref(o["face"], f"{path}.face")
-    if kind == "extrude":
-        return Extrude(face, number(o["d"], f"{path}.d", nonzero=True))
-    if kind == "bevel":
-        return Bevel(face, vec(o["corner"], f"{path}.corner"),
-                     vec(o["opposite"], f"{path}.opposite"),
-                     points(o["profile"], f"{path}.profile", 4, 4))
-    if kind == "addsub":
-        return AddSubPrism(face, points(o["polygon"], f"{path}.polygon", 3, 6),
-                           number(o["d"], f"{path}.d", positive=True),
-                           _mode(o["mode"], f"{path}.mode"))
-    return Sweep(face, vec(o["center"], f"{path}.center"),
-                 number(o["r0"], f"{path}.r0", positive=True),
-                 number(o["r1"], f"{path}.r1", positive=True),
-                 number(o["d"], f"{path}.d", positive=True),
-                 points(o["profile"], f"{path}.profile", 2, 2, dim=2),
-                 _mode(o["mode"], f"{path}.mode"))
+    if not isinstance(kind, str) or kind not in _KINDS:
+        raise _fail(f"{path}.type", f"expected one of {sorted(_KINDS)}", kind)
+    cls = _KINDS[kind]
+    o = obj(v, path, {"type", "face", *cls.KEYS})
+    return cls.parse(FaceRef.from_dict(o["face"], f"{path}.face"), o, path)
 
 
 def protocol_from_dict(v: Any) -> Protocol:
@@ -376,14 +543,7 @@ def _protocol(v: Any) -> Protocol:
 
 def loads(text: str, source: str = "<string>") -> Protocol:
     """Parse protocol JSON text; errors are prefixed with `source`."""
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ProtocolError(f"{source}: not valid JSON: {e}") from None
-    except RecursionError:
-        raise ProtocolError(f"{source}: not a protocol: nested too deeply") from None
-    except ValueError as e:  # an integer past Python's digit limit
-        raise ProtocolError(f"{source}: not a protocol: {e}") from None
+    data = parse_json(text, source, ProtocolError, "protocol")
     try:
         return protocol_from_dict(data)
     except ProtocolError as e:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from .protocol import AddSubPrism, Bevel, Extrude, FaceRef, Operation, Sweep
+from .protocol import Operation
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -38,18 +38,6 @@ def _vector(v, n) -> tuple[float, float, float]:
 
 
 def reflect(op: Operation, origin: np.ndarray, normal: np.ndarray) -> Operation:
-    """The operation mirrored through the plane (origin, unit normal).
-
-    Points and the face normal are reflected; a polygon's vertex order is reversed so
-    that it keeps its orientation on the mirrored face.
-    """
-    face = FaceRef(_point(op.face.point, origin, normal), _vector(op.face.normal, normal))
-    if isinstance(op, Extrude):
-        return Extrude(face, op.d)
-    if isinstance(op, Bevel):
-        return Bevel(face, _point(op.corner, origin, normal), _point(op.opposite, origin, normal),
-                     tuple(_point(p, origin, normal) for p in op.profile))
-    if isinstance(op, AddSubPrism):
-        return AddSubPrism(face, tuple(_point(p, origin, normal) for p in reversed(op.polygon)),
-                           op.d, op.mode)
-    return Sweep(face, _point(op.center, origin, normal), op.r0, op.r1, op.d, op.profile, op.mode)
+    """The operation mirrored through the plane (origin, unit normal): its points and face
+    normal reflected (`Operation.reflected`)."""
+    return op.reflected(lambda p: _point(p, origin, normal), lambda v: _vector(v, normal))

@@ -7,8 +7,6 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
-from ..brep.faces import OperationError
-from ..brep.operators import replay
 from ..brep.protocol import ProtocolError, load
 from ..freecad_layer.gui_helpers import error, transaction
 from ..freecad_layer.queries import (
@@ -53,6 +51,9 @@ def load_protocol_file(path: str):
     Returns:
         The new model, or None after telling the user why not.
     """
+    # cadquery on first use, not when the workbench is activated (see freecad_layer/shapes.py)
+    from ..brep.faces import OperationError
+    from ..brep.operators import replay
     try:
         protocol = load(path)
         replay(protocol)

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ..brep.fields import FieldError, box_size, error, header, number, obj, vec
+from ..brep.fields import FieldError, box_size, error, header, number, obj, parse_json, vec
 from ..brep.files import write_atomically
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
@@ -162,15 +162,10 @@ def load_session(path: str | Path) -> Session:
     """Read and validate a session file; errors name the file, the field and the value."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        text = path.read_text()
     except (OSError, UnicodeDecodeError) as e:
         raise SessionError(f"{path}: cannot read session file: {e}") from None
-    except json.JSONDecodeError as e:
-        raise SessionError(f"{path}: not valid JSON: {e}") from None
-    except RecursionError:
-        raise SessionError(f"{path}: not a session: nested too deeply") from None
-    except ValueError as e:  # an integer past Python's digit limit
-        raise SessionError(f"{path}: not a session: {e}") from None
+    data = parse_json(text, str(path), SessionError, "session")
     try:
         return session_from_dict(data)
     except SessionError as e:

@@ -16,13 +16,23 @@ line, one whole circle, the whole bevel profile. Points are in mm, world frame.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import cadquery as cq
 import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
-from ..brep.geometry import bezier_points
-from ..brep.protocol import AddSubPrism, Bevel, Extrude, Mode, Operation, Sweep
+from ..brep.geometry import bezier_points, plane_basis
+from ..brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Extrude,
+    Mode,
+    Operation,
+    OperatorType,
+    Sweep,
+    per_operator,
+)
 from .labels import BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE, START
 
 CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle
@@ -71,7 +81,7 @@ def outline_corners(face: cq.Face) -> list[np.ndarray]:
             if len(ts) != 2 or float(ts[0] @ ts[1]) > limit]
 
 
-def extrude_curves(rf: ResolvedFace, op: Extrude) -> list[Curve]:
+def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list[Curve]:
     shift = rf.normal * op.d
     out = [Curve(_edge_points(e) + shift, EXTRUDE_OFFSET, relevant=True)
            for e in rf.face.Edges()]
@@ -79,7 +89,7 @@ def extrude_curves(rf: ResolvedFace, op: Extrude) -> list[Curve]:
     return out
 
 
-def bevel_curves(rf: ResolvedFace, op: Bevel) -> list[Curve]:
+def bevel_curves(rf: ResolvedFace, op: Bevel, direction: np.ndarray) -> list[Curve]:
     l_curve = bezier_points(np.array(op.profile, float), CURVE_POINTS) + rf.offset
     crease = np.subtract(op.opposite, op.corner)
     return [Curve(l_curve, BEVEL_L, relevant=True), Curve(l_curve + crease, BEVEL_L_PRIME)]
@@ -90,7 +100,7 @@ def _start_end(base, far, mode: Mode):
     return (far, base) if mode is Mode.SUBTRACT else (base, far)
 
 
-def prism_curves(rf: ResolvedFace, op: AddSubPrism) -> list[Curve]:
+def prism_curves(rf: ResolvedFace, op: AddSubPrism, direction: np.ndarray) -> list[Curve]:
     base = np.array(op.polygon, float) + rf.offset
     far = base + rf.normal * op.d * op.mode.sign
     start, end = _start_end(base, far, op.mode)
@@ -108,7 +118,7 @@ def silhouette_side(axis: np.ndarray, direction: np.ndarray) -> np.ndarray:
     the axis facing the view (as square to the view direction as such a plane can be)."""
     side = np.cross(axis, direction)
     if np.linalg.norm(side) < 1e-6:  # looking along the axis: every such plane faces it
-        side = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
+        return plane_basis(axis)[0]
     return side / np.linalg.norm(side)
 
 
@@ -138,6 +148,14 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
     return out
 
 
+# The curves of each operator, from its resolved base face f, the operation and the view
+# direction (world, into the scene; only a sweep's profile lines depend on it).
+CURVES: dict[OperatorType, Callable[[ResolvedFace, Operation, np.ndarray], list[Curve]]] = \
+    per_operator({OperatorType.EXTRUDE: extrude_curves, OperatorType.BEVEL: bevel_curves,
+                  OperatorType.ADDSUB: prism_curves, OperatorType.SWEEP: sweep_curves},
+                 "sketch.curves.CURVES")
+
+
 def operation_curves(solid: cq.Shape, op: Operation, direction,
                      face: ResolvedFace | None = None) -> list[Curve]:
     """The labelled sketch curves of `op` applied to `solid` (its context).
@@ -147,16 +165,10 @@ def operation_curves(solid: cq.Shape, op: Operation, direction,
         op: the operation.
         direction: the view direction (world, into the scene); only a sweep's profile
             lines depend on it.
-        face: op.face resolved on `solid`, if already at hand.
+        face: op.face resolved on `solid`, when the caller holds it already (then it is
+            not resolved again).
     """
-    rf = face or resolve_face(solid, op.face)
-    if isinstance(op, Extrude):
-        return extrude_curves(rf, op)
-    if isinstance(op, Bevel):
-        return bevel_curves(rf, op)
-    if isinstance(op, AddSubPrism):
-        return prism_curves(rf, op)
-    return sweep_curves(rf, op, direction)
+    return CURVES[op.type](face or resolve_face(solid, op.face), op, direction)
 
 
 def base_face_index(solid: cq.Shape, face: cq.Face) -> int:

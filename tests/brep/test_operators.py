@@ -166,6 +166,11 @@ def test_rounded_bevel_removes_less_than_the_chamfer(box):
     # a point on the top with the normal into the solid: not the bottom face 20 mm away
     (Extrude(FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, -1.0)), 3.0), "points into the solid"),
     (Extrude(FaceRef((0.0, 0.0, LZ / 2), (math.nan, 0.0, 1.0)), 3.0), "unit normal"),
+    # parameters no solid takes are named before f is looked for (this f is nowhere)
+    (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99)[:2], 3.0), "3 to 6 vertices"),
+    (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99), -3.0), "d must be positive"),
+    (Sweep(FaceRef((0, 0, 99), (0, 0, 1)), (0, 0, 99), -4.0, 4.0, 5.0, straight(4, 4, 5)),
+     "r0, r1 and d must be positive"),
 ])
 def test_unbuildable_operation_raises_operation_error_saying_why(box, op, message):
     with pytest.raises(OperationError, match=message):
@@ -209,3 +214,25 @@ def test_bevel_profile_crossing_an_edge_is_refused_not_emptied(box):
     bulging = ((-14.0, -15.0, 10.0), (-17.3, -15.0, 10.1), (-20.4, -15.0, 7.3), (-20.0, -15.0, 4.0))
     with pytest.raises(OperationError, match="leaves the corner's region"):
         apply_operation(box, Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), bulging))
+
+
+@pytest.mark.parametrize("op,boolean,name", [
+    (Extrude(TOP, 5.0), Mode.ADD, "extrude"),
+    (Extrude(TOP, -5.0), Mode.SUBTRACT, "extrude"),
+    (Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), ((-14, -15, 10), (-16, -15, 10),
+                                                   (-20, -15, 8), (-20, -15, 6))),
+     Mode.SUBTRACT, "bevel"),
+    (AddSubPrism(TOP, square(4, LZ / 2), 3.0, Mode.INTERSECT), Mode.INTERSECT, "intersect prism"),
+    (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, straight(4, 4, 5), Mode.SUBTRACT),
+     Mode.SUBTRACT, "subtract sweep"),
+])
+def test_every_operation_ends_in_the_boolean_it_names(op, boolean, name):
+    assert (op.boolean, op.name) == (boolean, name)
+
+
+def test_a_resolved_face_taken_from_the_solid_is_what_resolving_its_reference_finds(box):
+    from Sketch2CADWorkbench.brep.faces import ResolvedFace, face_ref_of, resolve_face
+    for face in box.Faces():
+        found, held = resolve_face(box, face_ref_of(face)), ResolvedFace.of(face)
+        assert found.face.isSame(held.face) and found.shift == held.shift == 0.0
+        assert (found.normal == held.normal).all()

@@ -178,3 +178,26 @@ def test_dict_form_is_the_documented_schema(examples_dir):
     d = protocol_to_dict(load(examples_dir / "bolt.json"))
     assert d["format"] == "sketch2cad-protocol" and d["version"] == 1 and d["units"] == "mm"
     assert set(d) == {"format", "version", "units", "base", "operations"}
+
+
+def test_a_per_operator_table_missing_an_operator_is_refused_when_made():
+    from Sketch2CADWorkbench.brep.protocol import per_operator
+    whole = {t: t.value for t in OperatorType}
+    assert per_operator(whole, "whole") is whole
+    with pytest.raises(TypeError, match=r"SOME_TABLE: .*missing \['sweep'\]"):
+        per_operator({t: 1 for t in OperatorType if t is not OperatorType.SWEEP}, "SOME_TABLE")
+    with pytest.raises(TypeError, match="not operators"):
+        per_operator({**whole, "extrude": 1}, "SOME_TABLE")
+
+
+def test_every_operator_has_a_dataclass_that_writes_what_it_reads(examples_dir):
+    from Sketch2CADWorkbench.brep.protocol import OPERATIONS, operation_from_dict
+    seen = set()
+    for f in sorted(examples_dir.glob("*.json")):
+        for op in load(f).operations:
+            assert OPERATIONS[op.type] is type(op)
+            d = op.to_dict()
+            assert list(d) == ["type", "face", *op.KEYS]
+            assert operation_from_dict(d) == op
+            seen.add(op.type)
+    assert seen == set(OperatorType)

@@ -7,16 +7,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from Sketch2CADWorkbench.brep.faces import OperationError, face_ref_of, planar_faces
+from Sketch2CADWorkbench.brep.geometry import plane_basis
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Sweep
 
 unit = st.floats(0.0, 1.0)
-
-
-def _frame(n):
-    u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
-    u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
 
 
 @st.composite
@@ -26,7 +21,7 @@ def operation_on(draw, solid):
     face, n, _ = faces[draw(st.integers(0, len(faces) - 1))]
     ref = face_ref_of(face)
     p = np.array(ref.point)
-    u, v = _frame(n)
+    u, v = plane_basis(n)
     size = solid.BoundingBox().DiagonalLength
     kind = draw(st.sampled_from(["extrude", "bevel", "addsub", "sweep"]))
     if kind == "extrude":

@@ -1,12 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Random sequences: valid, deterministic, with the paper's type frequencies and sizes."""
-import cadquery as cq
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from datagen.operations import DIAG, PlanarFace, bevel_corners, change_bound, random_polygon
+from datagen.operations import DIAG, PlanarFace, change_bound, random_polygon
 from datagen.sequences import (
     MIN_VOLUME_CHANGE,
     Stage,
@@ -74,20 +73,6 @@ def test_random_polygons_never_cross_themselves():
                 assert not (o[0] * o[1] < 0 and o[2] * o[3] < 0)
 
 
-def _l_shape() -> cq.Solid:
-    """A 40 x 40 x 10 plate minus its +x+y quarter: the top face has one reflex corner."""
-    plate = cq.Solid.makeBox(40, 40, 10)
-    return plate.cut(cq.Solid.makeBox(20, 20, 10, cq.Vector(20, 20, 0))).Solids()[0]
-
-
-def test_bevel_corners_are_the_convex_corners_with_a_perpendicular_crease():
-    solid = _l_shape()
-    top = next(f for f in solid.Faces() if f.Center().z > 9.9)
-    corners = bevel_corners(solid, top, np.array([0.0, 0.0, 1.0]))
-    got = sorted(tuple(np.round(c.c[:2]).astype(int)) for c in corners)
-    assert got == [(0, 0), (0, 40), (20, 40), (40, 0), (40, 20)]  # not the reflex (20, 20)
-    for c in corners:
-        assert np.allclose(c.opposite, c.c - [0, 0, 10])
 
 
 def test_the_change_bound_is_never_below_the_actual_volume_change():

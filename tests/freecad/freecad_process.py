@@ -44,6 +44,11 @@ def run_script(script: str, tmp_path, gui: bool, timeout: int,
     return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
 
 
+def print_figures(out: subprocess.CompletedProcess) -> None:
+    """Print the script's "FIGURE <name> <value>" lines (shown with pytest -s)."""
+    print("".join(f"\n{line}" for line in out.stdout.splitlines() if line.startswith("FIGURE ")))
+
+
 # FreeCAD 1.0 moves its old Start workbench's settings on the first start of a user config
 # and says so in the report view; the checks' processes end by os._exit, which never saves
 # that it is done. A user's config has done it once: so does the test's, before the GUI runs.

@@ -234,14 +234,19 @@ def test_a_sketch_no_operation_can_be_read_from_is_refused_at_once(strokes, mess
         check_sketch(strokes)
 
 
-def test_a_reading_whose_sketch_lies_far_from_the_strokes_is_flagged():
+def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged():
     from dataclasses import replace as with_
 
-    from Sketch2CADWorkbench.inference.interpret import SKETCH_MISFIT_PX, Interpretation
-    base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None)
-    assert not with_(base, misfit_px=SKETCH_MISFIT_PX).doubtful
-    far = with_(base, misfit_px=SKETCH_MISFIT_PX + 6.2)
-    assert far.doubtful and f"lies {SKETCH_MISFIT_PX + 6.2:.1f} px" in far.doubt()
+    from Sketch2CADWorkbench.inference.interpret import DOUBT, Interpretation, SketchFit
+    ok = SketchFit(**{k: 0.0 for k in SketchFit.MEASURES if k != "confidence"}, confidence=1.0)
+    ok = with_(ok, **{k: v for k, v in DOUBT.items() if k != "confidence"})
+    base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None, fit=ok)
+    assert not base.doubtful and base.doubt() == ""
+    for name, limit in DOUBT.items():
+        far = with_(base, fit=with_(ok, **{name: limit - 0.2 if name == "confidence"
+                                           else limit + 0.2}))
+        assert far.doubtful and far.fit.passed() == [name]
+        assert far.doubt().startswith("the strokes do not look much like this bevel: ")
 
 
 def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):

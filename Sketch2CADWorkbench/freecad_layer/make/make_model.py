@@ -6,7 +6,7 @@ attached only when FreeCAD.GuiUp.
 """
 import FreeCAD
 
-from ...brep.protocol import Box, Operation, Protocol
+from ...brep.protocol import Box, Operation, Protocol, per_operator
 from ..objects.bevel import BevelFeature
 from ..objects.box import BoxFeature
 from ..objects.extrude import ExtrudeFeature
@@ -14,8 +14,9 @@ from ..objects.model import ModelFeature
 from ..objects.prism import PrismFeature
 from ..objects.sweep import SweepFeature
 
-FEATURE_OF_OPERATION = {cls.OPERATION: cls
-                        for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature)}
+FEATURE_OF_OPERATION = per_operator(
+    {cls.OPERATION.type: cls for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature)},
+    "FEATURE_OF_OPERATION")
 DEFAULT_BOX = Box((40.0, 30.0, 20.0))
 
 
@@ -51,7 +52,7 @@ def make_model(doc, box: Box = DEFAULT_BOX, label: str = "Model"):
 
 
 def _new_feature(doc, op: Operation, sketch: str):
-    cls = FEATURE_OF_OPERATION[type(op)]
+    cls = FEATURE_OF_OPERATION[op.type]
     obj = doc.addObject("Part::FeaturePython", cls.kind_of(op))  # Pad, Hole...
     cls(obj)
     obj.Proxy.set_operation(obj, op)

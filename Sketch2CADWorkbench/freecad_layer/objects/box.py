@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The base box every Sketch2CAD model starts from."""
 from ...brep.protocol import Box
-from .feature import Feature, mm
+from .checks import box_side
+from .feature import Feature
 
 
 class BoxFeature(Feature):
@@ -15,7 +16,7 @@ class BoxFeature(Feature):
 
     def box(self, obj) -> Box:
         """The protocol's base box the properties describe."""
-        return Box((mm(obj.Length), mm(obj.Width), mm(obj.Height)))
+        return Box(tuple(box_side(obj, side) for side in ("Length", "Width", "Height")))
 
     def set_box(self, obj, box: Box) -> None:
         """Write a protocol base box into the properties."""

@@ -15,6 +15,7 @@ import FreeCAD
 from ...brep.protocol import FaceRef, describe
 from ..shapes import from_part, to_part
 from ..units import direction, point
+from .checks import refuse_non_finite
 
 GROUP = "Operation"  # property editor group of the operators' parameters
 BASE = "Base"  # where FreeCAD and PartDesign show the links to other features
@@ -108,6 +109,7 @@ class Feature(Proxy):
         raise NotImplementedError
 
     def execute(self, obj):
+        refuse_non_finite(obj)  # NaN or inf typed into a property: say which, not OCCT
         obj.Shape = to_part(self.solid(obj))
 
     def onDocumentRestored(self, obj):
@@ -209,6 +211,9 @@ class OperationFeature(Feature):
         """The base face reference; the normal is normalised unless it already has length 1
         (then it is kept bit for bit, so protocols round-trip exactly)."""
         n = FreeCAD.Vector(obj.FaceNormal)
+        big = max(abs(n.x), abs(n.y), abs(n.z))
+        if big > 1e150:  # the length of (1e300, 1e300, 0) overflows: scale first
+            n = n * (1.0 / big)
         if n.Length < 1e-12:
             raise ValueError(f"{obj.Label}: FaceNormal must not be the zero vector")
         if abs(n.Length - 1.0) > 1e-12:

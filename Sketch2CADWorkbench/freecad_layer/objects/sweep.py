@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep: the solid of revolution of profile c_p between circles c0 and c1; a Revolution
 when it adds, a Groove when it subtracts (as PartDesign names solids of revolution)."""
-from ...brep.protocol import FaceRef, Mode, Sweep
+import math
+
+from ...brep.protocol import Mode, Sweep, retuned_profile
 from ..units import length, point
 from .feature import ALL_KINDS, GROUP, OperationFeature, mm, retype, tup, vec
 from .prism import MODE_TIP, MODES
@@ -17,7 +19,7 @@ ALL_KINDS.extend(SWEEP_KINDS.values())
 
 class SweepFeature(OperationFeature):
     """Editing Radius0, Radius1 or Offset moves the profile's inner control points in
-    proportion (`Sweep.retuned`), as in the paper's parameter tuning, so the shape keeps
+    proportion (`retuned_profile`), as in the paper's parameter tuning, so the shape keeps
     its character instead of kinking."""
 
     TYPE = "Sketch2CAD::Sweep"
@@ -86,17 +88,24 @@ class SweepFeature(OperationFeature):
             return
         last = getattr(self, "_last", None)
         now = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
-        self._last = now
         # Undo, redo and file loading set the profile themselves.
         if "Restore" in obj.State or obj.Document.Transacting or obj.Document.Restoring:
+            self._last = now
             return
-        if last is None or min(last) <= 0 or min(now) <= 0:
+        # NaN, inf or 0 typed in: the step goes into error (checks.py, the core), and the
+        # profile and `_last` stay as they were, so fixing the value restores the step
+        if not _positive(now):
             return
-        face = FaceRef(tup(obj.FacePoint), tup(obj.FaceNormal))  # unused by retuned()
-        new = Sweep(face, tup(obj.Center), *last, self.inner(obj), Mode(obj.Mode)).retuned(*now)
+        if last is None or not _positive(last):
+            self._last = now
+            return
+        profile = retuned_profile(self.inner(obj), last, now)
+        if not all(math.isfinite(c) for p in profile for c in p):
+            return  # near the largest double the profile overflows: keep it
+        self._last = now
         self._tuning = True
         try:
-            self.set_inner(obj, new.profile)
+            self.set_inner(obj, profile)
         finally:
             self._tuning = False
 
@@ -113,3 +122,8 @@ class SweepFeature(OperationFeature):
         finally:
             self._tuning = False
         self._last = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
+
+
+def _positive(values) -> bool:
+    """All values finite and above 0."""
+    return all(math.isfinite(v) and v > 0 for v in values)

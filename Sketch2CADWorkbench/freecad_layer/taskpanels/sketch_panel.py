@@ -13,7 +13,7 @@ from PySide import QtGui
 
 from ...brep.protocol import Mode, Operation, operation_to_dict
 from ..gui_helpers import error, transaction
-from ..networks import predictor
+from ..networks import loading, predictor, when_loaded
 from ..preferences import regularize_default, snap_step, use_network_threads
 from ..shapes import from_part, to_part
 from ..trackers.preview import Preview
@@ -91,6 +91,10 @@ class SketchPanel:
         self.snap_buttons = []
         if feature is not None:
             self._open_feature()
+        if loading():  # started with the workbench (freecad_layer/networks.py)
+            self.text.setHtml(tr("<i>Loading networks…</i> You can draw meanwhile."))
+            when_loaded(lambda: self.text.toPlainText().startswith(tr("Loading networks"))
+                        and self.text.setHtml(tr("Networks ready.")), self.text)
 
     def _build_form(self):
         w = QtGui.QWidget()
@@ -231,9 +235,6 @@ class SketchPanel:
             self.interpret()
 
     def interpret(self):
-        from ...inference.interpret import InterpretError, interpret
-        from ...inference.session import SketchStep
-        from ..make.make_model import FEATURE_OF_OPERATION
         strokes, camera = self.capture.result()
         self.result = self.step = None
         self.preview.show(None)
@@ -242,6 +243,13 @@ class SketchPanel:
             self.text.setHtml(tr("<b>No strokes yet.</b> Draw over the model first."))
             return
         options = self.options()
+        if loading():
+            self.text.setHtml(tr("<i>Loading networks…</i> The reading follows when they "
+                                 "are ready."))
+            self.text.repaint()  # the imports and predictor() below wait for the load
+        from ...inference.interpret import InterpretError, interpret
+        from ...inference.session import SketchStep
+        from ..make.make_model import FEATURE_OF_OPERATION
         try:
             solid = self._base_solid()
             networks = predictor()
@@ -253,7 +261,7 @@ class SketchPanel:
             return
         self.result, self.step = r, SketchStep(camera, strokes, options)
         probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
-        lines = "".join(f"<li>{FEATURE_OF_OPERATION[type(op)].reading(op)}</li>"
+        lines = "".join(f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>"
                         for op in r.operations)
         other = ""
         if r.other_option is not None:  # a boss and a hole that draw the same lines
@@ -265,7 +273,7 @@ class SketchPanel:
         done = tr("OK adds it to the model.") if self.feature is None else \
             tr("OK applies it to {}.").format(self.feature.Label)
         first = r.operations[0]
-        kind = FEATURE_OF_OPERATION[type(first)].kind_of(first)
+        kind = FEATURE_OF_OPERATION[first.type].kind_of(first)
         self.text.setHtml(f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
                           f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
         self.preview.show(to_part(r.solid))

@@ -2,11 +2,17 @@
 """Capturing freehand strokes over the 3D view, drawn as an overlay while drawing.
 
 Left-drag draws a stroke; Enter finishes; Escape cancels; the other buttons and the wheel
-still navigate. The events are taken by an SoEventCallback placed first under the
-viewer's root, with the viewer redirecting events to the scene graph: otherwise
-navigation styles such as Gesture eat left drags, and FreeCAD's selection node (which
-selects on button release, and is what view.addEventCallbackPivy sits under) eats the
-release that ends a stroke. The overlay is an SoAnnotation, so the model never hides it.
+still navigate. The mouse is read by a Qt event filter on the view's viewport, before
+Coin sees it: each move costs a point, not a pass through the scene graph, and the
+overlay is updated once per turn of the event loop, so the view redraws at its own rate
+while every move is kept. While the left button is down Qt's merging of queued mouse
+moves (AA_CompressHighFrequencyEvents, on by default on X11) is off: with it, a view
+that renders slowly (software OpenGL) received a quarter of the moves and circles came
+out as polygons (docs/NOTES.md). Left presses, moves and releases and the hover moves
+never reach Coin, so navigation styles do not take left drags and faces do not
+pre-highlight while drawing. Enter and Escape come through an SoEventCallback placed
+first under the viewer's root, with the viewer redirecting events to the scene graph.
+The overlay is an SoAnnotation, so the model never hides it.
 
 Each stroke point is kept in world coordinates, on the camera's focal plane at the time
 it was drawn. `result()` projects them with the camera of that moment, so zooming or
@@ -14,11 +20,10 @@ panning between strokes keeps them where they were drawn over the model.
 """
 import numpy as np
 from pivy import coin
-from PySide import QtCore
+from PySide import QtCore, QtGui
 
-from .view_camera import to_pixels, view_camera
+from .view_camera import from_qt, view_camera
 
-EVENTS = (coin.SoMouseButtonEvent, coin.SoLocation2Event, coin.SoKeyboardEvent)
 FINISH_KEYS = (coin.SoKeyboardEvent.RETURN, coin.SoKeyboardEvent.PAD_ENTER)
 COLOUR = (1.0, 0.55, 0.0)  # orange: the paper's sketch colour, visible on grey models
 LINE_WIDTH = 3.0  # pixels
@@ -40,12 +45,12 @@ class StrokeCapture:
         self.on_finish, self.on_cancel = on_finish, on_cancel
         self.strokes: list[list[np.ndarray]] = []  # world points (mm), one list per stroke
         self.drawing = False
+        self.redraw_pending = False
         view_camera(view)  # fails now, before anything is installed, if the view is perspective
         self.was_redirected = view.getViewer().isRedirectedToSceneGraph()
         view.getViewer().setRedirectToSceneGraph(True)
         self.events = coin.SoEventCallback()
-        for kind in EVENTS:
-            self.events.addEventCallback(kind.getClassTypeId(), self.event)
+        self.events.addEventCallback(coin.SoKeyboardEvent.getClassTypeId(), self.key)
         self.top = view.getViewer().getSoRenderManager().getSceneGraph()
         self.top.insertChild(self.events, 0)
         self.root = coin.SoAnnotation()
@@ -59,43 +64,56 @@ class StrokeCapture:
             self.root.addChild(node)
         self.graph = view.getSceneGraph()  # after the camera, unlike the root's first child
         self.graph.addChild(self.root)
+        self.viewport = view.graphicsView().viewport()
+        self.mouse = _MouseFilter(self)
+        self.viewport.installEventFilter(self.mouse)
+        self.compressing = QtGui.QApplication.testAttribute(
+            QtCore.Qt.AA_CompressHighFrequencyEvents)
 
-    def _world(self, position) -> np.ndarray:
-        """A Coin mouse position as the world point under it on the focal plane (mm)."""
+    def _world(self, pixel) -> np.ndarray:
+        """A core pixel (origin top-left) as the world point under it on the focal plane (mm)."""
         cam = view_camera(self.view)
         depth = self.view.getCameraNode().focalDistance.getValue()
-        return cam.unproject(to_pixels([position], cam.height), depth)[0]
+        return cam.unproject(np.array([pixel], float), depth)[0]
 
-    def event(self, _userdata, event_cb):
-        """The Coin event callback: left button strokes, Enter and Escape."""
+    def press(self, pixel) -> None:
+        """The left button went down at a core pixel: a stroke begins."""
+        self.strokes.append([self._world(pixel)])
+        self.drawing = True
+        # every queued move is kept until the release (see the module's docstring)
+        QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents, False)
+
+    def move(self, pixel) -> None:
+        """The mouse moved to a core pixel while drawing."""
+        self.strokes[-1].append(self._world(pixel))
+        if not self.redraw_pending:  # one overlay update per turn of the event loop
+            self.redraw_pending = True
+            QtCore.QTimer.singleShot(0, self.redraw)
+
+    def release(self) -> None:
+        """The left button went up: the stroke ends (a click is not a stroke)."""
+        self.drawing = False
+        QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
+                                        self.compressing)
+        if len(self.strokes[-1]) < 2:
+            self.strokes.pop()
+        self.redraw()
+
+    def key(self, _userdata, event_cb):
+        """The Coin keyboard callback: Enter finishes, Escape cancels."""
         ev = event_cb.getEvent()
-        if ev.isOfType(coin.SoMouseButtonEvent.getClassTypeId()):
-            if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
-                return  # navigation keeps the other buttons and the wheel
-            if ev.getState() == coin.SoButtonEvent.DOWN:
-                self.strokes.append([self._world(_xy(ev.getPosition()))])
-                self.drawing = True
-            elif self.drawing:
-                self.drawing = False
-                if len(self.strokes[-1]) < 2:
-                    self.strokes.pop()  # a click, not a stroke
-                self.redraw()
+        if ev.getState() != coin.SoButtonEvent.DOWN:
+            return
+        if ev.getKey() in FINISH_KEYS:
             event_cb.setHandled()
-        elif ev.isOfType(coin.SoLocation2Event.getClassTypeId()) and self.drawing:
-            self.strokes[-1].append(self._world(_xy(ev.getPosition())))
-            self.redraw()
+            QtCore.QTimer.singleShot(0, self.on_finish)
+        elif ev.getKey() == coin.SoKeyboardEvent.ESCAPE:
             event_cb.setHandled()
-        elif ev.isOfType(coin.SoKeyboardEvent.getClassTypeId()) \
-                and ev.getState() == coin.SoButtonEvent.DOWN:
-            if ev.getKey() in FINISH_KEYS:
-                event_cb.setHandled()
-                QtCore.QTimer.singleShot(0, self.on_finish)
-            elif ev.getKey() == coin.SoKeyboardEvent.ESCAPE:
-                event_cb.setHandled()
-                QtCore.QTimer.singleShot(0, self.on_cancel)
+            QtCore.QTimer.singleShot(0, self.on_cancel)
 
     def redraw(self) -> None:
         """Update the overlay's coordinates (only fields change: safe inside a callback)."""
+        self.redraw_pending = False
         points = [tuple(p) for s in self.strokes for p in s]
         counts = [len(s) for s in self.strokes]
         self.coords.point.setValues(0, len(points), points)
@@ -121,12 +139,43 @@ class StrokeCapture:
 
     def remove(self) -> None:
         """Stop capturing; the nodes are taken away once outside any event handler."""
+        self.viewport.removeEventFilter(self.mouse)
+        if self.drawing:  # removed with the button down: Qt merges moves again
+            QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
+                                            self.compressing)
+            self.drawing = False
         self.view.getViewer().setRedirectToSceneGraph(self.was_redirected)
         top, events, graph, root = self.top, self.events, self.graph, self.root
         QtCore.QTimer.singleShot(0, lambda: (top.removeChild(events), graph.removeChild(root)))
 
 
-def _xy(position) -> tuple:
-    """An SbVec2s as (x, y): indexing works in every pivy, while getValue() returns an
-    opaque SWIG pointer in FreeCAD 1.1's."""
-    return float(position[0]), float(position[1])
+class _MouseFilter(QtCore.QObject):
+    """The viewport's mouse events for a StrokeCapture (see the module's docstring)."""
+
+    def __init__(self, capture: StrokeCapture):
+        super().__init__()
+        self.capture = capture
+
+    def eventFilter(self, widget, event) -> bool:
+        kind, c = event.type(), self.capture
+        # a quick second stroke begins with a double-click event, not FreeCAD's double-click
+        if kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick) \
+                and event.button() == QtCore.Qt.LeftButton:
+            c.press(_pixel(widget, event))
+            return True
+        if kind == QtCore.QEvent.MouseMove and c.drawing:
+            c.move(_pixel(widget, event))
+            return True
+        if kind == QtCore.QEvent.MouseButtonRelease and event.button() == QtCore.Qt.LeftButton:
+            if c.drawing:
+                c.release()
+            return True
+        # hover moves too: no pre-highlighting of faces while drawing; moves with another
+        # button down (navigation) go on to Coin
+        return kind == QtCore.QEvent.MouseMove and event.buttons() == QtCore.Qt.NoButton
+
+
+def _pixel(widget, event) -> tuple:
+    """A Qt mouse event's position (device-independent pixels) as a core pixel."""
+    pos = event.position() if hasattr(event, "position") else event.localPos()  # Qt6 / Qt5
+    return from_qt((pos.x(), pos.y()), widget.devicePixelRatioF())

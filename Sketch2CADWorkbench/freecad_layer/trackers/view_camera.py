@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """FreeCAD's 3D view camera as the core's OrthoCamera, and mouse positions as its pixels.
 
-Coin reports mouse positions in integer pixels with the origin at the bottom-left; the
-core's pixels have the origin at the top-left corner and pixel centres at +0.5.
+Coin reports mouse positions in integer pixels with the origin at the bottom-left, Qt in
+device-independent pixels with the origin at the top-left; the core's pixels are device
+pixels with the origin at the top-left corner and pixel centres at +0.5.
 """
 import numpy as np
 from pivy import coin
@@ -53,3 +54,9 @@ def to_pixels(points, height: int) -> np.ndarray:
     """
     p = np.asarray(points, float).reshape(-1, 2)
     return np.stack([p[:, 0] + 0.5, height - p[:, 1] - 0.5], axis=1)
+
+
+def from_qt(position, device_pixel_ratio: float) -> tuple:
+    """A Qt mouse position (device-independent pixels, origin top-left) as a core pixel."""
+    x, y = position
+    return x * device_pixel_ratio + 0.5, y * device_pixel_ratio + 0.5

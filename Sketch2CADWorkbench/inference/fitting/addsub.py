@@ -18,9 +18,8 @@ from .common import (
     stroke_pixels,
 )
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
-from .primitive import choose_option, face_outline
+from .primitive import choose_option
 from .refine import refine_prism
-from .regularize import regularize_polygon
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
 # length matches. Strokes at the paper's noise level 3 (endpoints moved by 4.1% of the
@@ -47,8 +46,7 @@ def _simple_fit(corners: np.ndarray, strokes: list[np.ndarray]) -> np.ndarray:
 
 
 def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], regularize: bool = True,
-              option: Mode | None = None) -> AddSubPrism:
+              labels: list[int], option: Mode | None = None) -> AddSubPrism:
     """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2).
 
     N is the number of profile strokes; N-gons are fitted to the start and end strokes
@@ -60,7 +58,6 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     Args:
         solid, face, camera: the context solid, base face f and context camera.
         strokes, labels: the strokes (context pixels) and their classes by counting.
-        regularize: snap and rectify the base polygon (paper's modeling aid).
         option: force the Boolean (the user's choice); None decides from the strokes.
     Raises:
         FitError: not 3 to 6 profile strokes, a missing outline, neither outline on f,
@@ -100,7 +97,5 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     if d_refined > 0 and is_simple(refined) and _shortest_side(refined) >= MIN_SIDE_PX:
         base3d = camera.back_project_to_plane(refined, frame.origin, frame.normal)
         d = d_refined
-    if regularize:  # after the line search, which must see the polygon as drawn
-        base3d = frame.to_3d(regularize_polygon(frame.to_2d(base3d), face_outline(face, frame)))
     return AddSubPrism(face_ref_of(face), tuple(tuple(map(float, p)) for p in base3d),
                        float(d), mode)

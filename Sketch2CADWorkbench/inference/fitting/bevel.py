@@ -5,6 +5,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
+from ...brep.corners import crease_end, line_edges
 from ...brep.faces import face_ref_of, model_scale
 from ...brep.protocol import Bevel
 from ...render.camera import OrthoCamera
@@ -12,11 +13,6 @@ from .common import FaceFrame, FitError, fit_bezier, resample
 
 # How far (relative to the model diagonal) a profile end may lie from an edge of f.
 EDGE_TOL = 0.08
-
-
-def _line_edges(face: cq.Face) -> list[tuple[np.ndarray, np.ndarray]]:
-    return [(np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple()))
-            for e in face.Edges() if e.geomType() == "LINE"]
 
 
 def _corner_for(pts: np.ndarray, edges, scale: float
@@ -53,21 +49,6 @@ def _on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray
     t = float(np.clip((p - a) @ ab / (ab @ ab), 0.02, 0.98))
     q = a + t * ab
     return q, float(np.linalg.norm(p - q))
-
-
-def _crease_end(solid: cq.Shape, corner: np.ndarray, normal: np.ndarray, tol: float) -> np.ndarray:
-    """c': the far end of the solid's straight edge leaving c along -n_f."""
-    for e in solid.Edges():
-        if e.geomType() != "LINE":
-            continue
-        a, b = np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())
-        for p, q in ((a, b), (b, a)):
-            if np.linalg.norm(p - corner) < tol:
-                d = q - p
-                if float(d @ normal) / np.linalg.norm(d) < -0.999:
-                    return q
-    raise FitError("bevel: the corner has no edge running into the solid along the face "
-                   "normal, so there is no crease to round")
 
 
 def _inside_wedge(ctrl: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -108,8 +89,11 @@ def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         pts = camera.back_project_to_plane(resample(profile_stroke), frame.origin, frame.normal)
     except ValueError as e:
         raise FitError(f"bevel: {e}") from None
-    corner, (qa, qb) = _corner_for(pts, _line_edges(face), scale)
-    opposite = _crease_end(solid, corner, frame.normal, 1e-6 * scale)
+    corner, (qa, qb) = _corner_for(pts, line_edges(face), scale)
+    opposite = crease_end(solid, corner, frame.normal, 1e-6 * scale)
+    if opposite is None:
+        raise FitError("bevel: the corner has no edge running into the solid along the face "
+                       "normal, so there is no crease to round")
     ctrl2 = fit_bezier(frame.to_2d(pts), frame.to_2d(qa)[0], frame.to_2d(qb)[0])
     ctrl = frame.to_3d(_inside_wedge(ctrl2, frame.to_2d(corner)[0]))
     return Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),

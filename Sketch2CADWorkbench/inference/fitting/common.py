@@ -12,7 +12,7 @@ import cadquery as cq
 import numpy as np
 from scipy import ndimage
 
-from ...brep.geometry import bezier, plane_basis
+from ...brep.geometry import arc_lengths, bezier, plane_basis, resample_every
 from ...render.camera import OrthoCamera
 
 
@@ -44,16 +44,12 @@ class FaceFrame:
 
 
 def resample(polyline: np.ndarray, step: float = 1.0) -> np.ndarray:
-    """Points every `step` pixels along a polyline (its ends included), (K, 2)."""
+    """Points every `step` pixels along a stroke (its ends included), (K, 2); a stroke of
+    one point, or of no length, is that one point."""
     p = np.asarray(polyline, float)
-    if len(p) < 2:
-        return p.copy()
-    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
-    s = np.concatenate([[0.0], np.cumsum(seg)])
-    if s[-1] == 0:
+    if len(p) < 2 or arc_lengths(p)[-1] == 0:
         return p[:1].copy()
-    t = np.linspace(0.0, s[-1], max(int(np.ceil(s[-1] / step)) + 1, 2))
-    return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], axis=1)
+    return resample_every(p, step)
 
 
 def sample_map(img: np.ndarray, pts: np.ndarray) -> np.ndarray:

@@ -21,6 +21,10 @@ from .common import (
 # Mean distance (px) between the moved face's edges and the offset strokes above which
 # the strokes are not read as an extrusion of f.
 MAX_MISMATCH_PX = 12.0
+# Samples along f's edges at most (one per context pixel below that): the line search
+# scores every candidate offset at every sample, so a face far larger than the context
+# (its edges run far out of the frame) must not multiply its cost.
+MAX_EDGE_SAMPLES = 4096
 # Views closer than this to head-on (|cos| of the angle between n_f and the view) show
 # no extrusion depth.
 HEAD_ON_COS = 0.995
@@ -55,7 +59,8 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
                        "turn the view")
     scale = model_scale(solid)
     field = DistanceField(stroke_pixels(offset_strokes, (camera.height, camera.width)))
-    points = edge_samples(face, spacing=camera.pixel_size)
+    perimeter = sum(e.Length() for e in face.Edges())
+    points = edge_samples(face, spacing=max(camera.pixel_size, perimeter / MAX_EDGE_SAMPLES))
     cands = search_range(scale)
     cands = cands[np.abs(cands) > 1e-9]  # d = 0 is no operation
     sides = None

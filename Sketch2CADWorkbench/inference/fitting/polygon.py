@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...brep.geometry import crossing_sides
 from .common import FitError, resample
 
 
@@ -60,19 +61,7 @@ def fit_polygon(initial: np.ndarray, strokes: list[np.ndarray], iterations: int 
 
 def is_simple(poly: np.ndarray) -> bool:
     """True when no two non-adjacent sides of the polygon cross."""
-    n = len(poly)
-
-    def orient(p, q, r):
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
-
-    for i in range(n):
-        for j in range(i + 2, n):
-            if i == 0 and j == n - 1:
-                continue
-            a, b, c, d = poly[i], poly[(i + 1) % n], poly[j], poly[(j + 1) % n]
-            if orient(a, b, c) * orient(a, b, d) < 0 and orient(c, d, a) * orient(c, d, b) < 0:
-                return False
-    return True
+    return crossing_sides(poly) is None
 
 
 def profile_ends(profile_strokes: list[np.ndarray], start_strokes: list[np.ndarray],

@@ -10,7 +10,6 @@ from ...brep.faces import points_on_face
 from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FaceFrame, FitError
-from .regularize import FaceOutline
 
 # Fraction of a back-projected outline's samples on f for it to lie on f; below it, an
 # outline that is mostly on f still decides when the other one is less so.
@@ -24,27 +23,6 @@ COVER_FRACTION = 0.5
 # 42; naming it at 0.25 / 0.5 / 0.75 / 0.9 does so for 59 / 42 / 23 / 14% of the prisms
 # and covers 42 / 37 / 28 / 15 of the 42 (`sketch2cad option-scan data/test-l1`).
 OTHER_FRACTION = 0.5
-
-
-def face_outline(face: cq.Face, frame: FaceFrame) -> FaceOutline:
-    """The base face's corners, straight-edge directions and centre in its 2D frame."""
-    corners = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))
-    dirs, mids = [], []
-    for e in face.Edges():
-        if e.geomType() != "LINE":
-            continue
-        a, b = frame.to_2d(np.array([e.startPoint().toTuple(), e.endPoint().toTuple()]))
-        dirs.append((b - a) / np.linalg.norm(b - a))
-        mids.append((a + b) / 2)
-    outer = frame.to_2d(np.array([v.toTuple() for v in face.outerWire().Vertices()]))
-    span = outer if len(outer) > 1 else corners
-    diameter = float(np.max(np.linalg.norm(span[:, None] - span[None], axis=2))) if len(span) > 1 \
-        else float(np.sqrt(face.Area()))
-    if diameter == 0:  # a face bounded by one closed curve (a disc): use its size
-        bb = face.BoundingBox()
-        diameter = float(bb.DiagonalLength)
-    return FaceOutline(corners, np.array(dirs).reshape(-1, 2), np.array(mids).reshape(-1, 2),
-                       frame.to_2d(np.array(face.Center().toTuple()))[0], diameter)
 
 
 def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:

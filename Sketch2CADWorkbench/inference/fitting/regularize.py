@@ -21,51 +21,12 @@ from dataclasses import dataclass, replace
 import cadquery as cq
 import numpy as np
 
-from ...brep.protocol import AddSubPrism, Extrude, Operation, Sweep
+from ...brep.protocol import AddSubPrism, Bevel, Extrude, Operation, OperatorType, Sweep, per_operator
 from ...render.camera import OrthoCamera
 from .common import FaceFrame
 
-SNAP_FRACTION = 0.10
 ANGLE_TOL_DEG = 20.0
 LENGTH_TOL = 0.20
-
-
-@dataclass(frozen=True)
-class FaceOutline:
-    """The base face in its plane's 2D frame: corners, straight-edge directions, centre."""
-
-    corners: np.ndarray        # (K, 2) vertices of f
-    edge_dirs: np.ndarray      # (E, 2) unit directions of f's straight edges
-    midpoints: np.ndarray      # (E, 2) midpoints of f's straight edges
-    center: np.ndarray         # (2,) centroid of f
-    diameter: float            # largest distance between two corners, mm
-
-    def key_points(self) -> np.ndarray:
-        """Corners, edge midpoints and the centre: where sketched primitives snap."""
-        return np.concatenate([self.corners, self.midpoints, self.center[None]])
-
-
-def snap_point(p: np.ndarray, outline: FaceOutline) -> np.ndarray:
-    """The nearest key point of f if within 10% of f's diameter, else p itself."""
-    keys = outline.key_points()
-    dist = np.linalg.norm(keys - p, axis=1)
-    k = int(np.argmin(dist))
-    return keys[k].copy() if dist[k] <= SNAP_FRACTION * outline.diameter else p
-
-
-def snap_polygon(poly: np.ndarray, outline: FaceOutline) -> np.ndarray:
-    """Translate a polygon so its centre or one of its corners meets the nearest key point.
-
-    Of all (polygon point, key point) pairs within the snapping distance, the closest
-    pair decides the translation; the shape is unchanged.
-    """
-    ours = np.concatenate([poly.mean(axis=0)[None], poly])
-    keys = outline.key_points()
-    dist = np.linalg.norm(ours[:, None] - keys[None], axis=2)
-    i, k = np.unravel_index(np.argmin(dist), dist.shape)
-    if dist[i, k] > SNAP_FRACTION * outline.diameter:
-        return poly
-    return poly + (keys[k] - ours[i])
 
 
 def _angles(poly: np.ndarray) -> np.ndarray:
@@ -128,14 +89,15 @@ def equalize(poly: np.ndarray) -> np.ndarray:
     return local @ rot.T + center
 
 
-def align_to_edges(poly: np.ndarray, outline: FaceOutline) -> np.ndarray:
+def align_to_edges(poly: np.ndarray, edge_dirs: np.ndarray) -> np.ndarray:
     """Rotate the polygon about its centre so that its side closest in direction to
-    an edge of f becomes parallel to it, when within 20 degrees."""
-    if len(outline.edge_dirs) == 0:
+    an edge of f (`edge_dirs`: (E, 2) unit directions) becomes parallel to it, when
+    within 20 degrees."""
+    if len(edge_dirs) == 0:
         return poly
     sides = np.roll(poly, -1, axis=0) - poly
     sang = np.arctan2(sides[:, 1], sides[:, 0])
-    eang = np.arctan2(outline.edge_dirs[:, 1], outline.edge_dirs[:, 0])
+    eang = np.arctan2(edge_dirs[:, 1], edge_dirs[:, 0])
     diff = (eang[None, :] - sang[:, None] + np.pi / 2) % np.pi - np.pi / 2  # mod 180 deg
     i, j = np.unravel_index(np.argmin(np.abs(diff)), diff.shape)
     delta = float(diff[i, j])
@@ -144,11 +106,6 @@ def align_to_edges(poly: np.ndarray, outline: FaceOutline) -> np.ndarray:
     c = poly.mean(axis=0)
     rot = np.array([[np.cos(delta), -np.sin(delta)], [np.sin(delta), np.cos(delta)]])
     return (poly - c) @ rot.T + c
-
-
-def regularize_polygon(poly: np.ndarray, outline: FaceOutline) -> np.ndarray:
-    """Equalize, then align with f's edges, then snap to f's key points."""
-    return snap_polygon(align_to_edges(equalize(poly), outline), outline)
 
 
 # ---------------------------------------------------------------- intent-aware snapping
@@ -392,15 +349,23 @@ def _snap_rectangle_sides(poly: np.ndarray, s: _Snapper, sizes) -> np.ndarray:
     return c + np.outer(local @ ua * na / a, ua) + np.outer(local @ ub * nb / b, ub)
 
 
+def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extrude:
+    """d snaps to an earlier size or the grid."""
+    return replace(op, d=s.length("d", op.d, s.frame.normal, targets.sizes))
+
+
+def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
+    """A bevel's corner and crease are f's own; its profile stays as drawn."""
+    return op
+
+
 def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> AddSubPrism:
     """Rectify the base polygon and align it with f's edges (the paper's angle and length
     thresholds), snap a rectangle's sides, then its position, then d."""
     frame = s.frame
     poly = frame.to_2d(np.array(op.polygon, float))
-    outline = FaceOutline(np.zeros((0, 2)), np.array([d for _, d, nm in targets.lines
-                                                      if nm == "a face edge"]).reshape(-1, 2),
-                          np.zeros((0, 2)), np.zeros(2), 0.0)
-    for key, rectify in (("shape", equalize), ("align", lambda p: align_to_edges(p, outline))):
+    edge_dirs = np.array([d for _, d, nm in targets.lines if nm == "a face edge"]).reshape(-1, 2)
+    for key, rectify in (("shape", equalize), ("align", lambda p: align_to_edges(p, edge_dirs))):
         if key not in s.skip:
             new = rectify(poly)
             if np.max(np.linalg.norm(new - poly, axis=1)) > 1e-9:
@@ -445,6 +410,12 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
     return replace(op, center=tuple(map(float, frame.to_3d(c)[0])))
 
 
+_REGULARIZE = per_operator({OperatorType.EXTRUDE: _regularize_extrude,
+                            OperatorType.BEVEL: _regularize_bevel,
+                            OperatorType.ADDSUB: _regularize_prism,
+                            OperatorType.SWEEP: _regularize_sweep}, "_REGULARIZE")
+
+
 def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: OrthoCamera,
                          step: float = 0.0, tol_px: float = SNAP_PX,
                          skip: frozenset[str] = frozenset()) -> Regularized:
@@ -462,11 +433,5 @@ def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: Or
     """
     frame = FaceFrame.of(face)
     s = _Snapper(frame, view, tol_px, step, frozenset(skip))
-    if isinstance(op, Extrude):
-        op = replace(op, d=s.length("d", op.d, frame.normal,
-                                    snap_targets(solid, face, frame).sizes))
-    elif isinstance(op, AddSubPrism):
-        op = _regularize_prism(op, s, snap_targets(solid, face, frame))
-    elif isinstance(op, Sweep):
-        op = _regularize_sweep(op, s, snap_targets(solid, face, frame))
+    op = _REGULARIZE[op.type](op, s, snap_targets(solid, face, frame))
     return Regularized(op, tuple(s.snaps))

@@ -10,6 +10,7 @@ this machine's budget often do) need not lose a clear sketch.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ...render.camera import OrthoCamera
 from ...sketch.labels import END, PROFILE, START
@@ -76,8 +77,8 @@ def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple
 
 
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
-                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX)
-                 ) -> list[int]:
+                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX),
+                 sides: int | None = None) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
@@ -89,6 +90,13 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     is an outline and joins the end of the profiles it touches: an open stroke by its
     two end points, a closed one by passing through all of that end's points; of two
     closed outlines (a sweep's circles), the one centred lower along n_f is the start.
+
+    With `sides` (a prism drawn with all its edges has three strokes per side), a
+    group of alike chords larger than that keeps the `sides` chords nearest the group's
+    median: outline sides that run along n_f's image and happen to match the side
+    edges' length within the tolerance would otherwise join the profiles; and when the
+    other strokes are 2 * `sides` open ones, the `sides` nearest the profiles' start
+    ends are the start outline and the rest the end outline.
 
     A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
     on its two closed strokes (`_two_circles`).
@@ -113,11 +121,19 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         share, px = same_chord
         keys = list(chords)
         vec = np.array([chords[k][1] - chords[k][0] for k in keys])         # (m, 2)
-        # the largest group of chords alike (each within share of one's length plus px)
-        near = np.linalg.norm(vec[None] - vec[:, None], axis=2) \
-            <= share * np.linalg.norm(vec, axis=1)[:, None] + px           # (m, m)
-        best = int(np.argmax(near.sum(axis=1)))
-        chords = {k: chords[k] for k, kept in zip(keys, near[best]) if kept}
+        # the largest group of chords alike (each within share of one's length plus px);
+        # a k-d tree counts each chord's neighbours without comparing every pair
+        radii = share * np.linalg.norm(vec, axis=1) + px
+        tree = cKDTree(vec)
+        best = int(np.argmax(tree.query_ball_point(vec, radii, return_length=True)))
+        kept = np.zeros(len(keys), bool)
+        kept[tree.query_ball_point(vec[best], radii[best])] = True
+        if sides is not None and kept.sum() > sides:
+            gap = np.linalg.norm(vec - np.median(vec[kept], axis=0), axis=1)
+            nearest = np.argsort(np.where(kept, gap, np.inf))[:sides]
+            kept = np.zeros_like(kept)
+            kept[nearest] = True
+        chords = {k: chords[k] for k, keep in zip(keys, kept) if keep}
     if not chords and not prism:
         return _two_circles(strokes, n2)
     if not chords:
@@ -126,27 +142,33 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     starts = np.array([a for a, _ in chords.values()])
     ends = np.array([b for _, b in chords.values()])
 
-    def gap(points: np.ndarray, cloud: np.ndarray) -> float:
-        """Summed distance from each point to its nearest point of the cloud."""
-        return float(np.min(np.linalg.norm(points[:, None] - cloud[None], axis=2), axis=1).sum())
+    start_tree, end_tree = cKDTree(starts), cKDTree(ends)
 
-    closed = {}  # stroke index -> (gap to the start points, gap to the end points)
-    for k, s in enumerate(strokes):
-        if roles[k] is not None:
-            continue
-        p = np.asarray(s, float)
-        if _closed(p):
-            # a closed outline passes through all the profile ends of its side: a short
-            # sweep's two ellipses cross each other, so one nearest point would not do
-            q = resample(p)
-            closed[k] = (gap(starts, q), gap(ends, q))
-        else:  # an open outline (a prism's side) runs between two ends of its side
-            ends_of = p[[0, -1]]
-            roles[k] = START if gap(ends_of, starts) <= gap(ends_of, ends) else END
+    def gap(points: np.ndarray, cloud: cKDTree) -> np.ndarray:
+        """Summed distance from each pair of points (..., 2, 2) to the nearest points of
+        the cloud."""
+        return cloud.query(points)[0].sum(axis=-1)
+
+    others = [k for k in range(len(strokes)) if roles[k] is None]
+    closed = [k for k in others if _closed(np.asarray(strokes[k], float))]
+    opened = sorted(set(others) - set(closed))
+    # an open outline (a prism's side) runs between two ends of its side
+    pairs = np.array([np.asarray(strokes[k], float)[[0, -1]] for k in opened]).reshape(-1, 2, 2)
+    lean = gap(pairs, end_tree) - gap(pairs, start_tree) if opened else []
+    leaning = dict(zip(opened, map(float, lean)))  # how much nearer the start ends
+    if sides is not None and len(leaning) == 2 * sides:
+        # all edges drawn: `sides` sides of each outline, the most start-like ones start
+        ranked = sorted(leaning, key=lambda k: -leaning[k])
+        leaning = {k: (1.0 if i < sides else -1.0) for i, k in enumerate(ranked)}
+    for k, lean in leaning.items():
+        roles[k] = START if lean >= 0 else END
     if len(closed) == 2:  # a sweep's two circles, ordered by their centres along n_f
         a, b = closed
         roles[a], roles[b] = _ordered(strokes, a, b, n2)
     else:
-        for k, (s_gap, e_gap) in closed.items():
-            roles[k] = START if s_gap <= e_gap else END
+        for k in closed:
+            # a closed outline passes through all the profile ends of its side: a short
+            # sweep's two ellipses cross each other, so one nearest point would not do
+            q = cKDTree(resample(np.asarray(strokes[k], float)))
+            roles[k] = START if q.query(starts)[0].sum() <= q.query(ends)[0].sum() else END
     return [int(r) for r in roles]

@@ -12,15 +12,11 @@ from ...brep.faces import face_ref_of, model_scale
 from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FaceFrame, FitError, fit_bezier, resample
-from .primitive import choose_option, face_outline
-from .regularize import LENGTH_TOL, snap_point
+from .primitive import choose_option
 
 # Inner control points of a fitted profile must lie within this share of d beyond the
 # circles' planes, and within this multiple of the larger radius from the axis.
 PROFILE_SLACK, PROFILE_MAX_R = 0.1, 2.0
-# A profile whose inner control points stay within this fraction of d from the straight
-# line between its ends is "nearly linear" (rectified to a cylinder or cone).
-STRAIGHT_TOL = 0.08
 
 
 @dataclass(frozen=True)
@@ -86,14 +82,12 @@ def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.n
 
 
 def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], regularize: bool = True, option: Mode | None = None) -> Sweep:
+              labels: list[int], option: Mode | None = None) -> Sweep:
     """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1).
 
     Args:
         solid, face, camera: the context solid, base face f and context camera.
         strokes, labels: the strokes (context pixels) and their classes by counting.
-        regularize: snap c0's centre to f's key points and rectify a nearly straight
-            profile to a cone, or to a cylinder when the radii are within 20%.
         option: force the Boolean (the user's choice); None decides from the strokes.
     Raises:
         FitError: a missing circle outline, neither outline on f, an axis seen end-on,
@@ -132,13 +126,5 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     else:  # no profile drawn: the straight one
         mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
     mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))  # keep c_p off the axis
-    if regularize:
-        snapped = snap_point(frame.to_2d(c0)[0], face_outline(face, frame))
-        c0 = frame.to_3d(snapped[None])[0]
-        chord = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
-        if np.max(np.linalg.norm(mid - chord, axis=1)) <= STRAIGHT_TOL * d:
-            if abs(r0 - r1) <= LENGTH_TOL * (r0 + r1) / 2:
-                r0 = r1 = (r0 + r1) / 2
-            mid = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
     return Sweep(face_ref_of(face), tuple(map(float, c0)), float(r0), float(r1), float(d),
                  tuple(tuple(map(float, p)) for p in mid), mode)

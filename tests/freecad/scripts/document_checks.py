@@ -263,9 +263,9 @@ def parameters_are_quantities_in_the_users_units():
     try:
         FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
         for op in example("hammer").operations:
-            text = FEATURE_OF_OPERATION[type(op)].reading(op)
+            text = FEATURE_OF_OPERATION[op.type].reading(op)
             assert " in" in text and " mm" not in text and "f[n=" not in text, text
-        pad = FEATURE_OF_OPERATION[type(example("hammer").operations[2])].reading(
+        pad = FEATURE_OF_OPERATION[example("hammer").operations[2].type].reading(
             example("hammer").operations[2])
         assert pad.startswith("Pad: the face moved out by 0.20 in"), pad
     finally:

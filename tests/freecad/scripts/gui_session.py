@@ -13,7 +13,16 @@ import FreeCAD  # noqa: E402
 import FreeCADGui  # noqa: E402
 import numpy as np  # noqa: E402
 import Part  # noqa: E402
-from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
+from harness import (  # noqa: E402
+    EXAMPLES,
+    TMP,
+    check,
+    close,
+    finish,
+    run_checks,
+    send_drag,
+    tested_checkout,
+)
 from PySide import QtCore, QtGui  # noqa: E402
 
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
@@ -67,18 +76,8 @@ def model_of_document():
 
 
 def drag(viewport, pixels, button=QtCore.Qt.LeftButton) -> None:
-    """A mouse drag through core pixel positions, as Qt events (in device-independent
-    pixels: Xvfb's 96 dpi makes Qt scale by about 1.04)."""
-    dpr = viewport.devicePixelRatioF()
-    points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
-    send = app().sendEvent
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, points[0], button, button,
-                                     QtCore.Qt.NoModifier))
-    for p in points[1:]:
-        send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button,
-                                         QtCore.Qt.NoModifier))
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, points[-1], button,
-                                     QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
+    """A mouse drag through core pixel positions (harness.send_drag), then settle."""
+    send_drag(viewport, pixels, button)
     settle()
 
 

@@ -39,6 +39,23 @@ def tested_checkout() -> None:
                               "run scripts/setup.sh to link this checkout into its Mod folder")
 
 
+def send_drag(viewport, pixels, button=None) -> None:
+    """A mouse drag through core pixel positions, as Qt events sent to the view's viewport
+    (in device-independent pixels: Xvfb's 96 dpi makes Qt scale by about 1.04)."""
+    from PySide import QtCore, QtGui
+    button = button or QtCore.Qt.LeftButton
+    dpr = viewport.devicePixelRatioF()
+    points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
+    send = QtGui.QApplication.instance().sendEvent
+    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, points[0], button, button,
+                                     QtCore.Qt.NoModifier))
+    for p in points[1:]:
+        send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button,
+                                         QtCore.Qt.NoModifier))
+    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, points[-1], button,
+                                     QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
+
+
 def run_checks() -> int:
     """Run every registered check; 0 if all passed, else 1."""
     failed = 0

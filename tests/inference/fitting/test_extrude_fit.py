@@ -39,3 +39,20 @@ def test_strokes_far_from_any_offset_are_refused(box, camera):
     far = [np.array([[2.0, 2.0], [6.0, 3.0]])]  # a scribble in the image corner
     with pytest.raises(FitError, match="no offset of the face matches"):
         fit_extrude(box, face, camera, far)
+
+
+def test_a_face_far_larger_than_the_context_is_sampled_within_the_cap(box, camera, monkeypatch):
+    # a context a hundredth of a millimetre per pixel: one sample per pixel along the
+    # top's 140 mm of edges would be 14,000 samples times every candidate offset
+    from Sketch2CADWorkbench.inference.fitting import extrude
+    fine = OrthoCamera(camera.center, camera.direction, camera.up, 1.28, 256, 256)
+    face = face_towards(box, (0, 0, 1))
+    seen = []
+    search = extrude.line_search
+    monkeypatch.setattr(extrude, "line_search",
+                        lambda points, *a, **k: seen.append(len(points)) or search(points, *a, **k))
+    try:  # a sketch in the middle of the frame: the face's edges run far out of it
+        fit_extrude(box, face, fine, [np.array([[100.0, 128.0], [156.0, 128.0]])])
+    except FitError:
+        pass  # only the samples matter here
+    assert seen and seen[0] <= extrude.MAX_EDGE_SAMPLES + 2 * len(face.Edges())

@@ -67,7 +67,7 @@ QUAD = np.array([[-9, -6, TOP_Z], [7, -7, TOP_Z], [8, 4, TOP_Z], [-8, 6, TOP_Z]]
 
 def test_prism_fit_recovers_an_addition_exactly(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     assert op.mode is Mode.ADD and op.d == pytest.approx(6.0, abs=0.2)
     got = np.array(op.polygon)
     for v in QUAD:  # same vertex set, any starting vertex
@@ -79,7 +79,7 @@ def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edge
     # the base polygon follows the majority, not the four strokes that sit on f
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
     strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     got = np.array(op.polygon)
     err = max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD)
     # from the start outline alone the corners would be 4 px off
@@ -88,7 +88,7 @@ def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edge
 
 def test_deep_cut_is_read_as_a_subtraction(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 14.0, -1)
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     assert op.mode is Mode.SUBTRACT and op.d == pytest.approx(14.0, abs=0.2)
 
 
@@ -98,9 +98,9 @@ def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(
     from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
     face = face_towards(box, (0, 0, 1))
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    boss = fit_prism(box, face, camera, strokes, labels, regularize=False)
+    boss = fit_prism(box, face, camera, strokes, labels)
     assert boss.mode is Mode.ADD and other_option_fits(face, camera, boss, 1e-6)
-    hole = fit_prism(box, face, camera, strokes, labels, regularize=False, option=Mode.SUBTRACT)
+    hole = fit_prism(box, face, camera, strokes, labels, option=Mode.SUBTRACT)
     assert hole.d == pytest.approx(6.0, abs=0.2)
     assert reprojection_error(box, hole, camera, strokes) < 1.0
 
@@ -108,7 +108,7 @@ def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(
 def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
     face = face_towards(box, (0, 0, 1))
     strokes, labels = prism_sketch(camera, QUAD, 25.0, +1)
-    boss = fit_prism(box, face, camera, strokes, labels, regularize=False)
+    boss = fit_prism(box, face, camera, strokes, labels)
     assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
 
 
@@ -124,7 +124,7 @@ def test_a_plate_wider_than_the_column_top_it_stands_on_is_an_addition_on_it(box
     top = next(f for f in solid.Faces() if f.normalAt().z > 0.999 and f.Center().z > z - 1e-6)
     plate = np.array([[-15, -12, z], [15, -12, z], [15, 12, z], [-15, 12, z]])
     strokes, labels = prism_sketch(camera, plate, 5.0, +1)
-    op = fit_prism(solid, top, camera, strokes, labels, regularize=False)
+    op = fit_prism(solid, top, camera, strokes, labels)
     assert op.mode is Mode.ADD and op.d == pytest.approx(5.0, abs=0.3)
     got = np.array(op.polygon)
     assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in plate) < 0.5
@@ -206,7 +206,7 @@ def sweep_sketch(camera, c0, r0, r1, height, sign, rh_profile=None):
 
 def test_sweep_fit_recovers_a_cone(box, camera):
     strokes, labels = sweep_sketch(camera, (4, -2, TOP_Z), 6.0, 3.0, 10.0, +1)
-    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     assert op.mode is Mode.ADD
     assert op.center == pytest.approx((4, -2, TOP_Z), abs=0.15)
     assert (op.r0, op.r1, op.d) == pytest.approx((6.0, 3.0, 10.0), abs=0.2)
@@ -215,7 +215,7 @@ def test_sweep_fit_recovers_a_cone(box, camera):
 def test_sweep_fit_recovers_a_curved_profile(box, camera):
     prof = [(5.0, 0.0), (9.0, 3.0), (2.0, 7.0), (4.0, 10.0)]
     strokes, labels = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 4.0, 10.0, +1, prof)
-    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     assert np.array(op.profile) == pytest.approx(np.array(prof[1:3]), abs=0.6)
 
 
@@ -224,7 +224,7 @@ def test_a_profile_stroke_that_swings_far_outside_the_circles_is_not_taken_as_dr
     wild = [(5.0, 0.0), (40.0, -30.0), (-20.0, 45.0), (4.0, 10.0)]  # r, h far out
     swinging, _ = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 4.0, 10.0, +1, wild)
     strokes[2:] = swinging[2:]  # the circles as drawn, the profiles swinging out
-    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, regularize=False)
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     (r1, h1), (r2, h2) = op.profile
     assert 0 <= h1 <= h2 <= 10.0 + 1e-6 and 0 < max(r1, r2) <= 10.0
 

@@ -1,0 +1,53 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""How many holes drawn as a designer draws them the pipeline reads as that hole.
+
+    .bin/python scripts/hole_rate.py [--count 30] [--seed 17002]
+
+Draws `count` subtract prisms on visible faces of random models through the data
+generator's synthesis (tests/inference/holes.py), interprets each with the shipped
+networks, with no Boolean chosen and with subtract chosen (the panel's choice), and
+prints the share read as the intended hole and what the others became.
+"""
+import argparse
+import re
+import sys
+from collections import Counter
+from pathlib import Path
+
+from tqdm import tqdm
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "inference"))
+from holes import designer_holes, read_as_the_hole  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import Mode  # noqa: E402
+from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
+from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--count", type=int, default=30)
+    p.add_argument("--seed", type=int, default=17002)
+    a = p.parse_args()
+    predictor, renderer = load_predictor(), MapRenderer()
+    misses = {"no choice": Counter(), "subtract chosen": Counter()}
+    flipped = 0  # read as the hole once the Boolean the reading named is taken
+    for hole in tqdm(designer_holes(a.count, a.seed, renderer), total=a.count, unit="hole"):
+        miss, other = read_as_the_hole(hole, predictor, renderer)
+        chosen, _ = read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)
+        if miss:
+            misses["no choice"][re.sub(r"[0-9.]+", "#", miss.split(":")[0])[:70]] += 1
+            flipped += other is Mode.SUBTRACT and not chosen
+        if chosen:
+            misses["subtract chosen"][re.sub(r"[0-9.]+", "#", chosen.split(":")[0])[:70]] += 1
+    for how, missed in misses.items():
+        read = a.count - sum(missed.values())
+        print(f"{how}: holes read as drawn {read} of {a.count} ({100 * read / a.count:.0f}%)"
+              + (f"; with the other Boolean it names, {read + flipped}" if how == "no choice"
+                 else ""))
+        for why, n in missed.most_common():
+            print(f"  {n} x {why}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
