@@ -11,6 +11,7 @@ from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.bevel import fit_bevel
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.primitive import other_option_fits
+from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 
 FRONT_Y = -15.0
@@ -50,6 +51,11 @@ def test_bevel_profile_inside_the_face_is_refused(box, camera):
 
 
 # ----------------------------------------------------------------- prism
+
+def regularized(solid, op, camera):
+    """The fitted operation as regularization leaves it (rectified and snapped in `camera`)."""
+    return regularize_operation(solid, op, face_towards(solid, op.face.normal), camera).operation
+
 
 def prism_sketch(camera, base, height, sign, noise=0.0, rng=None):
     top = base + np.array([0, 0, sign * height])
@@ -141,7 +147,8 @@ def test_noisy_near_rectangle_is_regularized_to_an_exact_rectangle(box, camera):
     rng = np.random.default_rng(1)
     rect = np.array([[-8.7, -4.6, TOP_Z], [9.2, -5.3, TOP_Z], [9.5, 5.1, TOP_Z], [-9.1, 5.4, TOP_Z]])
     strokes, labels = prism_sketch(camera, rect, 5.0, +1, noise=0.7, rng=rng)
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
     p = np.array(op.polygon)[:, :2]
     sides = np.roll(p, -1, axis=0) - p
     # right angles and sides parallel to the box edges (x and y), centre snapped to the face centre
@@ -155,7 +162,8 @@ def test_hexagon_is_regularized_to_a_regular_hexagon(box, camera):
     rad = np.array([5.0, 5.4, 4.8, 5.2, 4.9, 5.1])
     hexa = np.stack([rad * np.cos(ang) + 6, rad * np.sin(ang) + 2, np.full(6, TOP_Z)], axis=1)
     strokes, labels = prism_sketch(camera, hexa, 4.0, +1)
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
     p = np.array(op.polygon)[:, :2]
     sides = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
     assert sides == pytest.approx(np.full(6, sides.mean()), rel=1e-9)
@@ -231,7 +239,8 @@ def test_a_profile_stroke_that_swings_far_outside_the_circles_is_not_taken_as_dr
 
 def test_nearly_straight_equal_radii_become_an_exact_cylinder(box, camera):
     strokes, labels = sweep_sketch(camera, (3.3, 2.2, TOP_Z), 5.0, 5.4, 8.0, +1)
-    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    op = regularized(box, fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
     assert op.r0 == op.r1
     assert np.array(op.profile) == pytest.approx(np.array([(op.r0, op.d / 3), (op.r0, 2 * op.d / 3)]))
 
