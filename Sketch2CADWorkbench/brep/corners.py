@@ -82,3 +82,30 @@ def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray, tol: float
             continue  # reflex corner: the short way between the edges is outside f
         out.append(BevelCorner(c, cp, a, b, la, lb))
     return out
+
+
+def corner_at(corners: list[BevelCorner], point: np.ndarray, tol: float) -> BevelCorner | None:
+    """The corner at `point` (within tol), if one of them is."""
+    return next((k for k in corners if np.linalg.norm(k.c - point) < tol), None)
+
+
+def corner_along(corners: list[BevelCorner], point: np.ndarray, a: np.ndarray, b: np.ndarray,
+                 crease: float, tol: float) -> BevelCorner | None:
+    """The corner nearest to `point` whose two edges leave it along the unit directions a
+    and b (either way round, within CREASE_COS) and whose crease is `crease` mm long
+    (within tol), with its edges in that order; None when no corner is such.
+
+    This finds a corner again after an earlier step moved it: the corner keeps the
+    directions of its edges (what a bevel's profile runs along) and its crease, while
+    its place and its edges' lengths change.
+    """
+    best = None
+    for k in corners:
+        if abs(float(np.linalg.norm(k.opposite - k.c)) - crease) > tol:
+            continue
+        for ka, kb, la, lb in ((k.a, k.b, k.la, k.lb), (k.b, k.a, k.lb, k.la)):
+            if float(ka @ a) > CREASE_COS and float(kb @ b) > CREASE_COS:
+                d = float(np.linalg.norm(k.c - point))
+                if best is None or d < best[0]:
+                    best = (d, BevelCorner(k.c, k.opposite, ka, kb, la, lb))
+    return None if best is None else best[1]

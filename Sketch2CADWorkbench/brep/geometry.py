@@ -16,6 +16,12 @@ def bezier_points(ctrl: np.ndarray, k: int) -> np.ndarray:
     return bezier(ctrl, np.linspace(0, 1, k))
 
 
+def unit(v: np.ndarray) -> np.ndarray:
+    """v / |v|."""
+    v = np.asarray(v, float)
+    return v / np.linalg.norm(v)
+
+
 def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """An orthonormal basis (u, v) of the plane with unit normal n, (u, v, n) right-handed;
     u is perpendicular to the x axis unless n is nearly along it (then to the y axis)."""

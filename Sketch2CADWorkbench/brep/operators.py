@@ -13,13 +13,15 @@ is always one valid solid; anything else raises `OperationError` with the reason
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
 from typing import Callable
 
 import cadquery as cq
 import numpy as np
 
+from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
 from .faces import OperationError, ResolvedFace, model_scale, resolve_face
-from .geometry import bezier, crossing_sides, plane_basis
+from .geometry import bezier, crossing_sides, plane_basis, unit
 from .protocol import (
     AddSubPrism,
     Bevel,
@@ -95,18 +97,42 @@ def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> cq.Solid:
 
 
 # ----------------------------------------------------------------- builders
-# Each takes the resolved base face f, the operation and the model's size (mm, for
-# tolerances), and returns the primitive that `combine` joins to the solid.
+# Each takes the current solid, the resolved base face f, the operation and the model's
+# size (mm, for tolerances), and returns the primitive that `combine` joins to the solid.
 
-def extrude_tool(rf: ResolvedFace, op: Extrude, scale: float) -> cq.Solid:
+def extrude_tool(solid: cq.Shape, rf: ResolvedFace, op: Extrude, scale: float) -> cq.Solid:
     """Face f swept by d along n_f: a pad (d > 0) or the pocket's volume (d < 0)."""
     return cq.Solid.extrudeLinear(rf.face.outerWire(), rf.face.innerWires(),
                                   _vec(rf.normal * op.d))
 
 
-def bevel_tool(rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
-    """The prism a bevel removes: the region between corner c and profile l on f,
-    extruded along c -> c'."""
+@dataclass(frozen=True)
+class BevelPlace:
+    """Where a bevel is on the current solid: corner c, the crease c' - c and the profile
+    l's control points (4, 3), world mm on f's plane."""
+
+    corner: np.ndarray
+    crease: np.ndarray
+    profile: np.ndarray
+
+
+def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> BevelPlace:
+    """The bevel's corner, crease and profile on the solid as it is now.
+
+    c names a corner of f that a bevel can round (two straight edges of f meeting at c,
+    convex, a straight edge of the solid, the crease, leaving c along -n_f), and l runs
+    from one of those edges to the other. The crease runs along that edge to its far
+    end, wherever that is now (c' is where it ended when the step was made). When an
+    earlier step was edited, c itself may have moved (f grew or shrank): it is then
+    found again as the nearest corner of f whose edges leave it the way l's ends lie
+    from c and whose crease is as long as c -> c', and the bevel moves with it, l
+    keeping its place relative to the corner's edges. A profile end past the far end of
+    its edge is refused.
+
+    Raises:
+        OperationError: naming the field (corner c, the crease c -> c', profile l) that
+            does not fit, and why.
+    """
     (c,) = on_face_plane([op.corner], rf, scale, "bevel corner c")
     ctrl = on_face_plane(op.profile, rf, scale, "bevel profile l")
     crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
@@ -117,6 +143,55 @@ def bevel_tool(rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
         raise OperationError("bevel: the crease c -> c' must run into the solid along -n_f")
     if np.linalg.norm(ctrl[0] - c) < 1e-6 * scale or np.linalg.norm(ctrl[3] - c) < 1e-6 * scale:
         raise OperationError("bevel: profile l must start and end away from corner c")
+    tol = 1e-6 * scale
+    corners = bevel_corners(solid, rf.face, rf.normal, tol)
+    here = corner_at(corners, c, tol)
+    if here is not None:
+        _check_profile_ends(c, ctrl, here, tol)
+        found = here.opposite - here.c
+        return BevelPlace(c, crease if np.linalg.norm(found - crease) <= tol else found, ctrl)
+    a, b = (unit(ctrl[k] - c) for k in (0, 3))
+    moved = corner_along(corners, c, a, b, length, tol)
+    if moved is None:
+        raise OperationError(
+            f"bevel: corner c {_pt(c)} is not a corner of face f that a bevel can round (two "
+            "straight edges of f meeting there, with an edge of the solid running from it "
+            "along -n_f), nor has such a corner moved from there (no corner of f has its "
+            "edges along profile l's ends and a crease as long as c -> c')")
+    # l in the corner's (a, b) frame, laid on the corner found again
+    coords = np.linalg.lstsq(np.stack([a, b], axis=1), (ctrl - c).T, rcond=None)[0].T
+    moved_ctrl = moved.c + coords @ np.stack([moved.a, moved.b])
+    _check_profile_ends(moved.c, moved_ctrl, moved, tol)
+    return BevelPlace(moved.c, moved.opposite - moved.c, moved_ctrl)
+
+
+def _check_profile_ends(c: np.ndarray, ctrl: np.ndarray, corner: BevelCorner,
+                        tol: float) -> None:
+    """Refuse a profile whose ends do not lie on the corner's two edges of f."""
+    for name, end in (("start l(0)", ctrl[0]), ("end l(1)", ctrl[3])):
+        reach = float(np.linalg.norm(end - c))
+        along = [(edge, edge_length) for edge, edge_length in
+                 ((corner.a, corner.la), (corner.b, corner.lb))
+                 if float(unit(end - c) @ edge) > CREASE_COS]
+        if not along:
+            raise OperationError(f"bevel: the {name} of profile l {_pt(end)} is not on an edge "
+                                 f"of f that meets at corner c {_pt(c)}")
+        if reach > along[0][1] + tol:
+            raise OperationError(
+                f"bevel: profile l ends {reach:.4g} mm from corner c {_pt(c)} along an edge "
+                f"of f that is {along[0][1]:.4g} mm long: the bevel does not fit that corner "
+                "(an earlier step made f smaller there?)")
+
+
+def _pt(p: np.ndarray) -> str:
+    return "(" + ", ".join(f"{round(float(x), 3) + 0.0:g}" for x in p) + ")"
+
+
+def bevel_tool(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
+    """The prism a bevel removes: the region between corner c and profile l on f,
+    extruded along the crease c -> c' (`place_bevel` says where they are now)."""
+    at = place_bevel(solid, rf, op, scale)
+    c, ctrl = at.corner, at.profile
     _check_bevel_region(c, ctrl, rf.normal, scale)
     try:
         wire = cq.Wire.assembleEdges([
@@ -124,13 +199,30 @@ def bevel_tool(rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
             cq.Edge.makeBezier([_vec(p) for p in ctrl]),
             cq.Edge.makeLine(_vec(ctrl[3]), _vec(c)),
         ])
-        tool = cq.Solid.extrudeLinear(wire, [], _vec(crease))
+        tool = cq.Solid.extrudeLinear(wire, [], _vec(at.crease))
     except Exception as e:  # OCCT raises its own types for degenerate input
         raise OperationError(f"bevel: cannot build the region between c and l: {e}") from None
     if not tool.isValid() or tool.Volume() <= 1e-12 * scale ** 3:
         raise OperationError("bevel: profile l and corner c bound no area (l self-intersects "
                              "or is collinear with c)")
     return tool
+
+
+def locate_bevel(solid: cq.Shape, op: Bevel) -> Bevel:
+    """The bevel as it lies on `solid` now: its corner, opposite corner and profile found
+    again (`place_bevel`); the same bevel when nothing before it was edited.
+
+    Raises:
+        OperationError: f does not resolve, or the bevel no longer fits (the reason).
+    """
+    rf = resolve_face(solid, op.face, "bevel face f")
+    at = place_bevel(solid, rf, op, model_scale(solid))
+    return Bevel(op.face, _tuple(at.corner), _tuple(at.corner + at.crease),
+                 tuple(_tuple(p) for p in at.profile))
+
+
+def _tuple(p) -> tuple[float, float, float]:
+    return tuple(float(x) for x in p)
 
 
 def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: float) -> None:
@@ -155,7 +247,8 @@ def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: f
                              "face edges at c); keep it between the two edges")
 
 
-def prism_tool(rf: ResolvedFace, op: AddSubPrism, scale: float) -> cq.Solid:
+def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float
+               ) -> cq.Solid:
     """The right prism of an add/subtract: polygon c on f extruded by d along n_f, or
     into the solid (-n_f) for SUBTRACT."""
     pts = on_face_plane(op.polygon, rf, scale, "prism polygon c")
@@ -182,7 +275,7 @@ def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
         raise OperationError("prism: base polygon c has no area")
 
 
-def sweep_tool(rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
+def sweep_tool(solid: cq.Shape, rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
     """The solid of revolution of profile c_p about the axis through c0 and c1 (c0's
     centre on f, the axis along n_f, or into the solid for SUBTRACT).
 
@@ -216,9 +309,10 @@ def sweep_tool(rf: ResolvedFace, op: Sweep, scale: float) -> cq.Solid:
 
 
 # The builder of each operator's primitive.
-TOOLS: dict[OperatorType, Callable[[ResolvedFace, Operation, float], cq.Solid]] = per_operator(
-    {OperatorType.EXTRUDE: extrude_tool, OperatorType.BEVEL: bevel_tool,
-     OperatorType.ADDSUB: prism_tool, OperatorType.SWEEP: sweep_tool}, "operators.TOOLS")
+TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], cq.Solid]] = \
+    per_operator(
+        {OperatorType.EXTRUDE: extrude_tool, OperatorType.BEVEL: bevel_tool,
+         OperatorType.ADDSUB: prism_tool, OperatorType.SWEEP: sweep_tool}, "operators.TOOLS")
 
 
 # Lengths and points an operation may hold, relative to the model's size (its bounding
@@ -272,7 +366,7 @@ def apply_operation(solid: cq.Solid, op: Operation) -> cq.Solid:
         op.check()
         solid = solid.copy()
         rf = resolve_face(solid, op.face, f"{op.NOUN} face f")
-        tool = TOOLS[op.type](rf, op, model_scale(solid))
+        tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
         return combine(solid, tool, op.boolean, op.name)
     except OperationError:
         raise

@@ -7,6 +7,13 @@ model's world frame. A base face is stored geometrically (`FaceRef`: a point ins
 the face and its outward normal), never as a face index, so that replay resolves it
 against whatever solid the earlier steps produced.
 
+When an earlier step is edited, the later ones follow what they were made on: f is the
+face that holds the point, or the nearest one with the same normal whose outline holds
+its projection; a prism's polygon and a sweep's circle move with f's plane; a bevel's
+corner is found again where it moved to (`Bevel`). A step that no longer fits is an
+error naming the field and why. The file keeps the values as the step was made, so
+edits need no new schema.
+
 JSON schema, version 1 (every key required unless marked optional)::
 
     {"format": "sketch2cad-protocol", "version": 1, "units": "mm",
@@ -14,7 +21,7 @@ JSON schema, version 1 (every key required unless marked optional)::
      "operations": [
        {"type": "extrude", "face": FACE, "d": float},
        {"type": "bevel", "face": FACE, "corner": P, "opposite": P,
-        "profile": [P, P, P, P]},                              # cubic Bezier on f
+        "profile": [P, P, P, P]},        # cubic Bezier on f; c found again on replay
        {"type": "addsub", "face": FACE, "polygon": [P, P, P, ...],   # 3 to 6 points
         "d": float, "mode": MODE},
        {"type": "sweep", "face": FACE, "center": P, "r0": float, "r1": float,
@@ -257,9 +264,15 @@ class Extrude(_Operation):
 class Bevel(_Operation):
     """Round corner c of face f with profile l, along the crease from c to c'.
 
-    `corner` is c (a vertex of f), `opposite` is c' (the other end of the crease,
-    so c' - c points into the solid along -n_f), `profile` is l, the four control
+    `corner` is c (a corner of f: two straight edges of f meet there, and an edge of the
+    solid, the crease, leaves it into the solid along -n_f), `opposite` is c' (the
+    crease's other end, so c' - c points along -n_f), `profile` is l, the four control
     points of a cubic Bezier on f's plane from one edge of f at c to the other.
+
+    They record the bevel as it was made. On replay the corner is found again on the
+    solid as it is then: when an earlier step was edited and c moved (f grew or
+    shrank), the bevel moves with it, and the crease runs along the solid's edge from c
+    to wherever its far end is now (brep/operators.place_bevel).
     """
 
     face: FaceRef

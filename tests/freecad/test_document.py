@@ -5,7 +5,8 @@ import pytest
 pytestmark = pytest.mark.freecad
 
 CHECKS = ["startup", "addon_metadata", "tree_from_protocol", "edit_and_recompute",
-          "sweep_profile_follows_its_radii", "unbuildable_value_puts_only_that_feature_in_error",
+          "bevel_follows_an_edit_of_an_earlier_extrude", "sweep_profile_follows_its_radii",
+          "unbuildable_value_puts_only_that_feature_in_error",
           "save_fcstd", "interpret_session_inside_freecad", "step_export_and_brep_transfer",
           "features_are_named_as_freecad_users_read_them",
           "parameters_are_quantities_in_the_users_units", "step_part_is_named_after_the_model",

@@ -101,6 +101,36 @@ def edit_and_recompute():
 
 
 @check
+def bevel_follows_an_edit_of_an_earlier_extrude():
+    # #17 item 1: a longer Extrude under a Bevel used to leave the round as a groove below
+    # the new top, every feature saying Valid; the bevel now moves to the new corner
+    from Sketch2CADWorkbench.brep.operators import locate_bevel
+    from Sketch2CADWorkbench.brep.protocol import Bevel, Box, Extrude, FaceRef, Protocol
+    top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
+    bevel = Bevel(front, (20.0, -15.0, 19.535), (20.0, 15.0, 19.535),
+                  ((20.0, -15.0, 14.535), (20.0, -15.0, 17.285), (17.25, -15.0, 19.535),
+                   (15.0, -15.0, 19.535)))
+    p = Protocol(Box((40.0, 30.0, 20.0)), (Extrude(top, 9.535), bevel))
+    doc = FreeCAD.newDocument("follow")
+    model = make_model_from_protocol(doc, p)
+    box, extrude, bev = features(model)
+    removed = extrude.Shape.Volume - bev.Shape.Volume
+    extrude.Offset = 15.0
+    doc.recompute()
+    assert not failed_features(model), [o.State for o in features(model)]
+    assert close(extrude.Shape.Volume - bev.Shape.Volume, removed), (removed, extrude.Shape.Volume
+                                                                      - bev.Shape.Volume)
+    assert close(bev.Shape.BoundBox.ZMax, 25.0), bev.Shape.BoundBox
+    at = locate_bevel(from_part(extrude.Shape), bev.Proxy.operation(bev))
+    assert close(at.corner[2], 25.0) and close(at.profile[3][2], 25.0), at
+    assert not bev.Shape.isInside(FreeCAD.Vector(19.9, 0.0, 24.9), 1e-6, True)  # rounded off
+    assert bev.Shape.isInside(FreeCAD.Vector(19.9, 0.0, 19.0), 1e-6, True)  # no groove
+    assert_matches_core(model, protocol_from_model(model))
+    FreeCAD.closeDocument(doc.Name)
+
+
+@check
 def sweep_profile_follows_its_radii():
     doc = FreeCAD.newDocument("retune")
     model = make_model_from_protocol(doc, example("mixer"))
