@@ -422,7 +422,19 @@ def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None,
         return (op,), result
     origin, normal = mid_plane(solid, symmetry)
     mirrored = reflect(op, origin, normal)
+    if _rounds_the_same_edge(op, mirrored):
+        return (op,), result
     return (op, mirrored), apply_operation(result, mirrored)
+
+
+def _rounds_the_same_edge(op: Operation, mirrored: Operation) -> bool:
+    """A bevel along a whole edge that the mirror plane cuts in half: its image swaps c and
+    c' and would round the edge already rounded (the step refuses such a corner)."""
+    if op.type is not OperatorType.BEVEL:
+        return False
+    ends = np.array([op.corner, op.opposite], float)
+    image = np.array([mirrored.opposite, mirrored.corner], float)
+    return bool(np.allclose(ends, image, rtol=0, atol=1e-9 * max(1.0, float(np.abs(ends).max()))))
 
 
 def check_sketch(strokes: list[np.ndarray]) -> None:

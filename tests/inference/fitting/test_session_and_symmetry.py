@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.brep.symmetry import mid_plane, reflect
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import (
@@ -110,6 +110,21 @@ def test_mirrored_sweep_on_a_side_face_uses_the_opposite_face():
     assert mirrored.face.normal == pytest.approx((-1, 0, 0))
     out = apply_operation(apply_operation(box, op), mirrored)
     assert (out.BoundingBox().xmin, out.BoundingBox().xmax) == pytest.approx((-26, 26))
+
+
+def test_a_bevel_along_a_whole_edge_the_plane_halves_is_not_mirrored_onto_itself():
+    from Sketch2CADWorkbench.inference.interpret import apply_with_symmetry
+    box = make_box(Box((40, 30, 20)))
+    # the front face's top-right corner rounded through the whole depth (y = -15 to 15)
+    op = Bevel(FaceRef((0, -15, 0), (0, -1, 0)), (20, -15, 10), (20, 15, 10),
+               ((16, -15, 10), (18.2, -15, 10), (20, -15, 8.2), (20, -15, 6)))
+    alone = apply_operation(box, op)
+    ops, result = apply_with_symmetry(box, op, "y")
+    assert ops == (op,) and result.Volume() == pytest.approx(alone.Volume(), rel=1e-9)
+    ops, result = apply_with_symmetry(box, op, "x")  # the other side's edge: mirrored
+    assert len(ops) == 2
+    assert box.Volume() - result.Volume() == pytest.approx(2 * (box.Volume() - alone.Volume()),
+                                                           rel=1e-6)
 
 
 def test_base_face_is_counted_and_an_unsure_face_map_still_decides():
