@@ -22,8 +22,7 @@ from .primitive import choose_option
 from .refine import refine_prism
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
-# length matches. Strokes at the paper's noise level 3 (endpoints moved by 4.1% of the
-# diagonal, about 15 px) measured up to 17 px at the true length; 12 refused 8 of 60.
+# length matches: above the noisiest strokes the generator draws (docs/NOTES.md).
 MAX_MISMATCH_PX = 20.0
 # Base outline corners closer than this (px) are one corner: too few sides for N.
 MIN_SIDE_PX = 2.0

@@ -19,9 +19,8 @@ MOSTLY_FRACTION = 0.25
 # on f at all (a plate wider than the column top it stands on).
 COVER_FRACTION = 0.5
 # Share of the far outline that must back-project onto f for the other Boolean to be
-# named as reading as well. Of 190 level-1 prisms fitted alone the option was wrong for
-# 42; naming it at 0.25 / 0.5 / 0.75 / 0.9 does so for 59 / 42 / 23 / 14% of the prisms
-# and covers 42 / 37 / 28 / 15 of the 42 (`sketch2cad option-scan data/test-l1`).
+# named as reading as well: it names most wrong options while naming it for under half
+# of the prisms (measured in docs/NOTES.md, "Measurements behind constants").
 OTHER_FRACTION = 0.5
 
 
