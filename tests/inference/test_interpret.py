@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.brep.protocol import (
 from Sketch2CADWorkbench.inference.interpret import (
     InterpretError,
     InterpretOptions,
+    apply_with_symmetry,
     check_sketch,
     interpret,
     to_context,
@@ -269,3 +270,17 @@ def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
     assert "position" not in [s.key for s in undone.snaps]
     assert np.mean(undone.operations[0].polygon, axis=0)[0] == pytest.approx(0.4, abs=0.3)
     assert undone.operations[0].d == pytest.approx(7.0)
+
+
+def test_a_bevel_along_a_whole_edge_the_plane_halves_is_not_mirrored_onto_itself():
+    box = make_box(Box((40, 30, 20)))
+    # the front face's top-right corner rounded through the whole depth (y = -15 to 15)
+    op = Bevel(FaceRef((0, -15, 0), (0, -1, 0)), (20, -15, 10), (20, 15, 10),
+               ((16, -15, 10), (18.2, -15, 10), (20, -15, 8.2), (20, -15, 6)))
+    alone = apply_operation(box, op)
+    ops, result = apply_with_symmetry(box, op, "y")
+    assert ops == (op,) and result.Volume() == pytest.approx(alone.Volume(), rel=1e-9)
+    ops, result = apply_with_symmetry(box, op, "x")  # the other side's edge: mirrored
+    assert len(ops) == 2
+    assert box.Volume() - result.Volume() == pytest.approx(2 * (box.Volume() - alone.Volume()),
+                                                           rel=1e-6)

@@ -2,12 +2,11 @@
 """Fixtures for the fitting tests: a box and a view of it."""
 import numpy as np
 import pytest
+from fit_sketches import SIZE
 
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box
 from Sketch2CADWorkbench.render.camera import OrthoCamera
-
-SIZE = (40.0, 30.0, 20.0)
 
 
 @pytest.fixture

@@ -2,6 +2,14 @@
 """Synthetic sketches with known answers: 3D curves projected through a known camera."""
 import numpy as np
 
+from Sketch2CADWorkbench.brep.geometry import bezier
+
+SIZE = (40.0, 30.0, 20.0)  # the `box` fixture's sides, centred on the origin
+FRONT_Y = -SIZE[1] / 2  # its front face
+TOP_Z = SIZE[2] / 2  # its top face
+# a quadrilateral on the box's top face
+QUAD = np.array([[-9, -6, TOP_Z], [7, -7, TOP_Z], [8, 4, TOP_Z], [-8, 6, TOP_Z]])
+
 
 def face_towards(solid, normal):
     return next(f for f in solid.Faces() if np.dot(f.normalAt().toTuple(), normal) > 0.999)
@@ -37,3 +45,38 @@ def edge_strokes(camera, face, offset=(0.0, 0.0, 0.0)):
     off = np.asarray(offset, float)
     return [stroke(camera, np.array(e.startPoint().toTuple()) + off,
                    np.array(e.endPoint().toTuple()) + off) for e in face.Edges()]
+
+
+def prism_sketch(camera, base, height, sign, noise=0.0, rng=None):
+    """The prism on polygon `base` (`sign` +1: up from it, -1: down into it): the start
+    outline (label 0), the end outline (2) and the side edges (1)."""
+    top = base + np.array([0, 0, sign * height])
+    start, end = (base, top) if sign > 0 else (top, base)
+    strokes = polygon_strokes(camera, start, noise, rng) + polygon_strokes(camera, end, noise, rng)
+    labels = [0] * len(start) + [2] * len(end)
+    for a, b in zip(start, end):
+        strokes.append(stroke(camera, a, b, noise=noise, rng=rng))
+        labels.append(1)
+    return strokes, labels
+
+
+def sweep_sketch(camera, c0, r0, r1, height, sign, rh_profile=None):
+    """Circles at both ends and the two silhouettes (in the plane facing the camera)."""
+    c0 = np.asarray(c0, float)
+    c1 = c0 + np.array([0, 0, sign * height])
+    start, end = (circle3d(c0, r0), circle3d(c1, r1)) if sign > 0 else \
+        (circle3d(c1, r1), circle3d(c0, r0))
+    strokes = [curve_stroke(camera, start), curve_stroke(camera, end)]
+    labels = [0, 2]
+    f = np.array(camera.direction)
+    side = np.cross([0, 0, 1.0], f)
+    side /= np.linalg.norm(side)
+    for s in (1, -1):
+        if rh_profile is None:
+            pts = np.linspace(c0 + s * r0 * side, c1 + s * r1 * side, 30)
+        else:
+            rh = bezier(np.array(rh_profile), np.linspace(0, 1, 40))
+            pts = c0 + s * rh[:, :1] * side + sign * rh[:, 1:2] * np.array([0, 0, 1.0])
+        strokes.append(curve_stroke(camera, pts))
+        labels.append(1)
+    return strokes, labels

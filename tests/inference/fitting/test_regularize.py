@@ -3,12 +3,14 @@
 leaves a designed off-centre feature where it was drawn; every snap can be undone."""
 import numpy as np
 import pytest
-from fit_sketches import face_towards
+from fit_sketches import TOP_Z, face_towards, prism_sketch, sweep_sketch
 
 from Sketch2CADWorkbench.brep.faces import face_ref_of
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, Extrude, Mode, Sweep
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.regularize import SNAP_PX, regularize_operation
+from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 BIG = (400.0, 300.0, 100.0)
@@ -129,3 +131,44 @@ def test_a_snap_says_what_moved_to_what(big, view):
     (snap,) = regularize_operation(big, Extrude(face_ref_of(face), 12.3), face, view,
                                    step=1.0).snaps
     assert snap.describe() == "length snapped to the 1 mm grid: (12.3) -> (12) mm"
+
+
+def regularized(solid, op, camera):
+    """The fitted operation as regularization leaves it (rectified and snapped in `camera`)."""
+    return regularize_operation(solid, op, face_towards(solid, op.face.normal), camera).operation
+
+
+def test_noisy_near_rectangle_is_regularized_to_an_exact_rectangle(box, camera):
+    rng = np.random.default_rng(1)
+    rect = np.array([[-8.7, -4.6, TOP_Z], [9.2, -5.3, TOP_Z], [9.5, 5.1, TOP_Z], [-9.1, 5.4, TOP_Z]])
+    strokes, labels = prism_sketch(camera, rect, 5.0, +1, noise=0.7, rng=rng)
+    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
+    p = np.array(op.polygon)[:, :2]
+    sides = np.roll(p, -1, axis=0) - p
+    # right angles and sides parallel to the box edges (x and y), centre snapped to the face centre
+    assert all(abs(sides[i] @ sides[(i + 1) % 4]) < 1e-6 for i in range(4))
+    assert all(min(abs(s[0]), abs(s[1])) < 1e-6 for s in sides)
+    assert p.mean(axis=0) == pytest.approx((0, 0), abs=1e-9)
+
+
+def test_hexagon_is_regularized_to_a_regular_hexagon(box, camera):
+    ang = np.radians([0, 62, 118, 181, 238, 301])
+    rad = np.array([5.0, 5.4, 4.8, 5.2, 4.9, 5.1])
+    hexa = np.stack([rad * np.cos(ang) + 6, rad * np.sin(ang) + 2, np.full(6, TOP_Z)], axis=1)
+    strokes, labels = prism_sketch(camera, hexa, 4.0, +1)
+    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
+    p = np.array(op.polygon)[:, :2]
+    sides = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+    assert sides == pytest.approx(np.full(6, sides.mean()), rel=1e-9)
+    radii = np.linalg.norm(p - p.mean(axis=0), axis=1)
+    assert radii == pytest.approx(np.full(6, radii.mean()), rel=1e-9)
+
+
+def test_nearly_straight_equal_radii_become_an_exact_cylinder(box, camera):
+    strokes, labels = sweep_sketch(camera, (3.3, 2.2, TOP_Z), 5.0, 5.4, 8.0, +1)
+    op = regularized(box, fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
+    assert op.r0 == op.r1
+    assert np.array(op.profile) == pytest.approx(np.array([(op.r0, op.d / 3), (op.r0, 2 * op.d / 3)]))

@@ -1,0 +1,80 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Prism fitting recovers the addition or subtraction that produced the strokes, and refuses
+strokes no prism on the face explains."""
+import numpy as np
+import pytest
+from fit_sketches import QUAD, TOP_Z, face_towards, prism_sketch
+
+from Sketch2CADWorkbench.brep.operators import apply_operation
+from Sketch2CADWorkbench.brep.protocol import Mode
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+
+
+def test_prism_fit_recovers_an_addition_exactly(box, camera):
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    assert op.mode is Mode.ADD and op.d == pytest.approx(6.0, abs=0.2)
+    got = np.array(op.polygon)
+    for v in QUAD:  # same vertex set, any starting vertex
+        assert np.min(np.linalg.norm(got - v, axis=1)) < 0.2
+
+
+def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edges(box, camera):
+    # the start outline drawn 4 px to the right, the other eight strokes where they belong:
+    # the base polygon follows the majority, not the four strokes that sit on f
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    got = np.array(op.polygon)
+    err = max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD)
+    # from the start outline alone the corners would be 4 px off
+    assert err < 0.5 * 4.0 * camera.pixel_size and op.d == pytest.approx(6.0, abs=0.3)
+
+
+def test_deep_cut_is_read_as_a_subtraction(box, camera):
+    strokes, labels = prism_sketch(camera, QUAD, 14.0, -1)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    assert op.mode is Mode.SUBTRACT and op.d == pytest.approx(14.0, abs=0.2)
+
+
+def test_a_plate_wider_than_the_column_top_it_stands_on_is_an_addition_on_it(box, camera):
+    # a 10 x 10 column on the box, then a 30 x 24 plate on the column's top: no sample of
+    # either plate outline lies on that face, but the plate's region covers all of it
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef
+    column = AddSubPrism(FaceRef((0.0, 0.0, TOP_Z), (0.0, 0.0, 1.0)),
+                         ((-5, -5, TOP_Z), (5, -5, TOP_Z), (5, 5, TOP_Z), (-5, 5, TOP_Z)),
+                         8.0, Mode.ADD)
+    solid = apply_operation(box, column)
+    z = TOP_Z + 8.0
+    top = next(f for f in solid.Faces() if f.normalAt().z > 0.999 and f.Center().z > z - 1e-6)
+    plate = np.array([[-15, -12, z], [15, -12, z], [15, 12, z], [-15, 12, z]])
+    strokes, labels = prism_sketch(camera, plate, 5.0, +1)
+    op = fit_prism(solid, top, camera, strokes, labels)
+    assert op.mode is Mode.ADD and op.d == pytest.approx(5.0, abs=0.3)
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in plate) < 0.5
+
+
+def test_user_choice_of_option_wins(box, camera):
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels,
+                   option=Mode.SUBTRACT)
+    assert op.mode is Mode.SUBTRACT
+
+
+@pytest.mark.parametrize("count", [2, 7])
+def test_prism_needs_three_to_six_profile_strokes(box, camera, count):
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    profiles = [s for s, l in zip(strokes, labels) if l == 1]
+    strokes = [s for s, l in zip(strokes, labels) if l != 1] + (profiles * 2)[:count]
+    labels = [l for l in labels if l != 1] + [1] * count
+    with pytest.raises(FitError, match=f"3 to 6 profile strokes.*{count} were recognised"):
+        fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+
+
+def test_outlines_off_the_face_are_refused(box, camera):
+    far = QUAD + np.array([60.0, 0, 0])
+    strokes, labels = prism_sketch(camera, far, 6.0, +1)
+    with pytest.raises(FitError, match="neither the start nor the end outline"):
+        fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)

@@ -1,0 +1,44 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The base face is the planar face the face map counts most, and a sketch beside the model
+is a fit error."""
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
+from Sketch2CADWorkbench.inference.fitting.base_face import select_base_face
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+
+
+def test_base_face_is_counted_and_an_unsure_face_map_still_decides():
+    box = make_box(Box((40, 30, 20)))
+    ids = np.zeros((64, 64), np.int32)
+    ids[:, 32:] = 5
+    ids[:4] = -1
+    sure = np.where(ids == 5, 0.9, 0.1)
+    assert select_base_face(sure, ids, box).isSame(box.Faces()[5])
+    unsure = np.where(ids == 5, 0.4, 0.2)  # nothing passes 0.5: the higher mean wins
+    assert select_base_face(unsure, ids, box).isSame(box.Faces()[5])
+
+
+def test_a_sketch_beside_the_model_is_a_fit_error_not_a_crash():
+    box = make_box(Box((40, 30, 20)))
+    background = np.full((64, 64), -1, np.int32)
+    with pytest.raises(FitError, match="not in view"):
+        select_base_face(np.full((64, 64), 0.9), background, box)
+
+
+def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
+    box = make_box(Box((40, 30, 20)))
+    top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+    post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0,
+                                      ((5.0, 10 / 3), (5.0, 20 / 3)), Mode.ADD))
+    faces = post.Faces()
+    side = next(i for i, f in enumerate(faces) if f.geomType() == "CYLINDER")
+    disk = next(i for i, f in enumerate(faces) if f.geomType() == "PLANE"
+                and abs(f.Center().z - 20.0) < 1e-6)
+    ids = np.full((64, 64), -1, np.int32)
+    ids[:40] = side
+    ids[40:50] = disk
+    got = select_base_face(np.where(ids >= 0, 0.9, 0.0), ids, post)
+    assert got.isSame(faces[disk])

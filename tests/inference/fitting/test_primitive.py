@@ -1,0 +1,29 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""A primitive whose far outline also lies on f names the other Boolean that draws the same
+lines (paper, Fig. 5b); one whose far outline leaves f names none."""
+import pytest
+from fit_sketches import QUAD, face_towards, prism_sketch
+
+from Sketch2CADWorkbench.brep.protocol import Mode
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
+from Sketch2CADWorkbench.inference.fitting.primitive import other_option_fits
+
+
+def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(box, camera):
+    # seen along the view, the 6 mm boss's top outline falls inside the top face: a hole
+    # with that rim, 6 mm deep, draws the same nine lines (paper, Fig. 5b)
+    from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+    face = face_towards(box, (0, 0, 1))
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    boss = fit_prism(box, face, camera, strokes, labels)
+    assert boss.mode is Mode.ADD and other_option_fits(face, camera, boss, 1e-6)
+    hole = fit_prism(box, face, camera, strokes, labels, option=Mode.SUBTRACT)
+    assert hole.d == pytest.approx(6.0, abs=0.2)
+    assert reprojection_error(box, hole, camera, strokes) < 1.0
+
+
+def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
+    face = face_towards(box, (0, 0, 1))
+    strokes, labels = prism_sketch(camera, QUAD, 25.0, +1)
+    boss = fit_prism(box, face, camera, strokes, labels)
+    assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
