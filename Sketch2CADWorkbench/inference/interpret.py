@@ -13,6 +13,7 @@ and the caller's solid is untouched.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol as TypingProtocol
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..brep.faces import OperationError, model_scale
 from ..brep.operators import apply_operation
-from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep
+from ..brep.protocol import Mode, Operation, OperatorType, per_operator
 from ..brep.symmetry import mid_plane, reflect
 from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
@@ -319,57 +320,83 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
                  ctx: Context, options: InterpretOptions
                  ) -> tuple[Operation, int, list[int]]:
     """The operator's fitting on base face `index`: (operation, face used, labels)."""
+    return _FIT_ON_FACE[op_type](solid, index, curve, ctx, options)
+
+
+def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
+                         options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+    """The extrusion on face `index`, its offset and side edges as C labels them (an
+    extrusion's sign is read from the strokes: `options` has nothing for it)."""
     face = solid.Faces()[index]
     strokes, cam = ctx.strokes, ctx.camera
-    if op_type is OperatorType.EXTRUDE:
-        labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type][:1])
-        try:
-            op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
-                             [s for s, l in zip(strokes, labels) if l == 0])
-        except FitError:
-            # C may call a side edge an offset edge or back. The line search scores the
-            # moved edges' distance to the strokes, which strokes of the other part
-            # rarely mislead, so every stroke may serve both parts.
-            op = fit_extrude(solid, face, cam, strokes, strokes)
-    elif op_type is OperatorType.BEVEL:
-        op, index, labels = _fit_bevel_readings(solid, index, curve, ctx)
-    else:
-        labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
-        fit = fit_prism if op_type is OperatorType.ADDSUB else fit_sweep
-        readings = [labels]
-        prism = op_type is OperatorType.ADDSUB
-        # a prism drawn with all its edges: three strokes per side
-        sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
-        for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
-            for count in sides:
-                try:  # C may mix up the strokes' roles: read them from the geometry too
-                    roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol, count)
-                except FitError:
-                    continue
-                if roles not in readings:
-                    readings.append(roles)
-        fitted, first = [], None
-        for reading in readings:
-            try:
-                # regularized after the choice of face and reading (regularize_operation)
-                op = fit(solid, face, cam, strokes, reading, options.option)
-            except FitError as e:
-                first = first or e
-                continue
-            fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
-        if not fitted:
-            raise first
-        # both fit: the one whose own sketch lies closer to the strokes
-        _, op, labels = min(fitted, key=lambda f: f[0])
+    labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
+    try:
+        op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
+                         [s for s, l in zip(strokes, labels) if l == 0])
+    except FitError:
+        # C may call a side edge an offset edge or back. The line search scores the
+        # moved edges' distance to the strokes, which strokes of the other part
+        # rarely mislead, so every stroke may serve both parts.
+        op = fit_extrude(solid, face, cam, strokes, strokes)
     return op, index, labels
 
 
-def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
-                        ) -> tuple[Operation, int, list[int]]:
+def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
+                       options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+    """The add/sub prism on face `index` (`_fit_by_roles`)."""
+    return _fit_by_roles(fit_prism, OperatorType.ADDSUB, solid, index, curve, ctx, options)
+
+
+def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
+                       options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+    """The sweep on face `index` (`_fit_by_roles`)."""
+    return _fit_by_roles(fit_sweep, OperatorType.SWEEP, solid, index, curve, ctx, options)
+
+
+def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: cq.Shape,
+                  index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+                  ) -> tuple[Operation, int, list[int]]:
+    """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
+    by those read from the strokes' geometry: the one whose own sketch lies closest to
+    the strokes."""
+    face = solid.Faces()[index]
+    strokes, cam = ctx.strokes, ctx.camera
+    labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
+    readings = [labels]
+    prism = op_type is OperatorType.ADDSUB
+    # a prism drawn with all its edges: three strokes per side
+    sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
+    for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
+        for count in sides:
+            try:  # C may mix up the strokes' roles: read them from the geometry too
+                roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol, count)
+            except FitError:
+                continue
+            if roles not in readings:
+                readings.append(roles)
+    fitted, first = [], None
+    for reading in readings:
+        try:
+            # regularized after the choice of face and reading (regularize_operation)
+            op = fit(solid, face, cam, strokes, reading, options.option)
+        except FitError as e:
+            first = first or e
+            continue
+        fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
+    if not fitted:
+        raise first
+    # both fit: the one whose own sketch lies closer to the strokes
+    _, op, labels = min(fitted, key=lambda f: f[0])
+    return op, index, labels
+
+
+def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
+                        options: InterpretOptions) -> tuple[Operation, int, list[int]]:
     """The bevel on face `index` whose profile l is the stroke C votes for most or, when
     that reading's own sketch lies more than GOOD_FIT_PX from the strokes, the one of
     the next stroke if it explains them better: C sometimes takes l' for l, and l' back
-    projected onto f's plane lands at another corner.
+    projected onto f's plane lands at another corner. A bevel has no Boolean, so
+    `options` has nothing for it.
 
     Returns:
         (operation, face used, per-stroke labels).
@@ -401,11 +428,17 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
     return best[1], best[2], best[3]
 
 
+_FIT_ON_FACE = per_operator({OperatorType.EXTRUDE: _fit_extrude_on_face,
+                             OperatorType.BEVEL: _fit_bevel_readings,
+                             OperatorType.ADDSUB: _fit_prism_on_face,
+                             OperatorType.SWEEP: _fit_sweep_on_face}, "_FIT_ON_FACE")
+
+
 def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera,
                  options: InterpretOptions) -> Mode | None:
     """The flipped Boolean when it reads the strokes as well as the one chosen (only
     when the designer did not choose one): see `Interpretation.other_option`."""
-    if options.option is not None or not isinstance(op, (AddSubPrism, Sweep)):
+    if options.option is not None or op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP):
         return None
     if not other_option_fits(solid.Faces()[base_face], camera, op, 1e-6 * model_scale(solid)):
         return None
