@@ -25,3 +25,13 @@ def assert_passed():
     def check(out: subprocess.CompletedProcess, name: str) -> None:
         assert f"CHECK PASSED {name}" in out.stdout, (out.stdout + out.stderr)[-6000:]
     return check
+
+
+@pytest.fixture(scope="session")
+def assert_all_ran():
+    """assert_all_ran(out, checks): the script exited 0 and ran exactly `checks`, in order."""
+    def check(out: subprocess.CompletedProcess, checks: list) -> None:
+        assert out.returncode == 0, (out.stdout + out.stderr)[-6000:]
+        ran = [line.split()[-1] for line in out.stdout.splitlines() if line.startswith("CHECK ")]
+        assert ran == checks
+    return check

@@ -66,7 +66,5 @@ def test_addon_install(addon_run, assert_passed, name):
     assert_passed(addon_run, name)
 
 
-def test_every_check_ran(addon_run):
-    assert addon_run.returncode == 0, (addon_run.stdout + addon_run.stderr)[-6000:]
-    ran = [line.split()[-1] for line in addon_run.stdout.splitlines() if line.startswith("CHECK ")]
-    assert ran == CHECKS
+def test_every_check_ran(addon_run, assert_all_ran):
+    assert_all_ran(addon_run, CHECKS)

@@ -38,7 +38,5 @@ def test_loading_the_workbench_prints_no_error_or_warning(gui_run, assert_passed
     assert not re.search(r"Traceback|Error|Warning|Cannot|failed", loading, re.I), loading[-4000:]
 
 
-def test_every_check_ran(gui_run):
-    assert gui_run.returncode == 0, (gui_run.stdout + gui_run.stderr)[-6000:]
-    ran = [line.split()[-1] for line in gui_run.stdout.splitlines() if line.startswith("CHECK ")]
-    assert ran == CHECKS
+def test_every_check_ran(gui_run, assert_all_ran):
+    assert_all_ran(gui_run, CHECKS)
