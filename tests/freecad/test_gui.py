@@ -17,7 +17,8 @@ CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_on
           "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
           "sketch_panel_fits_the_default_combo_view",
           "sketch_panel_reads_in_the_users_units_and_names_follow_the_offset",
-          "preferences_page_is_shown_and_its_values_are_used"]
+          "preferences_page_is_shown_and_its_values_are_used",
+          "closing_documents_after_sketching_keeps_freecad_running"]
 
 
 @pytest.fixture(scope="module")

@@ -10,8 +10,10 @@ moves (AA_CompressHighFrequencyEvents, on by default on X11) is off: with it, a 
 that renders slowly (software OpenGL) received a quarter of the moves and circles came
 out as polygons (docs/NOTES.md). Left presses, moves and releases and the hover moves
 never reach Coin, so navigation styles do not take left drags and faces do not
-pre-highlight while drawing. Enter and Escape come through an SoEventCallback placed
-first under the viewer's root, with the viewer redirecting events to the scene graph.
+pre-highlight while drawing. Enter and Escape are read by the same filter, on the view
+and its viewport (whichever has the keyboard focus). The viewer's Python object
+(`view.getViewer()`) is never asked for: FreeCAD 1.1.3 with Python 3.14 crashes when a
+document whose viewer it handed out is closed (docs/NOTES.md).
 The overlay is an SoAnnotation, so the model never hides it.
 
 Each stroke point is kept in world coordinates, on the camera's focal plane at the time
@@ -24,7 +26,9 @@ from PySide import QtCore, QtGui
 
 from .view_camera import from_qt, view_camera
 
-FINISH_KEYS = (coin.SoKeyboardEvent.RETURN, coin.SoKeyboardEvent.PAD_ENTER)
+FINISH_KEYS = (QtCore.Qt.Key_Return, QtCore.Qt.Key_Enter)  # Enter: the keypad's
+KEYS = FINISH_KEYS + (QtCore.Qt.Key_Escape,)
+KEY_EVENTS = (QtCore.QEvent.ShortcutOverride, QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease)
 COLOUR = (1.0, 0.55, 0.0)  # orange: the paper's sketch colour, visible on grey models
 LINE_WIDTH = 3.0  # pixels
 
@@ -47,12 +51,6 @@ class StrokeCapture:
         self.drawing = False
         self.redraw_pending = False
         view_camera(view)  # fails now, before anything is installed, if the view is perspective
-        self.was_redirected = view.getViewer().isRedirectedToSceneGraph()
-        view.getViewer().setRedirectToSceneGraph(True)
-        self.events = coin.SoEventCallback()
-        self.events.addEventCallback(coin.SoKeyboardEvent.getClassTypeId(), self.key)
-        self.top = view.getViewer().getSoRenderManager().getSceneGraph()
-        self.top.insertChild(self.events, 0)
         self.root = coin.SoAnnotation()
         style = coin.SoDrawStyle()
         style.lineWidth = LINE_WIDTH
@@ -62,11 +60,12 @@ class StrokeCapture:
         self.lines = coin.SoLineSet()
         for node in (style, colour, self.coords, self.lines):
             self.root.addChild(node)
-        self.graph = view.getSceneGraph()  # after the camera, unlike the root's first child
+        self.graph = view.getSceneGraph()  # after the camera
         self.graph.addChild(self.root)
-        self.viewport = view.graphicsView().viewport()
-        self.mouse = _MouseFilter(self)
-        self.viewport.installEventFilter(self.mouse)
+        self.widgets = (view.graphicsView(), view.graphicsView().viewport())
+        self.filter = _EventFilter(self)
+        for widget in self.widgets:
+            widget.installEventFilter(self.filter)
         self.compressing = QtGui.QApplication.testAttribute(
             QtCore.Qt.AA_CompressHighFrequencyEvents)
 
@@ -99,16 +98,11 @@ class StrokeCapture:
             self.strokes.pop()
         self.redraw()
 
-    def key(self, _userdata, event_cb):
-        """The Coin keyboard callback: Enter finishes, Escape cancels."""
-        ev = event_cb.getEvent()
-        if ev.getState() != coin.SoButtonEvent.DOWN:
-            return
-        if ev.getKey() in FINISH_KEYS:
-            event_cb.setHandled()
+    def key(self, qt_key) -> None:
+        """Enter (or the keypad's) was pressed: finish; Escape: cancel."""
+        if qt_key in FINISH_KEYS:
             QtCore.QTimer.singleShot(0, self.on_finish)
-        elif ev.getKey() == coin.SoKeyboardEvent.ESCAPE:
-            event_cb.setHandled()
+        elif qt_key == QtCore.Qt.Key_Escape:
             QtCore.QTimer.singleShot(0, self.on_cancel)
 
     def redraw(self) -> None:
@@ -139,18 +133,18 @@ class StrokeCapture:
 
     def remove(self) -> None:
         """Stop capturing; the nodes are taken away once outside any event handler."""
-        self.viewport.removeEventFilter(self.mouse)
+        for widget in self.widgets:
+            widget.removeEventFilter(self.filter)
         if self.drawing:  # removed with the button down: Qt merges moves again
             QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
                                             self.compressing)
             self.drawing = False
-        self.view.getViewer().setRedirectToSceneGraph(self.was_redirected)
-        top, events, graph, root = self.top, self.events, self.graph, self.root
-        QtCore.QTimer.singleShot(0, lambda: (top.removeChild(events), graph.removeChild(root)))
+        graph, root = self.graph, self.root
+        QtCore.QTimer.singleShot(0, lambda: graph.removeChild(root))
 
 
-class _MouseFilter(QtCore.QObject):
-    """The viewport's mouse events for a StrokeCapture (see the module's docstring)."""
+class _EventFilter(QtCore.QObject):
+    """The view's mouse and key events for a StrokeCapture (see the module's docstring)."""
 
     def __init__(self, capture: StrokeCapture):
         super().__init__()
@@ -158,6 +152,14 @@ class _MouseFilter(QtCore.QObject):
 
     def eventFilter(self, widget, event) -> bool:
         kind, c = event.type(), self.capture
+        if kind in KEY_EVENTS and event.key() in KEYS:
+            if kind == QtCore.QEvent.ShortcutOverride:
+                event.accept()  # so the key comes as a KeyPress, not as a menu's shortcut
+            elif kind == QtCore.QEvent.KeyPress and not event.isAutoRepeat():
+                c.key(event.key())
+            return True
+        if isinstance(widget, QtGui.QAbstractScrollArea):
+            return False  # the view itself: mouse events are the viewport's
         # a quick second stroke begins with a double-click event, not FreeCAD's double-click
         if kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick) \
                 and event.button() == QtCore.Qt.LeftButton:

@@ -218,8 +218,9 @@ def strokes_captured_from_mouse_events():
     capture.remove()
     settle()
     assert capture.graph.findChild(capture.root) == -1
-    assert capture.top.findChild(capture.events) == -1
-    assert not view.getViewer().isRedirectedToSceneGraph()
+    key(viewport, QtCore.Qt.Key_Return)  # removed: the keys are the view's again
+    drag(viewport, view_camera(view).project(side_edge)[0])
+    assert len(finished) == 1 and capture.strokes == [], (finished, capture.strokes)
 
 
 @check
@@ -441,11 +442,7 @@ def fcstd_reopens_with_view_providers():
 
 
 def new_model_document(name: str):
-    """A new document with a new model (the New model command), in an isometric view.
-
-    The checks leave their documents open: FreeCAD 1.1.3 crashes deleting a 3D view whose
-    viewer Python asked for several times (view.getViewer(), as the stroke capture does);
-    see docs/NOTES.md."""
+    """A new document with a new model (the New model command), in an isometric view."""
     FreeCAD.newDocument(name)
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     settle()
@@ -668,6 +665,20 @@ def preferences_page_is_shown_and_its_values_are_used():
         p.RemFloat("SnapStep")
         p.RemInt("NetworkThreads")
         p.RemString("DependencyFolder")
+
+
+@check
+def closing_documents_after_sketching_keeps_freecad_running():
+    # FreeCAD 1.1.3 (Python 3.14) crashed here while the stroke capture asked for
+    # view.getViewer(); the checks before this one sketched in most of these documents
+    sketched = [FreeCAD.getDocument(n) for n in FreeCAD.listDocuments()]
+    assert len(sketched) >= 3, list(FreeCAD.listDocuments())
+    for doc in sketched:
+        FreeCAD.closeDocument(doc.Name)
+        settle()
+    assert FreeCAD.listDocuments() == {}
+    new_model_document("AfterClosing")
+    assert FreeCADGui.ActiveDocument.ActiveView is not None
 
 
 def main():
