@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """How many holes drawn as a designer draws them the pipeline reads as that hole.
 
-    .bin/python scripts/hole_rate.py [--count 30] [--seed 17002]
+    .bin/python scripts/hole_rate.py [--count 30] [--seed 17002] [--hidden-lines]
 
 Draws `count` subtract prisms on visible faces of random models through the data
 generator's synthesis (tests/inference/holes.py), interprets each with the shipped
 networks, with no Boolean chosen and with subtract chosen (the panel's choice), and
-prints the share read as the intended hole and what the others became.
+prints the share read as the intended hole and what the others became. The holes are
+drawn as a designer draws them, without the lines the view hides; `--hidden-lines` draws
+every line, as the training sketches do.
 """
 import argparse
 import re
@@ -27,11 +29,13 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=30)
     p.add_argument("--seed", type=int, default=17002)
+    p.add_argument("--hidden-lines", action="store_true", help="draw the hidden lines too")
     a = p.parse_args()
     predictor, renderer = load_predictor(), MapRenderer()
     misses = {"no choice": Counter(), "subtract chosen": Counter()}
     flipped = 0  # read as the hole once the Boolean the reading named is taken
-    for hole in tqdm(designer_holes(a.count, a.seed, renderer), total=a.count, unit="hole"):
+    holes = designer_holes(a.count, a.seed, renderer, a.hidden_lines)
+    for hole in tqdm(holes, total=a.count, unit="hole"):
         miss, other = read_as_the_hole(hole, predictor, renderer)
         chosen, _ = read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)
         if miss:

@@ -5,7 +5,10 @@ A hole is a subtract prism on a planar face of a random model (a box, or a box a
 one or two random operations, so that faces stand above others), drawn through the
 data generator's own synthesis: an informative view of f's front, the curves the
 generator draws for the prism, and level-1 freehand strokes (end points moved, a
-wobble across each stroke). Used by tests/inference/test_holes.py and by
+wobble across each stroke). Drawn with every line, as the training sketches are, a hole
+and a boss standing on its rim draw the same lines (paper, Fig. 5b); a designer who
+leaves the hidden lines out draws the parts of lines the model after the hole lets the
+view see (`hidden_lines=False`), and those differ. Used by tests/inference/test_holes.py and by
 `scripts/hole_rate.py`, which prints the rates for more holes.
 """
 from __future__ import annotations
@@ -42,8 +45,10 @@ class DrawnHole:
     result: cq.Solid
 
 
-def designer_holes(count: int, seed: int, renderer: MapRenderer) -> Iterator[DrawnHole]:
-    """`count` holes, each a function of (seed, its index)."""
+def designer_holes(count: int, seed: int, renderer: MapRenderer,
+                   hidden_lines: bool) -> Iterator[DrawnHole]:
+    """`count` holes, each a function of (seed, its index), drawn with every line
+    (`hidden_lines`) or only with what the view sees."""
     made, index = 0, 0
     while made < count:
         rng = sample_rng(seed, index)
@@ -63,7 +68,8 @@ def designer_holes(count: int, seed: int, renderer: MapRenderer) -> Iterator[Dra
             continue
         if stage.volume - result.Volume() < MIN_VOLUME_CHANGE * stage.volume:
             continue  # a hole that removes next to nothing is no hole to draw
-        sample = view_sample(rng, context, Drawn(op, face, Stage(result)), 1, renderer)
+        sample = view_sample(rng, context, Drawn(op, face, Stage(result)), 1, renderer,
+                             hidden_lines=hidden_lines)
         if sample is None:
             continue
         made += 1
