@@ -24,9 +24,10 @@ from datagen.generate import Context, sample_rng, view_sample
 from datagen.operations import sample_prism
 from datagen.sequences import MIN_VOLUME_CHANGE, Drawn, Stage, sample_sequence
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError
+from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Mode, OperatorType
+from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
 from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions, interpret
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
@@ -74,6 +75,32 @@ def designer_holes(count: int, seed: int, renderer: MapRenderer,
             continue
         made += 1
         yield DrawnHole(stage.solid, sample.strokes, sample.camera, op, result)
+
+
+def rim_boss(hole: DrawnHole) -> AddSubPrism:
+    """The boss that draws the hole's lines (paper, Fig. 5b): it stands on the hole's floor
+    outline slid back along the view onto f, as tall as the hole is deep, so its top
+    outline is the rim seen along the view."""
+    rf = resolve_face(hole.solid, hole.hole.face)
+    normal, view = np.asarray(rf.normal, float), np.asarray(hole.camera.direction, float)
+    floor = np.array(hole.hole.polygon, float) - hole.hole.d * normal
+    base = floor - view * (hole.hole.d / float(-view @ normal))
+    return dataclasses.replace(hole.hole, polygon=tuple(map(tuple, base)), mode=Mode.ADD)
+
+
+def seen_errors(hole: DrawnHole, renderer: MapRenderer) -> tuple[float, float] | None:
+    """How far (px, `verify.reprojection_error` with only the lines each result lets the
+    view see) the hole's own sketch and that of the boss on its rim lie from the
+    strokes; None when that boss cannot stand there (then nothing is ambiguous)."""
+    out = []
+    for op in (hole.hole, rim_boss(hole)):
+        try:
+            result = apply_operation(hole.solid, op)
+        except OperationError:
+            return None
+        seen = renderer.render(result, hole.camera)
+        out.append(reprojection_error(hole.solid, op, hole.camera, hole.strokes, seen))
+    return out[0], out[1]
 
 
 def read_as_the_hole(hole: DrawnHole, predictor, renderer: MapRenderer,
