@@ -1,16 +1,16 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """How many holes drawn as a designer draws them the pipeline reads as that hole.
 
-    .bin/python scripts/hole_rate.py [--count 30] [--seed 17002] [--hidden-lines] [--truth]
+    .bin/python scripts/hole_rate.py [--count 30] [--seed 17002] [--omit-hidden] [--truth]
 
 Draws `count` subtract prisms on visible faces of random models through the data
 generator's synthesis (tests/inference/holes.py), interprets each with the shipped
 networks, with no Boolean chosen and with subtract chosen (the panel's choice), and
 prints the share read as the intended hole and what the others became. The holes are
-drawn as a designer draws them, without the lines the view hides; `--hidden-lines` draws
-every line, as the training sketches do. `--truth` runs no networks: it prints for how
-many holes the true hole's seen lines explain the strokes better than those of the boss
-on its rim that draws the same lines (paper, Fig. 5b).
+drawn with every line, as the training sketches are; `--omit-hidden` leaves out the lines
+the view hides, as a designer drawing only what is seen does. `--truth` runs no
+networks: it prints for how many holes the true hole's seen lines explain the strokes
+better than those of the boss on its rim that draws the same lines (paper, Fig. 5b).
 """
 import argparse
 import re
@@ -31,7 +31,7 @@ from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
 def truth(a: argparse.Namespace) -> int:
     renderer = MapRenderer()
     errors = [seen_errors(hole, renderer) for hole in tqdm(
-        designer_holes(a.count, a.seed, renderer, a.hidden_lines), total=a.count, unit="hole")]
+        designer_holes(a.count, a.seed, renderer, not a.omit_hidden), total=a.count, unit="hole")]
     pairs = np.array([e for e in errors if e is not None]).reshape(-1, 2)
     closer = int((pairs[:, 0] < pairs[:, 1]).sum())
     print(f"{len(pairs)} of {a.count} holes have a boss on their rim that draws the same lines; "
@@ -44,7 +44,8 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=30)
     p.add_argument("--seed", type=int, default=17002)
-    p.add_argument("--hidden-lines", action="store_true", help="draw the hidden lines too")
+    p.add_argument("--omit-hidden", action="store_true",
+                   help="leave out the lines the view hides")
     p.add_argument("--truth", action="store_true",
                    help="no networks: only whether the true hole's seen lines explain the "
                         "strokes better than those of the boss on its rim (paper, Fig. 5b)")
@@ -54,7 +55,7 @@ def main() -> int:
     predictor, renderer = load_predictor(), MapRenderer()
     misses = {"no choice": Counter(), "subtract chosen": Counter()}
     flipped = 0  # read as the hole once the Boolean the reading named is taken
-    holes = designer_holes(a.count, a.seed, renderer, a.hidden_lines)
+    holes = designer_holes(a.count, a.seed, renderer, not a.omit_hidden)
     for hole in tqdm(holes, total=a.count, unit="hole"):
         miss, other = read_as_the_hole(hole, predictor, renderer)
         chosen, _ = read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)
