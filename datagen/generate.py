@@ -23,6 +23,7 @@ from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
 from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
+from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
@@ -90,20 +91,22 @@ def generate_sample(rng: np.random.Generator, noise_level: int,
 
 
 def generate_block(seed: int, block: int, noise_level: int, renderer: MapRenderer,
-                   size: int = IMAGE_SIZE) -> list[Sample]:
+                   size: int = IMAGE_SIZE, hidden_lines: bool = True) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
     They share one context of block % MAX_LENGTH operations, drawn from the block's own
-    generator; sample i draws everything else from sample_rng(seed, i).
+    generator; sample i draws everything else from sample_rng(seed, i). Without
+    `hidden_lines` the strokes draw only what the view sees (`view_sample`).
     """
     context = Context(sample_sequence(sample_rng(seed, block, stream=1), block % MAX_LENGTH))
-    return [sample_on(context, sample_rng(seed, i), noise_level, renderer, size)
+    return [sample_on(context, sample_rng(seed, i), noise_level, renderer, size,
+                      hidden_lines=hidden_lines)
             for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)]
 
 
 def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
               renderer: MapRenderer, size: int = IMAGE_SIZE,
-              kind: OperatorType | None = None) -> Sample:
+              kind: OperatorType | None = None, hidden_lines: bool = True) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
     on `context`.
 
@@ -119,17 +122,22 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
             context = Context(sample_sequence(rng, len(context.protocol.operations)))
             tries = 0
             continue
-        sample = view_sample(rng, context, drawn, noise_level, renderer, size)
+        sample = view_sample(rng, context, drawn, noise_level, renderer, size, hidden_lines)
         if sample is not None:
             return sample
         tries += 1
 
 
 def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_level: int,
-                renderer: MapRenderer, size: int = IMAGE_SIZE) -> Sample | None:
+                renderer: MapRenderer, size: int = IMAGE_SIZE,
+                hidden_lines: bool = True) -> Sample | None:
     """The sample of the operation drawn on `context` from a random informative view, or
     None when VIEW_TRIES views all hide too much of the relevant curve or of the base
-    face (datagen/views.py says which curve, and against which solid)."""
+    face (datagen/views.py says which curve, and against which solid).
+
+    With `hidden_lines` False the strokes draw only what the view sees of the model
+    after the operation (`sketch.visible.visible_curves`), as a designer who leaves the
+    hidden lines out; the training data draws every line."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
     rf = ResolvedFace.of(drawn.face.face)  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
@@ -153,6 +161,11 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
                 continue
         if not shows_base_face(maps, face):
             continue
+        if not hidden_lines:
+            if result_mesh is None:
+                result_mesh = tessellate(result.solid,
+                                         MESH_REL_TOLERANCE * model_scale(result.solid))
+            curves = visible_curves(curves, camera, renderer.render(result_mesh, camera))
         strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
         ink = stroke_maps(strokes, labels, size, size)
         return Sample(

@@ -38,6 +38,9 @@ from .preview import write_preview
 
 SHARD_SIZE = 256  # a multiple of PER_CONTEXT: shards hold whole blocks
 NOISE_CHOICES = ["1", "2", "3", "mix"]
+# Hidden lines: drawn (the paper's sketches), left out as a designer drawing only what
+# is seen does (sketch/visible.py), or the two taking turns per context block.
+HIDDEN_CHOICES = ["draw", "omit", "mix"]
 # Each worker runs on one thread: the workers already fill the cores, and threads of
 # OpenBLAS (spinning while they wait) and of Mesa's software rasteriser would only
 # compete with the other workers (docs/NOTES.md).
@@ -52,6 +55,7 @@ class DatagenSettings:
     count: int
     seed: int = 0
     noise_level: str = "1"        # one of NOISE_CHOICES
+    hidden_lines: str = "draw"    # one of HIDDEN_CHOICES
     workers: int = 2
     shard_size: int = SHARD_SIZE  # a multiple of PER_CONTEXT
     preview: Path | None = None   # also write a contact sheet of the first samples
@@ -62,11 +66,17 @@ def noise_of_block(noise: str, block: int) -> int:
     return 1 + block % 3 if noise == "mix" else int(noise)
 
 
+def hidden_lines_of_block(hidden: str, block: int) -> bool:
+    """Whether a block's samples draw the hidden lines."""
+    return hidden == "draw" or (hidden == "mix" and block % 2 == 0)
+
+
 def manifest_of(settings: DatagenSettings) -> dict:
     n_shards = (settings.count + settings.shard_size - 1) // settings.shard_size
     levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
     return {"format": FORMAT, "version": VERSION, "count": settings.count, "seed": settings.seed,
-            "noise": settings.noise_level, "noise_levels": levels, "image_size": IMAGE_SIZE,
+            "noise": settings.noise_level, "noise_levels": levels,
+            "hidden_lines": settings.hidden_lines, "image_size": IMAGE_SIZE,
             "shard_size": settings.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
             "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
 
@@ -80,13 +90,14 @@ def _init_worker() -> None:
     _RENDERER = MapRenderer()
 
 
-def make_block(job: tuple[int, int, str]) -> list[Record]:
-    """The packed samples of block `job` = (seed, block, noise)."""
-    seed, block, noise = job
+def make_block(job: tuple[int, int, str, str]) -> list[Record]:
+    """The packed samples of block `job` = (seed, block, noise, hidden lines)."""
+    seed, block, noise, hidden = job
     if _RENDERER is None:
         _init_worker()
     return [pack(s) for s in generate_block(seed, block, noise_of_block(noise, block),
-                                            _RENDERER)]
+                                            _RENDERER,
+                                            hidden_lines=hidden_lines_of_block(hidden, block))]
 
 
 @contextlib.contextmanager
@@ -132,16 +143,18 @@ def generate_dataset(settings: DatagenSettings) -> int:
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
-        keys = ("version", "count", "seed", "noise", "shard_size")
+        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines")
+        old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
             return _error(f"{out} holds a different data set (version/count/seed/noise/shard "
-                          f"size {'/'.join(str(old.get(k)) for k in keys)}); use another --out")
+                          f"size/hidden lines {'/'.join(str(old.get(k)) for k in keys)}); use "
+                          "another --out")
     mpath.write_text(json.dumps(manifest, indent=1) + "\n")
 
     size = settings.shard_size
     todo = [k for k in range(len(manifest["shards"])) if not shard_complete(out, k)]
     counts = {k: min(size, settings.count - k * size) for k in todo}
-    jobs = [(settings.seed, b, settings.noise_level) for k in todo
+    jobs = [(settings.seed, b, settings.noise_level, settings.hidden_lines) for k in todo
             for b in range(k * size // PER_CONTEXT, (k * size + counts[k] + PER_CONTEXT - 1)
                            // PER_CONTEXT)]
     made = sum(counts.values())

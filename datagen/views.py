@@ -39,6 +39,7 @@ from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.render.maps import ContextMaps
 from Sketch2CADWorkbench.render.visibility import visible_fraction
 from Sketch2CADWorkbench.sketch.curves import Curve
+from Sketch2CADWorkbench.sketch.visible import DEPTH_SLACK_PX
 
 ANGLE_RANGE_DEG = (20.0, 80.0)
 SCALE_RANGE = (1.6, 2.4)
@@ -46,7 +47,6 @@ MAX_OCCLUSION = 0.2
 ROLL_SD_DEG = 8.0       # the usual small tilt of the up vector about the view direction
 FREE_ROLL_SHARE = 0.1   # views with any roll at all
 OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
-DEPTH_SLACK_PX = 2.0    # depth slack of the occlusion test, in pixel sizes
 MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 256)
 # Which solid the occlusion filter tests each operator's relevant curve against (above).
 OCCLUDED_BY = per_operator({OperatorType.EXTRUDE: "result", OperatorType.BEVEL: "context",

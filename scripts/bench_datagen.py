@@ -30,12 +30,13 @@ TARGET = 40_000
 def bench(count: int, workers: int, seed: int, shard_size: int = 256) -> tuple[float, float]:
     """(start-up seconds, steady samples per second) of `workers` processes."""
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
-    jobs = [(seed, b, "1") for b in range(blocks)]
+    jobs = [(seed, b, "1", "draw") for b in range(blocks)]
     shards = list(range((blocks * PER_CONTEXT + shard_size - 1) // shard_size))
     counts = {k: min(shard_size, blocks * PER_CONTEXT - k * shard_size) for k in shards}
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp, parallel.start_pool(workers) as pool:
-        pool.map(parallel.make_block, [(seed + 1, b, "1") for b in range(workers)], chunksize=1)
+        pool.map(parallel.make_block, [(seed + 1, b, "1", "draw") for b in range(workers)],
+                 chunksize=1)
         ready = time.perf_counter()
         with tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
             parallel._collect(pool.imap(parallel.make_block, jobs), shards, counts, Path(tmp), bar)

@@ -3,7 +3,8 @@
 'Training data generation'): a data set deterministic per seed for any worker count, and
 resumable (datagen/parallel.py).
 
-`sketch2cad datagen --out DIR --count N [--seed S] [--noise-level 1|2|3|mix] [--workers W]`.
+`sketch2cad datagen --out DIR --count N [--seed S] [--noise-level 1|2|3|mix]
+[--hidden-lines draw|omit|mix] [--workers W]`.
 """
 from __future__ import annotations
 
@@ -11,7 +12,13 @@ import argparse
 from pathlib import Path
 
 from datagen.generate import PER_CONTEXT
-from datagen.parallel import NOISE_CHOICES, SHARD_SIZE, DatagenSettings, generate_dataset
+from datagen.parallel import (
+    HIDDEN_CHOICES,
+    NOISE_CHOICES,
+    SHARD_SIZE,
+    DatagenSettings,
+    generate_dataset,
+)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -21,6 +28,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--noise-level", default="1", choices=NOISE_CHOICES,
                    help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal (levels 1, "
                         "2, 3), or mix (the levels take turns per context); default 1")
+    p.add_argument("--hidden-lines", default="draw", choices=HIDDEN_CHOICES,
+                   help="draw the lines the view hides (the paper's sketches), leave them out "
+                        "as a designer drawing what is seen does, or mix (they take turns per "
+                        "context); default draw")
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
                    help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
@@ -29,4 +40,5 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
-                                            args.workers, args.shard_size, args.preview))
+                                            args.hidden_lines, args.workers, args.shard_size,
+                                            args.preview))

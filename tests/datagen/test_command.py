@@ -57,10 +57,13 @@ def test_a_folder_holding_another_data_set_is_refused(one_worker, capsys):
     assert datagen("--out", one_worker, "--count", "14", "--seed", "4", "--shard-size", "8",
                    "--workers", 1) == 2
     assert "holds a different data set" in capsys.readouterr().err
+    assert datagen("--out", one_worker, *ARGS, "--hidden-lines", "omit", "--workers", 1) == 2
+    assert "holds a different data set" in capsys.readouterr().err
 
 
 def test_the_manifest_describes_the_set(one_worker):
     ds = Dataset(one_worker)
     m = ds.manifest
     assert (m["count"], m["seed"], m["noise"], m["noise_levels"]) == (14, 3, "1", [1])
+    assert m["hidden_lines"] == "draw"
     assert m["image_size"] == 256 and m["shards"] == ["shard-00000.npz", "shard-00001.npz"]

@@ -126,3 +126,13 @@ def test_a_block_shares_one_context_and_cycles_its_length(renderer):
     again = generate_block(3, 5, 1, renderer)
     assert [s.operation for s in again] == [s.operation for s in blocks[1]]
     assert all(np.array_equal(x.sketch, y.sketch) for x, y in zip(again, blocks[1]))
+
+
+def test_a_block_drawn_without_hidden_lines_shows_the_same_steps_with_less_ink(renderer):
+    # a designer who draws only what is seen (sketch/visible.py): the same operations from
+    # the same views, the lines the result hides left out
+    every = generate_block(3, 5, 1, renderer)
+    seen = generate_block(3, 5, 1, renderer, hidden_lines=False)
+    assert [s.operation for s in seen] == [s.operation for s in every]
+    assert [s.camera for s in seen] == [s.camera for s in every]
+    assert sum(int(s.sketch.sum()) for s in seen) < sum(int(s.sketch.sum()) for s in every)

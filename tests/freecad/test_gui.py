@@ -11,6 +11,7 @@ CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_on
           "sketch_step_adds_one_undoable_feature",
           "sketching_in_a_perspective_view_switches_it_to_orthographic",
           "a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one",
+          "holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes",
           "load_protocol_errors_change_nothing", "load_protocol_is_one_undo_step",
           "save_protocol_round_trip", "export_step_command", "replay_command_rebuilds_step_by_step",
           "fcstd_reopens_with_view_providers",
@@ -24,7 +25,8 @@ CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_on
 @pytest.fixture(scope="module")
 def gui_run(tmp_path_factory, run_freecad):
     """One FreeCAD GUI process running every check of scripts/gui_session.py."""
-    return run_freecad("gui_session.py", tmp_path_factory.mktemp("gui"), gui=True)
+    # ten holes drawn and read twice take a minute or two of the budget on a loaded machine
+    return run_freecad("gui_session.py", tmp_path_factory.mktemp("gui"), gui=True, timeout=600)
 
 
 @pytest.mark.parametrize("name", CHECKS)

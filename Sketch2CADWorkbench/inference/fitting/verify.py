@@ -3,7 +3,9 @@
 
 When two readings of the strokes both fit (the curve map's roles and the roles read
 from geometry), the one whose curves (the lines the data generator would draw for it)
-lie closer to the strokes, and the strokes to them, is the sketch's meaning.
+lie closer to the strokes, and the strokes to them, is the sketch's meaning. A designer
+may also leave the hidden lines out: then the reading whose seen lines
+(sketch/visible.py) match is the meaning, which tells a hole from the boss on its rim.
 """
 from __future__ import annotations
 
@@ -12,24 +14,39 @@ import numpy as np
 
 from ...brep.protocol import Operation
 from ...render.camera import OrthoCamera
+from ...render.maps import ContextMaps
 from ...sketch.curves import operation_curves
+from ...sketch.visible import visible_curves
 from .common import DistanceField, resample, stroke_pixels
 
 
 def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
-                     strokes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+                     strokes: list[np.ndarray], seen: ContextMaps | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
     """Distances (pixels) from the strokes' samples to op's projected curves, and from
-    the curves' samples to the strokes."""
+    the curves' samples to the strokes.
+
+    Args:
+        seen: maps of the model after op, rendered with `camera`: only the parts of op's
+            curves that view sees count (every curve when None). When it sees none, the
+            strokes are infinitely far from them.
+    """
     shape = (camera.height, camera.width)
-    curves = [camera.project(c.points)[0] for c in operation_curves(solid, op, camera.direction)]
+    curves = operation_curves(solid, op, camera.direction)
+    if seen is not None:
+        curves = visible_curves(curves, camera, seen)
     drawn = np.concatenate([resample(s) for s in strokes])
-    ideal = np.concatenate([resample(c) for c in curves])
-    return (DistanceField(stroke_pixels(curves, shape))(drawn),
+    if not curves:
+        return np.full(len(drawn), np.inf), np.full(1, np.inf)
+    pixels = [camera.project(c.points)[0] for c in curves]
+    ideal = np.concatenate([resample(p) for p in pixels])
+    return (DistanceField(stroke_pixels(pixels, shape))(drawn),
             DistanceField(stroke_pixels(strokes, shape))(ideal))
 
 
 def reprojection_error(solid: cq.Shape, op: Operation, camera: OrthoCamera,
-                       strokes: list[np.ndarray]) -> float:
-    """Symmetric mean distance (pixels) between the strokes and op's projected curves."""
-    to_sketch, to_strokes = sketch_distances(solid, op, camera, strokes)
+                       strokes: list[np.ndarray], seen: ContextMaps | None = None) -> float:
+    """Symmetric mean distance (pixels) between the strokes and op's projected curves
+    (with `seen`, the parts of them the view sees: `sketch_distances`)."""
+    to_sketch, to_strokes = sketch_distances(solid, op, camera, strokes, seen)
     return 0.5 * (float(to_sketch.mean()) + float(to_strokes.mean()))

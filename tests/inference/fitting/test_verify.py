@@ -25,3 +25,28 @@ def test_the_drawn_sweep_explains_its_strokes_better_than_a_longer_wider_one():
     exact = reprojection_error(box, drawn, cam, strokes)
     assert exact == pytest.approx(0.0, abs=1.0)
     assert reprojection_error(box, sweep(9.0, 16.0), cam, strokes) > exact + 5.0
+
+
+def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lines():
+    # paper, Fig. 5b: the boss stands on the hole's floor outline slid along the view onto
+    # f, so its top outline is the rim; drawn with every line the two read alike, drawn
+    # as seen (hidden lines left out) only the hole explains the strokes
+    from Sketch2CADWorkbench.brep.operators import apply_operation
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism
+    from Sketch2CADWorkbench.render.maps import MapRenderer
+    from Sketch2CADWorkbench.sketch.visible import visible_curves
+    renderer = MapRenderer()
+    box = make_box(Box((40, 30, 20)))
+    v = np.array([0.3, 0.8, -1.0]) / np.linalg.norm([0.3, 0.8, -1.0])
+    cam = OrthoCamera((0.0, 0.0, 5.0), tuple(v), (0, 0, 1), 45.0, 512, 512)
+    rim = np.array([(-5.0, -5.0, 10.0), (5.0, -5.0, 10.0), (5.0, 5.0, 10.0), (-5.0, 5.0, 10.0)])
+    hole = AddSubPrism(TOP, tuple(map(tuple, rim)), 6.0, Mode.SUBTRACT)
+    floor_on_f = rim - (0, 0, 6.0) - v * (6.0 / -v[2])  # back up along the view onto f
+    boss = AddSubPrism(TOP, tuple(map(tuple, floor_on_f)), 6.0, Mode.ADD)
+    every = [cam.project(c.points)[0] for c in operation_curves(box, hole, cam.direction)]
+    assert reprojection_error(box, boss, cam, every) == pytest.approx(0.0, abs=0.5)
+    maps = {op: renderer.render(apply_operation(box, op), cam) for op in (hole, boss)}
+    drawn = [cam.project(c.points)[0]
+             for c in visible_curves(operation_curves(box, hole, cam.direction), cam, maps[hole])]
+    assert reprojection_error(box, hole, cam, drawn, maps[hole]) == pytest.approx(0.0, abs=0.5)
+    assert reprojection_error(box, boss, cam, drawn, maps[boss]) > 3.0
