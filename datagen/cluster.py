@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import os
+import time
 from typing import Callable
 
 from tqdm import tqdm
@@ -44,6 +45,7 @@ def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
     written and advance the bar. Returns one line per shard that failed (empty: all
     written)."""
     ray = require_ray()
+    start = time.perf_counter()
     # the workers: one thread each, and this checkout and its dependencies on the path
     # (the same folders on every node)
     env = dict(SINGLE_THREAD_ENV, PYTHONPATH=os.environ.get("PYTHONPATH", ""))
@@ -56,7 +58,8 @@ def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
                  runtime_env={"env_vars": env})
     try:
         cpus = int(ray.cluster_resources().get("CPU", 0))
-        bar.write(f"datagen: {len(counts)} shard task(s) on Ray, {cpus} CPU(s)")
+        bar.write(f"datagen: {len(counts)} shard task(s) on Ray, {cpus} CPU(s), up in "
+                  f"{time.perf_counter() - start:.0f} s")
         task = ray.remote(num_cpus=1, max_retries=RETRIES)(make_shard)
         pending = {task.remote(str(settings.out.resolve()), settings.seed,
                                settings.noise_level, k, n, settings.shard_size): k
