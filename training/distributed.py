@@ -92,6 +92,28 @@ def from_main(value: float, ranks: Ranks, device: str) -> float:
     return float(t)
 
 
+def weighted_mean_share(weights: torch.Tensor, ranks: Ranks) -> torch.Tensor | float:
+    """What turns this rank's weighted mean over its samples (sum w l / sum w, the class-
+    weighted cross entropy) into its part of the global batch's, given DDP's average
+    over the ranks: world * (sum of its w) / (sum of all w). `weights`: its samples' w."""
+    if not ranks.distributed:
+        return 1.0
+    mine = weights.detach().sum()
+    total = mine.clone()
+    dist.all_reduce(total)
+    return ranks.world * mine / total
+
+
+def mean_over_ranks(values: list[torch.Tensor], ranks: Ranks) -> list[torch.Tensor]:
+    """The ranks' average of each (detached) value: with the shares above, the global
+    batch's losses, for the log."""
+    if not ranks.distributed:
+        return values
+    t = torch.stack([v.detach() for v in values])
+    dist.all_reduce(t)
+    return list(t / ranks.world)
+
+
 def share_buffers(model: torch.nn.Module, ranks: Ranks) -> None:
     """Rank 0's buffers on every rank: DDP sends them before each forward pass, so after
     the last one each rank holds the batch-norm statistics of its own last batch."""

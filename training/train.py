@@ -286,11 +286,14 @@ def train_step(run: Run, idx: torch.Tensor) -> list[torch.Tensor]:
     for g in run.opt.param_groups:
         g["lr"] = lr_at(s, run.state["step"], run.progress())
     x, face, curve, mask, op = run.train_data.batch(idx, s.device, flip)
-    terms = loss_terms(run.model, run.net(x), op, face, curve, mask, run.weights, s.face_dice)
+    cls, *rest = loss_terms(run.model, run.net(x), op, face, curve, mask, run.weights,
+                            s.face_dice)
+    # in several processes, as one: the weighted mean over the whole global batch
+    terms = [cls * distributed.weighted_mean_share(run.weights[op], run.ranks), *rest]
     run.opt.zero_grad(set_to_none=True)
     sum(terms).backward()
     torch.nn.utils.clip_grad_norm_(run.model.parameters(), s.grad_clip)
-    return terms
+    return distributed.mean_over_ranks(terms, run.ranks)
 
 
 # ---------------------------------------------------------------- the loop
