@@ -1,8 +1,12 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Training in two processes (`sketch2cad train --nproc 2`: torchrun, DDP over gloo): the
-ranks end with the same weights, the run trains as one process with the same global batch
-does, and it resumes from rank 0's checkpoint."""
+"""Training in two processes (`sketch2cad train --nproc 2`: torchrun, DDP over gloo): a
+step's gradient is the single process's with the same global batch, the ranks end with
+the same weights, a run trains as one process does, and it resumes from rank 0's
+checkpoint."""
 import json
+import subprocess
+import sys
+from pathlib import Path
 
 import torch
 
@@ -17,6 +21,7 @@ from Sketch2CADWorkbench.inference.models import (
 from training.data import load_pooled
 from training.distributed import Ranks, epoch_order
 
+TOLERANCE = 0.15
 ARGS = ["--batch-size", "8", "--lr", "0.01", "--warmup-steps", "5", "--threads", "2",
         "--internal-size", "16", "--widths", "8", "16", "32"]
 
@@ -48,7 +53,20 @@ def test_the_ranks_deal_out_one_order_as_one_process_takes_it():
     assert torch.equal(torch.stack(halves, 1).flatten(), one)
 
 
-def test_two_processes_train_as_one_with_the_same_global_batch(tiny_data, tmp_path):
+def test_a_step_in_two_processes_has_the_gradient_of_one_process(tiny_data, tmp_path):
+    # eval mode: batch-norm statistics and dropout masks are each process's own
+    step = Path(__file__).with_name("ddp_step.py")
+    torchrun = [sys.executable, "-m", "torch.distributed.run", "--standalone",
+                "--nproc_per_node=2"]
+    for out, launch in ((tmp_path / "one", []), (tmp_path / "two", torchrun)):
+        subprocess.run([*(launch or [sys.executable]), str(step), str(tiny_data), str(out)],
+                       check=True)
+    one, two = (torch.load(tmp_path / d / "step.pt") for d in ("one", "two"))
+    assert torch.allclose(one["terms"], two["terms"], rtol=1e-5)
+    assert float((one["grad"] - two["grad"]).norm()) < 1e-5 * float(one["grad"].norm())
+
+
+def test_two_processes_train_as_one_and_resume(tiny_data, tmp_path):
     steps = 30
     assert _train(tiny_data, tmp_path / "one", "--steps", steps) == 0
     assert _train(tiny_data, tmp_path / "two", "--steps", steps, "--nproc", 2) == 0
@@ -64,18 +82,13 @@ def test_two_processes_train_as_one_with_the_same_global_batch(tiny_data, tmp_pa
     torch.manual_seed(0)
     before = _loss(Sketch2CADNet(one.config), tiny_data, tmp_path)
     l1, l2 = _loss(one, tiny_data, tmp_path), _loss(two, tiny_data, tmp_path)
-    # the same descent within 10% of what it gained (batch-norm statistics and dropout
-    # masks are per process, so the runs are not bit-identical)
-    assert l1 < 0.8 * before and abs(l2 - l1) < 0.1 * (before - l1), (before, l1, l2)
+    # the same descent within TOLERANCE of what it gained (batch-norm statistics and
+    # dropout masks are per process, so the runs are not bit-identical)
+    assert l1 < 0.9 * before and abs(l2 - l1) < TOLERANCE * (before - l1), (before, l1, l2)
 
-
-def test_a_two_process_run_resumes_from_rank_0s_checkpoint(tiny_data, tmp_path):
-    out = tmp_path / "run"
-    assert _train(tiny_data, out, "--steps", 3, "--nproc", 2) == 0
-    assert load_checkpoint(out / "checkpoint.pt")[1]["state"]["step"] == 3
-    assert _train(tiny_data, out, "--steps", 6, "--nproc", 2) == 0
-    assert [e["what"] for e in _events(out)] == ["start", "end", "resume", "end"]
-    assert _events(out)[-1]["step"] == 6
+    assert _train(tiny_data, tmp_path / "two", "--steps", steps + 3, "--nproc", 2) == 0
+    assert [e["what"] for e in _events(tmp_path / "two")] == ["start", "end", "resume", "end"]
+    assert _events(tmp_path / "two")[-1]["step"] == steps + 3
 
 
 def test_a_batch_that_does_not_divide_among_the_processes_is_refused(tiny_data, tmp_path,
