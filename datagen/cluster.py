@@ -34,8 +34,9 @@ def require_ray():
     try:
         import ray
     except ImportError:
-        raise RuntimeError("--ray needs Ray, the optional extra 'cluster': "
-                           "SKETCH2CAD_EXTRAS=test,cluster make setup (README)") from None
+        raise RuntimeError("--ray needs Ray, the optional extra 'cluster' (`make setup`, or "
+                           "`SKETCH2CAD_EXTRAS=cluster freecadcmd scripts/"
+                           "install_dependencies.py`: README)") from None
     return ray
 
 
