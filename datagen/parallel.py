@@ -5,7 +5,9 @@ Sample i is a function of (seed, i) alone (generate.sample_rng), so a data set i
 same whatever the number of workers. Workers make blocks of PER_CONTEXT samples (one
 shared context each); the main process gathers them into shards in order and writes
 each shard atomically. Shards already complete on disk are skipped, so rerunning the
-same command after an interruption finishes the set.
+same command after an interruption finishes the set. With `--ray`, each shard is one
+task of a Ray cluster instead (cluster.py), made by `make_shard` from (seed, shard index)
+alone: the same bytes.
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from Sketch2CADWorkbench.brep.files import atomic_path
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import (
@@ -59,6 +62,8 @@ class DatagenSettings:
     workers: int = 2
     shard_size: int = SHARD_SIZE  # a multiple of PER_CONTEXT
     preview: Path | None = None   # also write a contact sheet of the first samples
+    ray: str | None = None        # a Ray cluster's address ("local": start one of
+                                  # `workers` CPUs here); None: a process pool
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -71,14 +76,24 @@ def hidden_lines_of_block(hidden: str, block: int) -> bool:
     return hidden == "draw" or (hidden == "mix" and block % 2 == 0)
 
 
-def manifest_of(settings: DatagenSettings) -> dict:
+def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
+    """The manifest; "complete" lists the shards written so far (all, once finished)."""
     n_shards = (settings.count + settings.shard_size - 1) // settings.shard_size
     levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
     return {"format": FORMAT, "version": VERSION, "count": settings.count, "seed": settings.seed,
             "noise": settings.noise_level, "noise_levels": levels,
             "hidden_lines": settings.hidden_lines, "image_size": IMAGE_SIZE,
             "shard_size": settings.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
-            "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)]}
+            "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)],
+            "complete": sorted(complete)}
+
+
+def shard_jobs(seed: int, noise: str, hidden: str, k: int, count: int, shard_size: int
+               ) -> list[tuple[int, int, str, str]]:
+    """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
+    first = k * shard_size // PER_CONTEXT
+    return [(seed, b, noise, hidden) for b in range(first, first + (count + PER_CONTEXT - 1)
+                                               // PER_CONTEXT)]
 
 
 # The worker's renderer: one offscreen window per process, made once.
@@ -98,6 +113,16 @@ def make_block(job: tuple[int, int, str, str]) -> list[Record]:
     return [pack(s) for s in generate_block(seed, block, noise_of_block(noise, block),
                                             _RENDERER,
                                             hidden_lines=hidden_lines_of_block(hidden, block))]
+
+
+def make_shard(out: str, seed: int, noise: str, hidden: str, k: int, count: int,
+               shard_size: int) -> int:
+    """Make and write shard k of data set `seed` (count samples; the unit of work of a
+    cluster); returns k. The same bytes as the process pool writes."""
+    records = [r for job in shard_jobs(seed, noise, hidden, k, count, shard_size)
+               for r in make_block(job)]
+    write_shard(Path(out), k, records[:count])
+    return k
 
 
 @contextlib.contextmanager
@@ -137,9 +162,15 @@ def generate_dataset(settings: DatagenSettings) -> int:
         return _error(f"--shard-size must be a positive multiple of {PER_CONTEXT}")
     if settings.workers <= 0:
         return _error("--workers must be positive")
+    if settings.ray is not None:
+        from .cluster import require_ray  # Ray is an optional extra
+        try:
+            require_ray()
+        except RuntimeError as e:
+            return _error(str(e))
     out: Path = settings.out
     out.mkdir(parents=True, exist_ok=True)
-    manifest = manifest_of(settings)
+    manifest = manifest_of(settings, [])
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
@@ -149,35 +180,57 @@ def generate_dataset(settings: DatagenSettings) -> int:
             return _error(f"{out} holds a different data set (version/count/seed/noise/shard "
                           f"size/hidden lines {'/'.join(str(old.get(k)) for k in keys)}); use "
                           "another --out")
-    mpath.write_text(json.dumps(manifest, indent=1) + "\n")
 
     size = settings.shard_size
-    todo = [k for k in range(len(manifest["shards"])) if not shard_complete(out, k)]
+    n_shards = len(manifest["shards"])
+    complete = [k for k in range(n_shards) if shard_complete(out, k)]
+    todo = sorted(set(range(n_shards)) - set(complete))
     counts = {k: min(size, settings.count - k * size) for k in todo}
-    jobs = [(settings.seed, b, settings.noise_level, settings.hidden_lines) for k in todo
-            for b in range(k * size // PER_CONTEXT, (k * size + counts[k] + PER_CONTEXT - 1)
-                           // PER_CONTEXT)]
+
+    def done(k: int | None) -> None:  # the manifest lists each shard once it is written
+        if k is not None:
+            complete.append(k)
+        with atomic_path(mpath) as tmp:
+            tmp.write_text(json.dumps(manifest_of(settings, complete), indent=1) + "\n")
+
+    done(None)
     made = sum(counts.values())
     start = time.perf_counter()
     with tqdm(total=settings.count, initial=settings.count - made, unit="sample", desc="datagen",
               smoothing=0.05) as bar:
-        if settings.workers == 1:
-            _collect(map(make_block, jobs), todo, counts, out, bar)
+        if settings.ray is not None:
+            from .cluster import run_on_ray
+            try:
+                failed = run_on_ray(settings, counts, bar, done)
+            except ConnectionError as e:  # no cluster at that address
+                return _error(f"--ray {settings.ray}: {e}")
+            if failed:
+                return _error(f"{len(failed)} shard(s) failed, the rest are written: "
+                              + "; ".join(failed))
         else:
-            with start_pool(settings.workers) as pool:
-                _collect(pool.imap(make_block, jobs), todo, counts, out, bar)
+            jobs = [job for k in todo
+                    for job in shard_jobs(settings.seed, settings.noise_level,
+                                          settings.hidden_lines, k, counts[k], size)]
+            if settings.workers == 1:
+                _collect(map(make_block, jobs), todo, counts, out, bar, done)
+            else:
+                with start_pool(settings.workers) as pool:
+                    _collect(pool.imap(make_block, jobs), todo, counts, out, bar, done)
     secs = time.perf_counter() - start
     if made:
-        print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s with "
-              f"{settings.workers} worker(s); {settings.count} in {out}")
+        where = "on Ray" if settings.ray is not None else f"with {settings.workers} worker(s)"
+        print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s {where}; "
+              f"{settings.count} in {out}")
     if settings.preview:
         write_preview(Dataset(out), settings.preview)
         print(f"datagen: preview written to {settings.preview}")
     return 0
 
 
-def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tqdm) -> None:
-    """Gather blocks (in job order) into the shards `todo` and write each when full."""
+def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tqdm,
+             done=lambda k: None) -> None:
+    """Gather blocks (in job order) into the shards `todo`, write each when full and
+    call done(k)."""
     shards = iter(todo)
     k, records = next(shards), []
     for block in blocks:
@@ -186,4 +239,5 @@ def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tq
         bar.update(len(kept))
         if len(records) == counts[k]:
             write_shard(out, k, records)
+            done(k)
             k, records = next(shards, None), []

@@ -66,5 +66,5 @@ ca=/etc/ssl/certs/sketch2cad-host-ca.crt
 chroot "$DIR" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb CI="${CI:-}" \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     PIP_CERT=$ca SSL_CERT_FILE=$ca REQUESTS_CA_BUNDLE=$ca PIP_DEFAULT_TIMEOUT=180 \
-    PIP_DISABLE_PIP_VERSION_CHECK=1 SKETCH2CAD_TORCH=debian \
+    PIP_DISABLE_PIP_VERSION_CHECK=1 SKETCH2CAD_TORCH=debian SKETCH2CAD_EXTRAS=test \
     bash -c 'set -e; cd /sketch2cad; bash scripts/setup.sh; '"$*"

@@ -4,7 +4,8 @@
 # FreeCAD's user Mod folder (as the Addon Manager clones an addon there), and then the
 # workbench's Python dependencies through the workbench's own installer, the code behind
 # its Install button (scripts/install_dependencies.py in freecadcmd), plus the test tools.
-# Last, .bin/python and .bin/sketch2cad: FreeCAD's Python with that folder in front.
+# Last, .bin/python and .bin/sketch2cad: FreeCAD's Python with that folder in front
+# (and .bin/ray, Ray's command line).
 # Fast when everything is already there.
 #
 # SKETCH2CAD_TORCH=pip (default): torch from the registry, pinned to 2.13.0 (this
@@ -57,7 +58,9 @@ if [ "$(readlink -f "$MOD/Sketch2CAD" 2>/dev/null)" != "$ROOT" ]; then
 fi
 
 # The workbench's installer, as the Install button runs it.
-export SKETCH2CAD_EXTRAS=test
+# The test tools and the cluster extra (Ray: `datagen --ray` and its tests); the chroots,
+# which run only tests/freecad, ask for "test" alone (no Ray wheels for Python 3.14).
+export SKETCH2CAD_EXTRAS=${SKETCH2CAD_EXTRAS:-test,cluster}
 if [ "$TORCH" = pip ]; then
     export SKETCH2CAD_TORCH_REQUIREMENT=torch==2.13.0 SKETCH2CAD_TORCH_INDEX=""
 fi
@@ -78,4 +81,6 @@ cat >.bin/python <<EOF
 PYTHONPATH="$DEPS:$ROOT\${PYTHONPATH:+:\$PYTHONPATH}" exec "$PY" "\$@"
 EOF
 printf '#!/bin/sh\nexec "%s/.bin/python" -m Sketch2CADWorkbench.cli "$@"\n' "$ROOT" >.bin/sketch2cad
-chmod +x .bin/python .bin/sketch2cad
+# Ray's command line with that Python (`.bin/ray start --head`: README, "Past one machine").
+printf '#!/bin/sh\nexec "%s/.bin/python" -m ray.scripts.scripts "$@"\n' "$ROOT" >.bin/ray
+chmod +x .bin/python .bin/sketch2cad .bin/ray

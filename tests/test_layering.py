@@ -122,6 +122,21 @@ def test_the_checker_resolves_relative_imports_to_their_layer():
     assert _layer(name)[0] > _layer("Sketch2CADWorkbench.brep.operators")[0]
 
 
+def test_only_the_cluster_module_imports_ray():
+    # Ray is the optional extra `sketch2cad[cluster]`: nothing else may need it
+    importers = [_module(f) for f in _sources()
+                 if "ray" in {n.split(".")[0] for n in _imports(f)}]
+    assert importers == ["datagen.cluster"]
+
+
+def test_the_core_the_command_line_and_training_import_without_ray():
+    code = ("import sys; sys.modules['ray'] = None\n"  # import ray would raise
+            "import Sketch2CADWorkbench.cli, Sketch2CADWorkbench.cli.datagen, datagen.parallel, "
+            "datagen.cluster, training.train, Sketch2CADWorkbench.inference.interpret")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+
+
 def test_core_imports_and_builds_without_freecad_on_the_path():
     code = ("import sys; import Sketch2CADWorkbench.brep.operators, Sketch2CADWorkbench.cli; "
             "assert 'FreeCAD' not in sys.modules; print('ok')")

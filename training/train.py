@@ -18,6 +18,9 @@ Run folder:
                         speed), "val" rows (per-epoch metrics), "event" rows
     loss_curves.png     training and validation curves
     data-cache-I.pt     the pooled data set
+
+In several processes (torchrun, `--nproc N`: distributed.py) each process takes its share
+of every global batch of batch_size samples; rank 0 alone writes these files.
 """
 from __future__ import annotations
 
@@ -42,7 +45,9 @@ from Sketch2CADWorkbench.inference.models import (
     save_checkpoint,
 )
 
+from . import distributed
 from .data import PooledData, data_key, load_pooled, split
+from .distributed import Ranks
 from .metrics import Tally, curve_hits, face_overlap
 from .report import plot_curves
 
@@ -116,15 +121,20 @@ class Run:
         resumed: whether it started from out/checkpoint.pt.
     """
 
-    def __init__(self, data_dir: Path, out: Path, settings: TrainSettings):
+    def __init__(self, data_dir: Path, out: Path, settings: TrainSettings,
+                 ranks: Ranks = Ranks()):
         """Open the run: resume from out/checkpoint.pt if there is one, else start anew.
 
         Raises:
             FileNotFoundError: no data set at data_dir.
-            ValueError: the data set is empty, or the checkpoint belongs to another data
-                set or map size.
+            ValueError: the data set is empty, the checkpoint belongs to another data set
+                or map size, or the batch does not divide among the processes.
         """
         s = settings
+        if s.batch_size % ranks.world:
+            raise ValueError(f"--batch-size {s.batch_size} does not divide among "
+                             f"{ranks.world} processes")
+        self.ranks = ranks
         if s.threads:
             torch.set_num_threads(s.threads)
         out.mkdir(parents=True, exist_ok=True)
@@ -149,9 +159,14 @@ class Run:
                              f"{model.config.image_size}")
         self.s, self.model, self.resumed = s, model, ckpt is not None
         model.to(s.device).train()
+        self.net = distributed.wrap(model, ranks, s.device)  # what forward passes go through
 
         t_load = time.perf_counter()
+        if ranks.local_rank:  # one process per machine pools the data set into the cache
+            distributed.barrier(ranks)
         data = load_pooled(ds, model, out)
+        if ranks.distributed and not ranks.local_rank:
+            distributed.barrier(ranks)
         self.load_s = time.perf_counter() - t_load
         tr_idx, va_idx = split(len(data), s.val_fraction, int(ds.manifest.get("per_context", 4)))
         self.train_data, self.val_data = data.subset(tr_idx), data.subset(va_idx)
@@ -165,12 +180,14 @@ class Run:
             self.opt.load_state_dict(ckpt["optimizer"])
             self.state = dict(ckpt["state"])
             torch.set_rng_state(ckpt["rng"])
-        else:
+        elif ranks.main:
             self.log_path.write_text("")
-        self.log = open(self.log_path, "a")
+        self.log = open(self.log_path, "a") if ranks.main else None
 
     def write(self, row: dict) -> None:
-        """One row of log.jsonl, flushed at once."""
+        """One row of log.jsonl, flushed at once (rank 0's only)."""
+        if self.log is None:
+            return
         self.log.write(json.dumps(row) + "\n")
         self.log.flush()
 
@@ -181,19 +198,30 @@ class Run:
             self.state["elapsed"] / (60 * s.minutes)
 
     def order(self, epoch: int) -> torch.Tensor:
-        """The epoch's order of the training samples (seeded by the epoch)."""
-        return torch.randperm(self.n, generator=torch.Generator().manual_seed(
-            self.s.seed * 1000 + epoch))
+        """This process's share of the epoch's order of the training samples (seeded by
+        the epoch)."""
+        return distributed.epoch_order(self.n, self.s.seed * 1000, epoch, self.ranks)
+
+    def next_batch(self, perm: torch.Tensor) -> torch.Tensor:
+        """This process's samples of the next global batch (state["pos"] counts the
+        epoch's samples over all processes)."""
+        mine = self.state["pos"] // self.ranks.world
+        return perm[mine:mine + self.s.batch_size // self.ranks.world]
 
     def flips(self, count: int) -> torch.Tensor | None:
-        """Which of the step's samples are mirrored (seeded by the step), or None."""
+        """Which of the step's samples are mirrored (seeded by the step), or None; the
+        global batch's draws dealt out as its samples are."""
         if not self.s.flip:
             return None
-        return torch.rand(count, generator=torch.Generator().manual_seed(
-            self.s.seed * 1000003 + self.state["step"])) < 0.5
+        w = self.ranks.world
+        return torch.rand(count * w, generator=torch.Generator().manual_seed(
+            self.s.seed * 1000003 + self.state["step"]))[self.ranks.rank::w] < 0.5
 
     def save(self, rng: torch.Tensor) -> None:
-        """The checkpoint (with the torch RNG state `rng` to resume from) and the curves."""
+        """The checkpoint (with the torch RNG state `rng` to resume from) and the curves
+        (rank 0's)."""
+        if not self.ranks.main:
+            return
         save_checkpoint(self.ckpt_path, self.model, optimizer=self.opt.state_dict(),
                         state=dict(self.state), settings=asdict(self.s),
                         data_key=data_key(self.ds, self.model.config),
@@ -201,8 +229,9 @@ class Run:
         plot_curves(self.log_path, self.out / "loss_curves.png", self.s.face_dice)
 
     def validation(self) -> dict | None:
-        """The validation metrics now, logged (None without validation samples)."""
-        if not len(self.val_data):
+        """The validation metrics now, logged (None without validation samples, and on
+        ranks other than 0)."""
+        if not len(self.val_data) or not self.ranks.main:
             return None
         v = validate(self.model, self.val_data, self.s.device, self.weights, self.s.face_dice)
         self.write({"kind": "val", "step": self.state["step"], "epoch": self.state["epoch"],
@@ -210,11 +239,16 @@ class Run:
         return v
 
     def finish(self) -> Path:
-        """Validate, checkpoint, and write the final weights; close the log."""
+        """Validate, checkpoint, and write the final weights; close the log (rank 0; the
+        other ranks only check that they hold the same weights)."""
         s, state = self.s, self.state
+        distributed.share_buffers(self.model, self.ranks)
+        spread = distributed.weight_spread(self.model, self.ranks, s.device)
+        final = self.out / "sketch2cad_net.pt"
+        if not self.ranks.main:
+            return final
         v = self.validation()
         self.save(torch.get_rng_state())
-        final = self.out / "sketch2cad_net.pt"
         self.model.cpu()
         save_checkpoint(final, self.model, class_counts=self.counts.tolist(),
                         trained_steps=state["step"],
@@ -222,7 +256,7 @@ class Run:
                         trained_minutes=state["elapsed"] / 60, settings=asdict(s),
                         data_key=data_key(self.ds, self.model.config), validation=v)
         self.write({"kind": "event", "what": "end", "step": state["step"],
-                    "elapsed_s": round(state["elapsed"], 1)})
+                    "elapsed_s": round(state["elapsed"], 1), "rank_weight_spread": spread})
         self.log.close()
         return final
 
@@ -252,11 +286,14 @@ def train_step(run: Run, idx: torch.Tensor) -> list[torch.Tensor]:
     for g in run.opt.param_groups:
         g["lr"] = lr_at(s, run.state["step"], run.progress())
     x, face, curve, mask, op = run.train_data.batch(idx, s.device, flip)
-    terms = loss_terms(run.model, run.model(x), op, face, curve, mask, run.weights, s.face_dice)
+    cls, *rest = loss_terms(run.model, run.net(x), op, face, curve, mask, run.weights,
+                            s.face_dice)
+    # in several processes, as one: the weighted mean over the whole global batch
+    terms = [cls * distributed.weighted_mean_share(run.weights[op], run.ranks), *rest]
     run.opt.zero_grad(set_to_none=True)
     sum(terms).backward()
     torch.nn.utils.clip_grad_norm_(run.model.parameters(), s.grad_clip)
-    return terms
+    return distributed.mean_over_ranks(terms, run.ranks)
 
 
 # ---------------------------------------------------------------- the loop
@@ -272,21 +309,34 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
     Raises:
         FileNotFoundError: no data set at data_dir.
         ValueError: the checkpoint belongs to another data set or model config.
+
+    Under torchrun (WORLD_SIZE set) each process runs this, joined in one process group.
     """
-    run = Run(data_dir, out, settings)
-    s, state, n = run.s, run.state, run.n
+    ranks = distributed.from_environment(settings.device)
+    try:
+        return _loop(Run(data_dir, out, settings, ranks))
+    finally:
+        distributed.close(ranks)
+
+
+def _loop(run: Run) -> Path:
+    s, state, n, main = run.s, run.state, run.n, run.ranks.main
     run.write({"kind": "event", "what": "resume" if run.resumed else "start",
                "step": state["step"], "train_samples": n, "val_samples": len(run.val_data),
                "class_counts": run.counts.tolist(), "load_s": round(run.load_s, 1),
-               "settings": asdict(s), "threads": torch.get_num_threads()})
-    print(f"train: {n} training / {len(run.val_data)} validation samples (pooled in "
-          f"{run.load_s:.0f} s); class counts {run.counts.tolist()}; "
-          f"{torch.get_num_threads()} threads"
-          + (f"; resuming at step {state['step']}" if run.resumed else ""))
+               "settings": asdict(s), "threads": torch.get_num_threads(),
+               "processes": run.ranks.world})
+    if main:
+        print(f"train: {n} training / {len(run.val_data)} validation samples (pooled in "
+              f"{run.load_s:.0f} s); class counts {run.counts.tolist()}; "
+              f"{torch.get_num_threads()} threads"
+              + (f" in each of {run.ranks.world} processes" if run.ranks.distributed else "")
+              + (f"; resuming at step {state['step']}" if run.resumed else ""))
 
     perm = run.order(state["epoch"])
     total = s.steps if s.steps else int(60 * s.minutes)
-    bar = tqdm(total=total, unit="step" if s.steps else "s", desc="train", dynamic_ncols=True)
+    bar = tqdm(total=total, unit="step" if s.steps else "s", desc="train", dynamic_ncols=True,
+               disable=not main)
     bar.update(state["step"] if s.steps else int(state["elapsed"]))
     t0 = time.perf_counter() - state["elapsed"]
     last_save = time.perf_counter()
@@ -307,18 +357,20 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
                               f"{v['classification_accuracy']:.4f}, face IoU " +
                               " ".join(f"{k[:2]} {d['face_iou']:.3f}"
                                        for k, d in v["per_operator"].items() if d["n"]))
-            idx = perm[state["pos"]:state["pos"] + s.batch_size]
+            idx = run.next_batch(perm)
             terms = train_step(run, idx)
             stepping = True
             run.opt.step()
             state["step"] += 1
-            state["pos"] += len(idx)
+            state["pos"] += len(idx) * run.ranks.world
             stepping = False
 
             sums += [t.item() for t in terms]
             seen += 1
             now = time.perf_counter()
-            state["elapsed"] = now - t0
+            # the processes must agree on a --minutes run's schedule and end: rank 0's clock
+            state["elapsed"] = now - t0 if s.steps else \
+                distributed.from_main(now - t0, run.ranks, s.device)
             if state["step"] % s.log_every == 0:
                 c, f, cu = sums / seen
                 run.write({"kind": "train", "step": state["step"], "epoch": state["epoch"],
@@ -342,13 +394,16 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
                     b.copy_(saved)
             run.save(rng)
             run.write({"kind": "event", "what": "interrupted", "step": state["step"]})
-            print(f"train: interrupted at step {state['step']}; checkpoint saved, run the "
-                  "same command again to resume")
-        run.log.close()
+            if main:
+                print(f"train: interrupted at step {state['step']}; checkpoint saved, run "
+                      "the same command again to resume")
+        if run.log:
+            run.log.close()
         raise
     bar.close()
 
     final = run.finish()
-    print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs of "
-          f"{n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
+    if main:
+        print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs "
+              f"of {n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
     return final

@@ -4,7 +4,8 @@
 resumable (datagen/parallel.py).
 
 `sketch2cad datagen --out DIR --count N [--seed S] [--noise-level 1|2|3|mix]
-[--hidden-lines draw|omit|mix] [--workers W]`.
+[--hidden-lines draw|omit|mix] [--workers W] [--ray [ADDRESS]]`: with --ray, one Ray task
+per shard (datagen/cluster.py), on a local cluster of W CPUs or on the cluster at ADDRESS.
 """
 from __future__ import annotations
 
@@ -35,10 +36,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
                    help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
+    p.add_argument("--ray", nargs="?", const="local", metavar="ADDRESS",
+                   help="run the shards as Ray tasks: on a local cluster of --workers CPUs, "
+                        "or on the running cluster at ADDRESS (host:port, 'auto'); the "
+                        "optional extra 'cluster'")
     p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
 
 
 def run(args: argparse.Namespace) -> int:
     return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
                                             args.hidden_lines, args.workers, args.shard_size,
-                                            args.preview))
+                                            args.preview, args.ray))

@@ -2,11 +2,16 @@
 """Train the operator classifier and the segmentation networks (one shared-encoder
 network); rerunning with the same --out resumes (training/train.py).
 
-`sketch2cad train --data DIR --out DIR [--device cpu|cuda] [--minutes M | --steps N]`.
+`sketch2cad train --data DIR --out DIR [--device cpu|cuda] [--minutes M | --steps N]
+[--nproc N]`: with --nproc, N processes on this machine under torchrun, in one
+DistributedDataParallel group (training/distributed.py); on several machines run torchrun
+yourself (README, "Past one machine").
 """
 from __future__ import annotations
 
 import argparse
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -30,6 +35,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="a step budget instead of --minutes (reproducible schedule)")
     p.add_argument("--batch-size", type=int, default=d.batch_size)
     p.add_argument("--lr", type=float, default=d.lr)
+    p.add_argument("--warmup-steps", type=int, default=d.warmup_steps,
+                   help="steps of linear learning-rate warmup (default %(default)s)")
     p.add_argument("--threads", type=int, default=d.threads,
                    help="CPU threads for torch (default: torch's choice)")
     p.add_argument("--seed", type=int, default=d.seed)
@@ -38,6 +45,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="working resolution of a new model (default %(default)s)")
     p.add_argument("--widths", type=int, nargs="+", default=list(d.model.widths),
                    help="encoder widths of a new model (default %(default)s)")
+    p.add_argument("--nproc", type=int, default=1,
+                   help="processes on this machine (torchrun, DDP; gloo on the CPU, nccl with "
+                        "one GPU each); --batch-size is the global batch, --threads is split "
+                        "among them")
+
+
+def _torchrun(args: argparse.Namespace) -> int:
+    """This command again in args.nproc processes under torchrun (its exit code)."""
+    threads = max(1, (args.threads or os.cpu_count() or 1) // args.nproc)
+    argv = ["--data", args.data, "--out", args.out, "--device", args.device,
+            "--minutes", args.minutes, "--steps", args.steps, "--batch-size", args.batch_size,
+            "--lr", args.lr, "--warmup-steps", args.warmup_steps, "--threads", threads,
+            "--seed", args.seed, "--internal-size", args.internal_size, "--widths", *args.widths]
+    cmd = [sys.executable, "-m", "torch.distributed.run", "--standalone",
+           f"--nproc_per_node={args.nproc}", "-m", "Sketch2CADWorkbench.cli", "train",
+           *map(str, argv), *(["--no-flip"] if args.no_flip else [])]
+    try:
+        return subprocess.run(cmd).returncode
+    except KeyboardInterrupt:  # torchrun passes it on; rank 0 saves a checkpoint
+        return 130
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,10 +72,21 @@ def run(args: argparse.Namespace) -> int:
         print("sketch2cad train: error: --device cuda, but torch sees no CUDA device",
               file=sys.stderr)
         return 2
+    if args.nproc < 1 or args.batch_size % args.nproc:
+        print(f"sketch2cad train: error: --batch-size {args.batch_size} must be a multiple of "
+              f"--nproc {args.nproc} (>= 1): each process takes an equal share",
+              file=sys.stderr)
+        return 2
+    if args.device == "cuda" and args.nproc > torch.cuda.device_count():
+        print(f"sketch2cad train: error: --nproc {args.nproc}, but torch sees "
+              f"{torch.cuda.device_count()} CUDA device(s)", file=sys.stderr)
+        return 2
+    if args.nproc > 1 and "WORLD_SIZE" not in os.environ:
+        return _torchrun(args)
     try:
         settings = TrainSettings(
             minutes=args.minutes, steps=args.steps, batch_size=args.batch_size, lr=args.lr,
-            threads=args.threads, seed=args.seed, flip=not args.no_flip, device=args.device,
+            warmup_steps=args.warmup_steps, threads=args.threads, seed=args.seed, flip=not args.no_flip, device=args.device,
             model=ModelConfig(internal_size=args.internal_size, widths=tuple(args.widths)))
         train(args.data, args.out, settings)
     except KeyboardInterrupt:
