@@ -35,5 +35,8 @@ weights: setup
 	.bin/sketch2cad train-head --data data/head-train --out runs/head --epochs 12 \
 	    --weights runs/main \
 	    --eval data/test-l1 data/test-l3 --json runs/head/scores.json
-	.bin/sketch2cad model-card --run runs/main --heads runs/head/scores.json \
+	.bin/sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 12 \
+	    --layers 0 --weights runs/main --eval data/test-l1 --json runs/head-noctx/scores.json
+	.bin/sketch2cad model-card --run runs/main \
+	    --heads runs/head/scores.json runs/head-noctx/scores.json \
 	    --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json

@@ -231,7 +231,9 @@ class StructureHead(nn.Module):
                                         nn.Linear(cfg.channels + FACE_GEOMETRY, w))
         layer = nn.TransformerEncoderLayer(w, cfg.attention_heads, 2 * w, cfg.dropout,
                                            batch_first=True, norm_first=True)
-        self.encoder = nn.TransformerEncoder(layer, cfg.layers, enable_nested_tensor=False)
+        # layers = 0: every token read alone (the ablation of the context)
+        self.encoder = nn.TransformerEncoder(layer, cfg.layers, enable_nested_tensor=False) \
+            if cfg.layers else None
         self.norm = nn.LayerNorm(w)
         self.cls_out = nn.Linear(w, N_OPS)
         self.role_out = nn.Linear(w, sum(ROLES))
@@ -256,7 +258,9 @@ class StructureHead(nn.Module):
         h = torch.cat([self.embed_cls(cls)[:, None], self.embed_stroke(stroke),
                        self.embed_face(face)], 1)
         pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
-        h = self.norm(self.encoder(h, src_key_padding_mask=pad))
+        if self.encoder is not None:
+            h = self.encoder(h, src_key_padding_mask=pad)
+        h = self.norm(h)
         logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
         roles = self.role_out(h[:, 1:1 + n_s])
         faces = self.face_out(h[:, 1 + n_s:]).masked_fill(~face_mask[..., None], float("-inf"))

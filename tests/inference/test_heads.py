@@ -89,6 +89,17 @@ def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
     assert torch.isinf(faces[1, len(b.face):]).all() and torch.isfinite(faces[0]).all()
 
 
+def test_a_head_without_context_layers_reads_each_token_alone(net):
+    face_id, strokes = _scene()
+    t = _tokens(net, strokes, face_id)
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=0)).eval()
+    _, alone, _ = head(*collate([t]))
+    t.stroke[1:] = torch.randn_like(t.stroke[1:])  # the other strokes change
+    _, again, _ = head(*collate([t]))
+    assert torch.allclose(alone[0, 0], again[0, 0], atol=1e-6)
+    assert not torch.allclose(alone[0, 1], again[0, 1])
+
+
 def test_a_bevel_gets_exactly_one_profile_l():
     bevel = CLASSES.index(OperatorType.BEVEL)
     both_l = torch.tensor([[0.2, 0.8], [0.3, 0.7]])
