@@ -55,7 +55,8 @@ def main() -> int:
     print(f"{args.data}, first {args.limit} samples: recovery strict / with the flip (%)")
     print("        " + "".join(f"{o:>16s}" for o in ops) + "   interpret ms")
     for name, r in rows.items():
-        cells = "".join(f"{100 * v['recovery_rate']:7.1f} / {100 * v['recovery_rate_with_flip']:5.1f} "
+        cells = "".join(f"{100 * v['recovery_rate']:7.1f} / "
+                        f"{100 * v['recovery_rate_with_flip']:5.1f} "
                         if v["recovery_n"] else f"{'-':>16s}"
                         for v in r["per_operator"].values())
         print(f"{name:8s}{cells}  {r['interpret_median_ms']:.0f}")

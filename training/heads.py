@@ -189,7 +189,8 @@ def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | No
     head.train()
     for e in range(epoch, s.epochs):
         t0 = time.perf_counter()
-        order = torch.randperm(len(items), generator=torch.Generator().manual_seed(s.seed * 1000 + e))
+        order = torch.randperm(len(items),
+                               generator=torch.Generator().manual_seed(s.seed * 1000 + e))
         sums = np.zeros(3)
         for b in range(steps_per_epoch):
             step = e * steps_per_epoch + b
