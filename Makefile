@@ -18,7 +18,9 @@ test: setup
 	bash scripts/run_tests.sh
 
 # Not part of demo or test: the shipped weights from scratch (data, 90 min of
-# training on 2 CPU cores, evaluation, model card). Each step resumes where it stopped.
+# training on 2 CPU cores, evaluation, model card), then the structured heads on the
+# U-Net's frozen features and their ablation against it (not shipped yet: model card).
+# Each step resumes where it stopped.
 weights: setup
 	.bin/sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix
 	for n in 1 2 3; do \
@@ -29,5 +31,12 @@ weights: setup
 	    .bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
 	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
 	        --fitting-recovery || exit 1; done
+	.bin/sketch2cad datagen --out data/head-train --count 2304 --seed 1 --noise-level mix
+	.bin/sketch2cad train-head --data data/head-train --out runs/head --epochs 12 \
+	    --weights runs/main \
+	    --eval data/test-l1 data/test-l3 --json runs/head/scores.json
+	.bin/sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 12 \
+	    --layers 0 --weights runs/main --eval data/test-l1 --json runs/head-noctx/scores.json
 	.bin/sketch2cad model-card --run runs/main \
+	    --heads runs/head/scores.json runs/head-noctx/scores.json \
 	    --eval 1=runs/eval-l1.json 2=runs/eval-l2.json 3=runs/eval-l3.json

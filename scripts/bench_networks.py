@@ -4,6 +4,7 @@
     .venv/bin/python scripts/bench_networks.py                  # the shipped config
     .venv/bin/python scripts/bench_networks.py --candidates     # the design alternatives
     .venv/bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
+    .venv/bin/python scripts/bench_networks.py --head RUN --data DIR   # with the head
 
 Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
 on random batches, in ms per sample: the median and, as the figure least disturbed by
@@ -92,6 +93,35 @@ def latency_ms(model: Sketch2CADNet, runs: int, threads: int) -> float:
     return 1e3 * statistics.median(times)
 
 
+def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, threads: int
+                    ) -> tuple[float, float]:
+    """Median ms per sketch of the U-Net's predict alone and of the structured predictor
+    (U-Net features, tokens, head, F and C painted for the likeliest operator), on the
+    first `runs` sketches of a data set (real strokes and face maps)."""
+    from datagen.dataset import Dataset
+    from Sketch2CADWorkbench.inference.heads import load_structured_predictor
+    from Sketch2CADWorkbench.sketch.labels import CLASSES
+    torch.set_num_threads(threads)
+    p = load_structured_predictor(head / "sketch2cad_head.pt" if head.is_dir() else head,
+                                  weights)
+    ds = Dataset(data)
+    samples = [ds.sample(i) for i in range(min(runs + 1, len(ds)))]
+    plain, structured = [], []
+    for k, s in enumerate(samples):
+        x = s.inputs()
+        t = time.perf_counter()
+        p.model.predict(torch.from_numpy(x)[None])
+        t1 = time.perf_counter()
+        p.observe(s.strokes, s.face_id)
+        probs = p.classify(x)
+        p.segment(x, CLASSES[int(probs.argmax())])
+        t2 = time.perf_counter()
+        if k:  # the first call allocates
+            plain.append(t1 - t)
+            structured.append(t2 - t1)
+    return 1e3 * statistics.median(plain), 1e3 * statistics.median(structured)
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--candidates", action="store_true", help="time the design alternatives")
@@ -101,7 +131,17 @@ def main() -> int:
     p.add_argument("--runs", type=int, default=30, help="timed inference runs")
     p.add_argument("--train-threads", type=int, nargs="+", default=[1, 2])
     p.add_argument("--infer-threads", type=int, default=2)
+    p.add_argument("--head", type=Path, help="time the structured head (with --data)")
+    p.add_argument("--data", type=Path, help="sketches for --head")
     args = p.parse_args()
+    if args.head:
+        if not args.data:
+            p.error("--head needs --data (real strokes and face maps)")
+        unet, head = head_latency_ms(args.head, args.weights, args.data, args.runs,
+                                     args.infer_threads)
+        print(f"latency median per sketch ({args.infer_threads} threads, {args.runs} sketches of "
+              f"{args.data}): U-Net predict {unet:.1f} ms; U-Net + head {head:.1f} ms")
+        return 0
     if args.weights:
         path = args.weights / "sketch2cad_net.pt" if args.weights.is_dir() else args.weights
         model, _ = load_checkpoint(path)

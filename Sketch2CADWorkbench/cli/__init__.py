@@ -20,6 +20,7 @@ COMMANDS = {
     "datagen": "generate synthetic training/evaluation samples",
     "train": "train the networks on a generated data set",
     "eval": "evaluate the networks on a held-out data set",
+    "train-head": "train and score the structured heads on the frozen networks",
     "diagnose": "tally the fitting stage's misses on a data set, by cause",
     "option-scan": "how often the other Boolean is named, and the wrong options it covers",
     "model-card": "write the shipped weights' model card from a run and its evaluations",

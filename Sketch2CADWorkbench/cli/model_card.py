@@ -62,6 +62,73 @@ def table(evals: dict[str, dict]) -> list[str]:
     return rows
 
 
+def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
+    """The structured heads' ablation table from `sketch2cad train-head --json` outputs
+    (with each run's head checkpoint, or None): per held-out set, the U-Net's own maps
+    (once) and each head's choices painted into F and C, scored on the same samples with
+    the paper's metrics."""
+    out = ["| data | n | reading | classification | " + " | ".join(
+               f"{op}: face IoU / curve acc." for op in OPS) + " |",
+           "|---|---|---|---|" + "---|" * len(OPS)]
+    rows = []
+    for k, (scores, head) in enumerate(runs):
+        label = f"head, {head['config']['layers']} attention layers" if head else "head"
+        for data, result in scores.items():
+            for name in (("unet", "head") if k == 0 else ("head",)):
+                if name in result:
+                    rows.append((data, label if name == "head" else name, result[name]))
+    for data, name, r in sorted(rows, key=lambda row: row[0]):
+        cells = [f"{pct(r['per_operator'][op]['face_iou'])} / "
+                 f"{pct(r['per_operator'][op]['curve_accuracy'])}" for op in OPS]
+        out.append(f"| {Path(data).name} | {r['n']} | {name} | "
+                   f"{pct(r['classification_accuracy'])} | " + " | ".join(cells) + " |")
+    out.append("| paper, Table 1 | | | 99.8 | " + " | ".join(
+        f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])}" for op in OPS)
+        + " |")
+    return out
+
+
+HEADS_HEADING = "## Structured heads (ablation; not shipped)"
+
+
+def heads_section(runs: list[tuple[dict, dict | None]]) -> list[str]:
+    """The model card's section on the structured heads (inference/heads.py): `runs`,
+    each run's `train-head --json` scores and head checkpoint dictionary (or None)."""
+    trained = []
+    for _, head in runs:
+        if head:
+            params = sum(v.numel() for v in head["model"].values())
+            s = head["settings"]
+            trained += [f"- Head, {head['config']['layers']} attention layers: {params} "
+                        f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
+                        f"of {head.get('train_samples')} samples of `{head.get('data')}` in "
+                        f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
+                        f"{s['threads']} torch thread(s), on the features of the U-Net with "
+                        f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."]
+    return [
+        HEADS_HEADING,
+        "The heads read the frozen U-Net's features per stroke (sampled along the polyline, "
+        "with its geometry) and per visible face (pooled over the face-ID map), with a "
+        "small transformer for the context between them, and choose each stroke's role and "
+        "the base face; the choices are painted back into C and F, so the paper's curve "
+        "accuracy and face IoU score them unchanged. Rows: `unet`, this network's own maps; "
+        "`head`, the head's choices; each segmentation on the ground-truth operator's maps, "
+        "as the paper scores them. Printed by `sketch2cad train-head ... --eval DIR ...` "
+        "(`make weights`); figures in %.",
+        "",
+        *trained,
+        "",
+        *ablation(runs),
+        "",
+    ]
+
+
+def _head_beside(scores: Path) -> dict | None:
+    """The head checkpoint in the scores' run folder, if there is one."""
+    path = scores.parent / "sketch2cad_head.pt"
+    return torch.load(path, map_location="cpu", weights_only=False) if path.exists() else None
+
+
 def plot_recovery(evals: dict[str, dict], path: Path) -> None:
     """Bars per operator and noise level: end-to-end recovery, the same with the one-click
     flip of the Boolean, and the fitting stage alone; the 90% target as a line."""
@@ -110,6 +177,9 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--run", type=Path, required=True, help="training run folder")
     ap.add_argument("--eval", nargs="+", required=True, metavar="LEVEL=JSON",
                     help="`sketch2cad eval` results per noise level of the held-out sets")
+    ap.add_argument("--heads", type=Path, nargs="+", metavar="JSON",
+                    help="`sketch2cad train-head --json` scores, one per head (the head "
+                         "checkpoint beside each): the heads' ablation section")
 
 
 
@@ -193,9 +263,17 @@ def run(args: argparse.Namespace) -> int:
         f"--threads {s['threads']}",
         "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
         "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
-        "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json ...",
+        "sketch2cad datagen --out data/head-train --count 2304 --seed 1 --noise-level mix",
+        "sketch2cad train-head --data data/head-train --out runs/head --epochs 12 "
+        "--weights runs/main --eval data/test-l1 data/test-l3 --json runs/head/scores.json",
+        "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 12 "
+        "--layers 0 --weights runs/main --eval data/test-l1 --json runs/head-noctx/scores.json",
+        "sketch2cad model-card --run runs/main --heads runs/head/scores.json "
+        "runs/head-noctx/scores.json --eval 1=runs/eval-l1.json ...",
         "```",
         "",
+        *(heads_section([(json.loads(p.read_text()), _head_beside(p)) for p in args.heads])
+          if args.heads else []),
         "## Regression guard",
         "`thresholds.json`: the level-1 figures less "
         f"{MARGIN_CLASSIFICATION} (classification) and {MARGIN_SEGMENTATION} (face IoU, "

@@ -142,8 +142,20 @@ class Sketch2CADNet(nn.Module):
             logits (B, 4) of the operator classes, F logits (B, 4, I, I) and C values
             (B, 4, I, I), one channel per operator in OperatorType order.
         """
+        logits, f, c, _ = self.features(x)
+        return logits, f, c
+
+    def features(self, x: torch.Tensor
+                 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, list[torch.Tensor]]:
+        """`forward`, plus the decoder's feature maps that the structured heads
+        (inference/heads.py) pool along strokes and over faces.
+
+        Returns:
+            forward's three outputs and the decoder maps, coarsest first:
+            (B, w_l, I/2^l, I/2^l) for l = len(widths) - 2 .. 0.
+        """
         self.check_input(x, self.config.internal_size, "forward")
-        skips = []
+        skips, decoded = [], []
         h = x.contiguous(memory_format=torch.channels_last)
         for level, block in enumerate(self.encoder):
             h = block(h if level == 0 else F.max_pool2d(h, 2))  # (B, w_l, I/2^l, I/2^l)
@@ -151,8 +163,9 @@ class Sketch2CADNet(nn.Module):
         logits = self.classifier(torch.cat([h.mean((2, 3)), h.amax((2, 3))], 1))  # (B, 4)
         for up, block, skip in zip(self.up, self.decoder, reversed(skips[:-1])):
             h = block(torch.cat([up(h), skip], 1))  # (B, w_l, I/2^l, I/2^l), l = 3..0
+            decoded.append(h)
         out = self.heads(h)                          # (B, 8, I, I)
-        return logits, out[:, :N_OPS], out[:, N_OPS:]
+        return logits, out[:, :N_OPS], out[:, N_OPS:], decoded
 
     @torch.inference_mode()
     def predict(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:

@@ -1,0 +1,72 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Train the structured heads (per-stroke roles, per-face base-face logits) on the frozen
+U-Net, then score them against the U-Net's own maps on held-out data sets; rerunning with
+the same --out resumes after the last finished epoch (training/heads.py).
+
+`sketch2cad train-head --data DIR --out RUN [--weights W] [--epochs N]
+[--eval DIR ...] [--json OUT.json]`.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from training.heads import HeadSettings, evaluate_head, train_head
+
+from ..inference.heads import HeadConfig
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    d, h = HeadSettings(), HeadConfig()
+    p.add_argument("--data", type=Path, required=True, help="training data set (datagen)")
+    p.add_argument("--out", type=Path, required=True,
+                   help="run folder: token cache, checkpoint, sketch2cad_head.pt")
+    p.add_argument("--weights", type=Path,
+                   help="the U-Net whose features the head reads (default: the shipped one)")
+    p.add_argument("--epochs", type=int, default=d.epochs)
+    p.add_argument("--batch-size", type=int, default=d.batch_size)
+    p.add_argument("--lr", type=float, default=d.lr)
+    p.add_argument("--seed", type=int, default=d.seed)
+    p.add_argument("--threads", type=int, default=d.threads)
+    p.add_argument("--width", type=int, default=h.width)
+    p.add_argument("--layers", type=int, default=h.layers,
+                   help="attention layers (0: each token alone, no context)")
+    p.add_argument("--eval", type=Path, nargs="*", default=[], metavar="DIR",
+                   help="held-out data sets to score the U-Net and the head on")
+    p.add_argument("--limit", type=int, help="score the first LIMIT samples of each only")
+    p.add_argument("--json", type=Path, help="write the scores here")
+
+
+def _row(name: str, r: dict) -> str:
+    per = r["per_operator"]
+    cells = " ".join(f"{per[k]['face_iou'] * 100:5.1f}/{per[k]['curve_accuracy'] * 100:5.1f}"
+                     if per[k]["n"] else "   -/-   " for k in per)
+    return f"  {name:<6} cls {r['classification_accuracy'] * 100:6.2f}  {cells}"
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        settings = HeadSettings(epochs=args.epochs, batch_size=args.batch_size, lr=args.lr,
+                                seed=args.seed, threads=args.threads,
+                                head=HeadConfig(width=args.width, layers=args.layers))
+        final = train_head(args.data, args.out, settings, args.weights)
+        print(f"train-head: head weights {final}")
+        scores = {}
+        for data in args.eval:
+            r = evaluate_head(data, final, args.weights, args.limit)
+            scores[str(data)] = r
+            print(f"{data} ({r['unet']['n']} samples): face IoU / curve accuracy (%) per "
+                  "operator, extrude bevel addsub sweep")
+            print(_row("unet", r["unet"]))
+            print(_row("head", r["head"]))
+        if args.json:
+            args.json.parent.mkdir(parents=True, exist_ok=True)
+            args.json.write_text(json.dumps(scores, indent=1))
+    except KeyboardInterrupt:
+        return 130
+    except (FileNotFoundError, ValueError) as e:
+        print(f"sketch2cad train-head: error: {e}", file=sys.stderr)
+        return 2
+    return 0

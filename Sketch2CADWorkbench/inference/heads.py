@@ -1,0 +1,443 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Structured heads: the shipped U-Net's features read per stroke and per face.
+
+The pipeline knows more than pixels: the strokes are known polylines and the B-rep faces
+are known through the face-ID map. The per-pixel U-Net (models.py) must find both again,
+and its regressed C hedges between the add/sub and sweep classes (docs/NOTES.md: C by
+true class 0.67 / 0.99 / 1.33 for labels 0 / 1 / 2). These heads take its frozen
+features and decide per structure:
+
+    stroke token   the U-Net's decoder maps (3 finest levels), its F and C outputs and
+                   the inputs S, D, N, sampled at POINTS points along the stroke, mean-
+                   and max-pooled; plus the stroke's geometry (centroid, chord, length,
+                   closedness, straightness, angle to the image of the normal under it)
+    face token     the same maps mean-pooled over the face's visible pixels (face-ID
+                   map), plus its area, centroid, extent and the U-Net's F votes on it
+    class token    the U-Net's class logits and the token counts
+      -> a small transformer over all tokens (stroke-to-stroke and stroke-to-face
+         context: which stroke ends where another starts, which face the strokes rest on)
+      -> per operator: each stroke's role (extrude offset / profile, bevel l / l',
+         add/sub and sweep start / profile / end), each face's logit of being f, and
+         a correction of the operator logits.
+
+Painted back into the F and C maps (`paint_face`, `paint_curve`), the choices are scored
+by the paper's face IoU and curve accuracy unchanged, so the figures stay comparable with
+Table 1 and with the U-Net's own row (training/heads.py prints both).
+
+Why frozen features: a head over them trains in minutes on a CPU, where retraining the
+U-Net takes hours; and the U-Net's maps are already right about where the base face is
+and which part of a profile points along n_f, only not about whole strokes.
+"""
+from __future__ import annotations
+
+import hashlib
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+
+from ..brep.files import atomic_path
+from ..brep.protocol import OperatorType
+from ..render.strokes import rasterize
+from ..sketch.labels import BEVEL_L, CLASSES
+from .models import N_OPS, Sketch2CADNet, load_checkpoint
+from .weights import NetworkPredictor, resolve
+
+HEAD_FORMAT = "sketch2cad-head"
+POINTS = 16            # samples along each stroke (evenly in arc length)
+DECODER_LEVELS = 3     # finest decoder maps pooled (8, 16, 32 channels for the shipped net)
+MAX_FACES = 48         # largest visible faces kept as tokens (a sketch sees far fewer)
+# Stroke roles per operator (the curve label encodings of sketch/labels.py).
+ROLES = (2, 2, 3, 3)
+ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
+STROKE_GEOMETRY = 14 + 7  # stroke_geometry and stroke_context
+FACE_GEOMETRY = 5 + 2 * N_OPS
+
+
+def feature_channels(model: Sketch2CADNet) -> int:
+    """Channels sampled per pixel: decoder maps, F and C of every operator, S, D, N."""
+    return sum(model.config.widths[:-1][:DECODER_LEVELS]) + 2 * N_OPS + 5
+
+
+@dataclass
+class HeadConfig:
+    """The head's settings; saved in its checkpoint, so a file rebuilds the head."""
+
+    channels: int = 69     # feature_channels of the U-Net it reads
+    width: int = 96
+    layers: int = 3
+    attention_heads: int = 4
+    dropout: float = 0.1
+
+
+@dataclass
+class Tokens:
+    """One sketch's structures as head inputs.
+
+    stroke: (S, 2 channels + STROKE_GEOMETRY) float32; face: (K, channels +
+    FACE_GEOMETRY) float32; face_ids: (K,) int64, the face-ID of each face token;
+    cls: (N_OPS + 2,) float32, the U-Net's class logits and the token counts.
+    """
+
+    stroke: torch.Tensor
+    face: torch.Tensor
+    face_ids: torch.Tensor
+    cls: torch.Tensor
+
+
+# ---------------------------------------------------------------- features
+def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor
+                 ) -> tuple[torch.Tensor, torch.Tensor]:
+    """The U-Net's class logits (B, 4) and the maps the tokens pool,
+    (B, feature_channels, I, I) at the internal size I, from full-size inputs."""
+    x = model.pool(x_full)
+    logits, f, c, decoded = model.features(x)
+    size = x.shape[-2:]
+    maps = [F.interpolate(d, size=size, mode="bilinear", align_corners=False)
+            for d in decoded[-DECODER_LEVELS:]]
+    return logits, torch.cat(maps + [f, c, x], 1).contiguous()
+
+
+def _resample(stroke: np.ndarray, count: int) -> np.ndarray:
+    """`count` points evenly along a polyline's arc length (K, 2)."""
+    p = np.asarray(stroke, np.float64).reshape(-1, 2)
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    if len(p) < 2 or s[-1] <= 0:
+        return np.repeat(p[:1], count, 0)
+    t = np.linspace(0.0, s[-1], count)
+    return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], 1)
+
+
+def stroke_geometry(stroke: np.ndarray, normal_xy: np.ndarray, size: int) -> np.ndarray:
+    """14 numbers that do not depend on the drawing direction: centroid (2), the two
+    ends ordered by x (4), chord direction as (cos 2a, sin 2a) (2), chord and arc length
+    (2), closedness (chord / arc), straightness (largest distance from the chord / arc),
+    |cos| of the angle between the chord and the image of the normal under the stroke
+    (a side line of an extrusion runs along it), and the length of that image."""
+    p = np.asarray(stroke, np.float64).reshape(-1, 2) / size
+    arc = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
+    d = p[-1] - p[0]
+    chord = float(np.linalg.norm(d))
+    u = d / chord if chord > 1e-9 else np.array([1.0, 0.0])
+    angle = np.arctan2(u[1], u[0])
+    off = np.abs((p - p[0]) @ np.array([-u[1], u[0]])).max() if len(p) else 0.0
+    n = float(np.linalg.norm(normal_xy))
+    along = abs(float(u @ normal_xy)) / n if n > 1e-9 else 0.0
+    ends = sorted([tuple(p[0]), tuple(p[-1])])
+    return np.array([*p.mean(0), *ends[0], *ends[1], np.cos(2 * angle), np.sin(2 * angle),
+                     chord, arc, chord / max(arc, 1e-9), off / max(arc, 1e-9), along, n],
+                    np.float32)
+
+
+def stroke_context(pts: np.ndarray, face_id: np.ndarray, voted: np.ndarray) -> np.ndarray:
+    """7 numbers per stroke about its neighbours: the gap from each end to the nearest
+    end of another stroke, smaller first (strokes of one polygon meet end to end), the
+    share of its points on each operator's most voted face (start and profile strokes
+    lie on the base face, end and offset strokes leave it), and on the background.
+
+    Args:
+        pts: (S, P, 2) points along each stroke (pixels); face_id: (H, W);
+        voted: (4,) face-ID the U-Net's F votes most for, per operator (-2: none).
+    """
+    n, size = len(pts), face_id.shape[-1]
+    ends = pts[:, [0, -1]]                                              # (S, 2, 2)
+    gap = np.full((n, 2), 1.0)
+    if n > 1:
+        d = np.linalg.norm(ends[:, :, None, None] - ends[None, None], axis=-1)  # S,2,S,2
+        d[np.arange(n), :, np.arange(n)] = np.inf
+        gap = np.sort(np.minimum(d.min((2, 3)) / size, 1.0), axis=1)
+    ij = np.clip(np.floor(pts).astype(int), 0, size - 1)
+    under = face_id[ij[..., 1], ij[..., 0]]                             # (S, P)
+    share = (under[:, :, None] == voted[None, None]).mean(1)             # (S, 4)
+    return np.concatenate([gap, share, (under < 0).mean(1, keepdims=True)], 1)
+
+
+def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
+           face_id: np.ndarray) -> Tokens:
+    """One sketch's tokens.
+
+    Args:
+        logits: (4,) the U-Net's class logits; maps: (C, I, I) `feature_maps` of it.
+        strokes: pixel polylines (K, 2) in the full-size maps' pixels.
+        face_id: (S, S) int face index per pixel (-1 background).
+    """
+    c, i, _ = maps.shape
+    size = face_id.shape[-1]
+    # faces: each map's mean over the face's visible full-size pixels, each pixel read
+    # from the internal-size cell it falls in (a (K, I*I) count matrix times the maps)
+    ids, counts = np.unique(face_id[face_id >= 0], return_counts=True)
+    keep = np.argsort(-counts, kind="stable")[:MAX_FACES]
+    ids, counts = ids[keep], counts[keep].astype(np.float32)
+    k = len(ids)
+    slot = np.full(int(face_id.max()) + 2, -1, np.int64)  # face-ID -> token; -1: none
+    slot[ids] = np.arange(k)
+    where = slot[face_id.ravel()]  # face_id -1 reads the last entry, which is -1
+    on = where >= 0
+    ys, xs = np.divmod(np.nonzero(on)[0], size)
+    cell = (ys * i // size) * i + xs * i // size
+    hits = np.bincount(where[on] * i * i + cell, minlength=k * i * i).reshape(k, i * i)
+    mean = torch.from_numpy(hits.astype(np.float32)) @ maps.reshape(c, -1).T / \
+        torch.from_numpy(counts)[:, None]
+    f_logits = maps[c - 5 - 2 * N_OPS:c - 5 - N_OPS][None]              # the U-Net's F
+    votes_map = F.interpolate(f_logits, size=(size, size), mode="bilinear",
+                              align_corners=False)[0].reshape(N_OPS, -1).numpy()[:, on] > 0
+    votes = np.stack([np.bincount(where[on], weights=v, minlength=k) for v in votes_map], 1)
+    pos = np.stack([xs, ys], 1) / size
+    centroid = np.stack([np.bincount(where[on], weights=p, minlength=k) for p in pos.T], 1) \
+        / counts[:, None]
+    spread = np.sqrt(np.clip(np.stack([np.bincount(where[on], weights=p ** 2, minlength=k)
+                                       for p in pos.T], 1) / counts[:, None]
+                             - centroid ** 2, 0, None))
+    geo = np.concatenate([counts[:, None] / size ** 2, centroid, spread,
+                          votes / counts[:, None], votes / np.maximum(votes.sum(0), 1)], 1)
+    face = torch.cat([mean, torch.from_numpy(geo.astype(np.float32))], 1)
+    # strokes: grid_sample at the points (pixel x -> normalised 2x/S - 1)
+    pts = np.stack([_resample(s, POINTS) for s in strokes]) if strokes else \
+        np.zeros((0, POINTS, 2))
+    grid = torch.from_numpy((2 * pts / size - 1).astype(np.float32))[None]  # (1, S, P, 2)
+    samples = F.grid_sample(maps[None], grid, mode="bilinear", padding_mode="border",
+                            align_corners=False)[0]                       # (C, S, P)
+    normal = samples[-3:-1].mean(2).T.numpy()                             # (S, 2) N_x, N_y
+    # the U-Net's most voted face per operator (-2: none); image y points down, so the
+    # normal's image direction is (N_x, -N_y)
+    voted = np.where(votes.max(0) > 0, ids[votes.argmax(0)], -2) if k else np.full(N_OPS, -2)
+    geo = np.concatenate([np.stack([stroke_geometry(s, nxy * np.array([1.0, -1.0]), size)
+                                    for s, nxy in zip(strokes, normal)]),
+                          stroke_context(pts, face_id, voted)], 1) if strokes else \
+        np.zeros((0, STROKE_GEOMETRY), np.float32)
+    stroke = torch.cat([samples.mean(2).T, samples.amax(2).T, torch.from_numpy(geo)], 1)
+
+    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16])])
+    return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
+                  cls.float())
+
+
+# ---------------------------------------------------------------- the head
+class StructureHead(nn.Module):
+    """Transformer over one class token, the stroke tokens and the face tokens."""
+
+    def __init__(self, config: HeadConfig | None = None):
+        super().__init__()
+        self.config = cfg = config or HeadConfig()
+        w = cfg.width
+        self.embed_cls = nn.Linear(N_OPS + 2, w)
+        self.embed_stroke = nn.Sequential(nn.LayerNorm(2 * cfg.channels + STROKE_GEOMETRY),
+                                          nn.Linear(2 * cfg.channels + STROKE_GEOMETRY, w))
+        self.embed_face = nn.Sequential(nn.LayerNorm(cfg.channels + FACE_GEOMETRY),
+                                        nn.Linear(cfg.channels + FACE_GEOMETRY, w))
+        layer = nn.TransformerEncoderLayer(w, cfg.attention_heads, 2 * w, cfg.dropout,
+                                           batch_first=True, norm_first=True)
+        # layers = 0: every token read alone (the ablation of the context)
+        self.encoder = nn.TransformerEncoder(layer, cfg.layers, enable_nested_tensor=False) \
+            if cfg.layers else None
+        self.norm = nn.LayerNorm(w)
+        self.cls_out = nn.Linear(w, N_OPS)
+        self.role_out = nn.Linear(w, sum(ROLES))
+        self.face_out = nn.Linear(w, N_OPS)
+        with torch.no_grad():  # start as the U-Net's classifier: a correction of its logits
+            self.cls_out.weight.zero_()
+            self.cls_out.bias.zero_()
+
+    def forward(self, cls: torch.Tensor, stroke: torch.Tensor, stroke_mask: torch.Tensor,
+                face: torch.Tensor, face_mask: torch.Tensor
+                ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """Padded batch -> logits.
+
+        Args:
+            cls: (B, 6); stroke: (B, S, Ds), stroke_mask: (B, S) bool (True = real);
+            face: (B, K, Df), face_mask: (B, K) bool.
+        Returns:
+            class logits (B, 4) (the U-Net's plus a correction); role logits (B, S, 10)
+            (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
+        """
+        n_s = stroke.shape[1]
+        h = torch.cat([self.embed_cls(cls)[:, None], self.embed_stroke(stroke),
+                       self.embed_face(face)], 1)
+        pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
+        if self.encoder is not None:
+            h = self.encoder(h, src_key_padding_mask=pad)
+        h = self.norm(h)
+        logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
+        roles = self.role_out(h[:, 1:1 + n_s])
+        faces = self.face_out(h[:, 1 + n_s:]).masked_fill(~face_mask[..., None], float("-inf"))
+        return logits, roles, faces
+
+
+def collate(items: list[Tokens]) -> tuple[torch.Tensor, ...]:
+    """Tokens of several sketches -> the padded batch StructureHead.forward takes."""
+    b = len(items)
+    n_s = max(1, max(len(t.stroke) for t in items))
+    n_f = max(1, max(len(t.face) for t in items))
+    stroke = torch.zeros(b, n_s, items[0].stroke.shape[1])
+    face = torch.zeros(b, n_f, items[0].face.shape[1])
+    s_mask = torch.zeros(b, n_s, dtype=torch.bool)
+    f_mask = torch.zeros(b, n_f, dtype=torch.bool)
+    for j, t in enumerate(items):
+        stroke[j, :len(t.stroke)], s_mask[j, :len(t.stroke)] = t.stroke, True
+        face[j, :len(t.face)], f_mask[j, :len(t.face)] = t.face, True
+    return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask
+
+
+# ---------------------------------------------------------------- decoding
+def role_probabilities(roles: torch.Tensor, op: int) -> torch.Tensor:
+    """(S, 10) role logits of one sketch -> (S, ROLES[op]) probabilities of operator op."""
+    return roles[:, ROLE_OFFSETS[op]:ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
+
+
+def decode_roles(probs: torch.Tensor, op: int) -> list[int]:
+    """Each stroke's curve label from its role probabilities. A bevel has exactly one
+    profile l (paper, Fig. 7): the stroke likeliest to be l is, the others are l'."""
+    if not len(probs):
+        return []
+    if CLASSES[op] is OperatorType.BEVEL:
+        labels = [1 - BEVEL_L] * len(probs)
+        labels[int(probs[:, BEVEL_L].argmax())] = BEVEL_L
+        return labels
+    return [int(v) for v in probs.argmax(1)]
+
+
+def paint_curve(strokes: list[np.ndarray], labels: list[int], size: int) -> np.ndarray:
+    """C: each stroke's pixels carry its label, drawn as the data generator draws C~
+    (datagen/strokes.py: the later stroke wins where strokes cross)."""
+    return rasterize(strokes, size, size, [float(v) for v in labels])
+
+
+def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.ndarray
+               ) -> np.ndarray:
+    """F: 1 on the likeliest face's pixels; every other face gets 0.5 p / p_max (below
+    the 0.5 that counts as f, so the paper's IoU and the fitting's vote see one face,
+    while the fitting's fallback order by mean F follows the head's probabilities)."""
+    out = np.zeros(face_id.shape, np.float32)
+    if not len(face_ids):
+        return out
+    p = face_probs.numpy()
+    value = 0.5 * p / max(p.max(), 1e-12)
+    value[int(p.argmax())] = 1.0
+    lut = np.zeros(int(face_id.max()) + 2, np.float32)
+    lut[face_ids.numpy()] = value
+    return np.where(face_id >= 0, lut[np.clip(face_id, -1, None)], 0.0).astype(np.float32)
+
+
+# ---------------------------------------------------------------- checkpoints
+def save_head(path: str | Path, head: StructureHead, **extra) -> None:
+    """The head's weights and config (plus `extra`), written atomically."""
+    with atomic_path(path) as tmp:
+        torch.save({"format": HEAD_FORMAT, "config": asdict(head.config),
+                    "model": head.state_dict(), **extra}, tmp)
+
+
+def load_head(path: str | Path) -> tuple[StructureHead, dict]:
+    """A head (eval mode) and its checkpoint dictionary. Raises ValueError for a file
+    that is not a head checkpoint. A pickle: load only the project's own files."""
+    try:
+        ckpt = torch.load(path, map_location="cpu", weights_only=False)
+    except FileNotFoundError:
+        raise
+    except Exception as e:
+        raise ValueError(f"{path}: not a readable {HEAD_FORMAT} checkpoint "
+                         f"({type(e).__name__}: {str(e)[:120]})") from None
+    if not isinstance(ckpt, dict) or ckpt.get("format") != HEAD_FORMAT:
+        raise ValueError(f"{path}: not a {HEAD_FORMAT} checkpoint")
+    known = {f.name for f in fields(HeadConfig)}
+    head = StructureHead(HeadConfig(**{k: v for k, v in ckpt["config"].items() if k in known}))
+    head.load_state_dict(ckpt["model"])
+    return head.eval(), ckpt
+
+
+# ---------------------------------------------------------------- the predictor
+class StructuredPredictor(NetworkPredictor):
+    """The interpret pipeline's Predictor with the head's choices in F and C.
+
+    `observe(strokes, face_id)` hands over the structures of the sketch about to be
+    classified (the context camera's stroke polylines and face-ID map: interpret's
+    Context.strokes and Context.maps.face_id); `classify` and `segment` then answer with
+    the head's class probabilities and the painted maps, and `stroke_roles` and
+    `face_probabilities` expose the per-stroke and per-face probabilities behind them.
+    Without `observe` for the current inputs it answers as the plain U-Net predictor.
+    """
+
+    def __init__(self, model: Sketch2CADNet, head: StructureHead, threads: int | None = 2):
+        super().__init__(model, threads)
+        self.head = head.eval()
+        self._strokes: list[np.ndarray] | None = None
+        self._face_id: np.ndarray | None = None
+        self._head_out = None  # (inputs, tokens, class probs, role logits, face logits)
+
+    def observe(self, strokes: list[np.ndarray], face_id: np.ndarray) -> None:
+        """The next sketch's stroke polylines (pixels of the maps) and face-ID map."""
+        self._strokes = [np.asarray(s, float) for s in strokes]
+        self._face_id = np.asarray(face_id)
+        self._head_out = None
+
+    def _structured(self, inputs: np.ndarray):
+        if self._strokes is None:
+            return None
+        if self._head_out is None or self._head_out[0] is not inputs:
+            if self.threads:
+                torch.set_num_threads(self.threads)
+            x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
+            with torch.inference_mode():
+                self.model.eval()
+                logits, maps = feature_maps(self.model, x)
+                t = tokens(logits[0], maps[0], self._strokes, self._face_id)
+                cls, roles, faces = self.head(*collate([t]))
+            self._head_out = (inputs, t, cls[0].softmax(0).numpy(), roles[0], faces[0])
+        return self._head_out
+
+    def classify(self, inputs: np.ndarray) -> np.ndarray:
+        out = self._structured(inputs)
+        return super().classify(inputs) if out is None else out[2]
+
+    def stroke_roles(self, inputs: np.ndarray, op_type: OperatorType) -> np.ndarray:
+        """(S, roles) probabilities of each observed stroke's role under op_type, in the
+        curve label order of sketch/labels.py."""
+        out = self._structured(inputs)
+        if out is None:
+            raise ValueError("stroke_roles needs observe(strokes, face_id) first")
+        return role_probabilities(out[3], CLASSES.index(op_type)).numpy()
+
+    def face_probabilities(self, inputs: np.ndarray, op_type: OperatorType
+                           ) -> dict[int, float]:
+        """Face-ID -> probability of being the base face under op_type (visible faces)."""
+        out = self._structured(inputs)
+        if out is None:
+            raise ValueError("face_probabilities needs observe(strokes, face_id) first")
+        p = out[4][:, CLASSES.index(op_type)].softmax(0)
+        return {int(i): float(v) for i, v in zip(out[1].face_ids, p)}
+
+    def segment(self, inputs: np.ndarray, op_type: OperatorType
+                ) -> tuple[np.ndarray, np.ndarray]:
+        out = self._structured(inputs)
+        if out is None:
+            return super().segment(inputs, op_type)
+        k = CLASSES.index(op_type)
+        labels = decode_roles(role_probabilities(out[3], k), k)
+        size = self._face_id.shape[-1]
+        return (paint_face(out[4][:, k].softmax(0), out[1].face_ids, self._face_id),
+                paint_curve(self._strokes, labels, size))
+
+
+def load_structured_predictor(head_path: str | Path, weights: str | Path | None = None
+                              ) -> StructuredPredictor:
+    """The U-Net of `weights` (default: shipped) with the head of `head_path`.
+
+    Raises:
+        ValueError: the head was trained on another U-Net's features.
+    """
+    path = resolve(weights)
+    model, _ = load_checkpoint(path)
+    head, ckpt = load_head(head_path)
+    want = ckpt.get("unet_sha256")
+    if want and want != sha256_of(path):
+        raise ValueError(f"{head_path} was trained on the features of another U-Net "
+                         f"({ckpt.get('unet')}), not {path}")
+    return StructuredPredictor(model, head)
+
+
+def sha256_of(path: str | Path) -> str:
+    """The hex SHA-256 of a file (which U-Net a head was trained on)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()

@@ -1,0 +1,161 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Structured heads: tokens per stroke and per face, decoding, painting back into F and C,
+the predictor the interpret pipeline can call, and the head's checkpoints."""
+import numpy as np
+import pytest
+import torch
+
+from datagen.strokes import stroke_maps
+from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.inference.heads import (
+    ROLES,
+    STROKE_GEOMETRY,
+    HeadConfig,
+    StructuredPredictor,
+    StructureHead,
+    collate,
+    decode_roles,
+    feature_channels,
+    feature_maps,
+    load_head,
+    load_structured_predictor,
+    paint_curve,
+    paint_face,
+    save_head,
+    stroke_geometry,
+    tokens,
+)
+from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
+from Sketch2CADWorkbench.sketch.labels import BEVEL_L, CLASSES
+
+SIZE = 32
+
+
+def _scene():
+    """Two faces side by side (IDs 3 and 7), three strokes, random-weights maps."""
+    face_id = np.full((SIZE, SIZE), -1, np.int16)
+    face_id[4:28, 4:16] = 3
+    face_id[4:28, 16:28] = 7
+    strokes = [np.array([[6.0, 8.0], [14.0, 8.0]]), np.array([[6.0, 8.0], [6.0, 24.0]]),
+               np.array([[20.0, 10.0], [26.0, 20.0], [21.0, 25.0]])]
+    return face_id, strokes
+
+
+@pytest.fixture
+def net(tiny_config):
+    torch.manual_seed(0)
+    return Sketch2CADNet(tiny_config).eval()
+
+
+def _tokens(net, strokes, face_id):
+    x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
+    with torch.no_grad():
+        logits, maps = feature_maps(net, x)
+    return tokens(logits[0], maps[0], strokes, face_id)
+
+
+def test_one_token_per_stroke_and_per_visible_face(net):
+    face_id, strokes = _scene()
+    t = _tokens(net, strokes, face_id)
+    c = feature_channels(net)
+    assert t.stroke.shape == (3, 2 * c + STROKE_GEOMETRY)
+    assert sorted(t.face_ids.tolist()) == [3, 7]
+    assert t.face.shape[0] == 2 and torch.isfinite(t.face).all() and torch.isfinite(t.stroke).all()
+
+
+def test_a_stroke_reads_the_same_drawn_either_way(net):
+    face_id, strokes = _scene()
+    forward = _tokens(net, strokes, face_id)
+    backward = _tokens(net, [s[::-1] for s in strokes], face_id)
+    assert torch.allclose(forward.stroke, backward.stroke, atol=1e-5)
+    s = strokes[2]
+    assert np.allclose(stroke_geometry(s, np.array([0.3, 0.4]), SIZE),
+                       stroke_geometry(s[::-1], np.array([0.3, 0.4]), SIZE), atol=1e-6)
+
+
+def test_a_sketch_without_faces_in_view_still_gives_stroke_tokens(net):
+    _, strokes = _scene()
+    t = _tokens(net, strokes, np.full((SIZE, SIZE), -1, np.int16))
+    assert t.stroke.shape[0] == 3 and t.face.shape[0] == 0
+
+
+def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
+    face_id, strokes = _scene()
+    a = _tokens(net, strokes, face_id)
+    b = _tokens(net, strokes[:1], face_id[:, :16].repeat(2, 1).reshape(SIZE, SIZE))
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1)).eval()
+    cls, roles, faces = head(*collate([a, b]))
+    assert cls.shape == (2, 4) and roles.shape == (2, 3, sum(ROLES))
+    assert torch.isinf(faces[1, len(b.face):]).all() and torch.isfinite(faces[0]).all()
+
+
+def test_a_head_without_context_layers_reads_each_token_alone(net):
+    face_id, strokes = _scene()
+    t = _tokens(net, strokes, face_id)
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=0)).eval()
+    _, alone, _ = head(*collate([t]))
+    t.stroke[1:] = torch.randn_like(t.stroke[1:])  # the other strokes change
+    _, again, _ = head(*collate([t]))
+    assert torch.allclose(alone[0, 0], again[0, 0], atol=1e-6)
+    assert not torch.allclose(alone[0, 1], again[0, 1])
+
+
+def test_a_bevel_gets_exactly_one_profile_l():
+    bevel = CLASSES.index(OperatorType.BEVEL)
+    both_l = torch.tensor([[0.2, 0.8], [0.3, 0.7]])
+    assert decode_roles(both_l[:, [1, 0]] if BEVEL_L == 0 else both_l, bevel).count(BEVEL_L) == 1
+    neither = torch.tensor([[0.9, 0.1], [0.6, 0.4]])
+    labels = decode_roles(neither if BEVEL_L == 1 else neither[:, [1, 0]], bevel)
+    assert labels.count(BEVEL_L) == 1 and labels[1] == BEVEL_L
+
+
+def test_painted_roles_reproduce_the_generators_curve_label():
+    _, strokes = _scene()
+    labels = [2, 0, 1]
+    truth = stroke_maps(strokes, labels, SIZE, SIZE).curve_label
+    assert np.array_equal(paint_curve(strokes, labels, SIZE), truth)
+
+
+def test_painted_face_map_shows_one_face_and_orders_the_rest():
+    face_id, _ = _scene()
+    f = paint_face(torch.tensor([0.3, 0.7]), torch.tensor([3, 7]), face_id)
+    assert np.array_equal(f > 0.5, face_id == 7)
+    assert 0 < f[face_id == 3].max() <= 0.5 and f[face_id < 0].max() == 0
+
+
+def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path):
+    face_id, strokes = _scene()
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    p = StructuredPredictor(net, head, threads=1)
+    x = np.random.default_rng(0).random((5, SIZE, SIZE)).astype(np.float32)
+    unet = net.predict(torch.from_numpy(x)[None])
+    assert np.allclose(p.classify(x), unet[0][0].numpy(), atol=1e-6)
+    p.observe(strokes, face_id)
+    x2 = x.copy()
+    probs = p.classify(x2)
+    assert probs.shape == (4,) and abs(probs.sum() - 1) < 1e-5
+    for op in CLASSES:
+        f, c = p.segment(x2, op)
+        roles = p.stroke_roles(x2, op)
+        assert roles.shape == (3, ROLES[CLASSES.index(op)])
+        assert np.array_equal(c, paint_curve(strokes, decode_roles(torch.from_numpy(roles),
+                                                                   CLASSES.index(op)), SIZE))
+        faces = p.face_probabilities(x2, op)
+        assert set(faces) == {3, 7} and abs(sum(faces.values()) - 1) < 1e-5
+        best = max(faces, key=faces.get)
+        assert np.array_equal(f > 0.5, face_id == best)
+
+
+def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, tmp_path):
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    unet = tmp_path / "unet.pt"
+    save_checkpoint(unet, net)
+    save_head(tmp_path / "head.pt", head, unet_sha256="0" * 64)
+    loaded, _ = load_head(tmp_path / "head.pt")
+    for a, b in zip(head.state_dict().values(), loaded.state_dict().values()):
+        assert torch.equal(a, b)
+    with pytest.raises(ValueError, match="another U-Net"):
+        load_structured_predictor(tmp_path / "head.pt", unet)
+    (tmp_path / "junk.pt").write_bytes(b"not a checkpoint")
+    with pytest.raises(ValueError, match="sketch2cad-head"):
+        load_head(tmp_path / "junk.pt")

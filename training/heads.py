@@ -1,0 +1,266 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Training and evaluating the structured heads (inference/heads.py) on the frozen U-Net.
+
+`extract` runs the U-Net once over a data set and keeps each sample's tokens and targets
+(cached in the run folder: the U-Net is frozen, so every epoch reuses them); `train_head`
+fits the head, resumable from out/head-checkpoint.pt after every epoch; `evaluate_head`
+scores, on a held-out data set, the U-Net's own maps and the head's choices painted back
+into F and C with the paper's metrics (training/metrics.py), one Tally each, so both rows
+of the ablation come from the same samples and the same code.
+
+Losses, each averaged per sample first so that a bevel's 2 strokes weigh as much as an
+add/sub's 15: cross-entropy of the class, of each stroke's role under the ground-truth
+operator, and of the base face among the sketch's face tokens (the ground-truth
+operator's face logits; a sample whose base face is not in view adds none).
+"""
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from tqdm import tqdm
+
+from datagen.dataset import Dataset, decode_inputs
+from Sketch2CADWorkbench.brep.files import atomic_path
+from Sketch2CADWorkbench.inference.heads import (
+    ROLE_OFFSETS,
+    ROLES,
+    HeadConfig,
+    StructureHead,
+    Tokens,
+    collate,
+    decode_roles,
+    feature_channels,
+    feature_maps,
+    load_head,
+    paint_curve,
+    paint_face,
+    role_probabilities,
+    save_head,
+    sha256_of,
+    tokens,
+)
+from Sketch2CADWorkbench.inference.models import Sketch2CADNet
+from Sketch2CADWorkbench.inference.weights import load_model, resolve
+
+from .metrics import Tally, curve_hits, face_overlap
+
+HEAD_NAME = "sketch2cad_head.pt"
+
+
+@dataclass
+class HeadSettings:
+    """Training settings of the head (saved in its checkpoint)."""
+
+    epochs: int = 30
+    batch_size: int = 32
+    lr: float = 1e-3
+    final_lr_fraction: float = 0.05
+    weight_decay: float = 1e-2
+    seed: int = 0
+    threads: int = 1
+    head: HeadConfig = None
+
+    def __post_init__(self):
+        if self.head is None:
+            self.head = HeadConfig()
+
+
+@dataclass
+class Item:
+    """One sample for the head: its tokens and targets."""
+
+    tokens: Tokens
+    op: int
+    noise: int
+    roles: torch.Tensor   # (S,) int64 curve label per stroke
+    face: int             # index of the base face among the face tokens, -1 not in view
+
+
+def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice):
+    """Tokens of the samples `sl` of a shard's arrays `a`, with their full-size U-Net
+    outputs (probabilities, F, C) for the baseline row."""
+    x = torch.from_numpy(decode_inputs(a, sl))
+    with torch.inference_mode():
+        logits, maps = feature_maps(model, x)
+        f, c = maps[:, -5 - 8:-5 - 4], maps[:, -5 - 4:-5]
+        up = model.upsample(torch.cat([f, c], 1))
+        full = (logits.softmax(1), up[:, :4].sigmoid(), up[:, 4:])
+        toks = [tokens(logits[j], maps[j], [np.asarray(s, float) for s in meta[j]["strokes"]],
+                       a["face_id"][sl][j]) for j in range(len(x))]
+    return toks, full
+
+
+def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
+    face_id, label = a["face_id"][j], a["face_label"][j] > 0
+    base = np.bincount(face_id[label & (face_id >= 0)].astype(np.int64)).argmax() \
+        if label.any() else -1
+    where = (t.face_ids == int(base)).nonzero()
+    return Item(t, int(a["op_type"][j]), int(a["noise_level"][j]),
+                torch.tensor(m["stroke_parts"], dtype=torch.int64),
+                int(where[0, 0]) if len(where) else -1)
+
+
+def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
+            limit: int | None = None, batch: int = 16) -> list[Item]:
+    """Every sample's tokens and targets. With a `cache` folder, each whole shard's items
+    are kept there as they are made, so an interrupted extraction resumes by shard."""
+    ds = Dataset(data)
+    n = min(len(ds), limit) if limit else len(ds)
+    items: list[Item] = []
+    with tqdm(total=n, desc="head tokens", unit="sample", leave=False) as bar:
+        for k in ds.shards:
+            meta = ds.shard_meta(k)
+            take = min(len(meta), n - len(items))
+            path = cache / f"tokens-{k:05d}.pt" if cache is not None else None
+            key = json.dumps({"data": str(Path(data).resolve()), "shard": k, "take": take,
+                              "seed": ds.manifest.get("seed")}, sort_keys=True)
+            if path is not None and path.exists():
+                saved = torch.load(path, weights_only=False)
+                if saved["key"] == key:
+                    items += saved["items"]
+                    bar.update(take)
+                    continue
+            a, shard_items = ds.shard_arrays(k), []
+            for i in range(0, take, batch):
+                sl = slice(i, min(i + batch, take))
+                toks, _ = _sample_tokens(model, a, meta[sl], sl)
+                part = {name: v[sl] for name, v in a.items()}
+                shard_items += [_item(t, part, meta[sl][j], j) for j, t in enumerate(toks)]
+                bar.update(len(toks))
+            if path is not None:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                with atomic_path(path) as tmp:
+                    torch.save({"key": key, "items": shard_items}, tmp)
+            items += shard_items
+            if len(items) >= n:
+                break
+    return items
+
+
+def losses(head: StructureHead, items: list[Item]) -> tuple[torch.Tensor, ...]:
+    """(classification, stroke role, base face) losses of a batch, each a per-sample mean."""
+    logits, roles, faces = head(*collate([it.tokens for it in items]))
+    op = torch.tensor([it.op for it in items])
+    cls = F.cross_entropy(logits, op)
+    role_terms, face_terms = [], []
+    for j, it in enumerate(items):
+        if len(it.roles):
+            r = roles[j, :len(it.roles), ROLE_OFFSETS[it.op]:ROLE_OFFSETS[it.op] + ROLES[it.op]]
+            role_terms.append(F.cross_entropy(r, it.roles))
+        if it.face >= 0:
+            face_terms.append(F.cross_entropy(faces[j, :, it.op][None],
+                                              torch.tensor([it.face])))
+    zero = logits.sum() * 0
+    return (cls, torch.stack(role_terms).mean() if role_terms else zero,
+            torch.stack(face_terms).mean() if face_terms else zero)
+
+
+def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | None = None
+               ) -> Path:
+    """Train the head on `data` with the U-Net of `weights` frozen; a rerun with the same
+    `out` resumes after the last finished epoch. Returns out/HEAD_NAME."""
+    s = settings
+    torch.set_num_threads(s.threads)
+    out.mkdir(parents=True, exist_ok=True)
+    unet_path = resolve(weights)
+    model, _ = load_model(unet_path)
+    items = extract(data, model, out / "tokens")
+    ckpt_path = out / "head-checkpoint.pt"
+    s.head.channels = feature_channels(model)
+    torch.manual_seed(s.seed)
+    head = StructureHead(s.head)
+    opt = torch.optim.AdamW(head.parameters(), lr=s.lr, weight_decay=s.weight_decay)
+    epoch, log = 0, []
+    if ckpt_path.exists():
+        head, ckpt = load_head(ckpt_path)
+        opt = torch.optim.AdamW(head.parameters(), lr=s.lr, weight_decay=s.weight_decay)
+        opt.load_state_dict(ckpt["optimizer"])
+        epoch, log = ckpt["epoch"], ckpt["log"]
+        print(f"train-head: resuming after epoch {epoch}")
+    steps_per_epoch = math.ceil(len(items) / s.batch_size)
+    total = s.epochs * steps_per_epoch
+    head.train()
+    for e in range(epoch, s.epochs):
+        t0 = time.perf_counter()
+        order = torch.randperm(len(items),
+                               generator=torch.Generator().manual_seed(s.seed * 1000 + e))
+        sums = np.zeros(3)
+        for b in range(steps_per_epoch):
+            step = e * steps_per_epoch + b
+            floor = s.lr * s.final_lr_fraction
+            lr = floor + (s.lr - floor) * 0.5 * (1 + math.cos(math.pi * step / total))
+            for g in opt.param_groups:
+                g["lr"] = lr * min(1.0, (step + 1) / 50)
+            batch = [items[int(i)] for i in order[b * s.batch_size:(b + 1) * s.batch_size]]
+            terms = losses(head, batch)
+            opt.zero_grad(set_to_none=True)
+            sum(terms).backward()
+            torch.nn.utils.clip_grad_norm_(head.parameters(), 5.0)
+            opt.step()
+            sums += [t.item() for t in terms]
+        row = {"epoch": e + 1, "cls": sums[0] / steps_per_epoch, "role": sums[1] / steps_per_epoch,
+               "face": sums[2] / steps_per_epoch, "seconds": round(time.perf_counter() - t0, 1)}
+        log.append(row)
+        print(f"train-head: epoch {e + 1}/{s.epochs}: cls {row['cls']:.4f} role "
+              f"{row['role']:.4f} face {row['face']:.4f} ({row['seconds']} s)", flush=True)
+        save_head(ckpt_path, head, optimizer=opt.state_dict(), epoch=e + 1, log=log,
+                  settings=asdict(s))
+    final = out / HEAD_NAME
+    save_head(final, head.eval(), settings=asdict(s), log=log, train_samples=len(items),
+              data=str(data), unet=str(unet_path),
+              unet_sha256=sha256_of(unet_path))
+    return final
+
+
+def evaluate_head(data: Path, head_path: Path, weights: Path | None = None,
+                  limit: int | None = None, batch: int = 16) -> dict:
+    """The paper's metrics on `data` for the U-Net's own maps ("unet") and for the head's
+    choices painted into F and C ("head"); each segmentation scored on the ground-truth
+    operator's maps, as the paper does."""
+    model, _ = load_model(resolve(weights))
+    head, _ = load_head(head_path)
+    ds = Dataset(data)
+    n = min(len(ds), limit) if limit else len(ds)
+    unet, structured, done = Tally(), Tally(), 0
+    with tqdm(total=n, desc="eval head", unit="sample", leave=False) as bar:
+        for k in ds.shards:
+            a, meta = ds.shard_arrays(k), ds.shard_meta(k)
+            for i in range(0, min(len(meta), n - done), batch):
+                sl = slice(i, min(i + batch, len(meta), i + n - done))
+                toks, (probs, f, c) = _sample_tokens(model, a, meta[sl], sl)
+                op = torch.from_numpy(a["op_type"][sl].astype(np.int64))
+                noise = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
+                face = torch.from_numpy(a["face_label"][sl].astype(np.float32))
+                curve = torch.from_numpy(a["curve_label"][sl].astype(np.float32))
+                mask = torch.from_numpy(a["stroke_mask"][sl].astype(np.float32))
+                rows = torch.arange(len(op))
+                unet.add(op, probs.argmax(1), noise, *face_overlap(f[rows, op], face),
+                         *curve_hits(c[rows, op], curve, mask, op))
+                with torch.inference_mode():
+                    logits, roles, faces = head(*collate(toks))
+                pf, pc = [], []
+                size = face.shape[-1]
+                for j, t in enumerate(toks):
+                    o = int(op[j])
+                    strokes = [np.asarray(s, float) for s in meta[sl][j]["strokes"]]
+                    labels = decode_roles(role_probabilities(roles[j, :len(strokes)], o), o)
+                    pc.append(paint_curve(strokes, labels, size))
+                    pf.append(paint_face(faces[j, :len(t.face_ids), o].softmax(0), t.face_ids,
+                                         a["face_id"][sl][j]))
+                pf, pc = torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
+                structured.add(op, logits.argmax(1), noise, *face_overlap(pf, face),
+                               *curve_hits(pc, curve, mask, op))
+                done += len(op)
+                bar.update(len(op))
+            if done >= n:
+                break
+    return {"data": {"path": str(data), "seed": ds.manifest.get("seed"),
+                     "noise": ds.manifest.get("noise")},
+            "unet": unet.summary(), "head": structured.summary()}
