@@ -2,9 +2,9 @@
 """How well a reading's own sketch explains real strokes, and scribbles: the data behind
 interpret's doubt thresholds (readings past them are flagged as doubtful).
 
-    .bin/python scripts/misfit_threshold.py DATA [--limit N] [--scribbles 300]
+    .bin/python scripts/misfit_threshold.py DATA [--skip K] [--limit N] [--scribbles 300]
         [--scribble-seed 0] [--features OUT.json] [--choose]
-    .bin/python scripts/misfit_threshold.py --from FEATURES.json [--choose]
+    .bin/python scripts/misfit_threshold.py --from FEATURES.json [MORE.json ...] [--choose]
 
 Interprets every sample of a held-out generated set (level 1) and random scribbles over
 random boxes (or reads what an earlier run wrote with --features), and records for each
@@ -46,12 +46,16 @@ QUANTILES = (0.99, 0.9925, 0.995, 0.9975, 1.0)
 MAX_REAL_FLAGGED = 0.01
 
 
-def fits_of_samples(data: str, predictor, renderer, limit: int) -> list:
+def fits_of_samples(data: str, predictor, renderer, limit: int, skip: int = 0) -> list:
     out = []
     ds = Dataset(data)
-    bar = tqdm(total=min(limit, len(ds)), desc="held-out", unit="sample")
+    bar = tqdm(total=min(limit, max(len(ds) - skip, 0)), desc="held-out", unit="sample")
+    seen = 0
     for k in ds.shards:
         for s in ds.samples(k):
+            seen += 1
+            if seen <= skip:
+                continue
             if len(out) >= limit:
                 return out
             bar.update(1)
@@ -109,8 +113,10 @@ def choose(real: list, scrib: list) -> list:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("data", nargs="?")
-    p.add_argument("--from", dest="features_in", help="a --features file to read instead")
-    p.add_argument("--limit", type=int, default=10 ** 9, help="the first LIMIT samples only")
+    p.add_argument("--from", dest="features_in", nargs="+",
+                   help="--features files to read (and pool) instead")
+    p.add_argument("--skip", type=int, default=0, help="leave out the first SKIP samples")
+    p.add_argument("--limit", type=int, default=10 ** 9, help="LIMIT samples only")
     p.add_argument("--scribbles", type=int, default=300)
     p.add_argument("--scribble-seed", type=int, default=0)
     p.add_argument("--features", help="also write every reading's measures here (JSON)")
@@ -118,11 +124,12 @@ def main() -> int:
                    help="print the rules that flag at most 1%% of the real sketches")
     a = p.parse_args()
     if a.features_in:
-        saved = json.loads(Path(a.features_in).read_text())
-        real, scrib = ([f and SketchFit(**f) for f in saved[k]] for k in ("real", "scribbles"))
+        saved = [json.loads(Path(f).read_text()) for f in a.features_in]
+        real, scrib = ([f and SketchFit(**f) for one in saved for f in one[k]]
+                       for k in ("real", "scribbles"))
     elif a.data:
         predictor, renderer = load_predictor(), MapRenderer()
-        real = fits_of_samples(a.data, predictor, renderer, a.limit)
+        real = fits_of_samples(a.data, predictor, renderer, a.limit, a.skip)
         scrib = fits_of_scribbles(a.scribbles, predictor, renderer, a.scribble_seed)
     else:
         p.error("give a data set or --from")

@@ -33,12 +33,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--regularize", choices=("session", "on", "off"), default="session",
                    help="snapping and rectification: as each step's choices say (default), "
                         "or on or off for every step")
-    p.add_argument("--snap-step", type=float, default=0.0, metavar="MM",
-                   help="with regularization, round lengths to multiples of this step "
-                        "(default 0: no grid)")
-    p.add_argument("--snap-px", type=float, default=SNAP_PX, metavar="PX",
+    p.add_argument("--snap-step", type=float, metavar="MM",
+                   help="with regularization, round lengths to multiples of this step in "
+                        "every step (default: each step's own, else 0: no grid)")
+    p.add_argument("--snap-px", type=float, metavar="PX",
                    help="with regularization, snap to targets within this many pixels of "
-                        "the view the strokes were drawn in (default %(default)s)")
+                        "the view the strokes were drawn in, in every step (default: each "
+                        f"step's own, else {SNAP_PX})")
     p.add_argument("--keep-going", action="store_true",
                    help="skip a step that cannot be interpreted instead of stopping (the "
                         "skipped steps are listed; the exit code is then 0)")
@@ -66,7 +67,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
     failed = 0
     for i, step in enumerate(session.steps, 1):
-        choices = replace(step.choices, snap_step=args.snap_step, snap_px=args.snap_px)
+        choices = step.choices  # with the snaps the designer undid (skip_snaps)
+        if args.snap_step is not None:
+            choices = replace(choices, snap_step=args.snap_step)
+        if args.snap_px is not None:
+            choices = replace(choices, snap_px=args.snap_px)
         if args.regularize != "session":
             choices = replace(choices, regularize=args.regularize == "on")
         try:

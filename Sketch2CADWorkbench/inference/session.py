@@ -11,10 +11,15 @@ JSON schema, version 1::
         "strokes": [[[x, y], [x, y], ...], ...],       # pixels, x right, y down
         "choices": {"option": null | MODE,              # optional; force the Boolean
                     "symmetry": null | "x" | "y" | "z", # mirror through that mid-plane
-                    "regularize": true}}]}              # snapping and rectification
+                    "regularize": true,                 # snapping and rectification
+                    "snap_step": 0.0,                   # optional: the length grid (mm)
+                    "snap_px": 5.0,                     # optional: the snap tolerance
+                    "skip_snaps": ["position", ...]}}]} # optional: the snaps undone
 
 Each step's strokes are in its camera's pixels (render/camera.py's convention); the
-camera is the orthographic view the designer sketched in.
+camera is the orthographic view the designer sketched in. The three optional choices
+(InterpretOptions' fields) are written only when they differ from their defaults, so a
+step without them reads, and is written, as before they existed.
 """
 from __future__ import annotations
 
@@ -29,11 +34,16 @@ from ..brep.fields import FieldError, box_size, error, header, number, obj, pars
 from ..brep.files import write_atomically
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
+from .fitting.regularize import SNAP_KINDS
 from .options import InterpretOptions
 
 FORMAT = "sketch2cad-session"
 VERSION = 1
 SYMMETRY_PLANES = ("x", "y", "z")
+DEFAULTS = InterpretOptions()
+# Largest grid step and snap tolerance a session may ask for: beyond them snapping would
+# move what the designer drew, not the hand's error.
+MAX_SNAP_STEP, MAX_SNAP_PX = 100.0, 100.0
 
 
 class SessionError(ProtocolError):
@@ -70,8 +80,19 @@ def _step_dict(s: SketchStep) -> dict[str, Any]:
     return {"camera": s.camera.to_dict(),
             "strokes": [[[round(float(x), 3), round(float(y), 3)] for x, y in st]
                         for st in s.strokes],
-            "choices": {"option": s.choices.option.value if s.choices.option else None,
-                        "symmetry": s.choices.symmetry, "regularize": s.choices.regularize}}
+            "choices": _choices_dict(s.choices)}
+
+
+def _choices_dict(c: InterpretOptions) -> dict[str, Any]:
+    out = {"option": c.option.value if c.option else None, "symmetry": c.symmetry,
+           "regularize": c.regularize}
+    if c.snap_step != DEFAULTS.snap_step:
+        out["snap_step"] = float(c.snap_step)
+    if c.snap_px != DEFAULTS.snap_px:
+        out["snap_px"] = float(c.snap_px)
+    if c.skip_snaps:
+        out["skip_snaps"] = sorted(c.skip_snaps)
+    return out
 
 
 def step_to_dict(step: SketchStep) -> dict[str, Any]:
@@ -110,7 +131,8 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
 
 
 def _choices(v: Any, path: str) -> InterpretOptions:
-    o = obj(v, path, set(), {"option", "symmetry", "regularize"})
+    o = obj(v, path, set(), {"option", "symmetry", "regularize", "snap_step", "snap_px",
+                              "skip_snaps"})
     option = o.get("option")
     if option is not None:
         try:
@@ -124,7 +146,19 @@ def _choices(v: Any, path: str) -> InterpretOptions:
     reg = o.get("regularize", True)
     if not isinstance(reg, bool):
         raise _err(f"{path}.regularize", "expected true or false", reg)
-    return InterpretOptions(reg, option, sym)
+    step = number(o.get("snap_step", DEFAULTS.snap_step), f"{path}.snap_step")
+    if not 0 <= step <= MAX_SNAP_STEP:
+        raise _err(f"{path}.snap_step", f"expected a grid step from 0 (none) to {MAX_SNAP_STEP} mm",
+                   step)
+    px = number(o.get("snap_px", DEFAULTS.snap_px), f"{path}.snap_px")
+    if not 0 < px <= MAX_SNAP_PX:
+        raise _err(f"{path}.snap_px", f"expected a tolerance above 0 and at most {MAX_SNAP_PX} px",
+                   px)
+    skip = o.get("skip_snaps", [])
+    if not isinstance(skip, list) or not all(isinstance(k, str) and k in SNAP_KINDS for k in skip):
+        raise _err(f"{path}.skip_snaps", f"expected a list of snap kinds from {list(SNAP_KINDS)}",
+                   skip)
+    return InterpretOptions(reg, option, sym, float(step), float(px), frozenset(skip))
 
 
 def _step(v: Any, path: str) -> SketchStep:

@@ -37,9 +37,11 @@ class OrthoCamera:
     def __post_init__(self):
         d = np.asarray(self.direction, float)
         u = np.asarray(self.up, float)
-        if not np.isfinite(d).all() or np.linalg.norm(d) < 1e-12:
+        if not np.isfinite(d).all() or np.abs(d).max() < 1e-12:
             raise ValueError(f"camera direction must be a non-zero vector, got {self.direction}")
-        if np.linalg.norm(np.cross(d, u)) < 1e-9 * np.linalg.norm(d) * max(np.linalg.norm(u), 1e-300):
+        if not np.isfinite(u).all() or not np.abs(u).any():
+            raise ValueError(f"camera up must be a non-zero vector, got {self.up}")
+        if np.linalg.norm(np.cross(_unit(d), _unit(u))) < 1e-9:
             raise ValueError(f"camera up {self.up} must not be parallel to direction {self.direction}")
         if not self.scale > 0:
             raise ValueError(f"camera scale must be positive, got {self.scale}")
@@ -49,9 +51,8 @@ class OrthoCamera:
     # ------------------------------------------------------------ frame
     def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Unit (right, up, forward) vectors of the camera in world coordinates."""
-        f = np.asarray(self.direction, float)
-        f = f / np.linalg.norm(f)
-        u = np.asarray(self.up, float)
+        f = _unit(np.asarray(self.direction, float))
+        u = _unit(np.asarray(self.up, float))
         u = u - (u @ f) * f
         u = u / np.linalg.norm(u)
         r = np.cross(f, u)  # right-handed: right = forward x up
@@ -125,3 +126,12 @@ class OrthoCamera:
     def with_size(self, width: int, height: int) -> "OrthoCamera":
         """The same view at another image size (the visible height is kept)."""
         return OrthoCamera(self.center, self.direction, self.up, self.scale, width, height)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    """v scaled to length 1; a vector whose squared length overflows or underflows (a
+    direction of (1e200, 1e200, 0) is a direction) is first scaled by its largest
+    component; any other is divided by its norm as it is."""
+    if not 1e-150 < np.abs(v).max() < 1e150:
+        v = v / np.abs(v).max()
+    return v / np.linalg.norm(v)

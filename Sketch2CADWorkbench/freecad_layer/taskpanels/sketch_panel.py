@@ -171,6 +171,7 @@ class SketchPanel:
             self.capture.strokes = [list(step.camera.unproject(s, depth)) for s in step.strokes]
             self.capture.redraw()
             c = step.choices
+            self.skipped = set(c.skip_snaps)  # the snaps undone when it was drawn stay undone
             self.regularize.blockSignals(True)
             self.regularize.setChecked(c.regularize)
             self.regularize.blockSignals(False)

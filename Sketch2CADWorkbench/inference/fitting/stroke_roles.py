@@ -31,6 +31,12 @@ SAME_CHORD, SAME_CHORD_PX = 0.15, 3.0
 PRISM_CHORD_TOLERANCES = ((SAME_CHORD, SAME_CHORD_PX), (0.35, 10.0), None)
 # A stroke whose ends are closer than this share of its length is a closed outline.
 CLOSED_SHARE = 0.2
+# A closed outline's role is judged on at most this many profiles, those whose middle
+# lies nearest its centre (the ends of its own side are near it). It equals the largest
+# step interpret() accepts (MAX_STROKES), so every sketch a step accepts is judged on all
+# its profiles; only the thousands of strokes of a stress test are bounded, which keeps
+# the cost linear in the strokes.
+NEAR_PROFILES = 200
 # Below this sine of the angle between n_f and the view, f is seen head-on: profile
 # strokes would be dots.
 MIN_SIN = 0.1
@@ -88,7 +94,8 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     length and pixels; None skips the test); the largest such set wins, so an outline
     side that happens to run along n_f's image is not taken for a profile. Every other stroke
     is an outline and joins the end of the profiles it touches: an open stroke by its
-    two end points, a closed one by passing through all of that end's points; of two
+    two end points, a closed one by passing through all of that end's points (of the
+    NEAR_PROFILES profiles nearest it, when there are more: the cost stays linear); of two
     closed outlines (a sweep's circles), the one centred lower along n_f is the start.
 
     With `sides` (a prism drawn with all its edges has three strokes per side), a
@@ -166,9 +173,21 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         a, b = closed
         roles[a], roles[b] = _ordered(strokes, a, b, n2)
     else:
-        for k in closed:
+        for k, near in zip(closed, _near_profiles(strokes, closed, starts, ends)):
             # a closed outline passes through all the profile ends of its side: a short
             # sweep's two ellipses cross each other, so one nearest point would not do
             q = cKDTree(resample(np.asarray(strokes[k], float)))
-            roles[k] = START if q.query(starts)[0].sum() <= q.query(ends)[0].sum() else END
+            roles[k] = START if q.query(starts[near])[0].sum() <= \
+                q.query(ends[near])[0].sum() else END
     return [int(r) for r in roles]
+
+
+def _near_profiles(strokes: list[np.ndarray], closed: list[int], starts: np.ndarray,
+                   ends: np.ndarray) -> list[slice | np.ndarray]:
+    """For each closed stroke, the profiles its role is judged on: all of them, in their
+    order, when there are at most NEAR_PROFILES; else the NEAR_PROFILES whose middles lie
+    nearest the stroke's centre."""
+    if len(starts) <= NEAR_PROFILES or not closed:
+        return [slice(None)] * len(closed)
+    centres = np.array([np.asarray(strokes[k], float).mean(axis=0) for k in closed])
+    return list(cKDTree((starts + ends) / 2).query(centres, k=NEAR_PROFILES)[1])

@@ -666,9 +666,11 @@ def sketch_panel_reads_in_the_users_units_and_names_follow_the_offset():
 def preferences_page_is_shown_and_its_values_are_used():
     """Edit > Preferences has a Sketch2CAD page; what it saves is what the Sketch panel
     starts with (regularization), rounds lengths to (snapping step) and runs the networks
-    with (threads)."""
+    with (threads); an undone snap and the step are kept in the feature
+    and honoured when its panel opens again."""
     import torch
 
+    from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.preferences import PreferencesPage, parameters
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     seen = []
@@ -718,7 +720,22 @@ def preferences_page_is_shown_and_its_values_are_used():
         assert abs(undone / 2.0 - round(undone / 2.0)) > 1e-6, undone
         assert [b.text() for b in panel.snap_buttons][-1].startswith("Snap again")
         assert torch.get_num_threads() == 1, (torch.get_num_threads(), torch.__file__)
-        panel.reject()
+        # the feature keeps the undone snap and the grid (its session step), and its
+        # panel opened again reads the strokes with the snap still undone
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+        pad = features(model)[-1]
+        choices = json.loads(pad.SketchStep)["choices"]
+        assert (choices["skip_snaps"], choices["snap_step"]) == (["d"], 2.0), choices
+        pad.Label = "Pad with a snap undone"  # one row of that name: other checks made Pads
+        double_click_in_tree(pad)
+        edit = pad.ViewObject.Proxy.panel
+        assert edit.result is not None and edit.skipped == {"d"}, edit.text.toPlainText()
+        again = edit.result.operations[0].d  # the strokes as saved: rounded to 0.001 px
+        assert abs(again / 2.0 - round(again / 2.0)) > 1e-6 and close(again, undone, 1e-3), \
+            (again, undone)
+        assert not [sn for sn in edit.result.snaps if sn.key == "d"], edit.result.snaps
+        edit.reject()
         settle()
     finally:
         p = parameters()

@@ -7,6 +7,7 @@ from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
+from Sketch2CADWorkbench.inference.fitting import stroke_roles as stroke_roles_module
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -90,3 +91,39 @@ def test_a_short_side_edge_leaning_from_stroke_noise_is_still_a_profile():
     frame = FaceFrame.of(resolve_face(solid, TOP).face)
     assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == \
         [c.label for c in curves]
+
+
+def test_the_work_grows_linearly_with_the_strokes(monkeypatch):
+    # thousands of short strokes (a stress test, not a sketch): a third along n_f's
+    # image, a tenth closed loops; the points queried in the k-d trees must grow about
+    # as the strokes do (summing every profile end per closed loop grew quadratically)
+    queried = []
+
+    class Counting(stroke_roles_module.cKDTree):
+        def query(self, x, *args, **kwargs):
+            queried.append(np.asarray(x).size // 2)
+            return super().query(x, *args, **kwargs)
+
+    monkeypatch.setattr(stroke_roles_module, "cKDTree", Counting)
+    solid = make_box(BOX)
+    cam = camera((0.6, 0.9, -1.2))
+    frame = FaceFrame.of(resolve_face(solid, TOP).face)
+    n2 = normal_image(cam, frame)
+    work = []
+    for n in (1000, 2000):
+        rng = np.random.default_rng(5)
+        strokes = []
+        for k in range(n):
+            start = rng.uniform((50, 50), (750, 550))
+            if k % 3 == 0:
+                strokes.append(start + np.linspace(0, 1, 6)[:, None] * rng.uniform(10, 40) * n2)
+            elif k % 10 == 1:
+                a = np.linspace(0, 2 * np.pi, 12)
+                strokes.append(start + rng.uniform(5, 15) * np.stack([np.cos(a), np.sin(a)], 1))
+            else:
+                strokes.append(start + np.cumsum(rng.normal(0, 4.0, (5, 2)), 0))
+        queried.clear()
+        roles = stroke_roles(strokes, frame, cam, prism=False)
+        assert roles.count(1) > stroke_roles_module.NEAR_PROFILES
+        work.append(sum(queried))
+    assert work[1] < 2.5 * work[0]
