@@ -70,30 +70,35 @@ class CurvedSurface:
         across = np.linalg.norm(rel - np.outer(h, self.axis), axis=1)
         return across - (self.radius + self.slope * h)
 
+    def roots(self, points: np.ndarray, direction: np.ndarray, t: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where the lines q + t direction (q: points (K, 3)) meet the surface, for t in
+        the range of the increasing grid `t` (S,): the line index (M,), t (M,) to well
+        under a micrometre, and whether the line enters the surface there (M,) (passes
+        from outside to inside), ordered by line, then t."""
+        q = np.asarray(points, float)
+        direction = np.asarray(direction, float)
+        values = self.level((q[:, None, :] + t[None, :, None] * direction).reshape(-1, 3))
+        values = values.reshape(len(q), len(t))
+        k, j = np.nonzero(np.sign(values[:, :-1]) != np.sign(values[:, 1:]))
+        lo, hi = t[j].copy(), t[j + 1].copy()
+        entering = values[k, j] > 0
+        for _ in range(50):  # bisection of every bracket at once
+            mid = 0.5 * (lo + hi)
+            outside = self.level(q[k] + mid[:, None] * direction) > 0
+            lo = np.where(outside == entering, mid, lo)
+            hi = np.where(outside == entering, hi, mid)
+        return k, 0.5 * (lo + hi), entering
+
     def crossings(self, points: np.ndarray, direction: np.ndarray, span: float,
                   steps: int = 4001) -> np.ndarray:
         """For each point q (K, 3), the t nearest 0 in [-span, span] where q + t direction
         meets the surface: (K,), NaN where the line misses it within the span."""
-        q = np.asarray(points, float)
-        t = np.linspace(-span, span, steps)
-        values = self.level((q[:, None, :] + t[None, :, None] * direction).reshape(-1, 3))
-        values = values.reshape(len(q), steps)
-        out = np.full(len(q), np.nan)
-        for k in range(len(q)):
-            change = np.nonzero(np.sign(values[k, :-1]) != np.sign(values[k, 1:]))[0]
-            if len(change) == 0:
-                continue
-            best = change[np.argmin(np.abs(t[change]))]
-            lo, hi = t[best], t[best + 1]
-            f_lo = values[k, best]
-            for _ in range(50):  # bisection to well under a micrometre
-                mid = 0.5 * (lo + hi)
-                f_mid = float(self.level((q[k] + mid * direction)[None])[0])
-                if np.sign(f_mid) == np.sign(f_lo):
-                    lo, f_lo = mid, f_mid
-                else:
-                    hi = mid
-            out[k] = 0.5 * (lo + hi)
+        k, t, _ = self.roots(points, direction, np.linspace(-span, span, steps))
+        out = np.full(len(np.atleast_2d(points)), np.nan)
+        for i in np.unique(k):
+            mine = t[k == i]
+            out[i] = mine[np.argmin(np.abs(mine))]
         return out
 
     def solid(self, around: np.ndarray, extent: float) -> cq.Solid:

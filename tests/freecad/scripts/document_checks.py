@@ -341,4 +341,35 @@ def a_step_read_again_replaces_its_feature_in_place():
     assert protocol_from_model(model).operations == (pad,) + p.operations[1:]
 
 
+@check
+def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
+    p = example("pipe")  # a pipe with a radial branch, a pad and a slot on its side
+    doc = FreeCAD.newDocument("pipe")
+    model = make_model_from_protocol(doc, p)
+    chain = features(model)
+    assert not failed_features(model) and protocol_from_model(model) == p
+    assert_matches_core(model, p)
+    branch = chain[4]
+    assert (branch.FaceSurface, branch.Label) == ("cylinder", "Revolution001"), \
+        (branch.FaceSurface, branch.Label)
+    assert chain[2].FaceSurface == "cylinder" and chain[2].Label == "Pad"
+    # a wider pipe: the steps on its side move out with it; a longer branch
+    for name in ("Radius0", "Radius1"):
+        setattr(chain[1], name, 13.0)
+    branch.Offset = 30.0
+    doc.recompute()
+    assert not failed_features(model), [o.Label for o in failed_features(model)]
+    edited = protocol_from_model(model)
+    assert edited.operations[3].d == 30.0
+    assert_matches_core(model, edited)
+    bb = model.Tip.Shape.BoundBox
+    assert close(bb.XMax, 14.0 + 30.0) and close(bb.YMin, -14.0 - 3.0), bb  # r 13 + 1
+    path = os.path.join(TMP, "pipe.step")
+    export_step(model, path)
+    read = Part.read(path)
+    assert read.isValid() and len(read.Solids) == 1
+    assert close(read.Volume, build(edited).Volume())
+    FreeCAD.closeDocument(doc.Name)
+
+
 finish(run_checks())
