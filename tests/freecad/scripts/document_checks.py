@@ -362,8 +362,10 @@ def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
     edited = protocol_from_model(model)
     assert edited.operations[3].d == 30.0
     assert_matches_core(model, edited)
-    bb = model.Tip.Shape.BoundBox
-    assert close(bb.XMax, 14.0 + 30.0) and close(bb.YMin, -14.0 - 3.0), bb  # r 13 + 1
+    # the branch's end and the pad's top stand out from the wider wall (r 13 + 1 mm)
+    assert close(model.Tip.Shape.BoundBox.XMax, 14.0 + 30.0), model.Tip.Shape.BoundBox
+    assert any(close(f.CenterOfMass.y, -14.0 - 3.0) and f.normalAt(0, 0).y < -0.999
+               for f in chain[6].Shape.Faces), "the pad's top did not move out"
     path = os.path.join(TMP, "pipe.step")
     export_step(model, path)
     read = Part.read(path)
