@@ -42,3 +42,23 @@ def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
     ids[40:50] = disk
     got = select_base_face(np.where(ids >= 0, 0.9, 0.0), ids, post)
     assert got.isSame(faces[disk])
+
+
+def test_for_prisms_and_sweeps_a_curved_face_counts_by_its_votes_only():
+    from Sketch2CADWorkbench.inference.fitting.base_face import rank_base_faces
+    box = make_box(Box((40, 30, 20)))
+    top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+    post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0,
+                                      ((5.0, 10 / 3), (5.0, 20 / 3)), Mode.ADD))
+    faces = post.Faces()
+    side = next(i for i, f in enumerate(faces) if f.geomType() == "CYLINDER")
+    disk = next(i for i, f in enumerate(faces) if f.geomType() == "PLANE"
+                and abs(f.Center().z - 20.0) < 1e-6)
+    ids = np.full((64, 64), -1, np.int32)
+    ids[:40] = side
+    ids[40:50] = disk
+    voted = rank_base_faces(np.where(ids >= 0, 0.9, 0.0), ids, post, curved=True)
+    assert voted[0] == side and disk in voted
+    # an unsure F (no pixel over 0.5) never puts the large curved face in
+    unsure = rank_base_faces(np.where(ids == side, 0.45, 0.3), ids, post, curved=True)
+    assert side not in unsure and unsure[0] == disk
