@@ -25,7 +25,7 @@ import cadquery as cq
 import numpy as np
 
 from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
-from .faces import OperationError, ResolvedFace, model_scale, resolve_face
+from .faces import OperationError, ResolvedFace, model_box, model_scale, resolve_face
 from .geometry import bezier, crossing_sides, plane_basis, unit
 from .protocol import (
     AddSubPrism,
@@ -443,8 +443,8 @@ def check_ranges(solid: cq.Shape, op: Operation) -> None:
     Raises:
         OperationError: naming the parameter, its value and the range for this model.
     """
-    scale = model_scale(solid)
-    center = np.array(solid.BoundingBox().center.toTuple())
+    lo, hi = model_box(solid)
+    scale, center = float(np.linalg.norm(hi - lo)), (lo + hi) / 2
     for f in dataclasses.fields(op):
         value = getattr(op, f.name)
         if f.name in LENGTHS:

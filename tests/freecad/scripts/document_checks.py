@@ -287,8 +287,8 @@ def parameters_are_quantities_in_the_users_units():
         own = [n for n in o.PropertiesList if o.getGroupOfProperty(n) not in
                ("Base", "Sketch", "") and n not in ("Placement", "Shape", "Label", "Label2")]
         unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
-        # a normal has no unit, the Boolean is a choice
-        assert set(unitless) <= {"FaceNormal", "Mode"}, (o.Label, unitless)
+        # a normal has no unit, the Boolean and the kind of surface are choices
+        assert set(unitless) <= {"FaceNormal", "FaceSurface", "Mode"}, (o.Label, unitless)
     schema = FreeCAD.Units.getSchema()
     try:
         FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
