@@ -9,6 +9,7 @@ import cadquery as cq
 import numpy as np
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
@@ -45,7 +46,7 @@ class CurvedSurface:
     def of(face: cq.Face) -> "CurvedSurface":
         """The surface of a cylindrical or conical face (OCCT's gp_Cylinder / gp_Cone)."""
         kind = face.geomType()
-        adaptor = face._geomAdaptor()
+        adaptor = BRepAdaptor_Surface(face.wrapped)  # also under a trimmed surface
         if kind == "CYLINDER":
             g, slope, surface = adaptor.Cylinder(), 0.0, Surface.CYLINDER
         elif kind == "CONE":
