@@ -6,7 +6,8 @@ extruded (its radius changed).
 The context is a random sequence (0 to 2 operations, datagen/sequences.py) followed by
 an added straight sweep (a cylinder or a cone); the last operation is drawn on that
 sweep's side at a random point of it, in the tangent plane there (brep/protocol), with
-sizes relative to the side's radius so that the primitive fits across it. A sample is
+sizes relative to the side's radius so that the primitive fits across it, and its
+outline on the side (not overhanging its rims). A sample is
 then made as any other (datagen/generate.view_sample): an informative view, strokes
 from the operation's curves, the face label on the curved face.
 
@@ -27,6 +28,8 @@ from Sketch2CADWorkbench.brep.faces import (
     OperationError,
     ResolvedFace,
     face_ref_at,
+    model_scale,
+    points_on_face,
 )
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -114,12 +117,28 @@ def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
         q = random_polygon(rng, int(rng.integers(3, 7)), half)
         q *= half / np.abs(q[:, 0]).max()  # its half-width across the axis is `half`
         poly = centre + q[:, :1] * across + q[:, 1:] * along
+        if not _on_face(f, poly):
+            return None
         return AddSubPrism(f.ref, tuple(tuple(map(float, v)) for v in poly), float(d), mode), f
     r0 = half
+    ring = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    if not _on_face(f, centre + r0 * (np.outer(np.cos(ring), across)
+                                      + np.outer(np.sin(ring), along))):
+        return None
     r1 = r0 if rng.random() < 0.6 else r0 * rng.uniform(0.5, 1.4)
     d = min(d, rng.uniform(*SWEEP_D) * DIAG) if mode is Mode.ADD else d
     return Sweep(f.ref, tuple(map(float, centre)), float(r0), float(r1), float(d),
                  _straight(r0, r1, d), mode), f
+
+
+def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
+    """Whether an outline on the tangent plane, carried along n_f onto the surface, lies
+    on f: a primitive overhanging the side's rims is not what a designer sketches."""
+    t = f.surface.crossings(outline, f.normal, model_scale(f.face))
+    if np.isnan(t).any():
+        return False
+    on = outline + t[:, None] * f.normal
+    return bool(points_on_face(f.face, on, 1e-6 * model_scale(f.face), boundary=False).all())
 
 
 def _straight(r0: float, r1: float, d: float) -> tuple[tuple[float, float], ...]:
