@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import ResolvedFace, model_scale
+from Sketch2CADWorkbench.brep.faces import model_scale
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
@@ -139,7 +139,7 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
     after the operation (`sketch.visible.visible_curves`), as a designer who leaves the
     hidden lines out; the training data draws every line."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
-    rf = ResolvedFace.of(drawn.face.face)  # f, drawn on this solid
+    rf = drawn.face.resolved()  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
     result_mesh = None
     for _ in range(VIEW_TRIES):

@@ -17,7 +17,7 @@ import cadquery as cq
 import numpy as np
 
 from Sketch2CADWorkbench.brep.corners import BevelCorner, bevel_corners
-from Sketch2CADWorkbench.brep.faces import face_ref_of, inside_face
+from Sketch2CADWorkbench.brep.faces import ResolvedFace, face_ref_of, inside_face
 from Sketch2CADWorkbench.brep.geometry import bezier_points, plane_basis
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -56,6 +56,10 @@ class PlanarFace:
         if self._ref is None:
             self._ref = face_ref_of(self.face)
         return self._ref
+
+    def resolved(self) -> ResolvedFace:
+        """f as the operators resolve `ref` on the solid it was drawn on."""
+        return ResolvedFace.of(self.face)
 
 
 def face_size(face: cq.Face) -> float:

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Resolving a geometric face reference (`FaceRef`) against the current solid."""
+"""Resolving a geometric face reference (`FaceRef`) against the current solid, planar or
+curved (a cylinder's or cone's side, `CurvedSurface`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -7,29 +8,136 @@ from dataclasses import dataclass
 import cadquery as cq
 import numpy as np
 from OCP.Bnd import Bnd_Box
+from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
-from .protocol import FaceRef, OperationError  # OperationError is imported from here too
+from .protocol import FaceRef, OperationError, Surface  # OperationError is imported from here too
 
 # Normals within this angle (cosine) are taken as the same direction.
 NORMAL_COS_TOL = 1.0 - 1e-6
+# OCCT's names of the surfaces a base face may lie on.
+GEOM_TYPES = {Surface.PLANE: "PLANE", Surface.CYLINDER: "CYLINDER", Surface.CONE: "CONE"}
+
+
+@dataclass(frozen=True)
+class CurvedSurface:
+    """The cylinder or cone a curved face lies on, and which side of it the solid is.
+
+    The surface is the set of points at distance r(h) = radius + slope * h from the axis
+    through `origin` along the unit vector `axis`, h being the height along `axis` above
+    `origin` (mm): slope 0 for a cylinder, tan of the half-angle for a cone. `convex`:
+    the face's outward normal points away from the axis (a boss's side; a bore's wall
+    is not convex).
+    """
+
+    kind: Surface
+    origin: np.ndarray
+    axis: np.ndarray
+    radius: float
+    slope: float
+    convex: bool
+
+    @staticmethod
+    def of(face: cq.Face) -> "CurvedSurface":
+        """The surface of a cylindrical or conical face (OCCT's gp_Cylinder / gp_Cone)."""
+        kind = face.geomType()
+        adaptor = BRepAdaptor_Surface(face.wrapped)  # also under a trimmed surface
+        if kind == "CYLINDER":
+            g, slope, surface = adaptor.Cylinder(), 0.0, Surface.CYLINDER
+        elif kind == "CONE":
+            g = adaptor.Cone()
+            slope, surface = float(np.tan(g.SemiAngle())), Surface.CONE
+        else:
+            raise OperationError(f"a {kind.lower()} face is not a cylinder's or cone's side")
+        origin = np.array(g.Location().Coord())
+        axis = np.array(g.Axis().Direction().Coord())
+        radius = float(g.RefRadius() if surface is Surface.CONE else g.Radius())
+        u0, u1, v0, v1 = face.uvBounds()  # a point of the face (its centroid is on the axis)
+        p = np.array(adaptor.Value(0.5 * (u0 + u1), 0.5 * (v0 + v1)).Coord())
+        n = np.array(face.normalAt().toTuple())
+        radial = (p - origin) - ((p - origin) @ axis) * axis
+        return CurvedSurface(surface, origin, axis, radius, slope, bool(n @ radial > 0))
+
+    def level(self, points: np.ndarray) -> np.ndarray:
+        """Signed distance-like value (K,) of points (K, 3): > 0 outside the surface (away
+        from the axis), 0 on it, < 0 inside."""
+        rel = np.asarray(points, float) - self.origin
+        h = rel @ self.axis
+        across = np.linalg.norm(rel - np.outer(h, self.axis), axis=1)
+        return across - (self.radius + self.slope * h)
+
+    def roots(self, points: np.ndarray, direction: np.ndarray, t: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where the lines q + t direction (q: points (K, 3)) meet the surface, for t in
+        the range of the increasing grid `t` (S,): the line index (M,), t (M,) to well
+        under a micrometre, and whether the line enters the surface there (M,) (passes
+        from outside to inside), ordered by line, then t."""
+        q = np.asarray(points, float)
+        direction = np.asarray(direction, float)
+        values = self.level((q[:, None, :] + t[None, :, None] * direction).reshape(-1, 3))
+        values = values.reshape(len(q), len(t))
+        k, j = np.nonzero(np.sign(values[:, :-1]) != np.sign(values[:, 1:]))
+        lo, hi = t[j].copy(), t[j + 1].copy()
+        entering = values[k, j] > 0
+        for _ in range(50):  # bisection of every bracket at once
+            mid = 0.5 * (lo + hi)
+            outside = self.level(q[k] + mid[:, None] * direction) > 0
+            lo = np.where(outside == entering, mid, lo)
+            hi = np.where(outside == entering, hi, mid)
+        return k, 0.5 * (lo + hi), entering
+
+    def crossings(self, points: np.ndarray, direction: np.ndarray, span: float,
+                  steps: int = 4001) -> np.ndarray:
+        """For each point q (K, 3), the t nearest 0 in [-span, span] where q + t direction
+        meets the surface: (K,), NaN where the line misses it within the span."""
+        k, t, _ = self.roots(points, direction, np.linspace(-span, span, steps))
+        out = np.full(len(np.atleast_2d(points)), np.nan)
+        for i in np.unique(k):
+            mine = t[k == i]
+            out[i] = mine[np.argmin(np.abs(mine))]
+        return out
+
+    def solid(self, around: np.ndarray, extent: float) -> cq.Solid:
+        """The solid the surface bounds (the points inside it), `extent` mm along the axis
+        either side of the foot of `around`; a cone is cut off at its apex."""
+        h0 = float((np.asarray(around, float) - self.origin) @ self.axis)
+        lo, hi = h0 - extent, h0 + extent
+        r_lo, r_hi = self.radius + self.slope * lo, self.radius + self.slope * hi
+        if self.slope != 0.0:  # stop at the apex, where r(h) = 0
+            apex = -self.radius / self.slope
+            if r_lo < 0:
+                lo, r_lo = apex, 0.0
+            if r_hi < 0:
+                hi, r_hi = apex, 0.0
+        base = cq.Vector(*(self.origin + lo * self.axis))
+        direction = cq.Vector(*self.axis)
+        if self.slope == 0.0:
+            return cq.Solid.makeCylinder(self.radius, hi - lo, base, direction)
+        return cq.Solid.makeCone(r_lo, r_hi, hi - lo, base, direction)
 
 
 @dataclass(frozen=True)
 class ResolvedFace:
-    """A planar face of the solid matched to a FaceRef.
+    """A face of the solid matched to a FaceRef.
 
-    `shift` is how far (mm, along the normal) the face's plane lies from the
-    reference point: 0 on a faithful replay, non-zero when an earlier step was
-    edited and the face moved; operations translate their geometry by it.
+    `shift` is how far (mm, along the normal) the face lies from the reference point:
+    0 on a faithful replay, non-zero when an earlier step was edited and the face moved
+    (a plane along its normal, a cylinder's radius); operations translate their
+    geometry by it. `surface` is None for a planar face and the cylinder or cone
+    otherwise; `point` is the reference point moved onto the face: on a curved face,
+    the point whose tangent plane the step's geometry lies in.
     """
 
     face: cq.Face
     normal: np.ndarray
     shift: float
+    surface: CurvedSurface | None = None
+    point: np.ndarray | None = None
 
     @staticmethod
     def of(face: cq.Face) -> "ResolvedFace":
@@ -42,6 +150,13 @@ class ResolvedFace:
         """Translation that carries the reference's geometry onto this face's plane."""
         return self.normal * self.shift
 
+    @property
+    def plane_point(self) -> np.ndarray:
+        """A point of f's plane: on a curved f, of its tangent plane at the step's point."""
+        if self.point is not None:
+            return self.point
+        return np.array(self.face.Center().toTuple())
+
 
 def model_scale(solid: cq.Shape) -> float:
     """The bounding-box diagonal of a shape in mm; sets the geometric tolerances.
@@ -49,10 +164,18 @@ def model_scale(solid: cq.Shape) -> float:
     OCCT's fast (not optimal) box: a scale for tolerances need not be tight, and the
     optimal box costs more than a Boolean.
     """
+    lo, hi = model_box(solid)
+    return float(np.linalg.norm(hi - lo))
+
+
+def model_box(solid: cq.Shape) -> tuple[np.ndarray, np.ndarray]:
+    """OCCT's fast bounding box of a shape (its lowest and highest corners, mm): it may
+    exceed the shape a little; cadquery's `BoundingBox()` is tight but takes a fifth
+    of a second on a solid with curved faces."""
     box = Bnd_Box()
     BRepBndLib.Add_s(solid.wrapped, box, True)
     x0, y0, z0, x1, y1, z1 = box.Get()
-    return float(np.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + (z1 - z0) ** 2))
+    return np.array([x0, y0, z0]), np.array([x1, y1, z1])
 
 
 def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
@@ -90,15 +213,16 @@ def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:
 
 
 def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedFace:
-    """Find the planar face of `solid` that `ref` designates.
+    """Find the face of `solid` that `ref` designates.
 
-    The face whose plane holds ref.point and which contains it wins. If none does
-    (an earlier step was edited and the face moved), the nearest face with the
-    same normal whose outline still contains the point's projection is taken, if it
-    lies within one model diagonal of the point.
+    A planar reference: the face whose plane holds ref.point and which contains it
+    wins. If none does (an earlier step was edited and the face moved), the nearest
+    face with the same normal whose outline still contains the point's projection is
+    taken, if it lies within one model diagonal of the point. A curved reference:
+    `resolve_curved_face`.
 
     Raises:
-        OperationError: no planar face of the solid matches the reference.
+        OperationError: no face of the solid matches the reference.
     """
     scale = model_scale(solid)
     tol = 1e-6 * max(scale, 1.0)
@@ -108,6 +232,8 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
             or abs(float(np.linalg.norm(n_ref)) - 1.0) > 1e-6:
         raise OperationError(f"{what} reference (point {ref.point}, normal {ref.normal}): "
                              "expected a finite point and a unit normal")
+    if ref.surface.curved:
+        return resolve_curved_face(solid, ref, scale, tol, what)
     best: tuple[cq.Face, np.ndarray, float] | None = None
     for face, n, offset in planar_faces(solid):
         if float(n @ n_ref) < NORMAL_COS_TOL:
@@ -131,6 +257,45 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
     return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
 
 
+def resolve_curved_face(solid: cq.Shape, ref: FaceRef, scale: float, tol: float,
+                        what: str) -> ResolvedFace:
+    """The cylindrical or conical face `ref` designates: the face of that kind that holds
+    ref.point with ref.normal as its outward normal there; if none does (an earlier step
+    was edited: a sweep's radius changed), the nearest such face along the line through
+    the point along the normal, within one model diagonal, where the face's normal is
+    the same (on a cylinder, the line through the axis: a radius edit moves the point
+    radially). A point still on the face after an edit moved the face along its axis
+    stays where it is, as a point on a planar face does.
+
+    Raises:
+        OperationError: no face of that kind matches the reference.
+    """
+    n_ref = np.asarray(ref.normal, dtype=float)
+    p_ref = np.asarray(ref.point, dtype=float)
+    best: tuple[cq.Face, float, CurvedSurface] | None = None
+    for face in solid.Faces():
+        if face.geomType() != GEOM_TYPES[ref.surface]:
+            continue
+        surface = CurvedSurface.of(face)
+        (t,) = surface.crossings(p_ref[None], n_ref, scale)
+        if np.isnan(t) or (best is not None and abs(t) >= abs(best[1])):
+            continue
+        at = p_ref + t * n_ref
+        if face.distance(cq.Vertex.makeVertex(*at)) > tol:
+            continue
+        if float(np.array(face.normalAt(cq.Vector(*at)).toTuple()) @ n_ref) < NORMAL_COS_TOL:
+            continue
+        best = (face, 0.0 if abs(t) <= tol else float(t), surface)
+    if best is None:
+        raise OperationError(
+            f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
+            f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no "
+            f"{ref.surface.value} face has that outward normal at the point or along the "
+            "line through it")
+    face, shift, surface = best
+    return ResolvedFace(face, n_ref, shift, surface, p_ref + shift * n_ref)
+
+
 def _refuse_inward_normal(solid: cq.Shape, ref: FaceRef, p_ref: np.ndarray, n_ref: np.ndarray,
                           tol: float, what: str) -> None:
     """A point on a face whose outward normal is the opposite of ref's: the reference's
@@ -149,6 +314,25 @@ def face_ref_of(face: cq.Face) -> FaceRef:
     n = face.normalAt()
     p = interior_point(face)
     return FaceRef(tuple(round(c, 9) for c in p), tuple(round(c, 12) for c in n.toTuple()))
+
+
+def face_ref_at(face: cq.Face, point) -> FaceRef:
+    """A FaceRef for a step standing at `point` on a face of any kind: the point moved
+    onto the face's surface, the outward normal there, and the surface's kind.
+
+    Raises:
+        OperationError: the face is neither planar, cylindrical nor conical.
+    """
+    kinds = {v: k for k, v in GEOM_TYPES.items()}
+    if face.geomType() not in kinds:
+        raise OperationError(f"a base face must be planar, cylindrical or conical, not "
+                             f"{face.geomType().lower()}")
+    at = cq.Vector(*map(float, point))
+    n = face.normalAt(at)
+    projected = GeomAPI_ProjectPointOnSurf(at.toPnt(), BRep_Tool.Surface_s(face.wrapped))
+    p = projected.NearestPoint().Coord() if projected.NbPoints() else at.toTuple()
+    return FaceRef(tuple(round(float(c), 9) for c in p),
+                   tuple(round(c, 12) for c in n.toTuple()), kinds[face.geomType()])
 
 
 def interior_point(face: cq.Face) -> tuple[float, float, float]:

@@ -85,12 +85,15 @@ def points(v: Any, path: str, lo: int, hi: int, dim: int = 3) -> tuple:
     return tuple(vec(p, f"{path}[{i}]", dim) for i, p in enumerate(v))
 
 
-def header(o: dict, fmt: str, version: int) -> None:
-    """The format name, version and units (mm) every file of ours starts with."""
+def header(o: dict, fmt: str, version: int | tuple[int, ...]) -> None:
+    """The format name, version (one, or those a build reads) and units (mm) every file
+    of ours starts with."""
+    versions = version if isinstance(version, tuple) else (version,)
     if o["format"] != fmt:
         raise error("format", f"expected '{fmt}'", o["format"])
-    if isinstance(o["version"], bool) or o["version"] != version:
-        raise error("version", f"unsupported version (this build reads {version})", o["version"])
+    if isinstance(o["version"], bool) or o["version"] not in versions:
+        reads = " or ".join(str(v) for v in versions)
+        raise error("version", f"unsupported version (this build reads {reads})", o["version"])
     if o["units"] != "mm":
         raise error("units", "expected 'mm'", o["units"])
 

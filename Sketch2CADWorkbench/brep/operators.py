@@ -9,6 +9,11 @@ operation's Boolean (`Operation.boolean`), as build123d's operations end in one
 combine by mode. The input solid is never modified. Lengths are millimetres, points
 and vectors are in the world frame, and n_f is the outward unit normal of f. A result
 is always one valid solid; anything else raises `OperationError` with the reason.
+
+On a curved f (a cylinder's or cone's side; beyond the paper) the extrusion offsets
+the face along its normal (`extrude_tool`), and a prism or sweep stands on the tangent
+plane T of f at the step's point p_f, along n_f there, reaching through T down to the
+curved surface (`_stand_on_curved`). A bevel needs a planar f.
 """
 from __future__ import annotations
 
@@ -20,7 +25,7 @@ import cadquery as cq
 import numpy as np
 
 from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
-from .faces import OperationError, ResolvedFace, model_scale, resolve_face
+from .faces import OperationError, ResolvedFace, model_box, model_scale, resolve_face
 from .geometry import bezier, crossing_sides, plane_basis, unit
 from .protocol import (
     AddSubPrism,
@@ -54,7 +59,7 @@ def _vec(p) -> cq.Vector:
 def on_face_plane(points, rf: ResolvedFace, scale: float, what: str) -> np.ndarray:
     """Points moved onto f's (possibly shifted) plane; far-off points are an error."""
     pts = np.asarray(points, dtype=float) + rf.offset
-    plane_d = float(rf.normal @ np.array(rf.face.Center().toTuple()))
+    plane_d = float(rf.normal @ rf.plane_point)
     dist = pts @ rf.normal - plane_d
     worst = int(np.argmax(np.abs(dist)))
     if abs(dist[worst]) > PLANE_TOL * scale:
@@ -101,7 +106,35 @@ def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> cq.Solid:
 # size (mm, for tolerances), and returns the primitive that `combine` joins to the solid.
 
 def extrude_tool(solid: cq.Shape, rf: ResolvedFace, op: Extrude, scale: float) -> cq.Solid:
-    """Face f swept by d along n_f: a pad (d > 0) or the pocket's volume (d < 0)."""
+    """Face f swept by d along n_f: a pad (d > 0) or the pocket's volume (d < 0).
+
+    On a curved f every point of f moves by d along the normal there (OCCT's offset of
+    the face, thickened into a solid): a cylinder's radius grows by d when its outward
+    normal points away from the axis (a boss's side), and a bore narrows by d (d > 0)
+    or widens (d < 0); a cone's side moves parallel to itself. The region swept is
+    bounded by f's own edges, so holes in f stay holes.
+    """
+    if rf.surface is None:
+        return extrude_tool_planar(rf, op)
+    surface = rf.surface
+    inward = -op.d if surface.convex else op.d  # how far the surface moves to the axis
+    if surface.slope == 0.0 and inward >= surface.radius:
+        raise OperationError(
+            f"extrude: d = {op.d:g} mm would take the cylinder's radius {surface.radius:g} "
+            f"mm to {surface.radius - inward:g} mm; |d| must stay under the radius")
+    try:
+        tool = rf.face.thicken(op.d)
+    except Exception as e:  # OCCT's offset algorithm raises its own types
+        raise OperationError(f"extrude: OCCT cannot offset the curved face f by "
+                             f"{op.d:g} mm: {e}") from None
+    if tool.isNull() or not tool.isValid() or tool.Volume() <= 1e-12 * scale ** 3:
+        raise OperationError(f"extrude: offsetting the curved face f by {op.d:g} mm gives "
+                             "no valid solid")
+    return tool
+
+
+def extrude_tool_planar(rf: ResolvedFace, op: Extrude) -> cq.Solid:
+    """A planar f's outline (and its holes) extruded by d along n_f."""
     return cq.Solid.extrudeLinear(rf.face.outerWire(), rf.face.innerWires(),
                                   _vec(rf.normal * op.d))
 
@@ -133,6 +166,9 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
         OperationError: naming the field (corner c, the crease c -> c', profile l) that
             does not fit, and why.
     """
+    if rf.surface is not None:
+        raise OperationError(f"bevel: face f is the side of a {rf.surface.kind.value}; a "
+                             "bevel rounds a corner of a planar face")
     (c,) = on_face_plane([op.corner], rf, scale, "bevel corner c")
     ctrl = on_face_plane(op.profile, rf, scale, "bevel profile l")
     crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
@@ -250,11 +286,70 @@ def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: f
 def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float
                ) -> cq.Solid:
     """The right prism of an add/subtract: polygon c on f extruded by d along n_f, or
-    into the solid (-n_f) for SUBTRACT."""
+    into the solid (-n_f) for SUBTRACT.
+
+    On a curved f, c lies in the tangent plane T at p_f and d is measured along n_f
+    from T (a boss's top is d above f at p_f, a slot's floor d below it); the prism
+    reaches through T to the curved surface (`_stand_on_curved`)."""
     pts = on_face_plane(op.polygon, rf, scale, "prism polygon c")
     _check_simple_polygon(pts, rf.normal, scale)
-    wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
-    return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
+    if rf.surface is None:
+        wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
+        return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
+    closed = np.vstack([pts, pts[:1]])
+    footprint = np.concatenate([a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
+                                for a, b in zip(closed[:-1], closed[1:])])
+
+    def prism(start: float, length: float) -> cq.Solid:
+        wire = cq.Wire.makePolygon([_vec(p + rf.normal * start) for p in pts], close=True)
+        return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * length))
+
+    return _stand_on_curved(rf, op, footprint, prism, scale, "prism polygon c")
+
+
+def _stand_on_curved(rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.ndarray,
+                     primitive: Callable[[float, float], cq.Solid], scale: float,
+                     what: str) -> cq.Solid:
+    """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap.
+
+    `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f;
+    `primitive(start, length)` is the primitive from `start` mm along n_f off T, `length`
+    mm along n_f (negative: against it). An ADD runs from below the surface under the
+    whole footprint up to d above T, and keeps what lies outside the material's side of
+    f's surface; a SUBTRACT runs from above the surface down to d below T, and keeps
+    what lies on the material's side. So a boss on a tube meets its wall all round, and
+    a slot or hole cuts through the curved wall to depth d below p_f, not a sliver of
+    it. For a cylinder, the footprint must lie within the cylinder's width.
+
+    Raises:
+        OperationError: for INTERSECT/REPLACE, or a footprint wider than the surface.
+    """
+    surface = rf.surface
+    if op.mode not in (Mode.ADD, Mode.SUBTRACT):
+        raise OperationError(f"{op.NOUN}: {op.mode.value} on a curved face f is not "
+                             "supported (add or subtract on it, or use a planar face)")
+    t = surface.crossings(footprint, rf.normal, scale)
+    if np.isnan(t).any():
+        k = int(np.argmax(np.isnan(t)))
+        raise OperationError(
+            f"{what} reaches past the side of the {surface.kind.value} (at {_pt(footprint[k])} "
+            f"the line along n_f misses it): keep it narrower than the {surface.kind.value}")
+    margin = 1e-3 * scale
+    if op.mode is Mode.ADD:
+        start = -(max(0.0, -float(t.min())) + margin)
+        tool = primitive(start, op.d - start)
+    else:
+        start = max(0.0, float(t.max())) + margin
+        tool = primitive(start, -op.d - start)
+    extent = 2.0 * (scale + op.d + float(np.abs(footprint - rf.plane_point).max()) + abs(start))
+    inside = surface.solid(rf.plane_point, extent)
+    keep_inside = (op.mode is Mode.ADD) != surface.convex
+    clipped = tool.intersect(inside) if keep_inside else tool.cut(inside)
+    solids = clipped.Solids()
+    if len(solids) != 1 or not solids[0].isValid():
+        raise OperationError(f"{op.NOUN}: the primitive does not meet the curved face f in one "
+                             "piece")
+    return solids[0]
 
 
 def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
@@ -280,10 +375,31 @@ def sweep_tool(solid: cq.Shape, rf: ResolvedFace, op: Sweep, scale: float) -> cq
     centre on f, the axis along n_f, or into the solid for SUBTRACT).
 
     A straight c_p gives an analytic cylinder (r0 == r1) or cone, exact in STEP and
-    fast in Booleans; otherwise c_p is revolved.
+    fast in Booleans; otherwise c_p is revolved. On a curved f, c0 lies on the tangent
+    plane T at p_f and d is measured from T (a radial peg d tall above f at p_f, a
+    drilled hole d deep below it); a cylinder of c0 carries it through T to the surface
+    (`_stand_on_curved`).
     """
     (center,) = on_face_plane([op.center], rf, scale, "sweep centre of c0")
-    axis = rf.normal * op.mode.sign
+    if rf.surface is not None:
+        # on a curved f: c0 on T, its footprint the circle of radius r0 there
+        u, v = plane_basis(rf.normal)
+        angles = np.linspace(0, 2 * np.pi, 96, endpoint=False)
+        footprint = center + op.r0 * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+
+        def primitive(start: float, length: float) -> cq.Solid:
+            # the sweep itself, and a cylinder of c0 through T to the surface
+            down = cq.Solid.makeCylinder(op.r0, abs(start), _vec(center + rf.normal * start),
+                                         _vec(-rf.normal * np.sign(start)))
+            return _single_solid(sweep_primitive(center, op, rf.normal * op.mode.sign)
+                                 .fuse(down), f"{op.NOUN} on a curved face", down)
+
+        return _stand_on_curved(rf, op, footprint, primitive, scale, "sweep circle c0")
+    return sweep_primitive(center, op, rf.normal * op.mode.sign)
+
+
+def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid:
+    """The swept solid itself: c_p revolved about the axis (unit) from c0's `center`."""
     ctrl = np.array(op.control_points(), dtype=float)
     chord = ctrl[0] + (ctrl[3] - ctrl[0]) * np.array([[1 / 3], [2 / 3]])
     if np.allclose(ctrl[1:3], chord, rtol=0, atol=1e-9 * max(op.d, op.r0, op.r1)):
@@ -327,8 +443,8 @@ def check_ranges(solid: cq.Shape, op: Operation) -> None:
     Raises:
         OperationError: naming the parameter, its value and the range for this model.
     """
-    scale = model_scale(solid)
-    center = np.array(solid.BoundingBox().center.toTuple())
+    lo, hi = model_box(solid)
+    scale, center = float(np.linalg.norm(hi - lo)), (lo + hi) / 2
     for f in dataclasses.fields(op):
         value = getattr(op, f.name)
         if f.name in LENGTHS:

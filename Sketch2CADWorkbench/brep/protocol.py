@@ -4,8 +4,16 @@
 A protocol is a base box followed by operations applied in order (paper, "Protocols
 for CAD modeling"). All lengths are in millimetres, all points and vectors in the
 model's world frame. A base face is stored geometrically (`FaceRef`: a point inside
-the face and its outward normal), never as a face index, so that replay resolves it
-against whatever solid the earlier steps produced.
+the face, its outward normal there, and the kind of its surface), never as a face
+index, so that replay resolves it against whatever solid the earlier steps produced.
+
+Base faces may be curved (beyond the paper, whose first limitation this is): the side
+of a cylinder or a cone, as sweeps make them. On a curved f the operators work in the
+tangent plane T of f at the FaceRef point p_f, whose normal is n_f there: a prism's
+polygon c and a sweep's circle c0 lie in T and the primitive stands along n_f from it
+(into the body as far as the curved surface needs, so that it meets f without a gap,
+brep/operators), and an extrusion moves the whole face along its normal, so a
+cylinder's radius grows (d > 0) or shrinks (d < 0) by |d|.
 
 When an earlier step is edited, the later ones follow what they were made on: f is the
 face that holds the point, or the nearest one with the same normal whose outline holds
@@ -14,9 +22,9 @@ corner is found again where it moved to (`Bevel`). A step that no longer fits is
 error naming the field and why. The file keeps the values as the step was made, so
 edits need no new schema.
 
-JSON schema, version 1 (every key required unless marked optional)::
+JSON schema, version 2 (every key required unless marked optional)::
 
-    {"format": "sketch2cad-protocol", "version": 1, "units": "mm",
+    {"format": "sketch2cad-protocol", "version": 2, "units": "mm",
      "base": {"type": "box", "size": [lx, ly, lz]},          # centred on the origin
      "operations": [
        {"type": "extrude", "face": FACE, "d": float},
@@ -26,8 +34,14 @@ JSON schema, version 1 (every key required unless marked optional)::
         "d": float, "mode": MODE},
        {"type": "sweep", "face": FACE, "center": P, "r0": float, "r1": float,
         "d": float, "profile": [[r, h], [r, h]], "mode": MODE}]}
-    FACE = {"point": P, "normal": P}; P = [x, y, z]
+    FACE = {"point": P, "normal": P, "surface": SURFACE}   # "surface" optional
+    SURFACE = "plane" (the default) | "cylinder" | "cone"; P = [x, y, z]
     MODE = "add" | "subtract" | "intersect" | "replace"
+
+Version 1 is the same without "surface" (every face planar): version 1 files load
+unchanged, and a protocol whose faces are all planar is still written as version 1, so
+that builds which read only version 1 keep reading it; one with a curved face is
+written as version 2.
 
 `validate` style: every loader error names the field path and the offending value.
 """
@@ -47,7 +61,8 @@ from .files import write_atomically
 from .geometry import bezier
 
 FORMAT = "sketch2cad-protocol"
-VERSION = 1
+VERSION = 2  # the newest; VERSIONS are the ones this build reads
+VERSIONS = (1, 2)
 
 Vec3 = tuple[float, float, float]
 Vec2 = tuple[float, float]
@@ -145,26 +160,57 @@ def _mode(v: Any, path: str) -> Mode:
 PointMap = Callable[[Vec3], Vec3]
 
 
+class Surface(Enum):
+    """The kind of surface a base face f lies on."""
+
+    PLANE = "plane"
+    CYLINDER = "cylinder"
+    CONE = "cone"
+
+    @property
+    def curved(self) -> bool:
+        return self is not Surface.PLANE
+
+
 @dataclass(frozen=True)
 class FaceRef:
-    """A planar base face f: a point inside it and its outward unit normal (world, mm)."""
+    """A base face f: a point p_f on it, its outward unit normal n_f there (world, mm),
+    and the kind of surface it lies on.
+
+    On a planar f, p_f is any point inside it. On a curved f (a cylinder's or cone's
+    side), p_f is where the step stands: its tangent plane there is the plane the
+    step's polygon or circle is given in (module docstring).
+    """
 
     point: Vec3
     normal: Vec3
+    surface: Surface = Surface.PLANE
 
     def describe(self) -> str:
-        return f"f[n={_fmt(self.normal)} at {_fmt(self.point)}]"
+        kind = f"{self.surface.value} " if self.surface.curved else ""
+        return f"f[{kind}n={_fmt(self.normal)} at {_fmt(self.point)}]"
 
     def to_dict(self) -> dict[str, Any]:
-        return {"point": list(self.point), "normal": list(self.normal)}
+        out = {"point": list(self.point), "normal": list(self.normal)}
+        if self.surface.curved:
+            out["surface"] = self.surface.value
+        return out
 
     @staticmethod
     def from_dict(v: Any, path: str) -> "FaceRef":
-        o = obj(v, path, {"point", "normal"})
-        return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"))
+        o = obj(v, path, {"point", "normal"}, {"surface"})
+        surface = Surface.PLANE
+        if "surface" in o:
+            try:
+                surface = Surface(o["surface"])
+            except ValueError:
+                raise _fail(f"{path}.surface", f"expected one of {[s.value for s in Surface]}",
+                            o["surface"]) from None
+        return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"),
+                       surface)
 
     def reflected(self, point: PointMap, vector: PointMap) -> "FaceRef":
-        return FaceRef(point(self.point), vector(self.normal))
+        return FaceRef(point(self.point), vector(self.normal), self.surface)
 
 
 @dataclass(frozen=True)
@@ -507,8 +553,13 @@ def operation_to_dict(op: Operation) -> dict[str, Any]:
     return op.to_dict()
 
 
+def protocol_version(p: Protocol) -> int:
+    """The lowest schema version that holds `p`: 2 when a base face is curved, else 1."""
+    return 2 if any(op.face.surface.curved for op in p.operations) else 1
+
+
 def protocol_to_dict(p: Protocol) -> dict[str, Any]:
-    return {"format": FORMAT, "version": VERSION, "units": "mm",
+    return {"format": FORMAT, "version": protocol_version(p), "units": "mm",
             "base": {"type": "box", "size": list(p.base.size)},
             "operations": [op.to_dict() for op in p.operations]}
 
@@ -545,13 +596,19 @@ def protocol_from_dict(v: Any) -> Protocol:
 
 def _protocol(v: Any) -> Protocol:
     o = obj(v, "protocol", {"format", "version", "units", "base", "operations"})
-    header(o, FORMAT, VERSION)
+    header(o, FORMAT, VERSIONS)
     size = box_size(o["base"])
     ops = o["operations"]
     if not isinstance(ops, list):
         raise _fail("operations", "expected a list", ops)
-    return Protocol(Box(size), tuple(_operation(op, f"operations[{i}]")
-                                     for i, op in enumerate(ops)))
+    parsed = tuple(_operation(op, f"operations[{i}]") for i, op in enumerate(ops))
+    if o["version"] == 1:
+        curved = next((i for i, op in enumerate(parsed) if op.face.surface.curved), None)
+        if curved is not None:
+            raise _fail(f"operations[{curved}].face.surface", "a curved base face needs "
+                        "version 2 (version 1 has planar faces only)",
+                        parsed[curved].face.surface.value)
+    return Protocol(Box(size), parsed)
 
 
 def loads(text: str, source: str = "<string>") -> Protocol:

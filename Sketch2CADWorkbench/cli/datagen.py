@@ -6,10 +6,12 @@ resumable (datagen/parallel.py).
 `sketch2cad datagen --out DIR --count N [--seed S] [--noise-level 1|2|3|mix]
 [--hidden-lines draw|omit|mix] [--workers W] [--ray [ADDRESS]]`: with --ray, one Ray task
 per shard (datagen/cluster.py), on a local cluster of W CPUs or on the cluster at ADDRESS.
+`--curved`: a held-out set whose operations stand on curved faces (datagen/curved.py).
 """
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from datagen.generate import PER_CONTEXT
@@ -41,9 +43,24 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "or on the running cluster at ADDRESS (host:port, 'auto'); the "
                         "optional extra 'cluster'")
     p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
+    p.add_argument("--curved", action="store_true",
+                   help="every sample's operation stands on a cylinder's or cone's side (a "
+                        "held-out set for measuring operators on curved faces; one worker, "
+                        "one shard, noise level 1 to 3)")
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.curved:
+        if args.noise_level == "mix" or args.count <= 0:
+            print("sketch2cad datagen: error: --curved needs --noise-level 1, 2 or 3 and a "
+                  "positive --count", file=sys.stderr)
+            return 2
+        if args.ray is not None or args.hidden_lines != "draw":
+            print("sketch2cad datagen: error: --curved makes its set in one process with "
+                  "every line drawn: leave out --ray and --hidden-lines", file=sys.stderr)
+            return 2
+        from datagen.curved import write_curved_set
+        return write_curved_set(args.out, args.count, args.seed, int(args.noise_level))
     return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
                                             args.hidden_lines, args.workers, args.shard_size,
                                             args.preview, args.ray))

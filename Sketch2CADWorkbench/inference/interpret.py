@@ -49,11 +49,12 @@ FACING_COS = 0.05
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
-from .fitting.common import FaceFrame, FitError, classify_strokes, resample, sample_map
+from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
 from .fitting.primitive import other_option_fits
 from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
+from .fitting.surface import face_frame
 from .fitting.sweep import fit_sweep
 from .fitting.verify import reprojection_error, sketch_distances
 from .options import InterpretOptions
@@ -61,6 +62,8 @@ from .options import InterpretOptions
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
 BASE_FACE_TRIES = 4
+# The operators whose base face may be a cylinder's or cone's side (fitting/surface.py).
+ON_CURVED_FACES = (OperatorType.ADDSUB, OperatorType.SWEEP)
 GOOD_FIT_PX = 3.0
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
@@ -248,11 +251,13 @@ def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
             and float(np.asarray(f.normalAt().toTuple()) @ d) > -FACING_COS}
 
 
-def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context) -> list[int]:
+def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context,
+                    curved: bool = False) -> list[int]:
     """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
     the planar faces most of a stroke lies on (an outline is drawn on its base face, so
-    a face F missed is still tried), faces hidden from the view after all others."""
-    ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid)[:BASE_FACE_TRIES]
+    a face F missed is still tried), faces hidden from the view after all others.
+    `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
+    ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid, curved)[:BASE_FACE_TRIES]
     faces = solid.Faces()
     for s in ctx.strokes:
         under = face_under_stroke(s, ctx.maps.face_id)
@@ -281,7 +286,7 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         FitError: the strokes do not fit the operator on this model (the reason given
             for the best face), or every fitted reading fails to build or changes nothing.
     """
-    order = candidate_faces(solid, face_prob, ctx)
+    order = candidate_faces(solid, face_prob, ctx, op_type in ON_CURVED_FACES)
     if not order:
         raise FitError("no face of the model was recognised under the sketch; draw on a "
                        "visible face")
@@ -369,7 +374,8 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
         for count in sides:
             try:  # C may mix up the strokes' roles: read them from the geometry too
-                roles = stroke_roles(strokes, FaceFrame.of(face), cam, prism, tol, count)
+                roles = stroke_roles(strokes, face_frame(face, cam, np.concatenate(strokes)),
+                                     cam, prism, tol, count)
             except FitError:
                 continue
             if roles not in readings:

@@ -12,6 +12,11 @@ Labels (sketch/labels.py):
 
 Every curve is what a designer draws as one stroke: one straight edge, one profile
 line, one whole circle, the whole bevel profile. Points are in mm, world frame.
+
+On a curved f (a cylinder's or cone's side) a prism's or sweep's base curve is where
+the primitive meets the surface (its outline on the tangent plane T carried along n_f
+onto f), and its profile lines start there; an extrusion's offset curves move each
+point of f's edges along the normal there.
 """
 from __future__ import annotations
 
@@ -21,7 +26,7 @@ from typing import Callable
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import ResolvedFace, resolve_face
+from ..brep.faces import ResolvedFace, model_scale, resolve_face
 from ..brep.geometry import bezier_points, plane_basis
 from ..brep.protocol import (
     AddSubPrism,
@@ -81,11 +86,21 @@ def outline_corners(face: cq.Face) -> list[np.ndarray]:
             if len(ts) != 2 or float(ts[0] @ ts[1]) > limit]
 
 
+def _normals(face: cq.Face, points: np.ndarray) -> np.ndarray:
+    """f's outward unit normals (K, 3) at its points (K, 3)."""
+    return np.array([face.normalAt(cq.Vector(*map(float, p))).toTuple() for p in points])
+
+
 def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list[Curve]:
-    shift = rf.normal * op.d
-    out = [Curve(_edge_points(e) + shift, EXTRUDE_OFFSET, relevant=True)
+    def moved(points: np.ndarray) -> np.ndarray:
+        if rf.surface is None:
+            return points + rf.normal * op.d
+        return points + _normals(rf.face, points) * op.d
+
+    out = [Curve(moved(_edge_points(e)), EXTRUDE_OFFSET, relevant=True)
            for e in rf.face.Edges()]
-    out += [Curve(_segment(p, p + shift), EXTRUDE_PROFILE) for p in outline_corners(rf.face)]
+    out += [Curve(np.stack([p, moved(p[None])[0]]), EXTRUDE_PROFILE)
+            for p in outline_corners(rf.face)]
     return out
 
 
@@ -100,15 +115,33 @@ def _start_end(base, far, mode: Mode):
     return (far, base) if mode is Mode.SUBTRACT else (base, far)
 
 
+def on_surface(rf: ResolvedFace, points: np.ndarray) -> np.ndarray:
+    """Points (K, 3) of f's plane as they lie on f: themselves on a planar f; on a curved
+    f, carried along n_f from the tangent plane onto the surface."""
+    if rf.surface is None:
+        return points
+    t = rf.surface.crossings(points, rf.normal, model_scale(rf.face))
+    if np.isnan(t).any():
+        raise ValueError("the outline reaches past the side of the curved face")
+    return points + t[:, None] * rf.normal
+
+
 def prism_curves(rf: ResolvedFace, op: AddSubPrism, direction: np.ndarray) -> list[Curve]:
     base = np.array(op.polygon, float) + rf.offset
     far = base + rf.normal * op.d * op.mode.sign
-    start, end = _start_end(base, far, op.mode)
     k = len(base)
+    if rf.surface is None:
+        sides = [_segment(base[i], base[(i + 1) % k]) for i in range(k)]
+    else:  # each side where the prism meets the curved f
+        sides = [on_surface(rf, np.linspace(base[i], base[(i + 1) % k], CURVE_POINTS))
+                 for i in range(k)]
+    base_ends = np.array([side[0] for side in sides])
+    far_sides = [_segment(far[i], far[(i + 1) % k]) for i in range(k)]
     out = []
-    for poly, label in ((start, START), (end, END)):
-        out += [Curve(_segment(poly[i], poly[(i + 1) % k]), label, relevant=poly is base)
-                for i in range(k)]
+    on_f = [(sides, True), (far_sides, False)]
+    for (outline, relevant), label in zip(_start_end(*on_f, op.mode), (START, END)):
+        out += [Curve(side, label, relevant=relevant) for side in outline]
+    start, end = _start_end(base_ends, far, op.mode)
     out += [Curve(_segment(start[i], end[i]), PROFILE) for i in range(k)]
     return out
 
@@ -138,13 +171,17 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
     other = np.cross(axis, side)
     t = np.linspace(0, 2 * np.pi, 2 * CURVE_POINTS + 1)[:-1]
     ring = np.cos(t)[:, None] * side + np.sin(t)[:, None] * other
-    base, far = c0 + op.r0 * ring, c1 + op.r1 * ring
+    base, far = on_surface(rf, c0 + op.r0 * ring), c1 + op.r1 * ring
     start, end = _start_end(base, far, op.mode)
     out = [Curve(start, START, closed=True, relevant=start is base),
            Curve(end, END, closed=True, relevant=end is base)]
     rh = bezier_points(np.array(op.control_points(), float), CURVE_POINTS)
     for s in (1.0, -1.0):
-        out.append(Curve(c0 + s * rh[:, :1] * side + rh[:, 1:2] * axis, PROFILE))
+        line = c0 + s * rh[:, :1] * side + rh[:, 1:2] * axis
+        foot = on_surface(rf, line[:1])  # on a curved f, from where it meets f
+        if not np.allclose(foot, line[:1]):
+            line = np.vstack([foot, line[(line - foot) @ axis > 0]])
+        out.append(Curve(line, PROFILE))
     return out
 
 

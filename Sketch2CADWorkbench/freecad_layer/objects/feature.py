@@ -12,7 +12,7 @@ import re
 
 import FreeCAD
 
-from ...brep.protocol import FaceRef, describe
+from ...brep.protocol import FaceRef, Surface, describe
 from ..shapes import from_part, to_part
 from ..units import direction, point
 from .checks import refuse_non_finite
@@ -144,6 +144,11 @@ class OperationFeature(Feature):
         if "FaceNormal" not in obj.PropertiesList:
             obj.addProperty("App::PropertyVector", "FaceNormal", FACE,
                             "The outward normal of the base face f (normalised when used)")
+        if "FaceSurface" not in obj.PropertiesList:  # files of earlier versions: planar
+            obj.addProperty("App::PropertyEnumeration", "FaceSurface", FACE,
+                            "The surface f lies on: a plane, or a cylinder's or cone's side "
+                            "(then the step stands on the tangent plane at FacePoint)")
+            obj.FaceSurface = [s.value for s in Surface]
 
     def add_record_properties(self, obj) -> None:
         """The paper's operator (read only) and the sketch the step was read from."""
@@ -182,7 +187,8 @@ class OperationFeature(Feature):
 
     @staticmethod
     def on_face(face: FaceRef) -> str:
-        return f"on the {direction(face.normal)} face at {point(face.point)}"
+        kind = f" (a {face.surface.value}'s side)" if face.surface.curved else ""
+        return f"on the {direction(face.normal)} face{kind} at {point(face.point)}"
 
     def update_kind(self, obj, rename: bool = False) -> None:
         """After the Boolean or the offset's sign changed: the paper's operator, the icon,
@@ -218,7 +224,7 @@ class OperationFeature(Feature):
             raise ValueError(f"{obj.Label}: FaceNormal must not be the zero vector")
         if abs(n.Length - 1.0) > 1e-12:
             n.normalize()
-        return FaceRef(tup(obj.FacePoint), tup(n))
+        return FaceRef(tup(obj.FacePoint), tup(n), Surface(obj.FaceSurface))
 
     def operation(self, obj):
         """The protocol operation the properties describe."""
@@ -228,6 +234,7 @@ class OperationFeature(Feature):
         """Write a protocol operation into the properties (subclasses add theirs)."""
         obj.FacePoint = vec(op.face.point)
         obj.FaceNormal = vec(op.face.normal)
+        obj.FaceSurface = op.face.surface.value
         obj.Operator = describe(op).split(" ", 1)[0]
 
     def solid(self, obj):

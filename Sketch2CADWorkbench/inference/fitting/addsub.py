@@ -5,12 +5,11 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import face_ref_of, model_scale
+from ...brep.faces import model_scale
 from ...brep.protocol import AddSubPrism, Mode
 from ...render.camera import OrthoCamera
 from .common import (
     DistanceField,
-    FaceFrame,
     FitError,
     line_search,
     resample,
@@ -20,6 +19,7 @@ from .common import (
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option
 from .refine import refine_prism
+from .surface import back_project, face_frame, face_ref, is_curved
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
 # length matches: above the noisiest strokes the generator draws (docs/NOTES.md).
@@ -52,7 +52,9 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     from the profile strokes' end points; the option follows from which polygon lies on
     f; d is found by line search along the prism's direction against the other outline;
     then the base polygon and d are refined together against all the strokes
-    (`refine.py`) and the polygon is back-projected onto f.
+    (`refine.py`) and the polygon is back-projected onto f. On a curved f the corners
+    are back-projected onto the surface and carried onto its tangent plane at the
+    outline's centre (`surface.py`), and d is measured from that plane.
 
     Args:
         solid, face, camera: the context solid, base face f and context camera.
@@ -72,7 +74,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     starts, ends = profile_ends(groups[1], groups[0], groups[2])
     poly_s = _simple_fit(starts, groups[0])
     poly_e = _simple_fit(ends, groups[2])
-    frame = FaceFrame.of(face)
+    frame = face_frame(face, camera, np.concatenate([poly_s, poly_e]))
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, _outline_samples(poly_s),
                          _outline_samples(poly_e), 1e-6 * scale, option)
@@ -81,7 +83,11 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         raise FitError("the base outline crosses itself")
     if _shortest_side(base) < MIN_SIDE_PX:
         raise FitError("two corners of the base outline coincide")
-    base3d = camera.back_project_to_plane(base, frame.origin, frame.normal)
+    curved = is_curved(face)
+    if curved:  # its sides are curves on f: the profile strokes' ends are its corners
+        base = order_around_centre(starts if mode is not Mode.SUBTRACT else ends)
+    frame = face_frame(face, camera, base)  # on a curved f: T under the corners' mean
+    base3d = back_project(camera, face, frame, base)
     direction = frame.normal * mode.sign
     closed = np.concatenate([base3d, base3d[:1]])
     edge_pts = np.concatenate([np.linspace(closed[i], closed[i + 1], 24)
@@ -91,10 +97,11 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     d, err = line_search(edge_pts, direction, camera, field, cands)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
-    refined, d_refined = refine_prism(base, d, camera.image_of(direction),
-                                      groups[0] + groups[1] + groups[2])
-    if d_refined > 0 and is_simple(refined) and _shortest_side(refined) >= MIN_SIDE_PX:
-        base3d = camera.back_project_to_plane(refined, frame.origin, frame.normal)
-        d = d_refined
-    return AddSubPrism(face_ref_of(face), tuple(tuple(map(float, p)) for p in base3d),
+    if not curved:  # the refinement fits straight sides; on a curved f they are curves
+        refined, d_refined = refine_prism(base, d, camera.image_of(direction),
+                                          groups[0] + groups[1] + groups[2])
+        if d_refined > 0 and is_simple(refined) and _shortest_side(refined) >= MIN_SIDE_PX:
+            base3d = back_project(camera, face, frame, refined)
+            d = d_refined
+    return AddSubPrism(face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d),
                        float(d), mode)

@@ -8,39 +8,46 @@ import numpy as np
 from .common import FitError, resample, sample_map
 
 MIN_PIXELS = 20
+CURVED_KINDS = ("CYLINDER", "CONE")  # OCCT's names of the curved faces operators stand on
 # Share of a stroke's samples that must fall on one face for the stroke to lie on it.
 ON_FACE_SHARE = 0.6
 
 
-def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
-                    ) -> list[int]:
+def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape,
+                    curved: bool = False) -> list[int]:
     """Planar faces in view, best first, by the paper's counting of the face map.
 
     Rank by sum over pixels with Id = f_i of [F > 0.5] (the paper's f* is the first),
     then, for faces no such pixel falls on, by the mean F over their visible pixels
     (among faces of at least MIN_PIXELS pixels): an unsure network still orders them.
-    Only planar faces count: every operator stands on a plane, and a curved face (the
-    side of an earlier sweep) is often both large and next to the base face.
+    Only planar faces count unless `curved` (an operator that stands on a cylinder's or
+    cone's side too: prisms and sweeps), and even then a curved face counts only by its
+    F > 0.5 pixels: it is often both large and next to the base face, and an unsure F
+    would otherwise put it first.
 
     Args:
         face_prob: (H, W) predicted base-face probability F.
         face_id: (H, W) rendered face indices into solid.Faces() (-1 background).
         solid: the context solid.
+        curved: cylinders' and cones' sides may be the base face.
     Returns:
         Indices into solid.Faces().
     Raises:
-        FitError: no planar face in view.
+        FitError: no face that may be the base face in view.
     """
     faces = solid.Faces()
+    kinds = CURVED_KINDS + ("PLANE",) if curved else ("PLANE",)
     planar = np.array([f.geomType() == "PLANE" for f in faces] + [False])
+    usable = np.array([f.geomType() in kinds for f in faces] + [False])
     seen = face_id >= 0
     if not seen.any():
         raise FitError("the model is not in view under the sketch; draw over the model")
-    seen &= planar[np.where(seen, face_id, len(faces))]
-    if not seen.any():
+    index = np.where(seen, face_id, len(faces))
+    seen_usable, seen = seen & usable[index], seen & planar[index]
+    if not seen_usable.any():
         raise FitError("the sketch stands on a curved face; operations need a planar face")
     n = len(faces)
-    votes = np.bincount(face_id[(face_prob > 0.5) & seen], minlength=n)
+    votes = np.bincount(face_id[(face_prob > 0.5) & seen_usable], minlength=n)
     pixels = np.bincount(face_id[seen], minlength=n)
     mean = np.bincount(face_id[seen], weights=face_prob[seen], minlength=n) / np.maximum(pixels, 1)
     order = sorted(range(n), key=lambda i: (-votes[i], -mean[i]))

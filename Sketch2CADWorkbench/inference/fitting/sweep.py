@@ -8,11 +8,12 @@ import cadquery as cq
 import cv2
 import numpy as np
 
-from ...brep.faces import face_ref_of, model_scale
+from ...brep.faces import model_scale
 from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FaceFrame, FitError, fit_bezier, resample
 from .primitive import choose_option
+from .surface import back_project, face_frame, face_ref
 
 # Inner control points of a fitted profile must lie within this share of d beyond the
 # circles' planes, and within this multiple of the larger radius from the axis.
@@ -92,6 +93,9 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     Raises:
         FitError: a missing circle outline, neither outline on f, an axis seen end-on,
             or a far circle on the wrong side.
+
+    On a curved f, c0's centre is where the base ellipse's centre meets the surface,
+    carried onto the tangent plane there (`surface.py`), and d is measured from it.
     Returns:
         The Sweep operation.
     """
@@ -99,11 +103,12 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     if not groups[0] or not groups[2]:
         raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
-    frame = FaceFrame.of(face)
+    frame = face_frame(face, camera, np.concatenate([e_s.points(), e_e.points()]))
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), 1e-6 * scale, option)
     base, far = (e_s, e_e) if mode is not Mode.SUBTRACT else (e_e, e_s)
-    c0 = camera.back_project_to_plane(base.center[None], frame.origin, frame.normal)[0]
+    frame = face_frame(face, camera, base.points())
+    c0 = back_project(camera, face, frame, base.center[None])[0]
     axis = frame.normal * mode.sign
     d = _offset_along_axis(camera, c0, axis, far.center)
     if d <= 1e-4 * scale:
@@ -126,5 +131,5 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     else:  # no profile drawn: the straight one
         mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
     mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))  # keep c_p off the axis
-    return Sweep(face_ref_of(face), tuple(map(float, c0)), float(r0), float(r1), float(d),
+    return Sweep(face_ref(face, frame), tuple(map(float, c0)), float(r0), float(r1), float(d),
                  tuple(tuple(map(float, p)) for p in mid), mode)

@@ -287,8 +287,8 @@ def parameters_are_quantities_in_the_users_units():
         own = [n for n in o.PropertiesList if o.getGroupOfProperty(n) not in
                ("Base", "Sketch", "") and n not in ("Placement", "Shape", "Label", "Label2")]
         unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
-        # a normal has no unit, the Boolean is a choice
-        assert set(unitless) <= {"FaceNormal", "Mode"}, (o.Label, unitless)
+        # a normal has no unit, the Boolean and the kind of surface are choices
+        assert set(unitless) <= {"FaceNormal", "FaceSurface", "Mode"}, (o.Label, unitless)
     schema = FreeCAD.Units.getSchema()
     try:
         FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
@@ -339,6 +339,39 @@ def a_step_read_again_replaces_its_feature_in_place():
     assert [o.Name for o in model.Group] == [o.Name for o in features(model)]
     assert features(model)[1] == new and model.Tip == chain[-1]
     assert protocol_from_model(model).operations == (pad,) + p.operations[1:]
+
+
+@check
+def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
+    p = example("pipe")  # a pipe with a radial branch, a pad and a slot on its side
+    doc = FreeCAD.newDocument("pipe")
+    model = make_model_from_protocol(doc, p)
+    chain = features(model)
+    assert not failed_features(model) and protocol_from_model(model) == p
+    assert_matches_core(model, p)
+    branch = chain[4]
+    assert (branch.FaceSurface, branch.Label) == ("cylinder", "Revolution001"), \
+        (branch.FaceSurface, branch.Label)
+    assert chain[2].FaceSurface == "cylinder" and chain[2].Label == "Pad"
+    # a wider pipe: the steps on its side move out with it; a longer branch
+    for name in ("Radius0", "Radius1"):
+        setattr(chain[1], name, 13.0)
+    branch.Offset = 30.0
+    doc.recompute()
+    assert not failed_features(model), [o.Label for o in failed_features(model)]
+    edited = protocol_from_model(model)
+    assert edited.operations[3].d == 30.0
+    assert_matches_core(model, edited)
+    # the branch's end and the pad's top stand out from the wider wall (r 13 + 1 mm)
+    assert close(model.Tip.Shape.BoundBox.XMax, 14.0 + 30.0), model.Tip.Shape.BoundBox
+    assert any(close(f.CenterOfMass.y, -14.0 - 3.0) and f.normalAt(0, 0).y < -0.999
+               for f in chain[6].Shape.Faces), "the pad's top did not move out"
+    path = os.path.join(TMP, "pipe.step")
+    export_step(model, path)
+    read = Part.read(path)
+    assert read.isValid() and len(read.Solids) == 1
+    assert close(read.Volume, build(edited).Volume())
+    FreeCAD.closeDocument(doc.Name)
 
 
 finish(run_checks())

@@ -6,7 +6,7 @@ import pytest
 
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.inference.fitting.base_face import select_base_face
+from Sketch2CADWorkbench.inference.fitting.base_face import rank_base_faces, select_base_face
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 
 
@@ -28,7 +28,9 @@ def test_a_sketch_beside_the_model_is_a_fit_error_not_a_crash():
         select_base_face(np.full((64, 64), 0.9), background, box)
 
 
-def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
+def post_in_view():
+    """A post on a box, its side filling most of a 64 x 64 view and its top disk a band
+    under it: (solid, face ids, side's index, disk's index)."""
     box = make_box(Box((40, 30, 20)))
     top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
     post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0,
@@ -40,5 +42,19 @@ def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
     ids = np.full((64, 64), -1, np.int32)
     ids[:40] = side
     ids[40:50] = disk
+    return post, ids, side, disk
+
+
+def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
+    post, ids, side, disk = post_in_view()
     got = select_base_face(np.where(ids >= 0, 0.9, 0.0), ids, post)
-    assert got.isSame(faces[disk])
+    assert got.isSame(post.Faces()[disk])
+
+
+def test_for_prisms_and_sweeps_a_curved_face_counts_by_its_votes_only():
+    post, ids, side, disk = post_in_view()
+    voted = rank_base_faces(np.where(ids >= 0, 0.9, 0.0), ids, post, curved=True)
+    assert voted[0] == side and disk in voted
+    # an unsure F (no pixel over 0.5) never puts the large curved face in
+    unsure = rank_base_faces(np.where(ids == side, 0.45, 0.3), ids, post, curved=True)
+    assert side not in unsure and unsure[0] == disk

@@ -1,0 +1,215 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Samples whose last operation stands on a curved face (#16, beyond the paper): a prism
+or a sweep on the side of a cylinder or cone that an earlier sweep made, or that side
+extruded (its radius changed).
+
+The context is a random sequence (0 to 2 operations, datagen/sequences.py) followed by
+an added straight sweep (a cylinder or a cone); the last operation is drawn on that
+sweep's side at a random point of it, in the tangent plane there (brep/protocol), with
+sizes relative to the side's radius so that the primitive fits across it, and its
+outline on the side (not overhanging its rims). A sample is
+then made as any other (datagen/generate.view_sample): an informative view, strokes
+from the operation's curves, the face label on the curved face.
+
+`write_curved_set` writes such a held-out data set in the data set format
+(datagen/dataset.py), one worker: `sketch2cad datagen --curved ...`.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cadquery as cq
+import numpy as np
+from tqdm import tqdm
+
+from Sketch2CADWorkbench.brep.faces import (
+    CurvedSurface,
+    OperationError,
+    ResolvedFace,
+    face_ref_at,
+    model_scale,
+    points_on_face,
+)
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Extrude,
+    FaceRef,
+    Mode,
+    Operation,
+    OperatorType,
+    Sweep,
+)
+from Sketch2CADWorkbench.brep.operators import apply_operation
+from Sketch2CADWorkbench.render.maps import MapRenderer
+
+from .dataset import write_shard
+from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
+from .operations import DIAG, PRISM_D, SWEEP_D, random_polygon
+from .parallel import DatagenSettings, manifest_of
+from .sample import Sample
+from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
+
+# The last operation's type on a curved face: prisms and sweeps as 4:2 (the paper's
+# shares of the two), and extrusions of the side 1.
+CURVED_WEIGHTS = {OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2, OperatorType.EXTRUDE: 1}
+ACROSS = (0.25, 0.6)   # a primitive's half-width across the axis / the side's radius
+TRIES = 40
+
+
+class CurvedFace:
+    """A cylinder's or cone's side to sketch on, at a chosen point p_f of it."""
+
+    def __init__(self, face: cq.Face, ref: FaceRef):
+        self.face = face
+        self.ref = ref
+        self.normal = np.asarray(ref.normal, float)
+        self.surface = CurvedSurface.of(face)
+
+    def resolved(self) -> ResolvedFace:
+        """f as the operators resolve `ref` on the solid it was drawn on."""
+        return ResolvedFace(self.face, self.normal, 0.0, self.surface,
+                            np.asarray(self.ref.point, float))
+
+
+def _point_on(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndarray | None:
+    """A random point of the face, away from its ends along the axis by `margin` of the
+    parameter range (so a primitive there does not overhang the side's rims)."""
+    u0, u1, v0, v1 = face.uvBounds()
+    span = v1 - v0
+    if span <= 0:
+        return None
+    u = rng.uniform(u0, u1)
+    v = rng.uniform(v0 + margin * span, v1 - margin * span)
+    p = face._geomAdaptor().Value(u, v)
+    return np.array(p.Coord())
+
+
+def _local_radius(surface: CurvedSurface, p: np.ndarray) -> float:
+    h = float((p - surface.origin) @ surface.axis)
+    return surface.radius + surface.slope * h
+
+
+def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
+                     ) -> tuple[Operation, CurvedFace] | None:
+    """An operation of `kind` on the curved face at a random point of it."""
+    p = _point_on(face, rng, 0.3)
+    if p is None:
+        return None
+    f = CurvedFace(face, face_ref_at(face, p))
+    if not f.surface.convex:
+        return None  # the bores a subtraction makes are seen from inside: not sketched
+    radius = _local_radius(f.surface, np.asarray(f.ref.point))
+    if kind is OperatorType.EXTRUDE:
+        d = rng.uniform(0.15, 0.5) * radius * rng.choice([-1.0, 1.0])
+        return Extrude(f.ref, float(d)), f
+    half = rng.uniform(*ACROSS) * radius
+    mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
+    d = rng.uniform(*PRISM_D) * DIAG
+    if mode is Mode.SUBTRACT:
+        d = min(d, 0.8 * radius)  # a slot or hole, not a cut through the whole body
+    centre = np.asarray(f.ref.point)
+    # the axis direction in the tangent plane, and across it
+    along = f.surface.axis - (f.surface.axis @ f.normal) * f.normal
+    along /= np.linalg.norm(along)
+    across = np.cross(f.normal, along)
+    if kind is OperatorType.ADDSUB:
+        q = random_polygon(rng, int(rng.integers(3, 7)), half)
+        q *= half / np.abs(q[:, 0]).max()  # its half-width across the axis is `half`
+        poly = centre + q[:, :1] * across + q[:, 1:] * along
+        if not _on_face(f, poly):
+            return None
+        return AddSubPrism(f.ref, tuple(tuple(map(float, v)) for v in poly), float(d), mode), f
+    r0 = half
+    ring = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    if not _on_face(f, centre + r0 * (np.outer(np.cos(ring), across)
+                                      + np.outer(np.sin(ring), along))):
+        return None
+    r1 = r0 if rng.random() < 0.6 else r0 * rng.uniform(0.5, 1.4)
+    d = min(d, rng.uniform(*SWEEP_D) * DIAG) if mode is Mode.ADD else d
+    return Sweep(f.ref, tuple(map(float, centre)), float(r0), float(r1), float(d),
+                 _straight(r0, r1, d), mode), f
+
+
+def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
+    """Whether an outline on the tangent plane, carried along n_f onto the surface, lies
+    on f: a primitive overhanging the side's rims is not what a designer sketches."""
+    t = f.surface.crossings(outline, f.normal, model_scale(f.face))
+    if np.isnan(t).any():
+        return False
+    on = outline + t[:, None] * f.normal
+    return bool(points_on_face(f.face, on, 1e-6 * model_scale(f.face), boundary=False).all())
+
+
+def _straight(r0: float, r1: float, d: float) -> tuple[tuple[float, float], ...]:
+    """A sweep's inner control points for a straight profile (a cylinder or a cone)."""
+    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
+            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
+
+
+def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
+    """A random sequence ending in an added straight sweep (a cylinder or a cone), and
+    the curved faces of its final solid."""
+    while True:
+        seq = sample_sequence(rng, int(rng.integers(0, 3)))
+        for _ in range(TRIES):
+            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP)
+            if drawn is None:
+                break
+            op = drawn.op
+            if op.mode is not Mode.ADD or not np.allclose(op.profile, _straight(op.r0, op.r1, op.d)):
+                continue
+            protocol = seq.protocol.append(op)
+            stages = seq.stages + [drawn.result]
+            faces = [f for f in drawn.result.solid.Faces() if f.geomType() in ("CYLINDER", "CONE")]
+            if faces:
+                return Sequence(protocol, stages), faces
+
+
+def draw_kind(rng: np.random.Generator) -> OperatorType:
+    kinds = list(CURVED_WEIGHTS)
+    w = np.array([CURVED_WEIGHTS[k] for k in kinds], float)
+    return kinds[rng.choice(len(kinds), p=w / w.sum())]
+
+
+def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRenderer,
+                  size: int = IMAGE_SIZE) -> Sample:
+    """One sample whose last operation stands on a cylinder's or cone's side."""
+    kind = draw_kind(rng)
+    while True:
+        seq, faces = curved_context(rng)
+        context = Context(seq)
+        stage = seq.stages[-1]
+        for _ in range(TRIES):
+            got = sample_on_curved(rng, faces[int(rng.integers(len(faces)))], kind)
+            if got is None:
+                continue
+            op, f = got
+            try:
+                result = Stage(apply_operation(stage.solid, op))
+            except OperationError:
+                continue
+            if abs(result.volume - stage.volume) < MIN_VOLUME_CHANGE * stage.volume:
+                continue
+            sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer,
+                                 size)
+            if sample is not None:
+                return sample
+
+
+def write_curved_set(out: Path, count: int, seed: int, noise_level: int) -> int:
+    """A held-out data set of `count` curved-face samples in one shard (one worker);
+    sample i is a function of (seed, i). Returns the exit code."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    settings = DatagenSettings(out, count, seed, str(noise_level), 1, count)
+    manifest = manifest_of(settings)
+    manifest["curved"] = True
+    renderer = MapRenderer()
+    samples = [curved_sample(sample_rng(seed, i), noise_level, renderer)
+               for i in tqdm(range(count), desc="curved samples", unit="sample")]
+    write_shard(out, 0, samples)
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
+    print(f"datagen: {count} samples on curved faces in {out}/")
+    return 0
+

@@ -1,0 +1,106 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Strokes on a curved face are back-projected onto the surface (view rays meet the
+cylinder, not a plane), so a prism or sweep sketched on a cylinder's side is recovered:
+synthetic strokes from the sketch generator's curves, with their labels, fitted back."""
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Box,
+    FaceRef,
+    Mode,
+    Surface,
+    Sweep,
+)
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.surface import surface_hits
+from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+
+R = 12.0  # a post of radius R standing on a box, its axis along z from z=5 to z=65
+CYL = Surface.CYLINDER
+SIDE = FaceRef((0.0, -R, 35.0), (0.0, -1.0, 0.0), CYL)  # the post's front, facing -y
+
+
+def straight(r0, r1, d):
+    return ((r0 + (r1 - r0) / 3, d / 3), (r0 + 2 * (r1 - r0) / 3, 2 * d / 3))
+
+
+@pytest.fixture(scope="module")
+def post():
+    box = make_box(Box((40.0, 40.0, 10.0)))
+    top = FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0))
+    return apply_operation(box, Sweep(top, (0.0, 0.0, 5.0), R, R, 60.0, straight(R, R, 60)))
+
+
+@pytest.fixture(scope="module")
+def view():
+    """From the front, a little to the left and above: the post's front is in view."""
+    d = np.array([0.45, 1.0, -0.45])
+    return OrthoCamera((0.0, 0.0, 35.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 40.0)
+
+
+def sketch(solid, op, camera):
+    """The generator's curves of `op` projected into the view: strokes and labels."""
+    curves = operation_curves(solid, op, camera.direction)
+    return [camera.project(c.points)[0] for c in curves], [c.label for c in curves]
+
+
+def side_face(solid):
+    return resolve_face(solid, SIDE).face
+
+
+def test_view_rays_meet_the_cylinder_where_it_faces_the_viewer(post, view):
+    on_side = np.array([[0.0, -R, 35.0], [R * np.sin(0.5), -R * np.cos(0.5), 20.0]])
+    hits = surface_hits(view, view.project(on_side)[0], side_face(post))
+    assert hits == pytest.approx(on_side, abs=1e-6)  # the front, not the back of the post
+    miss = surface_hits(view, view.project(np.array([[30.0, -30.0, 35.0]]))[0],
+                        side_face(post))
+    assert np.isnan(miss).all()
+
+
+@pytest.mark.parametrize("mode, d", [(Mode.ADD, 5.0), (Mode.SUBTRACT, 3.0)])
+def test_a_prism_sketched_on_a_cylinders_side_is_recovered(post, view, mode, d):
+    poly = ((-5.0, -R, 30.0), (5.0, -R, 31.0), (4.0, -R, 41.0), (-4.0, -R, 40.0))
+    # p_f, where the prism stands, is under the mean of its corners
+    truth = AddSubPrism(FaceRef((0.0, -R, 35.5), SIDE.normal, CYL), poly, d, mode)
+    strokes, labels = sketch(post, truth, view)
+    op = fit_prism(post, side_face(post), view, strokes, labels, option=mode)
+    assert op.face.surface is CYL and op.mode is mode
+    assert op.face.point == pytest.approx(truth.face.point, abs=0.1)
+    assert op.face.normal == pytest.approx(SIDE.normal, abs=0.01)
+    assert op.d == pytest.approx(d, abs=0.3)
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in poly) < 0.4
+    # the recovered step builds and removes or adds nearly what the true one does
+    want = apply_operation(post, truth).Volume() - post.Volume()
+    assert apply_operation(post, op).Volume() - post.Volume() == pytest.approx(want, rel=0.08)
+
+
+def test_an_addition_on_the_side_is_read_as_one_without_being_told(post, view):
+    poly = ((-5.0, -R, 30.0), (5.0, -R, 30.0), (5.0, -R, 40.0), (-5.0, -R, 40.0))
+    strokes, labels = sketch(post, AddSubPrism(SIDE, poly, 6.0), view)
+    op = fit_prism(post, side_face(post), view, strokes, labels)
+    assert op.mode is Mode.ADD and op.d == pytest.approx(6.0, abs=0.3)
+
+
+def test_a_radial_peg_sketched_on_a_cylinders_side_is_recovered(post, view):
+    truth = Sweep(SIDE, SIDE.point, 4.0, 4.0, 10.0, straight(4, 4, 10))
+    strokes, labels = sketch(post, truth, view)
+    op = fit_sweep(post, side_face(post), view, strokes, labels, option=Mode.ADD)
+    assert op.face.surface is CYL
+    assert np.array(op.center) == pytest.approx(SIDE.point, abs=0.5)
+    assert (op.r0, op.r1, op.d) == pytest.approx((4.0, 4.0, 10.0), abs=0.5)
+
+
+def test_an_outline_off_the_curved_face_is_refused(post, view):
+    poly = ((-5.0, -R, 30.0), (5.0, -R, 30.0), (5.0, -R, 40.0), (-5.0, -R, 40.0))
+    strokes, labels = sketch(post, AddSubPrism(SIDE, poly, 6.0), view)
+    far_off = [s + (400.0, 0.0) for s in strokes]  # drawn in the air beside the post
+    with pytest.raises(FitError):
+        fit_prism(post, side_face(post), view, far_off, labels)
