@@ -5,6 +5,8 @@ interpret's doubt thresholds (readings past them are flagged as doubtful).
     .bin/python scripts/misfit_threshold.py DATA [--skip K] [--limit N] [--scribbles 300]
         [--scribble-seed 0] [--features OUT.json] [--choose]
     .bin/python scripts/misfit_threshold.py --from FEATURES.json [MORE.json ...] [--choose]
+    .bin/python scripts/misfit_threshold.py --from FEATURES.json [...] --recovery DATA
+        [--skip K] [--control-seed 0]
 
 Interprets every sample of a held-out generated set (level 1) and random scribbles over
 random boxes (or reads what an earlier run wrote with --features), and records for each
@@ -15,6 +17,12 @@ with --choose the rule (one or two measures, thresholds at high quantiles of the
 ones) that lets the fewest scribbles through while flagging at most 1% of the real
 sketches. Choose on one set, report on another (another datagen seed and
 --scribble-seed).
+
+With --recovery DATA (the set the --from files were made of, in their order, from sample
+--skip on) it lists the real sketches the shipped rule flags and reads them again, with
+as many unflagged ones drawn at random as a control, as `sketch2cad eval --recovery`
+does (the same interpret() call, volume IoU with the ground truth's result, misread
+below training.recovery.RECOVERY_IOU): are the flagged sketches the misread ones?
 """
 import argparse
 import json
@@ -28,6 +36,7 @@ from tqdm import tqdm
 from datagen.dataset import Dataset
 from datagen.sequences import random_box
 from datagen.views import view_direction
+from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import make_box, replay
 from Sketch2CADWorkbench.inference.interpret import (
     DOUBT,
@@ -83,6 +92,36 @@ def fits_of_scribbles(n: int, predictor, renderer, seed: int) -> list:
     return out
 
 
+def recovery_of_flagged(data: str, real: list, skip: int, seed: int) -> None:
+    """Print the flagged real readings (sample indices) and how the flagged ones and an
+    equal-size random control of unflagged ones are recovered."""
+    from Sketch2CADWorkbench.brep.compare import volume_iou
+    from Sketch2CADWorkbench.brep.operators import apply_operation
+    from training.recovery import RECOVERY_IOU
+
+    flagged = [skip + i for i, f in enumerate(real) if f is not None and f.doubtful]
+    unflagged = [skip + i for i, f in enumerate(real) if f is not None and not f.doubtful]
+    control = sorted(int(i) for i in np.random.default_rng(seed).choice(
+        unflagged, size=min(len(flagged), len(unflagged)), replace=False))
+    print(f"flagged samples: {flagged}\ncontrol samples: {control}")
+    ds, predictor, renderer = Dataset(data), load_predictor(), MapRenderer()
+    for name, indices in (("flagged", flagged), ("control", control)):
+        misread = 0
+        for i in indices:
+            s = ds.sample(i)
+            context = replay(s.context)[-1]
+            try:
+                got = interpret(context, s.strokes, s.camera, predictor, renderer,
+                                InterpretOptions(regularize=False))
+                iou = volume_iou(got.solid, apply_operation(context, s.operation))
+                note = f"IoU {iou:.3f}, flagged now {got.fit.doubtful}"
+            except (InterpretError, OperationError) as e:
+                iou, note = 0.0, f"failed: {str(e)[:60]}"
+            misread += iou < RECOVERY_IOU
+            print(f"  {name} {i} ({s.op_type.value}): {note}", flush=True)
+        print(f"{name}: {len(indices)}, misread (IoU < {RECOVERY_IOU}) {misread}")
+
+
 def choose(real: list, scrib: list) -> list:
     """Rules (thresholds by measure) flagging at most MAX_REAL_FLAGGED of the real
     sketches, fewest scribbles read without a flag first: (scribbles passed, real
@@ -122,7 +161,13 @@ def main() -> int:
     p.add_argument("--features", help="also write every reading's measures here (JSON)")
     p.add_argument("--choose", action="store_true",
                    help="print the rules that flag at most 1%% of the real sketches")
+    p.add_argument("--recovery", metavar="DATA",
+                   help="with --from: read the flagged real sketches of DATA and a control "
+                        "of unflagged ones again and say which are misread")
+    p.add_argument("--control-seed", type=int, default=0)
     a = p.parse_args()
+    if a.recovery and not a.features_in:
+        p.error("--recovery needs --from")
     if a.features_in:
         saved = [json.loads(Path(f).read_text()) for f in a.features_in]
         real, scrib = ([f and SketchFit(**f) for one in saved for f in one[k]]
@@ -157,6 +202,8 @@ def main() -> int:
           f"{100 * (len(real) - len(r)) / len(real):.1f}%); scribbles read without a flag: "
           f"{sum(not f.doubtful for f in s)} of {len(scrib)} "
           f"({100 * sum(not f.doubtful for f in s) / len(scrib):.1f}%)")
+    if a.recovery:
+        recovery_of_flagged(a.recovery, real, a.skip, a.control_seed)
     return 0
 
 
