@@ -86,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         settings = TrainSettings(
             minutes=args.minutes, steps=args.steps, batch_size=args.batch_size, lr=args.lr,
-            warmup_steps=args.warmup_steps, threads=args.threads, seed=args.seed, flip=not args.no_flip, device=args.device,
+            warmup_steps=args.warmup_steps, threads=args.threads, seed=args.seed,
+            flip=not args.no_flip, device=args.device,
             model=ModelConfig(internal_size=args.internal_size, widths=tuple(args.widths)))
         train(args.data, args.out, settings)
     except KeyboardInterrupt:
