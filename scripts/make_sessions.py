@@ -7,7 +7,8 @@ relevant curve at least 80% visible), drawn as freehand strokes with level-1 noi
 The strokes are stored in a whole-model 800 x 600 view, as a designer's screen would
 show them. The ground-truth protocol is kept beside the session for comparison.
 
-    .venv/bin/python scripts/make_sessions.py camera mixer hammer
+    .bin/python scripts/make_sessions.py camera mixer hammer
+    .bin/python scripts/make_sessions.py bolt lamp pipe   # (nut: no informative view for step 3)
 """
 import sys
 from pathlib import Path
