@@ -349,8 +349,22 @@ class Bevel(_Operation):
                      point(self.opposite), tuple(point(p) for p in self.profile))
 
 
+class _CombinedOperation(_Operation):
+    """An operation whose primitive combines with the solid by its `mode` (prism, sweep)."""
+
+    mode: Mode
+
+    @property
+    def boolean(self) -> Mode:
+        return self.mode
+
+    @property
+    def name(self) -> str:
+        return f"{self.mode.value} {self.NOUN}"
+
+
 @dataclass(frozen=True)
-class AddSubPrism(_Operation):
+class AddSubPrism(_CombinedOperation):
     """A right prism on face f: base polygon c (3-6 vertices on f's plane), length d > 0.
 
     The prism goes outwards along n_f for ADD/INTERSECT/REPLACE and inwards for SUBTRACT.
@@ -366,14 +380,6 @@ class AddSubPrism(_Operation):
     NOUN = "prism"
     NAMES = {Mode.ADD: "AddPolyhedron", Mode.SUBTRACT: "SubtractPolyhedron",
              Mode.INTERSECT: "IntersectPolyhedron", Mode.REPLACE: "ReplaceByPolyhedron"}
-
-    @property
-    def boolean(self) -> Mode:
-        return self.mode
-
-    @property
-    def name(self) -> str:
-        return f"{self.mode.value} prism"
 
     def check(self) -> None:
         if not 3 <= len(self.polygon) <= 6:
@@ -403,7 +409,7 @@ class AddSubPrism(_Operation):
 
 
 @dataclass(frozen=True)
-class Sweep(_Operation):
+class Sweep(_CombinedOperation):
     """A swept solid of revolution standing on face f.
 
     c0 is the circle of radius r0 centred at `center` on f's plane; c1 is the circle
@@ -427,14 +433,6 @@ class Sweep(_Operation):
     NOUN = "sweep"
     NAMES = {Mode.ADD: "AddSweepShape", Mode.SUBTRACT: "SubtractSweepShape",
              Mode.INTERSECT: "IntersectSweepShape", Mode.REPLACE: "ReplaceBySweepShape"}
-
-    @property
-    def boolean(self) -> Mode:
-        return self.mode
-
-    @property
-    def name(self) -> str:
-        return f"{self.mode.value} sweep"
 
     def check(self) -> None:
         if not (self.r0 > 0 and self.r1 > 0 and self.d > 0):

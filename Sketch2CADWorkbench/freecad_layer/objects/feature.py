@@ -12,7 +12,7 @@ import re
 
 import FreeCAD
 
-from ...brep.protocol import FaceRef, Surface, describe
+from ...brep.protocol import FaceRef, Mode, Surface, describe
 from ..shapes import from_part, to_part
 from ..units import direction, point
 from .checks import refuse_non_finite
@@ -249,6 +249,20 @@ class OperationFeature(Feature):
 # Every kind's name (filled by the operators' modules): a label that is one of these, with
 # FreeCAD's number, was given by the workbench.
 ALL_KINDS = list(OLD_LABELS)
+
+
+class CombinedFeature(OperationFeature):
+    """A feature whose kind follows its Mode property (prisms, sweeps): KINDS maps each
+    Mode to the name a FreeCAD user reads."""
+
+    KINDS: dict
+
+    @classmethod
+    def kind_of(cls, op) -> str:
+        return cls.KINDS[op.mode]
+
+    def kind(self, obj) -> str:
+        return self.KINDS[Mode(obj.Mode)]
 
 
 class FailurePropagation:

@@ -5,7 +5,7 @@ import FreeCAD
 
 from ...brep.protocol import AddSubPrism, Mode
 from ..units import length, point
-from .feature import ALL_KINDS, GROUP, OperationFeature, mm, retype, tup, vec
+from .feature import ALL_KINDS, GROUP, CombinedFeature, mm, retype, tup, vec
 
 MODES = [m.value for m in Mode]
 MODE_TIP = ("o: add (union, outwards), subtract (difference, inwards), intersect, or "
@@ -21,7 +21,7 @@ def vertex_name(i: int) -> str:
     return f"Vertex{i + 1}"
 
 
-class PrismFeature(OperationFeature):
+class PrismFeature(CombinedFeature):
     """The polygon's vertices are the properties Vertex1...VertexN (N = 3 to 6), each a
     position in the user's units (FreeCAD has no list of lengths)."""
 
@@ -29,6 +29,7 @@ class PrismFeature(OperationFeature):
     OPERATION = AddSubPrism
     LABEL = "Boss"
     KIND_PROPERTIES = ("Mode",)
+    KINDS = PRISM_KINDS
 
     def add_operation_properties(self, obj) -> None:
         if "Length" not in obj.PropertiesList:
@@ -43,13 +44,6 @@ class PrismFeature(OperationFeature):
             obj.removeProperty("Polygon")
             self.set_polygon(obj, polygon)
         super().migrate(obj)
-
-    @classmethod
-    def kind_of(cls, op: AddSubPrism) -> str:
-        return PRISM_KINDS[op.mode]
-
-    def kind(self, obj) -> str:
-        return PRISM_KINDS[Mode(obj.Mode)]
 
     @classmethod
     def reading(cls, op: AddSubPrism) -> str:

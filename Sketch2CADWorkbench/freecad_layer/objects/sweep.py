@@ -5,7 +5,7 @@ import math
 
 from ...brep.protocol import Mode, Sweep, retuned_profile
 from ..units import length, point
-from .feature import ALL_KINDS, GROUP, OperationFeature, mm, retype, tup, vec
+from .feature import ALL_KINDS, GROUP, CombinedFeature, mm, retype, tup, vec
 from .prism import MODE_TIP, MODES
 
 TUNED = ("Radius0", "Radius1", "Offset")
@@ -17,7 +17,7 @@ SWEEP_KINDS = {Mode.ADD: "Revolution", Mode.SUBTRACT: "Groove",
 ALL_KINDS.extend(SWEEP_KINDS.values())
 
 
-class SweepFeature(OperationFeature):
+class SweepFeature(CombinedFeature):
     """Editing Radius0, Radius1 or Offset moves the profile's inner control points in
     proportion (`retuned_profile`), as in the paper's parameter tuning, so the shape keeps
     its character instead of kinking."""
@@ -26,6 +26,7 @@ class SweepFeature(OperationFeature):
     OPERATION = Sweep
     LABEL = "Revolution"
     KIND_PROPERTIES = ("Mode",)
+    KINDS = SWEEP_KINDS
 
     def add_operation_properties(self, obj) -> None:
         retype(obj, "Center", "App::PropertyPosition", GROUP, "Centre of c0 on face f")
@@ -42,13 +43,6 @@ class SweepFeature(OperationFeature):
         if "Mode" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Mode", GROUP, MODE_TIP)
             obj.Mode = MODES
-
-    @classmethod
-    def kind_of(cls, op: Sweep) -> str:
-        return SWEEP_KINDS[op.mode]
-
-    def kind(self, obj) -> str:
-        return SWEEP_KINDS[Mode(obj.Mode)]
 
     @classmethod
     def reading(cls, op: Sweep) -> str:
