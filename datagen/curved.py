@@ -28,6 +28,7 @@ from Sketch2CADWorkbench.brep.faces import (
     OperationError,
     ResolvedFace,
     face_ref_at,
+    is_curved,
     model_scale,
     points_on_face,
 )
@@ -161,7 +162,7 @@ def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
                 continue
             protocol = seq.protocol.append(op)
             stages = seq.stages + [drawn.result]
-            faces = [f for f in drawn.result.solid.Faces() if f.geomType() in ("CYLINDER", "CONE")]
+            faces = [f for f in drawn.result.solid.Faces() if is_curved(f)]
             if faces:
                 return Sequence(protocol, stages), faces
 

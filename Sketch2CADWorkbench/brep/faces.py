@@ -22,6 +22,12 @@ from .protocol import FaceRef, OperationError, Surface  # OperationError is impo
 NORMAL_COS_TOL = 1.0 - 1e-6
 # OCCT's names of the surfaces a base face may lie on.
 GEOM_TYPES = {Surface.PLANE: "PLANE", Surface.CYLINDER: "CYLINDER", Surface.CONE: "CONE"}
+CURVED_GEOM_TYPES = (GEOM_TYPES[Surface.CYLINDER], GEOM_TYPES[Surface.CONE])
+
+
+def is_curved(face: cq.Face) -> bool:
+    """Whether f is a cylinder's or cone's side (else planar)."""
+    return face.geomType() in CURVED_GEOM_TYPES
 
 
 @dataclass(frozen=True)

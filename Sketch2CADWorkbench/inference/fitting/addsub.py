@@ -5,7 +5,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import model_scale
+from ...brep.faces import is_curved, model_scale
 from ...brep.protocol import AddSubPrism, Mode
 from ...render.camera import OrthoCamera
 from .common import (
@@ -19,7 +19,7 @@ from .common import (
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option
 from .refine import refine_prism
-from .surface import back_project, face_frame, face_ref, is_curved
+from .surface import back_project, face_frame, face_ref
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
 # length matches: above the noisiest strokes the generator draws (docs/NOTES.md).

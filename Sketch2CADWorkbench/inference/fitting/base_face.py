@@ -5,10 +5,10 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
+from ...brep.faces import CURVED_GEOM_TYPES
 from .common import FitError, resample, sample_map
 
 MIN_PIXELS = 20
-CURVED_KINDS = ("CYLINDER", "CONE")  # OCCT's names of the curved faces operators stand on
 # Share of a stroke's samples that must fall on one face for the stroke to lie on it.
 ON_FACE_SHARE = 0.6
 
@@ -36,7 +36,7 @@ def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape,
         FitError: no face that may be the base face in view.
     """
     faces = solid.Faces()
-    kinds = CURVED_KINDS + ("PLANE",) if curved else ("PLANE",)
+    kinds = CURVED_GEOM_TYPES + ("PLANE",) if curved else ("PLANE",)
     planar = np.array([f.geomType() == "PLANE" for f in faces] + [False])
     usable = np.array([f.geomType() in kinds for f in faces] + [False])
     seen = face_id >= 0

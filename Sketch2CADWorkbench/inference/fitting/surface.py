@@ -14,7 +14,14 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import CurvedSurface, face_ref_at, face_ref_of, model_scale, points_on_face
+from ...brep.faces import (
+    CurvedSurface,
+    face_ref_at,
+    face_ref_of,
+    is_curved,
+    model_scale,
+    points_on_face,
+)
 from ...brep.geometry import plane_basis
 from ...brep.protocol import FaceRef
 from ...render.camera import OrthoCamera
@@ -22,11 +29,6 @@ from .common import FaceFrame, FitError
 
 # Samples per model diagonal along a view ray when looking for the surface.
 RAY_STEPS = 2001
-
-
-def is_curved(face: cq.Face) -> bool:
-    """Whether f is a cylinder's or cone's side (else planar)."""
-    return face.geomType() in ("CYLINDER", "CONE")
 
 
 def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.ndarray:
