@@ -62,7 +62,8 @@ class StrokeCapture:
             self.root.addChild(node)
         self.graph = view.getSceneGraph()  # after the camera
         self.graph.addChild(self.root)
-        self.widgets = (view.graphicsView(), view.graphicsView().viewport())
+        graphics_view = view.graphicsView()
+        self.widgets = (graphics_view, graphics_view.viewport())
         self.filter = _EventFilter(self)
         for widget in self.widgets:
             widget.installEventFilter(self.filter)
@@ -135,6 +136,9 @@ class StrokeCapture:
         """Stop capturing; the nodes are taken away once outside any event handler."""
         for widget in self.widgets:
             widget.removeEventFilter(self.filter)
+        # no wrapper of the view's widgets outlives the capture: PySide2 hands a stale one
+        # ("already deleted") to a later view whose widget reuses the address
+        self.widgets = ()
         if self.drawing:  # removed with the button down: Qt merges moves again
             QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
                                             self.compressing)
