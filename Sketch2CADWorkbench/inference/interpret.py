@@ -35,7 +35,8 @@ MAX_STROKES, MAX_POINTS = 200, 20000
 MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
 # A reading is flagged as doubtful when a measure of SketchFit passes its threshold
 # here (context pixels): each the 99.5% quantile of held-out level-1 sketches (datagen
-# seed 30001, scripts/misfit_threshold.py; figures on another seed in docs/NOTES.md).
+# seed 30001, scripts/misfit_threshold.py; figures on another seed in docs/NOTES.md: with
+# the operators searched by reprojection, stop 21, it flags 1.0% of 400 such sketches).
 DOUBT = {"misfit_px": 7.7, "sketch_off_px": 7.7}
 # A sample of the strokes or of the sketch farther than this (context pixels) from the
 # other is not explained by it.
@@ -65,6 +66,15 @@ BASE_FACE_TRIES = 4
 # The operators whose base face may be a cylinder's or cone's side (fitting/surface.py).
 ON_CURVED_FACES = (OperatorType.ADDSUB, OperatorType.SWEEP)
 GOOD_FIT_PX = 3.0
+# Operators, like faces, are one search: the classifier's operator is read first, and
+# when its reading lies over GOOD_FIT_PX from the strokes the others are read too, in the
+# order of their probability p; the reading kept has the lowest reprojection error plus
+# PRIOR_PX per decade of the classifier's doubt in its operator (-log10 p, p at least
+# MIN_PROB). A triangle whose edges are all drawn is a prism however sure the classifier
+# is of a sweep. PRIOR_PX is not tuned: a decade of doubt weighs about what a level-1
+# hand's error does (median misfit 1.4 px); figures in docs/NOTES.md (stop 21).
+PRIOR_PX = 1.0
+MIN_PROB = 1e-9
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
 
@@ -500,6 +510,35 @@ def check_sketch(strokes: list[np.ndarray]) -> None:
                              "operation's edges, not a dot")
 
 
+def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarray,
+                    predictor: Predictor, ctx: Context, options: InterpretOptions,
+                    times: dict[str, float], errors: list[str]
+                    ) -> list[tuple[float, OperatorType, Reading]]:
+    """Read the operators of `order` (taken from it) until one reads the strokes within
+    GOOD_FIT_PX: (score, operator, reading) for each that fitted, the score its
+    reprojection error plus PRIOR_PX per decade of the classifier's doubt. Why the others
+    did not fit goes to `errors`; seconds spent go to `times`."""
+    out = []
+    while order:
+        kind = order.pop(0)
+        ta = time.perf_counter()
+        face_prob, curve = predictor.segment(ctx.inputs, kind)
+        tb = time.perf_counter()
+        times["networks"] += tb - ta
+        try:
+            reading = read_operation(solid, kind, face_prob, curve, ctx, options)
+        except (FitError, OperationError) as e:
+            errors.append(f"read as {kind.value}, but {e}")
+            continue
+        finally:
+            times["fitting"] += time.perf_counter() - tb
+        doubt = -np.log10(max(float(probs[CLASSES.index(kind)]), MIN_PROB))
+        out.append((reading.error + PRIOR_PX * doubt, kind, reading))
+        if reading.error <= GOOD_FIT_PX:
+            break
+    return out
+
+
 def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
               predictor: Predictor, renderer: MapRenderer | None = None,
               options: InterpretOptions = InterpretOptions(),
@@ -514,8 +553,9 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         renderer: a reusable MapRenderer (one is made if None).
         options: regularization, forced option, symmetry plane.
         op_type: force the operator instead of the classifier's choice (without it,
-            the operators are tried in the order of the classifier's probabilities
-            until one fits the strokes).
+            the operators are read in the order of the classifier's probabilities until
+            one reads the strokes within GOOD_FIT_PX, and the reading with the best
+            score is kept: see PRIOR_PX).
     Raises:
         InterpretError: with the reason, when the sketch matches no operation.
     """
@@ -525,42 +565,40 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())
     t1 = time.perf_counter()
     probs = np.asarray(predictor.classify(ctx.inputs), float)
-    # The classifier's choice first; when its fitting fails, the other operators in the
-    # order of their probability: fitting checks the strokes against the model, so a
-    # second reading that fits is worth more than a refusal.
+    t2 = time.perf_counter()
     order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
-    networks_s = t1 - t0
-    errors = []
-    for kind in order:
-        ta = time.perf_counter()
-        face_prob, curve = predictor.segment(ctx.inputs, kind)
+    times = {"networks": t2 - t1, "fitting": 0.0}
+    read, errors = [], []
+    while True:
+        read += _read_operators(solid, order, probs, predictor, ctx, options, times, errors)
+        if not read:
+            more = (" (read as any other operator, the strokes did not fit either)"
+                    if len(errors) > 1 else "")
+            raise InterpretError(errors[0] + more) from None
+        read.sort(key=lambda r: r[0])
+        _, kind, reading = read.pop(0)
         tb = time.perf_counter()
-        networks_s += tb - ta
         try:
-            reading = read_operation(solid, kind, face_prob, curve, ctx, options)
-            op, index, labels, built = reading.op, reading.index, reading.labels, reading.result
-            snaps = ()
+            op, snaps, built = reading.op, (), reading.result
             if options.regularize:
-                reg = regularize_operation(solid, op, solid.Faces()[index], view,
+                reg = regularize_operation(solid, op, solid.Faces()[reading.index], view,
                                            options.snap_step, options.snap_px,
                                            options.skip_snaps)
                 if reg.snaps:  # the reading moved: build it again
                     op, snaps, built = reg.operation, reg.snaps, None
-            other = other_option(solid, op, index, ctx.camera, options)
+            other = other_option(solid, op, reading.index, ctx.camera, options)
             tc = time.perf_counter()
+            times["fitting"] += tc - tb
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)
             break
         except (FitError, OperationError) as e:
+            times["fitting"] += time.perf_counter() - tb
             errors.append(f"read as {kind.value}, but {e}")
-    else:
-        more = (" (read as any other operator, the strokes did not fit either)"
-                if len(errors) > 1 else "")
-        raise InterpretError(errors[0] + more) from None
     td = time.perf_counter()
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
-                          index, labels, ctx.camera,
-                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * networks_s,
-                           "fitting": 1e3 * (tc - tb), "brep": 1e3 * (td - tc),
+                          reading.index, reading.labels, ctx.camera,
+                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * times["networks"],
+                           "fitting": 1e3 * times["fitting"], "brep": 1e3 * (td - tc),
                            "total": 1e3 * (td - t0)}, other,
                           SketchFit.of(solid, op, ctx.camera, ctx.strokes,
                                        probs[CLASSES.index(kind)]), snaps)

@@ -136,6 +136,25 @@ def test_when_the_classifiers_choice_does_not_fit_the_next_operator_is_read(rend
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
 
 
+
+def test_a_prism_is_read_as_a_prism_however_sure_the_classifier_is_of_a_sweep(renderer):
+    # the GUI check's triangular hole: the shipped classifier said sweep (p 0.996, prism
+    # 0.003), and the sweep's ellipses lay 6.6 px from the strokes, the prism's 0.25 px
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((-8, -6, 10), (9, -4, 10), (0, 8, 10)), 7.0, Mode.SUBTRACT)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+
+    class SaysSweep(Oracle):
+        def classify(self, inputs):
+            return np.array([0.0004, 1e-8, 0.0034, 0.9962])
+
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
+                    SaysSweep(box, op, pts, labels, cam, renderer), renderer,
+                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    assert got.op_type is OperatorType.ADDSUB
+    assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
+
 def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_found(renderer):
     box = make_box(Box((40, 30, 20)))
     op = Extrude(TOP, 9.0)
