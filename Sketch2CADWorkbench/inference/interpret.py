@@ -117,7 +117,12 @@ class SketchFit:
     @staticmethod
     def of(solid: cq.Shape, op: Operation, camera: OrthoCamera, strokes: list[np.ndarray],
            confidence: float) -> "SketchFit":
-        to_sketch, to_strokes = sketch_distances(solid, op, camera, strokes)
+        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes), confidence)
+
+    @staticmethod
+    def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray,
+                     confidence: float) -> "SketchFit":
+        """From `verify.sketch_distances`' two arrays."""
         return SketchFit(0.5 * (float(to_sketch.mean()) + float(to_strokes.mean())),
                          float(to_sketch.mean()), float(to_strokes.mean()),
                          float(np.mean(to_sketch > EXPLAINED_PX)),
@@ -213,13 +218,18 @@ class Reading:
     """One base face's fitted operation: how far its own sketch lies from the strokes,
     whether the face is hidden from the sketch view, and (once built) the result."""
 
-    error: float
+    distances: tuple[np.ndarray, np.ndarray]  # `verify.sketch_distances`
     op: Operation
     index: int
     labels: list[int]
     hidden: bool
     result: cq.Solid | None = None
     refused: str = ""   # why it cannot be the step: its Boolean fails or changes nothing
+
+    @property
+    def error(self) -> float:
+        """Symmetric mean distance (pixels), `verify.reprojection_error`."""
+        return 0.5 * (float(self.distances[0].mean()) + float(self.distances[1].mean()))
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -308,7 +318,7 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         except FitError as e:
             first = first or e
             continue
-        reading = Reading(reprojection_error(solid, op, ctx.camera, ctx.strokes), op, used,
+        reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
                           labels, used in hidden)
         readings.append(reading)
         if reading.error <= GOOD_FIT_PX and not reading.hidden and \
@@ -595,10 +605,12 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
             times["fitting"] += time.perf_counter() - tb
             errors.append(f"read as {kind.value}, but {e}")
     td = time.perf_counter()
+    confidence = float(probs[CLASSES.index(kind)])
+    fit = (SketchFit.of_distances(*reading.distances, confidence) if op is reading.op
+           else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence))
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
                           reading.index, reading.labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * times["networks"],
                            "fitting": 1e3 * times["fitting"], "brep": 1e3 * (td - tc),
                            "total": 1e3 * (td - t0)}, other,
-                          SketchFit.of(solid, op, ctx.camera, ctx.strokes,
-                                       probs[CLASSES.index(kind)]), snaps)
+                          fit, snaps)
