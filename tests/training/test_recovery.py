@@ -1,9 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """End-to-end recovery: the fitting stage alone, fed the ground truth, rebuilds the operation."""
+from types import SimpleNamespace
+
 import pytest
 
+from Sketch2CADWorkbench.brep.operators import make_box
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
 from Sketch2CADWorkbench.cli import main
-from training.recovery import recovery
+from Sketch2CADWorkbench.render.frustum import fit_camera
+from training.recovery import a_boss_draws_it, recovery
 
 
 @pytest.fixture(scope="module")
@@ -38,3 +43,23 @@ def test_a_prism_read_with_the_wrong_boolean_is_recovered_by_the_named_flip(tmp_
     r = recovery(tmp_path, None, 8, oracle=True)["per_operator"]["addsub"]
     assert r["recovery_n"] and r["recovery_rate"] < r["recovery_rate_with_flip"], r
     assert r["other_option_share"] > 0
+
+
+def _drawn(op, direction):
+    box = make_box(Box((40, 30, 20)))
+    return box, SimpleNamespace(operation=op, camera=fit_camera(box, direction))
+
+
+@pytest.mark.parametrize("mode, centre, expected", [
+    (Mode.SUBTRACT, (0.0, 0.0), True),    # the boss on its rim stands on the top face
+    (Mode.ADD, (0.0, 0.0), False),        # the pipeline reads a boss as a boss
+    (Mode.SUBTRACT, (-16.0, 0.0), False),  # its rim boss would stand off the face
+])
+def test_the_strict_ceiling_counts_only_holes_a_boss_on_their_rim_draws(mode, centre, expected):
+    x, y = centre
+    hole = AddSubPrism(FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),
+                       tuple((x + dx, y + dy, 10.0)
+                             for dx, dy in ((-3, -3), (3, -3), (3, 3), (-3, 3))),
+                       8.0, mode)
+    box, sample = _drawn(hole, (1.0, 0.6, -1.0))  # the rim boss stands 8 mm towards -x
+    assert a_boss_draws_it(box, sample) is expected
