@@ -4,9 +4,10 @@
 `sketch2cad option-scan DATA [addsub|sweep]`: fits every prism (or sweep) of a generated
 set from its ground-truth segmentation (the fitting stage alone, `recovery.read_step`),
 then, for thresholds 0.25 / 0.5 / 0.75 / 0.9 on the share of the fitted primitive's far
-outline that back-projects onto f (`OTHER_FRACTION` in inference/fitting/primitive.py),
-prints the share of steps it would be named for and how many of the steps with the
-wrong +/- option it would cover.
+outline that back-projects onto f, prints the share of steps it would be named for and
+how many of the steps with the wrong +/- option it would cover. The pipeline names it
+when the forced flip would be accepted (`other_option_fits`: 0.25, MOSTLY_FRACTION, or
+the outline's region covering half of f).
 """
 from __future__ import annotations
 

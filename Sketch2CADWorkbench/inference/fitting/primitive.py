@@ -18,10 +18,6 @@ MOSTLY_FRACTION = 0.25
 # Share of f an outline's region must cover to stand on f when its outline does not lie
 # on f at all (a plate wider than the column top it stands on).
 COVER_FRACTION = 0.5
-# Share of the far outline that must back-project onto f for the other Boolean to be
-# named as reading as well: it names most wrong options while naming it for under half
-# of the prisms (measured in docs/NOTES.md, "Measurements behind constants").
-OTHER_FRACTION = 0.5
 
 
 def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
@@ -128,9 +124,14 @@ def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Swee
     """Whether the flipped Boolean explains the same strokes (the paper's Fig. 5b).
 
     In a parallel view, a boss on f and a hole into f whose rim is the boss's top
-    outline, seen along the view, draw the same lines. The flipped reading is named
-    when at least OTHER_FRACTION of the fitted primitive's far outline, back-projected
-    along the view onto f's plane, lies on f, as a base outline should.
+    outline, seen along the view, draw the same lines. The flipped reading stands on the
+    fitted primitive's far outline, back-projected along the view onto f; it is named
+    when that outline stands on f by the test a forced Boolean must pass
+    (`stands_on_face`), so that choosing it reads it. (Until stop 21 half the outline had
+    to lie on f, a stricter test than the forced one: a boss overhanging f's edge, read
+    as the hole its top draws, named no flip.)
     """
-    return op.mode in (Mode.ADD, Mode.SUBTRACT) and \
-        far_outline_share(face, camera, op, tol) >= OTHER_FRACTION
+    if op.mode not in (Mode.ADD, Mode.SUBTRACT):
+        return False
+    frame = FaceFrame.of(face)
+    return stands_on_face(face, frame, camera, camera.project(far_outline(op, frame))[0], tol)

@@ -27,3 +27,15 @@ def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 25.0, +1)
     boss = fit_prism(box, face, camera, strokes, labels)
     assert boss.mode is Mode.ADD and not other_option_fits(face, camera, boss, 1e-6)
+
+
+def test_a_hole_whose_rim_boss_overhangs_f_still_names_that_boss_which_a_click_reads(box, camera):
+    # seen along the view, the 9 mm hole's floor falls two thirds off the top face: the boss
+    # standing there overhangs f's corner, yet draws the same lines and builds (stop 21: a
+    # rule stricter than the forced choice's named no flip for such a step)
+    face = face_towards(box, (0, 0, 1))
+    strokes, labels = prism_sketch(camera, QUAD + [-8, -6, 0], 9.0, -1)
+    hole = fit_prism(box, face, camera, strokes, labels)
+    assert hole.mode is Mode.SUBTRACT and other_option_fits(face, camera, hole, 1e-6)
+    boss = fit_prism(box, face, camera, strokes, labels, option=Mode.ADD)
+    assert boss.mode is Mode.ADD and boss.d == pytest.approx(9.0, abs=0.3)
