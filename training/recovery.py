@@ -13,9 +13,9 @@ then takes the addition and names the other Boolean (`Interpretation.other_optio
 which the designer picks in one click. `recovery_rate_with_flip` counts a sample as
 recovered when that one click would recover it, and `other_option_share` says how
 often a step offered it. `strict_ceiling` is the most a strict reading can reach: the
-share of samples that are not a subtraction whose boss draws the same lines (judged on
-the ground truth by the pipeline's own test, `other_option_fits`), since the pipeline
-then reads the boss, as the paper does.
+share of samples that are not a subtraction whose boss draws the same lines so that the
+pipeline's +/- rule, given the operation's own outlines, takes the boss (the paper's
+default in that case).
 """
 from __future__ import annotations
 
@@ -32,9 +32,10 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
-from Sketch2CADWorkbench.inference.fitting.common import FitError
-from Sketch2CADWorkbench.inference.fitting.primitive import other_option_fits
+from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
+from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
+from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -44,6 +45,8 @@ from Sketch2CADWorkbench.inference.interpret import (
     other_option,
 )
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.labels import END, START
 
 RECOVERY_IOU = 0.95
 
@@ -87,14 +90,22 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
 
 
 def a_boss_draws_it(context: cq.Shape, sample) -> bool:
-    """Whether the sample is a subtraction (prism or sweep) whose boss on f draws the same
-    lines (paper, Fig. 5b), so that the pipeline, which then reads the boss, cannot read
-    it strictly."""
+    """Whether the sample is a subtraction (prism or sweep) that the pipeline's +/- rule
+    (`choose_option`, on the operation's own outlines as perfect strokes) reads as the
+    boss drawing the same lines (paper, Fig. 5b): no strict reading can recover it."""
     op = sample.operation
     if op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP) or op.mode is not Mode.SUBTRACT:
         return False
+    cam = sample.camera
+    curves = operation_curves(context, op, np.asarray(cam.direction, float))
+    start, end = (np.concatenate([resample(cam.project(c.points)[0], 2.0)
+                                  for c in curves if c.label == k]) for k in (START, END))
     face = resolve_face(context, op.face).face
-    return other_option_fits(face, sample.camera, op, 1e-6 * model_scale(context))
+    try:
+        return choose_option(face, face_frame(face, cam, np.concatenate([start, end])), cam,
+                             start, end, 1e-6 * model_scale(context), None) is Mode.ADD
+    except FitError:
+        return False
 
 
 def recovery(data, predictor, limit: int, oracle: bool = False,
