@@ -66,15 +66,18 @@ BASE_FACE_TRIES = 4
 # The operators whose base face may be a cylinder's or cone's side (fitting/surface.py).
 ON_CURVED_FACES = (OperatorType.ADDSUB, OperatorType.SWEEP)
 GOOD_FIT_PX = 3.0
-# Operators, like faces, are one search: the classifier's operator is read first, and
-# when its reading lies over GOOD_FIT_PX from the strokes the others are read too, in the
-# order of their probability p; the reading kept has the lowest reprojection error plus
-# PRIOR_PX per decade of the classifier's doubt in its operator (-log10 p, p at least
-# MIN_PROB). A triangle whose edges are all drawn is a prism however sure the classifier
-# is of a sweep. PRIOR_PX is not tuned: a decade of doubt weighs about what a level-1
-# hand's error does (median misfit 1.4 px); figures in docs/NOTES.md (stop 21).
+# Operators, like faces, are one search: the most probable operator that fits is read
+# first, and when its reading lies over GOOD_FIT_PX from the strokes the others are read
+# too, in the order of their probability p. Another operator's reading replaces it only
+# when it reads the strokes within GOOD_FIT_PX and the classifier gives it at least
+# OVERRULE_PROB (a clear fit, not the better of two poor ones: thirty random short strokes
+# fit some prism to 3-5 px), and then only if its reprojection error plus PRIOR_PX per
+# decade of doubt (-log10 p) is the lower. A triangle whose edges are all drawn is a prism
+# however sure the classifier is of a sweep (p 0.003 against 0.996). PRIOR_PX is not
+# tuned: a decade of doubt weighs about a level-1 hand's error (median misfit 1.4 px);
+# figures in docs/NOTES.md (stop 21).
 PRIOR_PX = 1.0
-MIN_PROB = 1e-9
+OVERRULE_PROB = 1e-3
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
 
@@ -522,14 +525,18 @@ def check_sketch(strokes: list[np.ndarray]) -> None:
 
 def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarray,
                     predictor: Predictor, ctx: Context, options: InterpretOptions,
-                    times: dict[str, float], errors: list[str]
+                    times: dict[str, float], errors: list[str], first: bool
                     ) -> list[tuple[float, OperatorType, Reading]]:
     """Read the operators of `order` (taken from it) until one reads the strokes within
-    GOOD_FIT_PX: (score, operator, reading) for each that fitted, the score its
-    reprojection error plus PRIOR_PX per decade of the classifier's doubt. Why the others
-    did not fit goes to `errors`; seconds spent go to `times`."""
+    GOOD_FIT_PX: (score, operator, reading) for the first that fits (when `first`) and
+    for any later one that may replace it (see OVERRULE_PROB), the score its reprojection
+    error plus PRIOR_PX per decade of the classifier's doubt. Why the others did not fit
+    goes to `errors`; seconds spent go to `times`."""
     out = []
     while order:
+        p = float(probs[CLASSES.index(order[0])])
+        if not first and p < OVERRULE_PROB:
+            break  # the rest are less probable still
         kind = order.pop(0)
         ta = time.perf_counter()
         face_prob, curve = predictor.segment(ctx.inputs, kind)
@@ -542,12 +549,13 @@ def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarra
             continue
         finally:
             times["fitting"] += time.perf_counter() - tb
-        doubt = -np.log10(max(float(probs[CLASSES.index(kind)]), MIN_PROB))
-        out.append((reading.error + PRIOR_PX * doubt, kind, reading))
-        if reading.error <= GOOD_FIT_PX:
+        good = reading.error <= GOOD_FIT_PX
+        if first or good:
+            out.append((reading.error + PRIOR_PX * -np.log10(max(p, 1e-12)), kind, reading))
+        first = False
+        if good:
             break
     return out
-
 
 def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
               predictor: Predictor, renderer: MapRenderer | None = None,
@@ -580,7 +588,8 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     times = {"networks": t2 - t1, "fitting": 0.0}
     read, errors = [], []
     while True:
-        read += _read_operators(solid, order, probs, predictor, ctx, options, times, errors)
+        read += _read_operators(solid, order, probs, predictor, ctx, options, times, errors,
+                                first=not read)
         if not read:
             more = (" (read as any other operator, the strokes did not fit either)"
                     if len(errors) > 1 else "")

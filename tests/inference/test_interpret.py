@@ -230,7 +230,7 @@ def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer
         renderer):
     box = make_box(Box((40, 30, 20)))
     low = AddSubPrism(TOP, ((-6, -5, 10), (2, -5, 10), (2, 3, 10), (-6, 3, 10)), 4.0, Mode.ADD)
-    tall = replace(low, d=25.0)
+    tall = replace(low, d=30.0)  # its top, slid back along the view onto f's plane, leaves f
     cam = view()
     for op, other in ((low, Mode.SUBTRACT), (tall, None)):
         pts, labels = sketch(box, op, cam)
