@@ -557,6 +557,7 @@ def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarra
             break
     return out
 
+
 def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
               predictor: Predictor, renderer: MapRenderer | None = None,
               options: InterpretOptions = InterpretOptions(),
