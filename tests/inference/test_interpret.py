@@ -136,7 +136,6 @@ def test_when_the_classifiers_choice_does_not_fit_the_next_operator_is_read(rend
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
 
 
-
 def test_a_prism_is_read_as_a_prism_however_sure_the_classifier_is_of_a_sweep(renderer):
     # the GUI check's triangular hole: the shipped classifier said sweep (p 0.996, prism
     # 0.003), and the sweep's ellipses lay 6.6 px from the strokes, the prism's 0.25 px
@@ -154,6 +153,7 @@ def test_a_prism_is_read_as_a_prism_however_sure_the_classifier_is_of_a_sweep(re
                     InterpretOptions(regularize=False, option=Mode.SUBTRACT))
     assert got.op_type is OperatorType.ADDSUB
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
+
 
 def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_found(renderer):
     box = make_box(Box((40, 30, 20)))
