@@ -84,8 +84,10 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
 
 def recovery(data, predictor, limit: int, oracle: bool = False,
              options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
-    """Recovery rate per operator (and per noise level) over the first `limit` samples,
-    and the median time of one interpret step (render + networks + fitting + B-rep).
+    """Recovery rate and mean volume IoU per operator (and the rate per noise level) over
+    the first `limit` samples, and the median time of one interpret step (render +
+    networks + fitting + B-rep). The IoU is the reading's, before any flip; a sketch that
+    is not read, or whose reading does not build, counts 0.
 
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
@@ -96,6 +98,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
     ds = Dataset(data)
     hits: dict[tuple[str, int], list[bool]] = {}
     flips: dict[str, list[tuple[bool, bool]]] = {}  # (offered, recovered with the flip)
+    ious: dict[str, list[float]] = {}
     times, reasons = [], {}
     reader = None if oracle else predictor
 
@@ -106,14 +109,15 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                 if bar.n >= limit:
                     break
                 context = replay(s.context)[-1]
-                other, flipped = None, False
+                other, flipped, iou = None, False, 0.0
                 try:
                     truth = apply_operation(context, s.operation)
                     got = read_step(s, context, reader, renderer, options)
                     other = got.other_option
                     if got.interpret_ms is not None:
                         times.append(got.interpret_ms)
-                    ok = volume_iou(got.solid, truth) >= RECOVERY_IOU
+                    iou = volume_iou(got.solid, truth)
+                    ok = iou >= RECOVERY_IOU
                     if other is not None and not ok:
                         flip = dataclasses.replace(options, option=other)
                         flipped = volume_iou(read_step(s, context, reader, renderer, flip).solid,
@@ -124,6 +128,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                     reasons[key] = reasons.get(key, 0) + 1
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
+                ious.setdefault(s.op_type.value, []).append(iou)
                 bar.update(1)
     per_op = {}
     for op in OperatorType:
@@ -131,6 +136,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
         fl = flips.get(op.value, [])
         per_op[op.value] = {"recovery_rate": float(np.mean(got)) if got else None,
                             "recovery_n": len(got),
+                            "mean_iou": float(np.mean(ious[op.value])) if got else None,
                             "recovery_rate_with_flip": float(np.mean([r for _, r in fl]))
                             if fl else None,
                             "other_option_share": float(np.mean([o for o, _ in fl]))

@@ -3,7 +3,7 @@
 import pytest
 
 from Sketch2CADWorkbench.cli import main
-from training.recovery import recovery
+from training.recovery import RECOVERY_IOU, recovery
 
 
 @pytest.fixture(scope="module")
@@ -22,6 +22,15 @@ def test_fitting_recovers_the_operation_from_ground_truth_segmentation(generated
     # the paper's fitting is exact up to stroke noise: most level-1 sketches come back
     assert recovered >= 12, r
     assert r["interpret_median_ms"] is None  # no networks ran: nothing end-to-end was timed
+
+
+def test_the_mean_volume_iou_is_reported_per_operator(generated):
+    r = recovery(generated, None, 16, oracle=True)["per_operator"]
+    for v in r.values():
+        if v["recovery_n"]:  # every recovered sample has an IoU of at least RECOVERY_IOU
+            assert RECOVERY_IOU * v["recovery_rate"] <= v["mean_iou"] <= 1.0, v
+        else:
+            assert v["mean_iou"] is None
 
 
 def test_recovery_limit_counts_samples(generated):
