@@ -84,10 +84,11 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
 
 def recovery(data, predictor, limit: int, oracle: bool = False,
              options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
-    """Recovery rate and mean volume IoU per operator (and the rate per noise level) over
-    the first `limit` samples, and the median time of one interpret step (render +
-    networks + fitting + B-rep). The IoU is the reading's, before any flip; a sketch that
-    is not read, or whose reading does not build, counts 0.
+    """Recovery rate and mean and median volume IoU per operator (and the rate per noise
+    level) over the first `limit` samples, and the median time of one interpret step
+    (render + networks + fitting + B-rep). The IoU is the reading's, before any flip; a
+    sketch that is not read, or whose reading does not build, counts 0. The median shows
+    how exact a typical reading is, which the rate (a threshold) does not.
 
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
@@ -137,6 +138,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
         per_op[op.value] = {"recovery_rate": float(np.mean(got)) if got else None,
                             "recovery_n": len(got),
                             "mean_iou": float(np.mean(ious[op.value])) if got else None,
+                            "median_iou": float(np.median(ious[op.value])) if got else None,
                             "recovery_rate_with_flip": float(np.mean([r for _, r in fl]))
                             if fl else None,
                             "other_option_share": float(np.mean([o for o, _ in fl]))

@@ -29,8 +29,9 @@ def test_the_mean_volume_iou_is_reported_per_operator(generated):
     for v in r.values():
         if v["recovery_n"]:  # every recovered sample has an IoU of at least RECOVERY_IOU
             assert RECOVERY_IOU * v["recovery_rate"] <= v["mean_iou"] <= 1.0, v
+            assert 0.0 <= v["median_iou"] <= 1.0
         else:
-            assert v["mean_iou"] is None
+            assert v["mean_iou"] is None and v["median_iou"] is None
 
 
 def test_recovery_limit_counts_samples(generated):
