@@ -64,7 +64,7 @@ def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
         task = ray.remote(num_cpus=1, max_retries=RETRIES)(make_shard)
         pending = {task.remote(str(settings.out.resolve()), settings.seed,
                                settings.noise_level, settings.hidden_lines, k, n,
-                               settings.shard_size): k
+                               settings.shard_size, settings.regular_share): k
                    for k, n in sorted(counts.items())}
         failed = []
         while pending:

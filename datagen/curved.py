@@ -46,7 +46,7 @@ from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import write_shard
 from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
-from .operations import DIAG, PRISM_D, SWEEP_D, random_polygon
+from .operations import DIAG, PRISM_D, SWEEP_D, random_polygon, straight_profile
 from .parallel import DatagenSettings, manifest_of
 from .sample import Sample
 from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
@@ -129,7 +129,7 @@ def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
     r1 = r0 if rng.random() < 0.6 else r0 * rng.uniform(0.5, 1.4)
     d = min(d, rng.uniform(*SWEEP_D) * DIAG) if mode is Mode.ADD else d
     return Sweep(f.ref, tuple(map(float, centre)), float(r0), float(r1), float(d),
-                 _straight(r0, r1, d), mode), f
+                 straight_profile(r0, r1, d), mode), f
 
 
 def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
@@ -142,12 +142,6 @@ def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
     return bool(points_on_face(f.face, on, 1e-6 * model_scale(f.face), boundary=False).all())
 
 
-def _straight(r0: float, r1: float, d: float) -> tuple[tuple[float, float], ...]:
-    """A sweep's inner control points for a straight profile (a cylinder or a cone)."""
-    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
-            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
-
-
 def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
     """A random sequence ending in an added straight sweep (a cylinder or a cone), and
     the curved faces of its final solid."""
@@ -158,7 +152,8 @@ def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
             if drawn is None:
                 break
             op = drawn.op
-            if op.mode is not Mode.ADD or not np.allclose(op.profile, _straight(op.r0, op.r1, op.d)):
+            if op.mode is not Mode.ADD or \
+                    not np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d)):
                 continue
             protocol = seq.protocol.append(op)
             stages = seq.stages + [drawn.result]
@@ -203,8 +198,9 @@ def write_curved_set(out: Path, count: int, seed: int, noise_level: int) -> int:
     sample i is a function of (seed, i). Returns the exit code."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    settings = DatagenSettings(out, count, seed, str(noise_level), 1, count)
-    manifest = manifest_of(settings)
+    settings = DatagenSettings(out, count, seed, str(noise_level), workers=1,
+                               shard_size=count)
+    manifest = manifest_of(settings, [0])
     manifest["curved"] = True
     renderer = MapRenderer()
     samples = [curved_sample(sample_rng(seed, i), noise_level, renderer)

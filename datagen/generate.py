@@ -91,24 +91,29 @@ def generate_sample(rng: np.random.Generator, noise_level: int,
 
 
 def generate_block(seed: int, block: int, noise_level: int, renderer: MapRenderer,
-                   size: int = IMAGE_SIZE, hidden_lines: bool = True) -> list[Sample]:
+                   size: int = IMAGE_SIZE, hidden_lines: bool = True,
+                   regular_share: float = 0.0) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
     They share one context of block % MAX_LENGTH operations, drawn from the block's own
     generator; sample i draws everything else from sample_rng(seed, i). Without
-    `hidden_lines` the strokes draw only what the view sees (`view_sample`).
+    `hidden_lines` the strokes draw only what the view sees (`view_sample`). Each
+    operation, of the context and last, is regular (datagen/regular.py) with
+    probability `regular_share`, decided by the generator that draws it.
     """
-    context = Context(sample_sequence(sample_rng(seed, block, stream=1), block % MAX_LENGTH))
+    context = Context(sample_sequence(sample_rng(seed, block, stream=1), block % MAX_LENGTH,
+                                      regular_share=regular_share))
     return [sample_on(context, sample_rng(seed, i), noise_level, renderer, size,
-                      hidden_lines=hidden_lines)
+                      hidden_lines=hidden_lines, regular_share=regular_share)
             for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)]
 
 
 def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
               renderer: MapRenderer, size: int = IMAGE_SIZE,
-              kind: OperatorType | None = None, hidden_lines: bool = True) -> Sample:
+              kind: OperatorType | None = None, hidden_lines: bool = True,
+              regular_share: float = 0.0) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
-    on `context`.
+    on `context`; every operation drawn is regular with probability `regular_share`.
 
     The type is drawn once; an operation with no informative view is replaced by another
     of the same type, and a context that admits none (or none with such a view after
@@ -117,9 +122,11 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
     kind = kind or draw_type(rng)
     tries = 0
     while True:
-        drawn = sample_operation(rng, context.stage, kind) if tries < OP_TRIES else None
+        drawn = sample_operation(rng, context.stage, kind, regular_share) \
+            if tries < OP_TRIES else None
         if drawn is None:
-            context = Context(sample_sequence(rng, len(context.protocol.operations)))
+            context = Context(sample_sequence(rng, len(context.protocol.operations),
+                                              regular_share=regular_share))
             tries = 0
             continue
         sample = view_sample(rng, context, drawn, noise_level, renderer, size, hidden_lines)

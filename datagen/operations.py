@@ -154,7 +154,7 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     shape = rng.random()
     r1 = r0 if shape < 0.4 else r0 * rng.uniform(0.4, 1.6)
     if shape < 0.6:
-        inner = ((r0 + (r1 - r0) / 3, d / 3), (r0 + 2 * (r1 - r0) / 3, 2 * d / 3))
+        inner = straight_profile(r0, r1, d)
     else:
         h = np.sort(rng.uniform(0.1, 0.9, 2)) * d
         on_line = r0 + (r1 - r0) * h / d
@@ -162,6 +162,12 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
     return Sweep(f.ref, tuple(map(float, c)), float(r0), float(r1), float(d),
                  tuple((float(a), float(b)) for a, b in inner), mode)
+
+
+def straight_profile(r0: float, r1: float, d: float) -> tuple[tuple[float, float], ...]:
+    """A sweep's inner control points for a straight profile (a cylinder or a cone)."""
+    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
+            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
 
 
 # ----------------------------------------------------------------- bevel

@@ -64,6 +64,17 @@ class DatagenSettings:
     preview: Path | None = None   # also write a contact sheet of the first samples
     ray: str | None = None        # a Ray cluster's address ("local": start one of
                                   # `workers` CPUs here); None: a process pool
+    regular_share: float = 0.0    # share of operations drawn regular (datagen/regular.py)
+
+
+@dataclass(frozen=True)
+class BlockJob:
+    """One block of samples to make (`make_block`): which, and how they are drawn."""
+    seed: int
+    block: int
+    noise: str                  # one of NOISE_CHOICES
+    hidden: str                 # one of HIDDEN_CHOICES
+    regular_share: float = 0.0
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -82,18 +93,19 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
     levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
     return {"format": FORMAT, "version": VERSION, "count": settings.count, "seed": settings.seed,
             "noise": settings.noise_level, "noise_levels": levels,
-            "hidden_lines": settings.hidden_lines, "image_size": IMAGE_SIZE,
+            "hidden_lines": settings.hidden_lines, "regular_share": settings.regular_share,
+            "image_size": IMAGE_SIZE,
             "shard_size": settings.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
             "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)],
             "complete": sorted(complete)}
 
 
-def shard_jobs(seed: int, noise: str, hidden: str, k: int, count: int, shard_size: int
-               ) -> list[tuple[int, int, str, str]]:
+def shard_jobs(seed: int, noise: str, hidden: str, k: int, count: int, shard_size: int,
+               regular_share: float = 0.0) -> list[BlockJob]:
     """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
     first = k * shard_size // PER_CONTEXT
-    return [(seed, b, noise, hidden) for b in range(first, first + (count + PER_CONTEXT - 1)
-                                               // PER_CONTEXT)]
+    return [BlockJob(seed, b, noise, hidden, regular_share)
+            for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)]
 
 
 # The worker's renderer: one offscreen window per process, made once.
@@ -105,21 +117,23 @@ def _init_worker() -> None:
     _RENDERER = MapRenderer()
 
 
-def make_block(job: tuple[int, int, str, str]) -> list[Record]:
-    """The packed samples of block `job` = (seed, block, noise, hidden lines)."""
-    seed, block, noise, hidden = job
+def make_block(job: BlockJob) -> list[Record]:
+    """The packed samples of block `job`."""
     if _RENDERER is None:
         _init_worker()
-    return [pack(s) for s in generate_block(seed, block, noise_of_block(noise, block),
+    b = job.block
+    return [pack(s) for s in generate_block(job.seed, b, noise_of_block(job.noise, b),
                                             _RENDERER,
-                                            hidden_lines=hidden_lines_of_block(hidden, block))]
+                                            hidden_lines=hidden_lines_of_block(job.hidden, b),
+                                            regular_share=job.regular_share)]
 
 
 def make_shard(out: str, seed: int, noise: str, hidden: str, k: int, count: int,
-               shard_size: int) -> int:
+               shard_size: int, regular_share: float = 0.0) -> int:
     """Make and write shard k of data set `seed` (count samples; the unit of work of a
     cluster); returns k. The same bytes as the process pool writes."""
-    records = [r for job in shard_jobs(seed, noise, hidden, k, count, shard_size)
+    records = [r for job in shard_jobs(seed, noise, hidden, k, count, shard_size,
+                                       regular_share)
                for r in make_block(job)]
     write_shard(Path(out), k, records[:count])
     return k
@@ -162,6 +176,8 @@ def generate_dataset(settings: DatagenSettings) -> int:
         return _error(f"--shard-size must be a positive multiple of {PER_CONTEXT}")
     if settings.workers <= 0:
         return _error("--workers must be positive")
+    if not 0.0 <= settings.regular_share <= 1.0:
+        return _error(f"--regular-share must be between 0 and 1, got {settings.regular_share}")
     if settings.ray is not None:
         from .cluster import require_ray  # Ray is an optional extra
         try:
@@ -174,12 +190,14 @@ def generate_dataset(settings: DatagenSettings) -> int:
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
-        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines")
+        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines",
+                "regular_share")
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
+        old.setdefault("regular_share", 0.0)    # ... and before regular samples
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
             return _error(f"{out} holds a different data set (version/count/seed/noise/shard "
-                          f"size/hidden lines {'/'.join(str(old.get(k)) for k in keys)}); use "
-                          "another --out")
+                          f"size/hidden lines/regular share "
+                          f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out")
 
     size = settings.shard_size
     n_shards = len(manifest["shards"])
@@ -210,7 +228,8 @@ def generate_dataset(settings: DatagenSettings) -> int:
         else:
             jobs = [job for k in todo
                     for job in shard_jobs(settings.seed, settings.noise_level,
-                                          settings.hidden_lines, k, counts[k], size)]
+                                          settings.hidden_lines, k, counts[k], size,
+                                          settings.regular_share)]
             if settings.workers == 1:
                 _collect(map(make_block, jobs), todo, counts, out, bar, done)
             else:
@@ -231,6 +250,8 @@ def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tq
              done=lambda k: None) -> None:
     """Gather blocks (in job order) into the shards `todo`, write each when full and
     call done(k)."""
+    if not todo:  # a finished set run again: nothing to make
+        return
     shards = iter(todo)
     k, records = next(shards), []
     for block in blocks:

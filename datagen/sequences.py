@@ -12,6 +12,11 @@ An operation is drawn on a random planar face of the current solid and rejected,
 drawn again, when it cannot be built (OperationError: the result would be empty, fall
 apart, or be invalid) or when it changes the solid's volume by less than
 MIN_VOLUME_CHANGE. Everything is a function of the numpy Generator passed in.
+
+With a `regular_share` P > 0, each operation is regular with probability P (drawn once
+per operation from that generator, before its face): its parameters are then set as a
+designer sets them (datagen/regular.py). P = 0 draws nothing for it, so the data is
+the same as without the option.
 """
 from __future__ import annotations
 
@@ -25,6 +30,7 @@ from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol, per_operator
 
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
+from .regular import REGULAR_SAMPLERS
 
 LAST_OP_WEIGHTS = per_operator({OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1,
                                 OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
@@ -97,17 +103,26 @@ class Drawn:
     result: Stage
 
 
-def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType
-                     ) -> Drawn | None:
+def is_regular(rng: np.random.Generator, regular_share: float) -> bool:
+    """Whether the next operation is regular: with probability `regular_share`, and
+    without drawing from `rng` when it is 0 (the data stays what it was before the
+    option)."""
+    return regular_share > 0 and bool(rng.random() < regular_share)
+
+
+def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
+                     regular_share: float = 0.0) -> Drawn | None:
     """An operation of type `kind` on a random planar face that builds and changes the
     volume by at least MIN_VOLUME_CHANGE; None when TRIES draws all fail (this solid
-    admits no such operation)."""
+    admits no such operation). It is regular (datagen/regular.py) with probability
+    `regular_share`, decided once, so that retries keep the share."""
     if not stage.faces:
         return None
+    samplers = REGULAR_SAMPLERS if is_regular(rng, regular_share) else SAMPLERS
     least = MIN_VOLUME_CHANGE * stage.volume
     for _ in range(TRIES):
         face = stage.faces[int(rng.integers(len(stage.faces)))]
-        op = SAMPLERS[kind](rng, stage.solid, face)
+        op = samplers[kind](rng, stage.solid, face)
         if op is None or change_bound(op, face) < least:
             continue  # rejected before paying for the Boolean
         try:
@@ -121,13 +136,13 @@ def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType
 
 
 def sample_sequence(rng: np.random.Generator, length: int,
-                    last: OperatorType | None = None) -> Sequence:
+                    last: OperatorType | None = None, regular_share: float = 0.0) -> Sequence:
     """A protocol of `length` (0 to 4) operations on a random box.
 
     The last operation has type `last`, or one drawn 1:1:4:2 when None; it is drawn
     once, before any retry, so that types which fail more often keep their share.
     Earlier operations are of any type. A sequence that gets stuck starts over from a
-    new box.
+    new box. Each operation is regular with probability `regular_share`.
     """
     if length == 0:
         box = random_box(rng)
@@ -139,7 +154,7 @@ def sample_sequence(rng: np.random.Generator, length: int,
         ops: list[Operation] = []
         for i in range(length):
             kind = last if i == length - 1 else draw_type(rng, EARLIER_OP_WEIGHTS)
-            got = sample_operation(rng, stages[-1], kind)
+            got = sample_operation(rng, stages[-1], kind, regular_share)
             if got is None:
                 break
             ops.append(got.op)

@@ -33,12 +33,13 @@ PAPER_SCALE = 400_000
 def bench(count: int, workers: int, seed: int, shard_size: int = 256) -> tuple[float, float]:
     """(start-up seconds, steady samples per second) of `workers` processes."""
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
-    jobs = [(seed, b, "1", "draw") for b in range(blocks)]
+    jobs = [parallel.BlockJob(seed, b, "1", "draw") for b in range(blocks)]
     shards = list(range((blocks * PER_CONTEXT + shard_size - 1) // shard_size))
     counts = {k: min(shard_size, blocks * PER_CONTEXT - k * shard_size) for k in shards}
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp, parallel.start_pool(workers) as pool:
-        pool.map(parallel.make_block, [(seed + 1, b, "1", "draw") for b in range(workers)],
+        pool.map(parallel.make_block,
+                 [parallel.BlockJob(seed + 1, b, "1", "draw") for b in range(workers)],
                  chunksize=1)
         ready = time.perf_counter()
         with tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
@@ -61,11 +62,11 @@ def profile(count: int, seed: int) -> None:
 
 def _cpu_seconds(count: int, seed: int) -> tuple[int, float, float]:
     """(samples, CPU s, wall s) of `count` samples in this process, after a warm-up block."""
-    parallel.make_block((seed + 1, 0, "1", "draw"))
+    parallel.make_block(parallel.BlockJob(seed + 1, 0, "1", "draw"))
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
     cpu, wall = time.process_time(), time.perf_counter()
     for block in range(blocks):
-        parallel.make_block((seed, block, "1", "draw"))
+        parallel.make_block(parallel.BlockJob(seed, block, "1", "draw"))
     return blocks * PER_CONTEXT, time.process_time() - cpu, time.perf_counter() - wall
 
 

@@ -110,8 +110,11 @@ def a_boss_draws_it(context: cq.Shape, sample) -> bool:
 
 def recovery(data, predictor, limit: int, oracle: bool = False,
              options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
-    """Recovery rate per operator (and per noise level) over the first `limit` samples,
-    and the median time of one interpret step (render + networks + fitting + B-rep).
+    """Recovery rate and mean and median volume IoU per operator (and the rate per noise
+    level) over the first `limit` samples, and the median time of one interpret step
+    (render + networks + fitting + B-rep). The IoU is the reading's, before any flip; a
+    sketch that is not read, or whose reading does not build, counts 0. The median shows
+    how exact a typical reading is, which the rate (a threshold) does not.
 
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
@@ -123,6 +126,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
     hits: dict[tuple[str, int], list[bool]] = {}
     flips: dict[str, list[tuple[bool, bool]]] = {}  # (offered, recovered with the flip)
     beyond: dict[str, list[bool]] = {}  # a hole a boss draws: beyond a strict reading
+    ious: dict[str, list[float]] = {}
     times, reasons = [], {}
     reader = None if oracle else predictor
 
@@ -133,14 +137,15 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                 if bar.n >= limit:
                     break
                 context = replay(s.context)[-1]
-                other, flipped = None, False
+                other, flipped, iou = None, False, 0.0
                 try:
                     truth = apply_operation(context, s.operation)
                     got = read_step(s, context, reader, renderer, options)
                     other = got.other_option
                     if got.interpret_ms is not None:
                         times.append(got.interpret_ms)
-                    ok = volume_iou(got.solid, truth) >= RECOVERY_IOU
+                    iou = volume_iou(got.solid, truth)
+                    ok = iou >= RECOVERY_IOU
                     if other is not None and not ok:
                         flip = dataclasses.replace(options, option=other)
                         flipped = volume_iou(read_step(s, context, reader, renderer, flip).solid,
@@ -152,6 +157,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
                 beyond.setdefault(s.op_type.value, []).append(a_boss_draws_it(context, s))
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
+                ious.setdefault(s.op_type.value, []).append(iou)
                 bar.update(1)
     per_op = {}
     for op in OperatorType:
@@ -159,6 +165,8 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
         fl = flips.get(op.value, [])
         per_op[op.value] = {"recovery_rate": float(np.mean(got)) if got else None,
                             "recovery_n": len(got),
+                            "mean_iou": float(np.mean(ious[op.value])) if got else None,
+                            "median_iou": float(np.median(ious[op.value])) if got else None,
                             "recovery_rate_with_flip": float(np.mean([r for _, r in fl]))
                             if fl else None,
                             "other_option_share": float(np.mean([o for o, _ in fl]))

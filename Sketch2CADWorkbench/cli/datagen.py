@@ -4,8 +4,10 @@
 resumable (datagen/parallel.py).
 
 `sketch2cad datagen --out DIR --count N [--seed S] [--noise-level 1|2|3|mix]
-[--hidden-lines draw|omit|mix] [--workers W] [--ray [ADDRESS]]`: with --ray, one Ray task
-per shard (datagen/cluster.py), on a local cluster of W CPUs or on the cluster at ADDRESS.
+[--hidden-lines draw|omit|mix] [--regular-share P] [--workers W] [--ray [ADDRESS]]`: with
+--ray, one Ray task per shard (datagen/cluster.py), on a local cluster of W CPUs or on the
+cluster at ADDRESS. `--regular-share P`: that share of the operations take a designer's
+regular parameters (datagen/regular.py).
 `--curved`: a held-out set whose operations stand on curved faces (datagen/curved.py).
 """
 from __future__ import annotations
@@ -35,6 +37,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="draw the lines the view hides (the paper's sketches), leave them out "
                         "as a designer drawing what is seen does, or mix (they take turns per "
                         "context); default draw")
+    p.add_argument("--regular-share", type=float, default=0.0, metavar="P",
+                   help="share (0 to 1) of the operations drawn with a designer's regular "
+                        "parameters: lengths on a 1 mm grid or equal to earlier ones, "
+                        "features centred or on centre lines or concentric, outlines "
+                        "aligned with the face's edges (datagen/regular.py); default 0")
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
                    help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
@@ -55,12 +62,13 @@ def run(args: argparse.Namespace) -> int:
             print("sketch2cad datagen: error: --curved needs --noise-level 1, 2 or 3 and a "
                   "positive --count", file=sys.stderr)
             return 2
-        if args.ray is not None or args.hidden_lines != "draw":
+        if args.ray is not None or args.hidden_lines != "draw" or args.regular_share:
             print("sketch2cad datagen: error: --curved makes its set in one process with "
-                  "every line drawn: leave out --ray and --hidden-lines", file=sys.stderr)
+                  "every line drawn and random parameters: leave out --ray, --hidden-lines "
+                  "and --regular-share", file=sys.stderr)
             return 2
         from datagen.curved import write_curved_set
         return write_curved_set(args.out, args.count, args.seed, int(args.noise_level))
     return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
                                             args.hidden_lines, args.workers, args.shard_size,
-                                            args.preview, args.ray))
+                                            args.preview, args.ray, args.regular_share))

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from datagen.dataset import Dataset
+from datagen.parallel import make_shard
 from Sketch2CADWorkbench.cli import main
 
 ARGS = ["--count", "14", "--seed", "3", "--shard-size", "8"]  # shards of 8 and 6 samples
@@ -65,5 +66,35 @@ def test_the_manifest_describes_the_set(one_worker):
     ds = Dataset(one_worker)
     m = ds.manifest
     assert (m["count"], m["seed"], m["noise"], m["noise_levels"]) == (14, 3, "1", [1])
-    assert m["hidden_lines"] == "draw"
+    assert m["hidden_lines"] == "draw" and m["regular_share"] == 0.0
     assert m["image_size"] == 256 and m["shards"] == ["shard-00000.npz", "shard-00001.npz"]
+
+
+def test_a_regular_share_of_0_makes_the_same_bytes_as_no_option(one_worker, tmp_path):
+    assert datagen("--out", tmp_path, *ARGS, "--regular-share", 0, "--workers", 1) == 0
+    _same_shards(one_worker, tmp_path)
+
+
+def test_the_manifest_records_the_regular_share_and_a_resume_must_match(tmp_path, capsys):
+    args = ["--count", 4, "--seed", 3, "--shard-size", 4, "--workers", 1]
+    assert datagen("--out", tmp_path, *args, "--regular-share", 0.5) == 0
+    assert Dataset(tmp_path).manifest["regular_share"] == 0.5
+    assert datagen("--out", tmp_path, *args) == 2
+    assert "holds a different data set" in capsys.readouterr().err
+    assert datagen("--out", tmp_path, *args, "--regular-share", 0.5) == 0  # same: resumes
+    assert datagen("--out", tmp_path / "bad", *args, "--regular-share", 1.5) == 2
+    assert "--regular-share must be between 0 and 1, got 1.5" in capsys.readouterr().err
+
+
+def test_a_cluster_shard_carries_the_regular_share(tmp_path):
+    pool, task = tmp_path / "pool", tmp_path / "task"
+    assert datagen("--out", pool, "--count", 4, "--seed", 3, "--shard-size", 4,
+                   "--regular-share", 1, "--workers", 1) == 0
+    task.mkdir()
+    assert make_shard(str(task), 3, "1", "draw", 0, 4, 4, regular_share=1.0) == 0
+    _same_shards(pool, task, shards=(0,))
+
+
+def test_curved_sets_refuse_a_regular_share(tmp_path, capsys):
+    assert datagen("--out", tmp_path, "--count", 2, "--curved", "--regular-share", 0.5) == 2
+    assert "--regular-share" in capsys.readouterr().err

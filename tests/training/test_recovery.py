@@ -8,7 +8,7 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
 from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.render.frustum import fit_camera
-from training.recovery import a_boss_draws_it, recovery
+from training.recovery import RECOVERY_IOU, a_boss_draws_it, recovery
 
 
 @pytest.fixture(scope="module")
@@ -27,6 +27,16 @@ def test_fitting_recovers_the_operation_from_ground_truth_segmentation(generated
     # the paper's fitting is exact up to stroke noise: most level-1 sketches come back
     assert recovered >= 12, r
     assert r["interpret_median_ms"] is None  # no networks ran: nothing end-to-end was timed
+
+
+def test_the_mean_volume_iou_is_reported_per_operator(generated):
+    r = recovery(generated, None, 16, oracle=True)["per_operator"]
+    for v in r.values():
+        if v["recovery_n"]:  # every recovered sample has an IoU of at least RECOVERY_IOU
+            assert RECOVERY_IOU * v["recovery_rate"] <= v["mean_iou"] <= 1.0, v
+            assert 0.0 <= v["median_iou"] <= 1.0
+        else:
+            assert v["mean_iou"] is None and v["median_iou"] is None
 
 
 def test_recovery_limit_counts_samples(generated):
