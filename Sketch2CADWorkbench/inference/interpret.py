@@ -34,10 +34,12 @@ from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
 MAX_STROKES, MAX_POINTS = 200, 20000
 MIN_SPAN_PX = 3.0  # strokes spanning less are a dot, not edges
 # A reading is flagged as doubtful when a measure of SketchFit passes its threshold
-# here (context pixels): each the 99.5% quantile of held-out level-1 sketches (datagen
-# seed 30001, scripts/misfit_threshold.py; figures on another seed in docs/NOTES.md: with
-# the operators searched by reprojection, stop 21, it flags 1.0% of 400 such sketches).
-DOUBT = {"misfit_px": 7.7, "sketch_off_px": 7.7}
+# here (context pixels): the strokes' mean distance to the reading's own sketch, or the
+# sketch's to the strokes (their mean, misfit_px, then passes neither): each the 99.5%
+# quantile of held-out level-1 sketches, rounded up (datagen seed 30001, 7.61 and 7.67 px
+# with stop 21's operator search; scripts/misfit_threshold.py). On another seed it flags
+# 1.0% of 400 such sketches (docs/NOTES.md, stop 21).
+DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7}
 # A sample of the strokes or of the sketch farther than this (context pixels) from the
 # other is not explained by it.
 EXPLAINED_PX = 4.0
