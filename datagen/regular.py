@@ -28,7 +28,7 @@ import cadquery as cq
 import numpy as np
 
 from Sketch2CADWorkbench.brep.corners import bevel_corners
-from Sketch2CADWorkbench.brep.faces import inside_face
+from Sketch2CADWorkbench.brep.faces import FaceFrame, inside_face
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -39,8 +39,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
     per_operator,
 )
-from Sketch2CADWorkbench.inference.fitting.common import FaceFrame
-from Sketch2CADWorkbench.inference.fitting.regularize import SnapTargets, snap_targets
+from Sketch2CADWorkbench.brep.snap_targets import SnapTargets, snap_targets
 
 from .operations import (
     BEVEL_SPAN,
@@ -107,7 +106,7 @@ def regular_centre(rng: np.random.Generator, face: cq.Face, frame: FaceFrame,
 
 
 def _setting(f: PlanarFace, solid: cq.Shape) -> tuple[FaceFrame, SnapTargets]:
-    """f's frame and what the snapping would snap to on it (regularize.snap_targets)."""
+    """f's frame and what the snapping would snap to on it (brep.snap_targets)."""
     frame = FaceFrame.of(f.face)
     return frame, snap_targets(solid, f.face, frame)
 

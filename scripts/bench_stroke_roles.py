@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.faces import FaceFrame, resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef
-from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import (
     PRISM_CHORD_TOLERANCES,
     normal_image,

@@ -16,6 +16,7 @@ from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
+from .geometry import plane_basis
 from .protocol import FaceRef, OperationError, Surface  # OperationError is imported from here too
 
 # Normals within this angle (cosine) are taken as the same direction.
@@ -23,6 +24,29 @@ NORMAL_COS_TOL = 1.0 - 1e-6
 # OCCT's names of the surfaces a base face may lie on.
 GEOM_TYPES = {Surface.PLANE: "PLANE", Surface.CYLINDER: "CYLINDER", Surface.CONE: "CONE"}
 CURVED_GEOM_TYPES = (GEOM_TYPES[Surface.CYLINDER], GEOM_TYPES[Surface.CONE])
+
+
+@dataclass(frozen=True)
+class FaceFrame:
+    """A planar face's plane: origin (on the plane), outward unit normal n, in-plane u, v."""
+
+    origin: np.ndarray
+    normal: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+
+    @staticmethod
+    def of(face: cq.Face) -> "FaceFrame":
+        n = np.array(face.normalAt().toTuple())
+        return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
+
+    def to_2d(self, pts: np.ndarray) -> np.ndarray:
+        q = np.atleast_2d(pts) - self.origin
+        return np.stack([q @ self.u, q @ self.v], axis=1)
+
+    def to_3d(self, q: np.ndarray) -> np.ndarray:
+        q = np.atleast_2d(q)
+        return self.origin + q[:, :1] * self.u + q[:, 1:2] * self.v
 
 
 def is_curved(face: cq.Face) -> bool:

@@ -6,10 +6,10 @@ import pytest
 
 from datagen.regular import GRID, on_grid
 from datagen.sequences import Stage, is_regular, sample_operation, sample_sequence
+from Sketch2CADWorkbench.brep.faces import FaceFrame
 from Sketch2CADWorkbench.brep.operators import make_box, replay
 from Sketch2CADWorkbench.brep.protocol import Box, OperatorType
-from Sketch2CADWorkbench.inference.fitting.common import FaceFrame
-from Sketch2CADWorkbench.inference.fitting.regularize import snap_targets
+from Sketch2CADWorkbench.brep.snap_targets import snap_targets
 
 TOL = 1e-6
 

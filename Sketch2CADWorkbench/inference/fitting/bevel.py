@@ -6,10 +6,10 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.corners import crease_end, line_edges
-from ...brep.faces import face_ref_of, model_scale
+from ...brep.faces import FaceFrame, face_ref_of, model_scale
 from ...brep.protocol import Bevel
 from ...render.camera import OrthoCamera
-from .common import FaceFrame, FitError, fit_bezier, resample
+from .common import FitError, fit_bezier, resample
 
 # How far (relative to the model diagonal) a profile end may lie from an edge of f.
 EDGE_TOL = 0.08

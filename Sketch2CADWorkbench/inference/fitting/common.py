@@ -6,41 +6,17 @@ All 2D quantities are in the context camera's pixels (render/camera.py conventio
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 
 import cadquery as cq
 import cv2
 import numpy as np
 
-from ...brep.geometry import arc_lengths, bezier, plane_basis, resample_every
+from ...brep.geometry import arc_lengths, bezier, resample_every
 from ...render.camera import OrthoCamera
 
 
 class FitError(ValueError):
     """The strokes do not describe an operation on this model; the message says why."""
-
-
-@dataclass(frozen=True)
-class FaceFrame:
-    """A planar face's plane: origin (on the plane), outward unit normal n, in-plane u, v."""
-
-    origin: np.ndarray
-    normal: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
-
-    @staticmethod
-    def of(face: cq.Face) -> "FaceFrame":
-        n = np.array(face.normalAt().toTuple())
-        return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
-
-    def to_2d(self, pts: np.ndarray) -> np.ndarray:
-        q = np.atleast_2d(pts) - self.origin
-        return np.stack([q @ self.u, q @ self.v], axis=1)
-
-    def to_3d(self, q: np.ndarray) -> np.ndarray:
-        q = np.atleast_2d(q)
-        return self.origin + q[:, :1] * self.u + q[:, 1:2] * self.v
 
 
 def resample(polyline: np.ndarray, step: float = 1.0) -> np.ndarray:

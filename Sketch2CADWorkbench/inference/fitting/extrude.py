@@ -5,12 +5,11 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import face_ref_of, model_scale
+from ...brep.faces import FaceFrame, face_ref_of, model_scale
 from ...brep.protocol import Extrude
 from ...render.camera import OrthoCamera
 from .common import (
     DistanceField,
-    FaceFrame,
     FitError,
     edge_samples,
     line_search,

@@ -6,10 +6,10 @@ import cadquery as cq
 import numpy as np
 from matplotlib.path import Path as MplPath
 
-from ...brep.faces import points_on_face
+from ...brep.faces import FaceFrame, points_on_face
 from ...brep.protocol import AddSubPrism, Mode, Sweep
 from ...render.camera import OrthoCamera
-from .common import FaceFrame, FitError
+from .common import FitError
 
 # Fraction of a back-projected outline's samples on f for it to lie on f; below it, an
 # outline that is mostly on f still decides when the other one is less so.

@@ -12,9 +12,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ...brep.faces import FaceFrame
 from ...render.camera import OrthoCamera
 from ...sketch.labels import END, PROFILE, START
-from .common import FaceFrame, FitError, resample
+from .common import FitError, resample
 
 # Largest angle (degrees) between a profile stroke's chord and n_f's image: a prism's
 # side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).

@@ -16,6 +16,7 @@ import numpy as np
 
 from ...brep.faces import (
     CurvedSurface,
+    FaceFrame,
     face_ref_at,
     face_ref_of,
     is_curved,
@@ -25,7 +26,7 @@ from ...brep.faces import (
 from ...brep.geometry import plane_basis
 from ...brep.protocol import FaceRef
 from ...render.camera import OrthoCamera
-from .common import FaceFrame, FitError
+from .common import FitError
 
 # Samples per model diagonal along a view ray when looking for the surface.
 RAY_STEPS = 2001

@@ -8,10 +8,10 @@ import cadquery as cq
 import cv2
 import numpy as np
 
-from ...brep.faces import model_scale
+from ...brep.faces import FaceFrame, model_scale
 from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
-from .common import FaceFrame, FitError, fit_bezier, resample
+from .common import FitError, fit_bezier, resample
 from .primitive import choose_option
 from .surface import back_project, face_frame, face_ref
 

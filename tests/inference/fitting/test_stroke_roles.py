@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.faces import FaceFrame, resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.inference.fitting.common import FaceFrame, FitError
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting import stroke_roles as stroke_roles_module
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera
