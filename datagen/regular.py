@@ -39,7 +39,12 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
     per_operator,
 )
-from Sketch2CADWorkbench.brep.snap_targets import SnapTargets, snap_targets
+from Sketch2CADWorkbench.brep.snap_targets import (
+    CENTRE_LINE,
+    ROUND_AXIS,
+    SnapTargets,
+    snap_targets,
+)
 
 from .operations import (
     BEVEL_SPAN,
@@ -87,13 +92,13 @@ def regular_centre(rng: np.random.Generator, face: cq.Face, frame: FaceFrame,
     feature's axis, on f's centre, or on one of f's centre lines at a whole number of
     GRID steps from it; at least `margin` mm inside f (None when the drawn place is not).
     """
-    axes = [p for p, name in targets.points if name == "the axis of an earlier round feature"]
+    axes = [p for p, name in targets.points if name == ROUND_AXIS]
     if axes and rng.random() < CONCENTRIC:
         c = axes[int(rng.integers(len(axes)))]
     elif rng.random() < ON_CENTRE:
         c = targets.origin
     else:
-        lines = [d for _, d, name in targets.lines if name == "the face's centre line"] \
+        lines = [d for _, d, name in targets.lines if name == CENTRE_LINE] \
             or list(targets.axes)
         d = lines[int(rng.integers(len(lines)))]
         t = GRID * round(rng.uniform(-0.35, 0.35) * face_size(face) / GRID)

@@ -11,6 +11,11 @@ import numpy as np
 
 from .faces import FaceFrame
 
+# Target names that callers pick targets by (the snap messages show every name).
+FACE_EDGE = "a face edge"
+CENTRE_LINE = "the face's centre line"
+ROUND_AXIS = "the axis of an earlier round feature"
+
 
 @dataclass(frozen=True)
 class SnapTargets:
@@ -47,8 +52,8 @@ def snap_targets(solid: cq.Shape, face: cq.Face, frame: FaceFrame) -> SnapTarget
             if np.linalg.norm(b - a) > 0:
                 d = (b - a) / np.linalg.norm(b - a)
                 points.append(((a + b) / 2, "the midpoint of a face edge"))
-                lines.append((a, d, "a face edge"))
-                lines.append((centre, d, "the face's centre line"))
+                lines.append((a, d, FACE_EDGE))
+                lines.append((centre, d, CENTRE_LINE))
     points += [(p, "a corner of the face")
                for p in frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))]
     sizes, radii = [], []
@@ -58,7 +63,7 @@ def snap_targets(solid: cq.Shape, face: cq.Face, frame: FaceFrame) -> SnapTarget
             c, axis, r = _circle(e)
             radii.append((r, f"an earlier radius ({r:.4g} mm)"))
             if abs(abs(axis @ n) - 1) < 1e-6:
-                points.append((frame.to_2d(c)[0], "the axis of an earlier round feature"))
+                points.append((frame.to_2d(c)[0], ROUND_AXIS))
         elif kind == "LINE":  # seams of round faces too: their length is a sweep's d
             length = float(e.Length())
             sizes.append((length, f"an earlier length ({length:.4g} mm)"))
@@ -74,6 +79,6 @@ def snap_targets(solid: cq.Shape, face: cq.Face, frame: FaceFrame) -> SnapTarget
             points += [(a, "a vertex of the model"), (b, "a vertex of the model")]
             if abs((q - p) @ n) < 1e-6 * np.linalg.norm(q - p) and np.linalg.norm(b - a) > 0:
                 lines.append((a, (b - a) / np.linalg.norm(b - a), "an edge of the model"))
-    first = next((d for _, d, name in lines if name == "a face edge"), np.array([1.0, 0.0]))
+    first = next((d for _, d, name in lines if name == FACE_EDGE), np.array([1.0, 0.0]))
     return SnapTargets(points, lines, sizes, radii, centre,
                        (first, np.array([-first[1], first[0]])))

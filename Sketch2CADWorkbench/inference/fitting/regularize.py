@@ -23,7 +23,7 @@ import numpy as np
 
 from ...brep.faces import FaceFrame
 from ...brep.protocol import AddSubPrism, Bevel, Extrude, Operation, OperatorType, Sweep, per_operator
-from ...brep.snap_targets import SnapTargets, snap_targets
+from ...brep.snap_targets import FACE_EDGE, SnapTargets, snap_targets
 from ...render.camera import OrthoCamera
 
 ANGLE_TOL_DEG = 20.0
@@ -298,7 +298,7 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
     thresholds), snap a rectangle's sides, then its position, then d."""
     frame = s.frame
     poly = frame.to_2d(np.array(op.polygon, float))
-    edge_dirs = np.array([d for _, d, nm in targets.lines if nm == "a face edge"]).reshape(-1, 2)
+    edge_dirs = np.array([d for _, d, nm in targets.lines if nm == FACE_EDGE]).reshape(-1, 2)
     for key, rectify in (("shape", equalize), ("align", lambda p: align_to_edges(p, edge_dirs))):
         if key not in s.skip:
             new = rectify(poly)
