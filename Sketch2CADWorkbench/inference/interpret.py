@@ -71,15 +71,19 @@ GOOD_FIT_PX = 3.0
 # Operators, like faces, are one search: the most probable operator that fits is read
 # first, and when its reading lies over GOOD_FIT_PX from the strokes the others are read
 # too, in the order of their probability p. Another operator's reading replaces it only
-# when it reads the strokes within GOOD_FIT_PX and the classifier gives it at least
-# OVERRULE_PROB (a clear fit, not the better of two poor ones: thirty random short strokes
-# fit some prism to 3-5 px), and then only if its reprojection error plus PRIOR_PX per
-# decade of doubt (-log10 p) is the lower. A triangle whose edges are all drawn is a prism
-# however sure the classifier is of a sweep (p 0.003 against 0.996). PRIOR_PX is not
-# tuned: a decade of doubt weighs about a level-1 hand's error (median misfit 1.4 px);
-# figures in docs/NOTES.md (stop 21).
+# when the classifier gives it at least OVERRULE_PROB and it reads the strokes within
+# GOOD_FIT_PX (a clear fit, not the better of two poor ones: thirty random short strokes
+# fit some prism to 3-5 px), and then only if its score, its reprojection error plus
+# PRIOR_PX per decade of doubt (-log10 p), is the lower. When the reading it would replace
+# is doubtful (SketchFit), a score within RESCUE_SCORE_PX is enough: a fit just past
+# GOOD_FIT_PX that the classifier finds likely (a level-3 extrusion at 3.4 px, p 0.5,
+# over a sweep at 53 px), where the prisms thirty random strokes fit score 4.4-8.8. A
+# triangle whose edges are all drawn is a prism however sure the classifier is of a sweep
+# (p 0.003 against 0.996). PRIOR_PX is not tuned: a decade of doubt weighs about a
+# level-1 hand's error (median misfit 1.4 px); figures in docs/NOTES.md (stops 21, 22).
 PRIOR_PX = 1.0
 OVERRULE_PROB = 1e-3
+RESCUE_SCORE_PX = GOOD_FIT_PX + PRIOR_PX  # a good fit with one decade of doubt
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
 
@@ -235,6 +239,11 @@ class Reading:
     def error(self) -> float:
         """Symmetric mean distance (pixels), `verify.reprojection_error`."""
         return 0.5 * (float(self.distances[0].mean()) + float(self.distances[1].mean()))
+
+    @property
+    def doubtful(self) -> bool:
+        """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
+        return SketchFit.of_distances(*self.distances, 1.0).doubtful
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -527,17 +536,16 @@ def check_sketch(strokes: list[np.ndarray]) -> None:
 
 def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarray,
                     predictor: Predictor, ctx: Context, options: InterpretOptions,
-                    times: dict[str, float], errors: list[str], first: bool
-                    ) -> list[tuple[float, OperatorType, Reading]]:
+                    times: dict[str, float], errors: list[str],
+                    read: list[tuple[float, OperatorType, Reading]]) -> None:
     """Read the operators of `order` (taken from it) until one reads the strokes within
-    GOOD_FIT_PX: (score, operator, reading) for the first that fits (when `first`) and
-    for any later one that may replace it (see OVERRULE_PROB), the score its reprojection
-    error plus PRIOR_PX per decade of the classifier's doubt. Why the others did not fit
-    goes to `errors`; seconds spent go to `times`."""
-    out = []
+    GOOD_FIT_PX, adding (score, operator, reading) to `read`: the first reading when `read`
+    is empty, and any later one that may replace the best there (see OVERRULE_PROB), the
+    score its reprojection error plus PRIOR_PX per decade of the classifier's doubt. Why
+    the others did not fit goes to `errors`; seconds spent go to `times`."""
     while order:
         p = float(probs[CLASSES.index(order[0])])
-        if not first and p < OVERRULE_PROB:
+        if read and p < OVERRULE_PROB:
             break  # the rest are less probable still
         kind = order.pop(0)
         ta = time.perf_counter()
@@ -552,12 +560,12 @@ def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarra
         finally:
             times["fitting"] += time.perf_counter() - tb
         good = reading.error <= GOOD_FIT_PX
-        if first or good:
-            out.append((reading.error + PRIOR_PX * -np.log10(max(p, 1e-12)), kind, reading))
-        first = False
+        score = reading.error + PRIOR_PX * -np.log10(max(p, 1e-12))
+        if not read or good or (score <= RESCUE_SCORE_PX
+                                and min(read, key=lambda r: r[0])[2].doubtful):
+            read.append((score, kind, reading))
         if good:
             break
-    return out
 
 
 def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
@@ -591,8 +599,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     times = {"networks": t2 - t1, "fitting": 0.0}
     read, errors = [], []
     while True:
-        read += _read_operators(solid, order, probs, predictor, ctx, options, times, errors,
-                                first=not read)
+        _read_operators(solid, order, probs, predictor, ctx, options, times, errors, read)
         if not read:
             more = (" (read as any other operator, the strokes did not fit either)"
                     if len(errors) > 1 else "")

@@ -8,6 +8,7 @@ rendering, counting, fitting, the B-rep operation, symmetry and the error path.
 import subprocess
 import sys
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -24,9 +25,13 @@ from Sketch2CADWorkbench.brep.protocol import (
     Mode,
     OperatorType,
 )
+from Sketch2CADWorkbench.inference import interpret as interpret_module
 from Sketch2CADWorkbench.inference.interpret import (
+    CLASSES,
     InterpretError,
     InterpretOptions,
+    Reading,
+    _read_operators,
     apply_with_symmetry,
     check_sketch,
     interpret,
@@ -153,6 +158,36 @@ def test_a_prism_is_read_as_a_prism_however_sure_the_classifier_is_of_a_sweep(re
                     InterpretOptions(regularize=False, option=Mode.SUBTRACT))
     assert got.op_type is OperatorType.ADDSUB
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
+
+
+@pytest.mark.parametrize("first_px, p_extrude, kept", [
+    (53.0, 0.45, OperatorType.EXTRUDE),  # a doubtful sweep gives way to a likely near fit
+    (53.0, 0.005, OperatorType.SWEEP),   # ... not to an unlikely one (random strokes)
+    (2.9, 0.45, OperatorType.SWEEP),     # a good first reading is not replaced by a worse
+])
+def test_a_doubtful_reading_gives_way_only_to_a_likely_near_fit(monkeypatch, first_px,
+                                                                  p_extrude, kept):
+    # level-3 sample 119 of seed 30003: extrusion or sweep at 0.5 each; the sweep, read
+    # first, lay 53 px from the strokes, the extrusion 3.4 px (just past GOOD_FIT_PX)
+    error_px = {OperatorType.SWEEP: first_px, OperatorType.EXTRUDE: 3.4}
+
+    def read_operation(solid, kind, face_prob, curve, ctx, options):
+        d = np.full(8, error_px[kind])
+        return Reading((d, d), None, 0, [], False)
+
+    class Segments:
+        def segment(self, inputs, op_type):
+            return None, None
+
+    monkeypatch.setattr(interpret_module, "read_operation", read_operation)
+    probs = np.zeros(len(CLASSES))
+    probs[CLASSES.index(OperatorType.EXTRUDE)] = p_extrude
+    probs[CLASSES.index(OperatorType.SWEEP)] = 1.0 - p_extrude
+    read = []
+    _read_operators(None, [OperatorType.SWEEP, OperatorType.EXTRUDE], probs, Segments(),
+                    SimpleNamespace(inputs=None), InterpretOptions(), {"networks": 0.0, "fitting": 0.0}, [],
+                    read)
+    assert min(read, key=lambda r: r[0])[1] is kept
 
 
 def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_found(renderer):
