@@ -53,7 +53,11 @@ def make(name: str, seed: int = 0) -> Session:
                                     np.maximum(pts.max(0), _bb(solid)[1])]),
                           direction, up, 1.2, (800, 600))
         moved = [view.project(ctx.unproject(s))[0] for s in strokes]
-        option = op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT) else None
+        # Modes the strokes cannot show, said in the panel: replace and intersect, and
+        # subtract, since a hole and the boss standing on its rim draw the same lines
+        # (paper Fig. 5b): the designer drawing a hole picks subtract (or clicks the flip).
+        option = (op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT,
+                                                           Mode.SUBTRACT) else None)
         steps.append(SketchStep(view, moved, InterpretOptions(option=option, regularize=False)))
     return Session(protocol.base, steps)
 
