@@ -44,12 +44,14 @@ CENTRE_TRIES = 30
 
 class PlanarFace:
     """A planar face of the current solid to sketch on: the face, its outward unit
-    normal n_f, and (made on first use, then kept) its FaceRef for the protocol."""
+    normal n_f, and (made on first use, then kept: a context's faces serve every sample
+    of its block) its FaceRef for the protocol and the compound of its edges."""
 
     def __init__(self, face: cq.Face, normal: np.ndarray):
         self.face = face
         self.normal = normal
         self._ref: FaceRef | None = None
+        self._outline: cq.Compound | None = None
 
     @property
     def ref(self) -> FaceRef:
@@ -60,6 +62,12 @@ class PlanarFace:
     def resolved(self) -> ResolvedFace:
         """f as the operators resolve `ref` on the solid it was drawn on."""
         return ResolvedFace.of(self.face)
+
+    def edge_distance(self, point: np.ndarray) -> float:
+        """The distance (mm) from a point to f's edges."""
+        if self._outline is None:
+            self._outline = cq.Compound.makeCompound(self.face.Edges())
+        return self._outline.distance(cq.Vertex.makeVertex(*point))
 
 
 def face_size(face: cq.Face) -> float:
@@ -74,18 +82,14 @@ def plane_frame(n: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np
     return np.cos(t) * a + np.sin(t) * b, -np.sin(t) * a + np.cos(t) * b
 
 
-def random_centre(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndarray | None:
+def random_centre(f: PlanarFace, rng: np.random.Generator, margin: float
+                  ) -> np.ndarray | None:
     """A uniformly random point of a planar face at least `margin` mm from its edges
     (None if CENTRE_TRIES draws find none)."""
-    u0, u1, v0, v1 = face.uvBounds()
-    outline = None
+    u0, u1, v0, v1 = f.face.uvBounds()
     for _ in range(CENTRE_TRIES):
-        p = np.array(face.positionAt(rng.uniform(u0, u1), rng.uniform(v0, v1)).toTuple())
-        if not inside_face(face, p):
-            continue
-        if outline is None:  # built only once a candidate is inside
-            outline = cq.Compound.makeCompound(face.Edges())
-        if outline.distance(cq.Vertex.makeVertex(*p)) >= margin:
+        p = np.array(f.face.positionAt(rng.uniform(u0, u1), rng.uniform(v0, v1)).toTuple())
+        if inside_face(f.face, p) and f.edge_distance(p) >= margin:
             return p
     return None
 
@@ -125,7 +129,7 @@ def sample_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
                  ) -> Operation | None:
     """A right prism on a 3- to 6-gon centred randomly inside f, added or subtracted."""
     r = rng.uniform(*PRISM_RADIUS) * face_size(f.face)
-    c = random_centre(f.face, rng, 0.3 * r)
+    c = random_centre(f, rng, 0.3 * r)
     if c is None:
         return None
     u, v = plane_frame(f.normal, rng)
@@ -147,7 +151,7 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     positive, so the profile (inside their convex hull) never reaches the axis.
     """
     r0 = rng.uniform(*SWEEP_RADIUS) * face_size(f.face)
-    c = random_centre(f.face, rng, 0.2 * r0)
+    c = random_centre(f, rng, 0.2 * r0)
     if c is None:
         return None
     d = rng.uniform(*SWEEP_D) * DIAG

@@ -86,7 +86,7 @@ def regular_length(rng: np.random.Generator, lo: float, hi: float,
     return on_grid(rng.uniform(lo, hi))
 
 
-def regular_centre(rng: np.random.Generator, face: cq.Face, frame: FaceFrame,
+def regular_centre(rng: np.random.Generator, f: PlanarFace, frame: FaceFrame,
                    targets: SnapTargets, margin: float) -> np.ndarray | None:
     """A centre (2D, f's frame) where a designer puts a feature: on an earlier round
     feature's axis, on f's centre, or on one of f's centre lines at a whole number of
@@ -101,11 +101,10 @@ def regular_centre(rng: np.random.Generator, face: cq.Face, frame: FaceFrame,
         lines = [d for _, d, name in targets.lines if name == CENTRE_LINE] \
             or list(targets.axes)
         d = lines[int(rng.integers(len(lines)))]
-        t = GRID * round(rng.uniform(-0.35, 0.35) * face_size(face) / GRID)
+        t = GRID * round(rng.uniform(-0.35, 0.35) * face_size(f.face) / GRID)
         c = targets.origin + t * d
     p = frame.to_3d(c)[0]
-    if not inside_face(face, p) or \
-            cq.Compound.makeCompound(face.Edges()).distance(cq.Vertex.makeVertex(*p)) < margin:
+    if not inside_face(f.face, p) or f.edge_distance(p) < margin:
         return None
     return np.asarray(c, float)
 
@@ -148,7 +147,7 @@ def regular_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     regular depth, added or subtracted."""
     frame, targets = _setting(f, solid)
     r = rng.uniform(*PRISM_RADIUS) * face_size(f.face)
-    c = regular_centre(rng, f.face, frame, targets, 0.3 * r)
+    c = regular_centre(rng, f, frame, targets, 0.3 * r)
     if c is None:
         return None
     poly = frame.to_3d(c + regular_polygon(rng, r, targets))
@@ -165,7 +164,7 @@ def regular_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     size = face_size(f.face)
     lo, hi = SWEEP_RADIUS[0] * size, SWEEP_RADIUS[1] * size
     r0 = regular_length(rng, lo, hi, targets.radii)
-    c = regular_centre(rng, f.face, frame, targets, 0.2 * r0)
+    c = regular_centre(rng, f, frame, targets, 0.2 * r0)
     if c is None:
         return None
     r1 = r0 if rng.random() < CYLINDER else regular_length(rng, 0.4 * r0, 1.6 * r0,

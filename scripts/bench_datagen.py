@@ -1,19 +1,25 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Data generation throughput: `python scripts/bench_datagen.py [--count 200] [--workers 2]`.
+"""Data generation throughput: `python scripts/bench_datagen.py [--count 200] [--workers 1 2]`.
 
 Makes `count` samples exactly as `sketch2cad datagen` does (the same worker function,
-shards written to a temporary folder) and prints samples per second in the steady
-state, i.e. after the worker processes have started and made one warm-up block each
-(start-up takes a few seconds once per run), with the time 40,000 samples would take.
-`--profile` instead generates in this process under cProfile and lists where the time
-goes; `--cpu-cost` generates in this process, single-threaded, and prints the CPU
-seconds per sample (this process's CPU time, so a busy machine inflates it little), with
-what 400,000 samples cost in core-hours.
+shards written to a temporary folder) and prints, for each worker count, samples per
+second in the steady state, i.e. after the worker processes have started and made one
+warm-up block each (start-up takes a few seconds once per run), with the CPU seconds
+all processes spent per sample meanwhile (robust to a busy machine, unlike the rate).
+`--cpu-cost` instead makes the samples in one spawned single-threaded worker, as
+datagen starts it, and writes them as shards there, and prints the CPU milliseconds per
+sample of each stage (B-rep operations, tessellation, rendering, the occlusion test,
+sketch synthesis, label maps, packing, compression and writing) with what 400,000
+samples cost in core-hours. `--profile` generates in this process under cProfile and
+lists where the time goes.
 """
 from __future__ import annotations
 
 import argparse
+import collections
 import cProfile
+import functools
+import multiprocessing as mp
 import os
 import pstats
 import tempfile
@@ -22,16 +28,75 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from datagen import parallel
+from datagen import generate, parallel, sequences
+from datagen.dataset import write_shard
 from datagen.generate import PER_CONTEXT, generate_block
+from Sketch2CADWorkbench.render import maps
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 TARGET = 40_000
 PAPER_SCALE = 400_000
+CPU_COST_SHARD = 256  # samples per shard written by --cpu-cost, as datagen's default
+
+# Where a worker's time goes: (namespace, function name, stage). A function is wrapped
+# where its callers look it up; time in a nested stage counts to that stage alone, and
+# what no stage claims counts as "other" (glue, per-sample labels).
+STAGES = [
+    (sequences, "apply_operation", "B-rep: Booleans (apply_operation)"),
+    (sequences, "sample_operation", "B-rep: faces, samplers, volumes"),
+    (generate, "sample_operation", "B-rep: faces, samplers, volumes"),
+    (generate, "sample_sequence", "B-rep: faces, samplers, volumes"),
+    (generate, "operation_curves", "B-rep: sketch curves, face index"),
+    (generate, "base_face_index", "B-rep: sketch curves, face index"),
+    (generate, "tessellate", "tessellation"),
+    (generate, "view_direction", "views (direction, framing)"),
+    (generate, "up_vector", "views (direction, framing)"),
+    (generate, "frame_curves", "views (direction, framing)"),
+    (MapRenderer, "triangle_ids", "render: VTK draw, read-back"),
+    (MapRenderer, "render", "render: maps from triangle IDs"),
+    (generate, "is_informative", "occlusion test"),
+    (generate, "shows_base_face", "occlusion test"),
+    (generate, "visible_curves", "occlusion test"),
+    (generate, "sketch_strokes", "sketch synthesis (strokes, noise)"),
+    (generate, "stroke_maps", "stroke and label maps"),
+    (parallel, "pack", "packing"),
+]
+WRITING = "compression, writing"
 
 
-def bench(count: int, workers: int, seed: int, shard_size: int = 256) -> tuple[float, float]:
-    """(start-up seconds, steady samples per second) of `workers` processes."""
+class StageClock:
+    """CPU seconds (this process, all threads) per stage, exclusive of nested stages."""
+
+    def __init__(self):
+        self.seconds: collections.Counter[str] = collections.Counter()
+        self._stack = ["other"]
+        self._since = time.process_time()
+
+    def _switch(self, push: str | None) -> None:
+        now = time.process_time()
+        self.seconds[self._stack[-1]] += now - self._since
+        self._since = now
+        if push is None:
+            self._stack.pop()
+        else:
+            self._stack.append(push)
+
+    def wrap(self, fn, stage: str):
+        @functools.wraps(fn)
+        def timed(*args, **kwargs):
+            self._switch(stage)
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                self._switch(None)
+        return timed
+
+
+def bench(count: int, workers: int, seed: int, shard_size: int = 256
+          ) -> tuple[float, float, float, float]:
+    """(start-up seconds, steady samples per second, steady CPU seconds per sample of
+    the workers and this process together, and of this process alone: it receives the
+    blocks and writes the shards) of `workers` processes."""
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
     jobs = [parallel.BlockJob(seed, b, "1", "draw") for b in range(blocks)]
     shards = list(range((blocks * PER_CONTEXT + shard_size - 1) // shard_size))
@@ -42,10 +107,23 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256) -> tuple[f
                  [parallel.BlockJob(seed + 1, b, "1", "draw") for b in range(workers)],
                  chunksize=1)
         ready = time.perf_counter()
+        children, main = _children_cpu(), time.process_time()
         with tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
             parallel._collect(pool.imap(parallel.make_block, jobs), shards, counts, Path(tmp), bar)
         secs = time.perf_counter() - ready
-    return ready - start, blocks * PER_CONTEXT / secs
+        children, main = _children_cpu() - children, time.process_time() - main
+    n = blocks * PER_CONTEXT
+    return ready - start, n / secs, (children + main) / n, main / n
+
+
+def _children_cpu() -> float:
+    """User + system CPU seconds of this process's live children (Linux /proc)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    total = 0
+    for child in mp.active_children():
+        fields = Path(f"/proc/{child.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        total += int(fields[11]) + int(fields[12])  # utime, stime
+    return total / tick
 
 
 def profile(count: int, seed: int) -> None:
@@ -60,21 +138,38 @@ def profile(count: int, seed: int) -> None:
     pstats.Stats(prof).sort_stats("tottime").print_stats(25)
 
 
-def _cpu_seconds(count: int, seed: int) -> tuple[int, float, float]:
-    """(samples, CPU s, wall s) of `count` samples in this process, after a warm-up block."""
+def _stage_seconds(count: int, seed: int) -> tuple[int, dict[str, float], float, float]:
+    """(samples, CPU s per stage, CPU s, wall s) of `count` samples made and written in
+    shards in this process, after a warm-up block."""
     parallel.make_block(parallel.BlockJob(seed + 1, 0, "1", "draw"))
+    clock = StageClock()
+    for owner, name, stage in STAGES:
+        setattr(owner, name, clock.wrap(getattr(owner, name), stage))
+    write = clock.wrap(write_shard, WRITING)
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
     cpu, wall = time.process_time(), time.perf_counter()
-    for block in range(blocks):
-        parallel.make_block(parallel.BlockJob(seed, block, "1", "draw"))
-    return blocks * PER_CONTEXT, time.process_time() - cpu, time.perf_counter() - wall
+    clock.seconds.clear()
+    clock._since = cpu
+    records = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for block in range(blocks):
+            records += parallel.make_block(parallel.BlockJob(seed, block, "1", "draw"))
+            if len(records) >= CPU_COST_SHARD or block == blocks - 1:
+                write(Path(tmp), block, records)
+                records = []
+        clock._switch("other")  # books the time since the last stage
+    return (blocks * PER_CONTEXT, dict(clock.seconds), time.process_time() - cpu,
+            time.perf_counter() - wall)
 
 
 def cpu_cost(count: int, seed: int) -> None:
-    """CPU seconds per sample of one worker as datagen starts it (single-threaded)."""
+    """CPU seconds per sample, by stage, of one worker as datagen starts it
+    (single-threaded), writing its own shards."""
     with parallel.start_pool(1) as pool:
-        n, cpu, wall = pool.apply(_cpu_seconds, (count, seed))
-    print(f"bench_datagen: {cpu / n * 1e3:.0f} ms CPU per sample over {n} samples in one "
+        n, stages, cpu, wall = pool.apply(_stage_seconds, (count, seed))
+    for stage, secs in sorted(stages.items(), key=lambda kv: -kv[1]):
+        print(f"  {stage:36s} {secs / n * 1e3:7.1f} ms  {100 * secs / cpu:5.1f}%")
+    print(f"bench_datagen: {cpu / n * 1e3:.1f} ms CPU per sample over {n} samples in one "
           f"worker (wall {wall / n * 1e3:.0f} ms, load average {os.getloadavg()[0]:.2f} on "
           f"{os.cpu_count()} cores); {PAPER_SCALE} samples = "
           f"{PAPER_SCALE * cpu / n / 3600:.1f} core-hours")
@@ -83,7 +178,7 @@ def cpu_cost(count: int, seed: int) -> None:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=200)
-    p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     p.add_argument("--seed", type=int, default=12345)
     p.add_argument("--profile", action="store_true")
     p.add_argument("--cpu-cost", action="store_true")
@@ -94,12 +189,14 @@ def main() -> None:
     if args.cpu_cost:
         cpu_cost(args.count, args.seed)
         return
-    startup, rate = bench(args.count, args.workers, args.seed)
-    load = os.getloadavg()[0]
-    print(f"bench_datagen: {rate:.2f} samples/s with {args.workers} worker(s) over "
-          f"{args.count} samples (start-up {startup:.1f} s, load average {load:.2f} on "
-          f"{os.cpu_count()} cores); {TARGET} samples would take "
-          f"{(TARGET / rate + startup) / 60:.1f} min")
+    for workers in args.workers:
+        load = os.getloadavg()[0]
+        startup, rate, cpu, main_cpu = bench(args.count, workers, args.seed)
+        print(f"bench_datagen: {rate:.2f} samples/s with {workers} worker(s) over "
+              f"{args.count} samples, {cpu * 1e3:.1f} ms CPU per sample in all processes, "
+              f"{main_cpu * 1e3:.1f} ms of it in the writing main process (start-up {startup:.1f} s, load average {load:.2f} -> "
+              f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores); {TARGET} samples would "
+              f"take {(TARGET / rate + startup) / 60:.1f} min")
 
 
 if __name__ == "__main__":

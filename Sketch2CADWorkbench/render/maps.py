@@ -223,11 +223,16 @@ def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
     flat = triangle.ravel()
     index = np.flatnonzero(flat >= 0)
     seen = flat[index]
-    x = (index % w + (0.5 - centre[0]))[:, None]
-    y = (index // w + (0.5 - centre[1]))[:, None]
-    g = np.take(coef.astype(np.float32), seen, axis=0)  # np.take: faster than coef[seen]
-    values = g[:, :, 0] * x.astype(np.float32) + g[:, :, 1] * y.astype(np.float32) + g[:, :, 2]
-    l1, l2 = values[:, 4], values[:, 5]
+    x = index % w + (0.5 - centre[0])
+    y = index // w + (0.5 - centre[1])
+    # One attribute per row, one pixel per column: every step below runs over
+    # contiguous rows (np.take: faster than fancy indexing).
+    cx, cy, c0 = np.ascontiguousarray(coef.astype(np.float32).transpose(2, 1, 0))
+    values = np.take(cx, seen, axis=1)
+    values *= x.astype(np.float32)
+    values += np.take(cy, seen, axis=1) * y.astype(np.float32)
+    values += np.take(c0, seen, axis=1)
+    l1, l2 = values[4], values[5]
     # The rasteriser may take a centre a hair outside its triangle, and on slivers seen
     # edge-on the coefficients are too large for float32: redo those pixels in float64
     # at the point of the triangle nearest in barycentric weights.
@@ -235,18 +240,20 @@ def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
                           | np.take(thin, seen))
     if len(redo):
         t = seen[redo]
-        xy1 = np.concatenate([x[redo], y[redo], np.ones((len(redo), 1))], axis=1)
+        xy1 = np.stack([x[redo], y[redo], np.ones(len(redo))], axis=1)
         b1, b2 = (np.einsum("qk,qk->q", coef[t, row], xy1) for row in (-2, -1))
         lam = np.clip(np.stack([1.0 - b1 - b2, b1, b2], axis=1), 0.0, 1.0)
         lam /= lam.sum(axis=1, keepdims=True)
-        values[redo, :4] = np.einsum("qk,qka->qa", lam, attrs[mesh.triangles[t]])
+        values[:4, redo] = np.einsum("qk,qka->aq", lam, attrs[mesh.triangles[t]])
 
     view_depth = np.full(h * w, np.inf, np.float32)
-    view_depth[index] = values[:, 0]
-    n = values[:, 1:4]
-    n /= np.maximum(np.sqrt(np.einsum("pc,pc->p", n, n)), 1e-12)[:, None]
+    view_depth[index] = values[0]
+    n = values[1:4]
+    n /= np.maximum(np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1e-12)
+    n += 1.0
     normal = np.zeros((3, h * w), np.float32)
-    normal[:, index] = n.T + 1.0
+    for channel, row in zip(normal, n):
+        channel[index] = row
     face_id = np.full(h * w, -1, np.int32)
     face_id[index] = np.take(mesh.face_index, seen)
     view_depth = view_depth.reshape(h, w)

@@ -129,10 +129,7 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
     sub_ids = vtk_to_numpy(cells.GetArray("SUBSHAPE_IDS"))[shaded]
     if len(sub_ids) * 3 != len(conn):
         raise RuntimeError("IVtk face cells and their sub-shape ids disagree")
-    # solid.Faces() lists this same indexed map in order; reading it directly saves
-    # wrapping every face in a cadquery object.
-    faces = TopTools_IndexedMapOfShape()
-    TopExp.MapShapes_s(shape, TopAbs_FACE, faces)
+    faces = indexed_faces(solid)
     lut = np.full(int(sub_ids.max()) + 1, -1, np.int32)
     for index in range(faces.Extent()):
         sid = ivtk.GetSubShapeId(faces.FindKey(index + 1))
@@ -150,6 +147,14 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
     tris = tris.reshape(-1, 3).astype(np.int32)
     return FaceMesh(points, tris, face_index, _triangle_normals(points, tris, vnormals),
                     vnormals)
+
+
+def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
+    """The faces of a shape in the order of shape.Faces() (index i + 1 there is face i),
+    without wrapping every face in a cadquery object as Faces() does."""
+    faces = TopTools_IndexedMapOfShape()
+    TopExp.MapShapes_s(shape.wrapped, TopAbs_FACE, faces)
+    return faces
 
 
 def _triangle_normals(v: np.ndarray, t: np.ndarray, vn: np.ndarray) -> np.ndarray:

@@ -101,3 +101,10 @@ def test_subtracted_sweep_starts_with_the_circle_inside_the_solid():
 def test_base_face_index_names_the_resolved_face():
     i = base_face_index(BOX, resolve_face(BOX, TOP).face)
     assert BOX.Faces()[i].Center().z == pytest.approx(10.0)
+
+
+def test_base_face_index_matches_the_face_in_either_orientation_and_refuses_others():
+    faces = BOX.Faces()
+    assert base_face_index(BOX, cq.Face(faces[3].wrapped.Reversed())) == 3
+    with pytest.raises(ValueError, match="not a face of the solid"):
+        base_face_index(BOX, make_box(Box((40.0, 30.0, 20.0))).Faces()[3])

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from datagen.operations import DIAG, PlanarFace, change_bound, random_polygon
+from datagen.operations import DIAG, PlanarFace, change_bound, random_centre, random_polygon
 from datagen.sequences import (
     MIN_VOLUME_CHANGE,
     Stage,
@@ -94,3 +94,16 @@ def test_sampled_operations_stand_on_the_face_they_name():
         drawn = sample_operation(rng, stage, kind)
         assert isinstance(drawn.face, PlanarFace)
         assert drawn.op.type is kind and drawn.op.face == drawn.face.ref
+
+
+def test_random_centres_keep_their_margin_from_the_face_edges():
+    box = make_box(Box((40.0, 30.0, 20.0)))
+    top = next(f for f in box.Faces() if f.Center().z > 9.0)
+    f = PlanarFace(top, np.array([0.0, 0.0, 1.0]))
+    assert f.edge_distance(np.array([0.0, 0.0, 10.0])) == pytest.approx(15.0)
+    rng = np.random.default_rng(0)
+    centres = [c for c in (random_centre(f, rng, 10.0) for _ in range(20)) if c is not None]
+    assert len(centres) >= 15  # a sixth of the face qualifies; 30 draws each
+    c = np.array(centres)
+    assert (np.abs(c[:, 0]) <= 10.0 + 1e-9).all() and (np.abs(c[:, 1]) <= 5.0 + 1e-9).all()
+    assert f.edge_distance(np.array([19.0, 0.0, 10.0])) == pytest.approx(1.0)  # kept, not stale

@@ -8,6 +8,7 @@ from Sketch2CADWorkbench.brep.faces import model_scale
 from Sketch2CADWorkbench.render.mesh import (
     ANGULAR_TOLERANCE,
     REL_TOLERANCE,
+    indexed_faces,
     tessellate,
     view_tolerance,
 )
@@ -19,6 +20,13 @@ def holed_box():
     body = cq.Solid.makeBox(40, 30, 20, cq.Vector(-20, -15, 0))
     body = body.cut(cq.Solid.makeCylinder(6, 40, cq.Vector(-8, 0, -10)))
     return body.fuse(cq.Solid.makeCone(6, 2, 10, cq.Vector(10, 0, 20))).clean()
+
+
+def test_the_indexed_face_map_lists_the_faces_in_the_order_of_faces(holed_box):
+    faces = holed_box.Faces()
+    mapped = indexed_faces(holed_box)
+    assert mapped.Extent() == len(faces)
+    assert all(mapped.FindKey(i + 1).IsSame(f.wrapped) for i, f in enumerate(faces))
 
 
 def test_every_face_is_triangulated_with_its_index_and_outward_normals(holed_box):
