@@ -29,7 +29,7 @@ from tqdm import tqdm
 
 from datagen.dataset import Dataset
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
+from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
@@ -103,7 +103,7 @@ def a_boss_draws_it(context: cq.Shape, sample) -> bool:
     face = resolve_face(context, op.face).face
     try:
         return choose_option(face, face_frame(face, cam, np.concatenate([start, end])), cam,
-                             start, end, 1e-6 * model_scale(context), None) is Mode.ADD
+                             start, end, None) is Mode.ADD
     except FitError:
         return False
 

@@ -18,7 +18,7 @@ import numpy as np
 from datagen.dataset import Dataset
 from training.recovery import read_step
 
-from ..brep.faces import OperationError, model_scale, resolve_face
+from ..brep.faces import OperationError, resolve_face
 from ..brep.operators import replay
 from ..brep.protocol import OperatorType
 from ..inference.fitting.primitive import far_outline_share
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
             except (InterpretError, OperationError):
                 continue
             face = resolve_face(context, op.face).face
-            shares.append(far_outline_share(face, s.camera, op, 1e-6 * model_scale(context)))
+            shares.append(far_outline_share(face, s.camera, op))
             wrong.append(op.mode is not s.operation.mode)
     shares, wrong = np.array(shares), np.array(wrong)
     print(f"{len(shares)} {want.value} steps fitted, {int(wrong.sum())} with the wrong option")

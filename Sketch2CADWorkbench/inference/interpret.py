@@ -480,7 +480,7 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
     when the designer did not choose one): see `Interpretation.other_option`."""
     if options.option is not None or op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP):
         return None
-    if not other_option_fits(solid.Faces()[base_face], camera, op, 1e-6 * model_scale(solid)):
+    if not other_option_fits(solid.Faces()[base_face], camera, op):
         return None
     return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
 

@@ -77,7 +77,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     frame = face_frame(face, camera, np.concatenate([poly_s, poly_e]))
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, _outline_samples(poly_s),
-                         _outline_samples(poly_e), 1e-6 * scale, option)
+                         _outline_samples(poly_e), option)
     base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
     if not is_simple(base):
         raise FitError("the base outline crosses itself")

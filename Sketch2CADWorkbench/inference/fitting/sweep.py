@@ -105,7 +105,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
     frame = face_frame(face, camera, np.concatenate([e_s.points(), e_e.points()]))
     scale = model_scale(solid)
-    mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), 1e-6 * scale, option)
+    mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), option)
     base, far = (e_s, e_e) if mode is not Mode.SUBTRACT else (e_e, e_s)
     frame = face_frame(face, camera, base.points())
     c0 = back_project(camera, face, frame, base.center[None])[0]
