@@ -38,6 +38,7 @@ import numpy as np
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
+from scipy.optimize import linear_sum_assignment
 
 from ..brep.files import atomic_path
 from ..brep.protocol import OperatorType
@@ -55,6 +56,11 @@ ROLES = (2, 2, 3, 3)
 ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
 STROKE_GEOMETRY = 14 + 7  # stroke_geometry and stroke_context
 FACE_GEOMETRY = 5 + 2 * N_OPS
+CLASS_EXTRA = 2 + N_OPS  # token counts, count_fits
+# Gaps between stroke ends (image widths) that the end bias tells apart: level-3 noise
+# moves an end by about 0.03, the sides of a small prism are about 0.1 long.
+END_GAP_BINS = (0.01, 0.02, 0.04, 0.08, 0.16)
+ENDS = slice(2, 6)  # the ends' coordinates within stroke_geometry
 
 
 def feature_channels(model: Sketch2CADNet) -> int:
@@ -71,6 +77,7 @@ class HeadConfig:
     layers: int = 3
     attention_heads: int = 4
     dropout: float = 0.1
+    end_bias: bool = True  # attention between strokes biased by how near their ends lie
 
 
 @dataclass
@@ -79,7 +86,8 @@ class Tokens:
 
     stroke: (S, 2 channels + STROKE_GEOMETRY) float32; face: (K, channels +
     FACE_GEOMETRY) float32; face_ids: (K,) int64, the face-ID of each face token;
-    cls: (N_OPS + 2,) float32, the U-Net's class logits and the token counts.
+    cls: (N_OPS + CLASS_EXTRA,) float32, the U-Net's class logits, the token counts
+    and which operators' drawings have this many strokes (`count_fits`).
     """
 
     stroke: torch.Tensor
@@ -211,12 +219,39 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
         np.zeros((0, STROKE_GEOMETRY), np.float32)
     stroke = torch.cat([samples.mean(2).T, samples.amax(2).T, torch.from_numpy(geo)], 1)
 
-    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16])])
+    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16,
+                                           *count_fits(len(strokes))])])
     return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
                   cls.float())
 
 
 # ---------------------------------------------------------------- the head
+class AttentionLayer(nn.Module):
+    """A pre-norm transformer layer whose attention adds a (B, heads, L, L) bias. Not
+    torch's TransformerEncoderLayer: its fused inference path reads a per-sample 3-D
+    mask otherwise than its training path (outputs differed by 0.6 in eval mode)."""
+
+    def __init__(self, width: int, heads: int, dropout: float):
+        super().__init__()
+        self.heads, self.dropout = heads, dropout
+        self.norm1, self.norm2 = nn.LayerNorm(width), nn.LayerNorm(width)
+        self.qkv = nn.Linear(width, 3 * width)
+        self.out = nn.Linear(width, width)
+        self.feed = nn.Sequential(nn.Linear(width, 2 * width), nn.ReLU(), nn.Dropout(dropout),
+                                  nn.Linear(2 * width, width))
+        self.drop = nn.Dropout(dropout)
+
+    def forward(self, h: torch.Tensor, bias: torch.Tensor) -> torch.Tensor:
+        """(B, L, width) tokens, (B, heads, L, L) bias -> (B, L, width)."""
+        b, n, w = h.shape
+        q, k, v = self.qkv(self.norm1(h)).view(b, n, 3, self.heads, w // self.heads) \
+            .permute(2, 0, 3, 1, 4)
+        a = F.scaled_dot_product_attention(q, k, v, attn_mask=bias,
+                                           dropout_p=self.dropout if self.training else 0.0)
+        h = h + self.drop(self.out(a.transpose(1, 2).reshape(b, n, w)))
+        return h + self.drop(self.feed(self.norm2(h)))
+
+
 class StructureHead(nn.Module):
     """Transformer over one class token, the stroke tokens and the face tokens."""
 
@@ -224,16 +259,21 @@ class StructureHead(nn.Module):
         super().__init__()
         self.config = cfg = config or HeadConfig()
         w = cfg.width
-        self.embed_cls = nn.Linear(N_OPS + 2, w)
+        self.embed_cls = nn.Linear(N_OPS + CLASS_EXTRA, w)
         self.embed_stroke = nn.Sequential(nn.LayerNorm(2 * cfg.channels + STROKE_GEOMETRY),
                                           nn.Linear(2 * cfg.channels + STROKE_GEOMETRY, w))
         self.embed_face = nn.Sequential(nn.LayerNorm(cfg.channels + FACE_GEOMETRY),
                                         nn.Linear(cfg.channels + FACE_GEOMETRY, w))
-        layer = nn.TransformerEncoderLayer(w, cfg.attention_heads, 2 * w, cfg.dropout,
-                                           batch_first=True, norm_first=True)
         # layers = 0: every token read alone (the ablation of the context)
-        self.encoder = nn.TransformerEncoder(layer, cfg.layers, enable_nested_tensor=False) \
-            if cfg.layers else None
+        self.layers = nn.ModuleList(AttentionLayer(w, cfg.attention_heads, cfg.dropout)
+                                    for _ in range(cfg.layers))
+        # per attention head, a learned bias per END_GAP_BINS bin of two strokes' end gap:
+        # the strokes of one outline meet end to end, which attention over coordinates
+        # finds only approximately (ablation: docs/NOTES.md, stop 22)
+        self.end_bias = nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads) \
+            if cfg.end_bias and cfg.layers else None
+        if self.end_bias is not None:
+            nn.init.zeros_(self.end_bias.weight)
         self.norm = nn.LayerNorm(w)
         self.cls_out = nn.Linear(w, N_OPS)
         self.role_out = nn.Linear(w, sum(ROLES))
@@ -242,14 +282,28 @@ class StructureHead(nn.Module):
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
 
+    def _attention_bias(self, stroke: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:
+        """(B, heads, L, L) additive attention mask: -inf on padded keys, and between
+        strokes the end bias of their nearest ends' gap bin."""
+        b, n_s, heads = stroke.shape[0], stroke.shape[1], self.config.attention_heads
+        n = pad.shape[1]
+        mask = torch.zeros(b, heads, n, n).masked_fill(pad[:, None, None], float("-inf"))
+        if self.end_bias is not None:
+            geo = 2 * self.config.channels
+            ends = stroke[..., geo + ENDS.start:geo + ENDS.stop].reshape(b, n_s, 2, 2)
+            gap = (ends[:, :, None, :, None] - ends[:, None, :, None, :]).norm(dim=-1)
+            bins = torch.bucketize(gap.amin((-2, -1)), torch.tensor(END_GAP_BINS))
+            mask[:, :, 1:1 + n_s, 1:1 + n_s] += self.end_bias(bins).permute(0, 3, 1, 2)
+        return mask
+
     def forward(self, cls: torch.Tensor, stroke: torch.Tensor, stroke_mask: torch.Tensor,
                 face: torch.Tensor, face_mask: torch.Tensor
                 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Padded batch -> logits.
 
         Args:
-            cls: (B, 6); stroke: (B, S, Ds), stroke_mask: (B, S) bool (True = real);
-            face: (B, K, Df), face_mask: (B, K) bool.
+            cls: (B, N_OPS + CLASS_EXTRA); stroke: (B, S, Ds), stroke_mask: (B, S) bool
+            (True = real); face: (B, K, Df), face_mask: (B, K) bool.
         Returns:
             class logits (B, 4) (the U-Net's plus a correction); role logits (B, S, 10)
             (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
@@ -258,8 +312,10 @@ class StructureHead(nn.Module):
         h = torch.cat([self.embed_cls(cls)[:, None], self.embed_stroke(stroke),
                        self.embed_face(face)], 1)
         pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
-        if self.encoder is not None:
-            h = self.encoder(h, src_key_padding_mask=pad)
+        if len(self.layers):
+            bias = self._attention_bias(stroke, pad)
+            for layer in self.layers:
+                h = layer(h, bias)
         h = self.norm(h)
         logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
         roles = self.role_out(h[:, 1:1 + n_s])
@@ -288,16 +344,50 @@ def role_probabilities(roles: torch.Tensor, op: int) -> torch.Tensor:
     return roles[:, ROLE_OFFSETS[op]:ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
 
 
+def role_counts(op: int, strokes: int) -> tuple[int, ...] | None:
+    """How many strokes take each role (curve label order) in a sketch of `strokes`
+    strokes of operator op, where the operator's drawing fixes it: a bevel has exactly
+    one profile l (paper, Fig. 7); a prism over an n-gon has n start, n profile and n end
+    strokes; a sweep its start and end ellipses joined by 2 profiles. None: not fixed
+    (an extrusion's offset strokes vary with the face), or a count the drawing cannot
+    have (then each stroke takes its own likeliest role)."""
+    kind = CLASSES[op]
+    if kind is OperatorType.BEVEL and strokes:
+        counts = [strokes - 1, strokes - 1]
+        counts[BEVEL_L] = 1
+        return tuple(counts)
+    if kind is OperatorType.ADDSUB and strokes and strokes % 3 == 0:
+        return (strokes // 3,) * 3
+    if kind is OperatorType.SWEEP and strokes == 4:
+        return (1, 2, 1)
+    return None
+
+
+def count_fits(strokes: int) -> list[float]:
+    """Per operator (CLASSES order), 1 where its drawing has this many strokes: an
+    extrusion any, a bevel its l and l', a prism 3n, a sweep 4; for the class token,
+    where a sum of stroke tokens hides it."""
+    fits = {OperatorType.EXTRUDE: True, OperatorType.BEVEL: strokes == 2,
+            OperatorType.ADDSUB: strokes > 0 and strokes % 3 == 0,
+            OperatorType.SWEEP: strokes == 4}
+    return [float(fits[k]) for k in CLASSES]
+
+
 def decode_roles(probs: torch.Tensor, op: int) -> list[int]:
-    """Each stroke's curve label from its role probabilities. A bevel has exactly one
-    profile l (paper, Fig. 7): the stroke likeliest to be l is, the others are l'."""
+    """Each stroke's curve label: the most likely labelling with `role_counts` strokes
+    per role (an assignment of strokes to role slots), else each stroke's argmax. The
+    counts turn a prism whose far outline the head half reads as start into n and n."""
     if not len(probs):
         return []
-    if CLASSES[op] is OperatorType.BEVEL:
-        labels = [1 - BEVEL_L] * len(probs)
-        labels[int(probs[:, BEVEL_L].argmax())] = BEVEL_L
-        return labels
-    return [int(v) for v in probs.argmax(1)]
+    counts = role_counts(op, len(probs))
+    if counts is None:
+        return [int(v) for v in probs.argmax(1)]
+    slots = np.repeat(np.arange(len(counts)), counts)
+    cost = -np.log(np.clip(probs.numpy()[:, slots], 1e-12, None))  # (strokes, slots)
+    rows, cols = linear_sum_assignment(cost)
+    labels = np.empty(len(probs), np.int64)
+    labels[rows] = slots[cols]
+    return [int(v) for v in labels]
 
 
 def paint_curve(strokes: list[np.ndarray], labels: list[int], size: int) -> np.ndarray:
