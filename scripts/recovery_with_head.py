@@ -22,8 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import torch  # noqa: E402
 
 from Sketch2CADWorkbench.inference.heads import load_structured_predictor  # noqa: E402
-from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
-from training.heads import HEAD_NAME  # noqa: E402
+from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_predictor  # noqa: E402
 from training.recovery import recovery  # noqa: E402
 
 
@@ -59,7 +58,7 @@ def main() -> int:
     rows = json.loads(args.json.read_text()) if args.json and args.json.exists() else {}
     for name in args.rows:
         if name == "unet":
-            predictor = load_predictor(args.weights)
+            predictor = load_predictor(args.weights, structured=False)
         else:
             head = args.head / HEAD_NAME if args.head.is_dir() else args.head
             predictor = load_structured_predictor(head, args.weights)

@@ -47,12 +47,9 @@ from Sketch2CADWorkbench.inference.heads import (
     tokens,
 )
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
-from Sketch2CADWorkbench.inference.weights import load_model, resolve
+from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 
 from .metrics import Tally, curve_hits, face_overlap
-
-HEAD_NAME = "sketch2cad_head.pt"
-
 
 @dataclass
 class HeadSettings:
@@ -165,19 +162,28 @@ def losses(head: StructureHead, items: list[Item]) -> tuple[torch.Tensor, ...]:
 
 
 def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | None = None,
-               tokens_cache: Path | None = None) -> Path:
-    """Train the head on `data` with the U-Net of `weights` frozen; a rerun with the same
-    `out` resumes after the last finished epoch. Tokens are cached in `tokens_cache`
-    (default out/tokens). Returns out/HEAD_NAME."""
-    s = settings
-    torch.set_num_threads(s.threads)
+               tokens_cache: Path | None = None, count: int | None = None) -> Path:
+    """Train the head on `data` (its first `count` samples, default all) with the U-Net
+    of `weights` frozen; a rerun with the same `out` resumes after the last finished
+    epoch. Tokens are cached in `tokens_cache` (default out/tokens). Returns
+    out/HEAD_NAME."""
+    torch.set_num_threads(settings.threads)
     out.mkdir(parents=True, exist_ok=True)
     unet_path = resolve(weights)
     model, _ = load_model(unet_path)
     unet_sha = sha256_of(unet_path)
-    items = extract(data, model, tokens_cache or out / "tokens", unet=unet_sha)
-    ckpt_path = out / "head-checkpoint.pt"
-    s.head.channels = feature_channels(model)
+    items = extract(data, model, tokens_cache or out / "tokens", limit=count, unet=unet_sha)
+    settings.head.channels = feature_channels(model)
+    head, log = fit(items, out / "head-checkpoint.pt", settings)
+    final = out / HEAD_NAME
+    save_head(final, head.eval(), settings=asdict(settings), log=log, train_samples=len(items),
+              data=str(data), unet=str(unet_path), unet_sha256=unet_sha)
+    return final
+
+
+def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureHead, list]:
+    """The head trained on `items` (AdamW, warm-up then cosine decay), checkpointed to
+    `ckpt_path` after every epoch and resumed from it; returns it and its epoch log."""
     torch.manual_seed(s.seed)
     head = StructureHead(s.head)
     opt = torch.optim.AdamW(head.parameters(), lr=s.lr, weight_decay=s.weight_decay)
@@ -216,11 +222,7 @@ def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | No
               f"{row['role']:.4f} face {row['face']:.4f} ({row['seconds']} s)", flush=True)
         save_head(ckpt_path, head, optimizer=opt.state_dict(), epoch=e + 1, log=log,
                   settings=asdict(s))
-    final = out / HEAD_NAME
-    save_head(final, head.eval(), settings=asdict(s), log=log, train_samples=len(items),
-              data=str(data), unet=str(unet_path),
-              unet_sha256=unet_sha)
-    return final
+    return head, log
 
 
 def evaluate_head(data: Path, head_path: Path, weights: Path | None = None,

@@ -26,6 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tokens", type=Path,
                    help="token cache folder (default OUT/tokens): runs on the same data and "
                         "U-Net can share one")
+    p.add_argument("--count", type=int, help="train on the first COUNT samples of --data")
     p.add_argument("--weights", type=Path,
                    help="the U-Net whose features the head reads (default: the shipped one)")
     p.add_argument("--epochs", type=int, default=d.epochs)
@@ -57,7 +58,8 @@ def run(args: argparse.Namespace) -> int:
                                 seed=args.seed, threads=args.threads,
                                 head=HeadConfig(width=args.width, layers=args.layers,
                                                 end_bias=not args.no_end_bias))
-        final = train_head(args.data, args.out, settings, args.weights, args.tokens)
+        final = train_head(args.data, args.out, settings, args.weights, args.tokens,
+                           args.count)
         print(f"train-head: head weights {final}")
         scores = {}
         for data in args.eval:

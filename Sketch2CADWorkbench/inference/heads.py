@@ -61,6 +61,9 @@ CLASS_EXTRA = 2 + N_OPS  # token counts, count_fits
 # moves an end by about 0.03, the sides of a small prism are about 0.1 long.
 END_GAP_BINS = (0.01, 0.02, 0.04, 0.08, 0.16)
 ENDS = slice(2, 6)  # the ends' coordinates within stroke_geometry
+# Shares of a stroke's points on a face that the face bias tells apart: none, a corner's
+# worth, part, most, all (a start stroke lies on the base face, an end stroke leaves it).
+ON_FACE_BINS = (0.05, 0.35, 0.65, 0.95)
 
 
 def feature_channels(model: Sketch2CADNet) -> int:
@@ -78,6 +81,7 @@ class HeadConfig:
     attention_heads: int = 4
     dropout: float = 0.1
     end_bias: bool = True  # attention between strokes biased by how near their ends lie
+    face_bias: bool = True  # attention between a stroke and a face by how much it lies on it
 
 
 @dataclass
@@ -87,13 +91,15 @@ class Tokens:
     stroke: (S, 2 channels + STROKE_GEOMETRY) float32; face: (K, channels +
     FACE_GEOMETRY) float32; face_ids: (K,) int64, the face-ID of each face token;
     cls: (N_OPS + CLASS_EXTRA,) float32, the U-Net's class logits, the token counts
-    and which operators' drawings have this many strokes (`count_fits`).
+    and which operators' drawings have this many strokes (`count_fits`);
+    on_face: (S, K) float32, the share of each stroke's points on each face token.
     """
 
     stroke: torch.Tensor
     face: torch.Tensor
     face_ids: torch.Tensor
     cls: torch.Tensor
+    on_face: torch.Tensor
 
 
 # ---------------------------------------------------------------- features
@@ -222,7 +228,15 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16,
                                            *count_fits(len(strokes))])])
     return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
-                  cls.float())
+                  cls.float(), stroke_on_faces(pts, face_id, ids))
+
+
+def stroke_on_faces(pts: np.ndarray, face_id: np.ndarray, ids: np.ndarray) -> torch.Tensor:
+    """(S, K) share of each stroke's points (S, P, 2; pixels) on each face of `ids`."""
+    size = face_id.shape[-1]
+    ij = np.clip(np.floor(pts).astype(int), 0, size - 1)
+    under = face_id[ij[..., 1], ij[..., 0]]                             # (S, P)
+    return torch.from_numpy((under[:, :, None] == ids[None, None]).mean(1).astype(np.float32))
 
 
 # ---------------------------------------------------------------- the head
@@ -272,8 +286,13 @@ class StructureHead(nn.Module):
         # finds only approximately (ablation: docs/NOTES.md, stop 22)
         self.end_bias = nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads) \
             if cfg.end_bias and cfg.layers else None
-        if self.end_bias is not None:
-            nn.init.zeros_(self.end_bias.weight)
+        # and per bin of a stroke's share on a face, a bias each way (stroke to face, face
+        # to stroke): which face a stroke lies on is in no token
+        self.face_bias = nn.Embedding(len(ON_FACE_BINS) + 1, 2 * cfg.attention_heads) \
+            if cfg.face_bias and cfg.layers else None
+        for bias in (self.end_bias, self.face_bias):
+            if bias is not None:
+                nn.init.zeros_(bias.weight)
         self.norm = nn.LayerNorm(w)
         self.cls_out = nn.Linear(w, N_OPS)
         self.role_out = nn.Linear(w, sum(ROLES))
@@ -282,9 +301,11 @@ class StructureHead(nn.Module):
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
 
-    def _attention_bias(self, stroke: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:
-        """(B, heads, L, L) additive attention mask: -inf on padded keys, and between
-        strokes the end bias of their nearest ends' gap bin."""
+    def _attention_bias(self, stroke: torch.Tensor, on_face: torch.Tensor, pad: torch.Tensor
+                        ) -> torch.Tensor:
+        """(B, heads, L, L) additive attention mask: -inf on padded keys; between strokes
+        the end bias of their nearest ends' gap bin; between a stroke and a face the face
+        bias of the stroke's share on it."""
         b, n_s, heads = stroke.shape[0], stroke.shape[1], self.config.attention_heads
         n = pad.shape[1]
         mask = torch.zeros(b, heads, n, n).masked_fill(pad[:, None, None], float("-inf"))
@@ -294,16 +315,21 @@ class StructureHead(nn.Module):
             gap = (ends[:, :, None, :, None] - ends[:, None, :, None, :]).norm(dim=-1)
             bins = torch.bucketize(gap.amin((-2, -1)), torch.tensor(END_GAP_BINS))
             mask[:, :, 1:1 + n_s, 1:1 + n_s] += self.end_bias(bins).permute(0, 3, 1, 2)
+        if self.face_bias is not None:
+            bias = self.face_bias(torch.bucketize(on_face, torch.tensor(ON_FACE_BINS)))
+            mask[:, :, 1:1 + n_s, 1 + n_s:] += bias[..., :heads].permute(0, 3, 1, 2)
+            mask[:, :, 1 + n_s:, 1:1 + n_s] += bias[..., heads:].permute(0, 3, 2, 1)
         return mask
 
     def forward(self, cls: torch.Tensor, stroke: torch.Tensor, stroke_mask: torch.Tensor,
-                face: torch.Tensor, face_mask: torch.Tensor
+                face: torch.Tensor, face_mask: torch.Tensor, on_face: torch.Tensor
                 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Padded batch -> logits.
 
         Args:
             cls: (B, N_OPS + CLASS_EXTRA); stroke: (B, S, Ds), stroke_mask: (B, S) bool
-            (True = real); face: (B, K, Df), face_mask: (B, K) bool.
+            (True = real); face: (B, K, Df), face_mask: (B, K) bool; on_face: (B, S, K)
+            each stroke's share on each face.
         Returns:
             class logits (B, 4) (the U-Net's plus a correction); role logits (B, S, 10)
             (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
@@ -313,7 +339,7 @@ class StructureHead(nn.Module):
                        self.embed_face(face)], 1)
         pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
         if len(self.layers):
-            bias = self._attention_bias(stroke, pad)
+            bias = self._attention_bias(stroke, on_face, pad)
             for layer in self.layers:
                 h = layer(h, bias)
         h = self.norm(h)
@@ -332,10 +358,12 @@ def collate(items: list[Tokens]) -> tuple[torch.Tensor, ...]:
     face = torch.zeros(b, n_f, items[0].face.shape[1])
     s_mask = torch.zeros(b, n_s, dtype=torch.bool)
     f_mask = torch.zeros(b, n_f, dtype=torch.bool)
+    on_face = torch.zeros(b, n_s, n_f)
     for j, t in enumerate(items):
         stroke[j, :len(t.stroke)], s_mask[j, :len(t.stroke)] = t.stroke, True
         face[j, :len(t.face)], f_mask[j, :len(t.face)] = t.face, True
-    return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask
+        on_face[j, :len(t.stroke), :len(t.face)] = t.on_face
+    return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask, on_face
 
 
 # ---------------------------------------------------------------- decoding
@@ -516,13 +544,14 @@ def load_structured_predictor(head_path: str | Path, weights: str | Path | None 
     """The U-Net of `weights` (default: shipped) with the head of `head_path`.
 
     Raises:
-        ValueError: the head was trained on another U-Net's features.
+        ValueError: the head was trained on another U-Net's features (or does not say
+            on which: it records the U-Net's SHA-256).
     """
     path = resolve(weights)
     model, _ = load_checkpoint(path)
     head, ckpt = load_head(head_path)
-    want = ckpt.get("unet_sha256")
-    if want and want != sha256_of(path):
+    # the head reads the U-Net's inner features, which another U-Net lays out otherwise
+    if ckpt.get("unet_sha256") != sha256_of(path):
         raise ValueError(f"{head_path} was trained on the features of another U-Net "
                          f"({ckpt.get('unet')}), not {path}")
     return StructuredPredictor(model, head)
