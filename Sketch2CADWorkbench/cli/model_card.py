@@ -104,7 +104,7 @@ HEAD_COMMANDS = [
     "data/head-test-l3 --json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
     "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
-    "--weights runs/main --limit 200 --json runs/head-recovery-lN.json",
+    "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
 ]
 
 
@@ -274,17 +274,8 @@ def run(args: argparse.Namespace) -> int:
         print("sketch2cad model-card: error: give --run with --eval (the whole card), or "
               "--heads alone (its heads section)", file=sys.stderr)
         return 2
-    try:
-        heads = _heads(args)
-    except (FileNotFoundError, ValueError) as e:
-        print(f"sketch2cad model-card: error: {e}", file=sys.stderr)
-        return 2
     if args.run is None:
-        card = WEIGHTS / "MODEL_CARD.md"
-        card.write_text(replace_heads_section(card.read_text(), heads))
-        print(f"wrote the heads section of {card}"
-              + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else ""))
-        return 0
+        return _write(args, WEIGHTS / "MODEL_CARD.md", None)
     evals = {}
     for item in args.eval:
         level, _, path = item.partition("=")
@@ -296,7 +287,35 @@ def run(args: argparse.Namespace) -> int:
     ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
     WEIGHTS.mkdir(exist_ok=True)
     shutil.copyfile(args.run / "sketch2cad_net.pt", WEIGHTS / "sketch2cad_net.pt")
+    _drop_stale_head()
+    return _write(args, WEIGHTS / "MODEL_CARD.md", (ckpt, evals))
 
+
+def _drop_stale_head() -> None:
+    """Remove a shipped head that another U-Net's features trained: the predictor would
+    refuse it (the new U-Net's card says whether a head for it ships)."""
+    from ..inference.heads import sha256_of
+    path = WEIGHTS / HEAD_NAME
+    if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(
+            "unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
+        path.unlink()
+        print(f"removed {path}: trained on another U-Net's features")
+
+
+def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None) -> int:
+    """The card written: whole (`full`: the U-Net's checkpoint and evaluations) or only
+    its heads section; the head shipped first with --ship-head."""
+    try:
+        heads = _heads(args)
+    except (FileNotFoundError, ValueError) as e:
+        print(f"sketch2cad model-card: error: {e}", file=sys.stderr)
+        return 2
+    if full is None:
+        card.write_text(replace_heads_section(card.read_text(), heads))
+        print(f"wrote the heads section of {card}"
+              + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else ""))
+        return 0
+    ckpt, evals = full
     one = evals["1"]
     limits = {"classification_accuracy": round(one["classification_accuracy"]
                                                - MARGIN_CLASSIFICATION, 3),
@@ -367,7 +386,7 @@ def run(args: argparse.Namespace) -> int:
         "(the structured heads: their section's commands)",
         "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json ... --heads "
         "runs/head/scores.json runs/head-noctx/scores.json --head-recovery "
-        "runs/head-recovery-l1.json runs/head-recovery-l3.json [--ship-head]",
+        "runs/head-recovery/heldout-l1.json runs/head-recovery/heldout-l3.json [--ship-head]",
         "```",
         "",
         *heads,

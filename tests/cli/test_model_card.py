@@ -87,3 +87,18 @@ def test_a_head_ships_only_when_trained_on_the_shipped_unet(tmp_path, monkeypatc
     assert (weights / HEAD_NAME).read_bytes() == (run / HEAD_NAME).read_bytes()
     card = (weights / "MODEL_CARD.md").read_text()
     assert SHIPPED_HEAD_HEADING in card and card.rstrip().endswith("guard")
+
+
+def test_a_new_unet_drops_a_shipped_head_trained_on_another(tmp_path, monkeypatch):
+    import torch
+
+    from Sketch2CADWorkbench.cli import model_card
+    from Sketch2CADWorkbench.inference.heads import sha256_of
+    monkeypatch.setattr(model_card, "WEIGHTS", tmp_path)
+    (tmp_path / "sketch2cad_net.pt").write_bytes(b"the new U-Net")
+    torch.save({"unet_sha256": sha256_of(tmp_path / "sketch2cad_net.pt")}, tmp_path / HEAD_NAME)
+    model_card._drop_stale_head()
+    assert (tmp_path / HEAD_NAME).exists()
+    torch.save({"unet_sha256": "0" * 64}, tmp_path / HEAD_NAME)
+    model_card._drop_stale_head()
+    assert not (tmp_path / HEAD_NAME).exists()
