@@ -114,6 +114,7 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
     from Sketch2CADWorkbench.sketch.labels import CLASSES
     torch.set_num_threads(threads)
     p = load_structured_predictor(head / HEAD_NAME if head.is_dir() else head, weights)
+    p.threads = threads  # the predictor sets its own thread count on every sketch
     ds = Dataset(data)
     times: dict[str, list[float]] = {}
     for k in range(min(runs + 1, len(ds))):
