@@ -64,6 +64,17 @@ def test_one_token_per_stroke_and_per_visible_face(net):
     assert t.face.shape[0] == 2 and torch.isfinite(t.face).all() and torch.isfinite(t.stroke).all()
 
 
+def test_a_face_token_holds_its_area_centroid_and_spread(net):
+    face_id, strokes = _scene()
+    t = _tokens(net, strokes, face_id)
+    c = feature_channels(net)
+    for fid, token in zip(t.face_ids.tolist(), t.face):
+        ys, xs = np.nonzero(face_id == fid)
+        geo = token[c:c + 5].numpy()
+        assert np.allclose(geo, [len(xs) / SIZE ** 2, xs.mean() / SIZE, ys.mean() / SIZE,
+                                 xs.std() / SIZE, ys.std() / SIZE], atol=1e-6)
+
+
 def test_a_stroke_reads_the_same_drawn_either_way(net):
     face_id, strokes = _scene()
     forward = _tokens(net, strokes, face_id)
