@@ -479,7 +479,8 @@ class StructuredPredictor(NetworkPredictor):
     Context.strokes and Context.maps.face_id); `classify` and `segment` then answer with
     the head's class probabilities and the painted maps, and `stroke_roles` and
     `face_probabilities` expose the per-stroke and per-face probabilities behind them.
-    Without `observe` for the current inputs it answers as the plain U-Net predictor.
+    The first inputs after `observe` are taken as that sketch's; without `observe`, or
+    for other inputs after them, it answers as the plain U-Net predictor.
     """
 
     def __init__(self, model: Sketch2CADNet, head: StructureHead, threads: int | None = 2):
@@ -498,7 +499,9 @@ class StructuredPredictor(NetworkPredictor):
     def _structured(self, inputs: np.ndarray):
         if self._strokes is None:
             return None
-        if self._head_out is None or self._head_out[0] is not inputs:
+        if self._head_out is not None and self._head_out[0] is not inputs:
+            return None  # another sketch's inputs than the observed one: the U-Net alone
+        if self._head_out is None:  # the first inputs since `observe` are its sketch's
             if self.threads:
                 torch.set_num_threads(self.threads)
             x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]

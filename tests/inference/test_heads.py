@@ -236,6 +236,8 @@ def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path)
         assert set(faces) == {3, 7} and abs(sum(faces.values()) - 1) < 1e-5
         best = max(faces, key=faces.get)
         assert np.array_equal(f > 0.5, face_id == best)
+    x3 = x2.copy()  # inputs of a sketch it did not observe: never read with stale strokes
+    assert np.allclose(p.segment(x3, CLASSES[0])[1], unet[2][0, 0].numpy(), atol=1e-6)
 
 
 def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, tmp_path):
