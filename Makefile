@@ -39,10 +39,10 @@ weights: setup
 	    .bin/sketch2cad datagen --out data/heldout-l$$n --count 200 --seed 3000$$n \
 	        --noise-level $$n || exit 1; done
 	.bin/sketch2cad train-head --data data/head-train --out runs/head --epochs 20 \
-	    --tokens runs/head-tokens --weights runs/main \
+	    --width 128 --tokens runs/head-tokens --weights runs/main \
 	    --eval data/head-test-l1 data/head-test-l3 --json runs/head/scores.json
 	.bin/sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 20 \
-	    --layers 0 --tokens runs/head-tokens --weights runs/main \
+	    --width 128 --layers 0 --tokens runs/head-tokens --weights runs/main \
 	    --eval data/head-test-l1 data/head-test-l3 --json runs/head-noctx/scores.json
 	for n in 1 3; do \
 	    .bin/python scripts/recovery_with_head.py --data data/heldout-l$$n --head runs/head \

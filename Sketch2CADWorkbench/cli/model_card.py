@@ -74,7 +74,9 @@ def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
            "|---|---|---|---|" + "---|" * len(OPS)]
     rows = []
     for k, (scores, head) in enumerate(runs):
-        label = f"head, {head['config']['layers']} attention layers" if head else "head"
+        label = (f"head, {head['config']['layers']} attention layers"
+                 + (f", width {head['config']['width']}" if "width" in head["config"] else "")
+                 if head else "head")
         for data, result in scores.items():
             for name in (("unet", "head") if k == 0 else ("head",)):
                 if name in result:
@@ -96,11 +98,11 @@ SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
 HEAD_COMMANDS = [
     "sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix",
     "sketch2cad datagen --out data/head-test-lN --count 400 --seed 4000N --noise-level N",
-    "sketch2cad train-head --data data/head-train --out runs/head --epochs 20 "
+    "sketch2cad train-head --data data/head-train --out runs/head --epochs 20 --width 128 "
     "--tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
     "data/head-test-l3 --json runs/head/scores.json",
     "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 20 "
-    "--layers 0 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
+    "--width 128 --layers 0 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
     "data/head-test-l3 --json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
     "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
@@ -119,7 +121,8 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
         if head:
             params = sum(v.numel() for v in head["model"].values())
             s = head["settings"]
-            trained += [f"- Head, {head['config']['layers']} attention layers: {params} "
+            trained += [f"- Head, {head['config']['layers']} attention layers, width "
+                        f"{head['config'].get('width')}: {params} "
                         f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
                         f"of {head.get('train_samples')} samples of `{head.get('data')}` in "
                         f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
@@ -158,7 +161,9 @@ def end_to_end(recovery: dict[str, dict]) -> list[str]:
     """Recovery of whole interpret steps with the U-Net alone and with the head, per
     data set (scripts/recovery_with_head.py --json), strict [with the flip]."""
     out = ["End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
-           "the truth; in brackets with the named one-click flip of the Boolean), %:", "",
+           "the truth; in brackets with the named one-click flip of the Boolean), %; "
+           "interpret ms is wall time on the shared project machine, comparable only between "
+           "rows run at the same load:", "",
            "| data | reading | " + " | ".join(f"{op} (n)" for op in OPS)
            + " | interpret ms (median) |",
            "|---|---|" + "---|" * len(OPS) + "---|"]

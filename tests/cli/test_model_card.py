@@ -25,7 +25,8 @@ def test_the_heads_section_has_a_row_per_reading_and_the_papers_row():
     scores = {"data/test-l1": {"data": {"seed": 10001}, "unet": _summary(0.809, 0.752),
                                "head": _summary(0.95, 0.97, cls=0.995)}}
     alone = {"data/test-l1": {"unet": _summary(0.809, 0.752), "head": _summary(0.9, 0.9)}}
-    lines = heads_section([(scores, None), (alone, {"config": {"layers": 0}, "model": {},
+    lines = heads_section([(scores, None), (alone, {"config": {"layers": 0, "width": 96},
+                                                    "model": {},
                                                     "settings": {"epochs": 2, "threads": 1},
                                                     "log": [{"seconds": 60}]})])
     assert lines[0] == HEADS_HEADING
@@ -33,8 +34,8 @@ def test_the_heads_section_has_a_row_per_reading_and_the_papers_row():
     assert len(rows) == 3  # the U-Net's row once
     assert "| unet | 99.0 | 80.9 / 75.2 |" in rows[0]
     assert "| head | 99.5 | 95.0 / 97.0 |" in rows[1]
-    assert "| head, 0 attention layers | 99.0 | 90.0 / 90.0 |" in rows[2]
-    assert any("0 attention layers: 0 parameters" in ln for ln in lines)
+    assert "| head, 0 attention layers, width 96 | 99.0 | 90.0 / 90.0 |" in rows[2]
+    assert any("0 attention layers, width 96: 0 parameters" in ln for ln in lines)
     assert any(ln.startswith("| paper, Table 1 |") for ln in lines)
 
 
