@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Speed of the networks on this machine: training time per sample and inference latency.
 
-    .venv/bin/python scripts/bench_networks.py                  # the shipped config
-    .venv/bin/python scripts/bench_networks.py --candidates     # the design alternatives
-    .venv/bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
-    .venv/bin/python scripts/bench_networks.py --head RUN --data DIR   # with the head
+    .bin/python scripts/bench_networks.py                  # the shipped config
+    .bin/python scripts/bench_networks.py --candidates     # the design alternatives
+    .bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
+    .bin/python scripts/bench_networks.py --head RUN --data DIR   # with the head, by stage
 
 Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
 on random batches, in ms per sample: the median and, as the figure least disturbed by
@@ -94,32 +94,57 @@ def latency_ms(model: Sketch2CADNet, runs: int, threads: int) -> float:
 
 
 def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, threads: int
-                    ) -> tuple[float, float]:
-    """Median ms per sketch of the U-Net's predict alone and of the structured predictor
-    (U-Net features, tokens, head, F and C painted for the likeliest operator), on the
-    first `runs` sketches of a data set (real strokes and face maps)."""
+                    ) -> dict[str, float]:
+    """Median ms per sketch on the first `runs` sketches of a data set (real strokes and
+    face maps): the U-Net's predict alone ("unet"), the whole structured predictor
+    (observe, classify, segment for the likeliest operator: "unet + head"), and its
+    stages: the U-Net's feature maps, the tokens, the head, the decoding and painting."""
     from datagen.dataset import Dataset
-    from Sketch2CADWorkbench.inference.heads import load_structured_predictor
+    from Sketch2CADWorkbench.inference.heads import (
+        collate,
+        decode_roles,
+        feature_maps,
+        load_structured_predictor,
+        paint_curve,
+        paint_face,
+        role_probabilities,
+        tokens,
+    )
+    from Sketch2CADWorkbench.inference.weights import HEAD_NAME
     from Sketch2CADWorkbench.sketch.labels import CLASSES
     torch.set_num_threads(threads)
-    p = load_structured_predictor(head / "sketch2cad_head.pt" if head.is_dir() else head,
-                                  weights)
+    p = load_structured_predictor(head / HEAD_NAME if head.is_dir() else head, weights)
+    p.threads = threads  # the predictor sets its own thread count on every sketch
     ds = Dataset(data)
-    samples = [ds.sample(i) for i in range(min(runs + 1, len(ds)))]
-    plain, structured = [], []
-    for k, s in enumerate(samples):
+    times: dict[str, list[float]] = {}
+    for k in range(min(runs + 1, len(ds))):
+        s = ds.sample(k)
         x = s.inputs()
-        t = time.perf_counter()
+        clock = [time.perf_counter()]
+
+        def lap(name):
+            clock.append(time.perf_counter())
+            if k:  # the first sketch allocates
+                times.setdefault(name, []).append(clock[-1] - clock[-2])
         p.model.predict(torch.from_numpy(x)[None])
-        t1 = time.perf_counter()
+        lap("unet")
         p.observe(s.strokes, s.face_id)
         probs = p.classify(x)
         p.segment(x, CLASSES[int(probs.argmax())])
-        t2 = time.perf_counter()
-        if k:  # the first call allocates
-            plain.append(t1 - t)
-            structured.append(t2 - t1)
-    return 1e3 * statistics.median(plain), 1e3 * statistics.median(structured)
+        lap("unet + head")
+        with torch.inference_mode():
+            logits, maps = feature_maps(p.model, torch.from_numpy(x)[None])
+            lap("features")
+            t = tokens(logits[0], maps[0], s.strokes, s.face_id)
+            lap("tokens")
+            _, roles, faces = p.head(*collate([t]))
+            lap("head")
+            op = int(probs.argmax())
+            paint_curve(s.strokes, decode_roles(role_probabilities(roles[0], op), op),
+                        s.face_id.shape[-1])
+            paint_face(faces[0, :, op].softmax(0), t.face_ids, s.face_id)
+            lap("decode + paint")
+    return {name: 1e3 * statistics.median(v) for name, v in times.items()}
 
 
 def main() -> int:
@@ -137,10 +162,11 @@ def main() -> int:
     if args.head:
         if not args.data:
             p.error("--head needs --data (real strokes and face maps)")
-        unet, head = head_latency_ms(args.head, args.weights, args.data, args.runs,
-                                     args.infer_threads)
+        ms = head_latency_ms(args.head, args.weights, args.data, args.runs, args.infer_threads)
         print(f"latency median per sketch ({args.infer_threads} threads, {args.runs} sketches of "
-              f"{args.data}): U-Net predict {unet:.1f} ms; U-Net + head {head:.1f} ms")
+              f"{args.data}): U-Net predict {ms.pop('unet'):.1f} ms; U-Net + head "
+              f"{ms.pop('unet + head'):.1f} ms (" + ", ".join(f"{k} {v:.1f}" for k, v in
+                                                        ms.items()) + " ms)")
         return 0
     if args.weights:
         path = args.weights / "sketch2cad_net.pt" if args.weights.is_dir() else args.weights

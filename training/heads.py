@@ -47,12 +47,9 @@ from Sketch2CADWorkbench.inference.heads import (
     tokens,
 )
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
-from Sketch2CADWorkbench.inference.weights import load_model, resolve
+from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 
 from .metrics import Tally, curve_hits, face_overlap
-
-HEAD_NAME = "sketch2cad_head.pt"
-
 
 @dataclass
 class HeadSettings:
@@ -108,9 +105,11 @@ def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
 
 
 def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
-            limit: int | None = None, batch: int = 16) -> list[Item]:
+            limit: int | None = None, batch: int = 16, unet: str = "") -> list[Item]:
     """Every sample's tokens and targets. With a `cache` folder, each whole shard's items
-    are kept there as they are made, so an interrupted extraction resumes by shard."""
+    are kept there as they are made, so an interrupted extraction resumes by shard; a
+    cached shard is reused only for the same data, count, seed and `unet` (its SHA-256),
+    so runs that share a cache (the ablation) read the U-Net once."""
     ds = Dataset(data)
     n = min(len(ds), limit) if limit else len(ds)
     items: list[Item] = []
@@ -120,7 +119,7 @@ def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
             take = min(len(meta), n - len(items))
             path = cache / f"tokens-{k:05d}.pt" if cache is not None else None
             key = json.dumps({"data": str(Path(data).resolve()), "shard": k, "take": take,
-                              "seed": ds.manifest.get("seed")}, sort_keys=True)
+                              "seed": ds.manifest.get("seed"), "unet": unet}, sort_keys=True)
             if path is not None and path.exists():
                 saved = torch.load(path, weights_only=False)
                 if saved["key"] == key:
@@ -162,18 +161,29 @@ def losses(head: StructureHead, items: list[Item]) -> tuple[torch.Tensor, ...]:
             torch.stack(face_terms).mean() if face_terms else zero)
 
 
-def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | None = None
-               ) -> Path:
-    """Train the head on `data` with the U-Net of `weights` frozen; a rerun with the same
-    `out` resumes after the last finished epoch. Returns out/HEAD_NAME."""
-    s = settings
-    torch.set_num_threads(s.threads)
+def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | None = None,
+               tokens_cache: Path | None = None, count: int | None = None) -> Path:
+    """Train the head on `data` (its first `count` samples, default all) with the U-Net
+    of `weights` frozen; a rerun with the same `out` resumes after the last finished
+    epoch. Tokens are cached in `tokens_cache` (default out/tokens). Returns
+    out/HEAD_NAME."""
+    torch.set_num_threads(settings.threads)
     out.mkdir(parents=True, exist_ok=True)
     unet_path = resolve(weights)
     model, _ = load_model(unet_path)
-    items = extract(data, model, out / "tokens")
-    ckpt_path = out / "head-checkpoint.pt"
-    s.head.channels = feature_channels(model)
+    unet_sha = sha256_of(unet_path)
+    items = extract(data, model, tokens_cache or out / "tokens", limit=count, unet=unet_sha)
+    settings.head.channels = feature_channels(model)
+    head, log = fit(items, out / "head-checkpoint.pt", settings)
+    final = out / HEAD_NAME
+    save_head(final, head.eval(), settings=asdict(settings), log=log, train_samples=len(items),
+              data=str(data), unet=str(unet_path), unet_sha256=unet_sha)
+    return final
+
+
+def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureHead, list]:
+    """The head trained on `items` (AdamW, warm-up then cosine decay), checkpointed to
+    `ckpt_path` after every epoch and resumed from it; returns it and its epoch log."""
     torch.manual_seed(s.seed)
     head = StructureHead(s.head)
     opt = torch.optim.AdamW(head.parameters(), lr=s.lr, weight_decay=s.weight_decay)
@@ -212,11 +222,7 @@ def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | No
               f"{row['role']:.4f} face {row['face']:.4f} ({row['seconds']} s)", flush=True)
         save_head(ckpt_path, head, optimizer=opt.state_dict(), epoch=e + 1, log=log,
                   settings=asdict(s))
-    final = out / HEAD_NAME
-    save_head(final, head.eval(), settings=asdict(s), log=log, train_samples=len(items),
-              data=str(data), unet=str(unet_path),
-              unet_sha256=sha256_of(unet_path))
-    return final
+    return head, log
 
 
 def evaluate_head(data: Path, head_path: Path, weights: Path | None = None,

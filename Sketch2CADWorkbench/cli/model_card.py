@@ -20,6 +20,8 @@ import torch
 
 from training.report import plot_curves
 
+from ..inference.weights import HEAD_NAME
+
 ROOT = Path(__file__).resolve().parents[2]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 OPS = ("extrude", "bevel", "addsub", "sweep")
@@ -72,7 +74,9 @@ def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
            "|---|---|---|---|" + "---|" * len(OPS)]
     rows = []
     for k, (scores, head) in enumerate(runs):
-        label = f"head, {head['config']['layers']} attention layers" if head else "head"
+        label = (f"head, {head['config']['layers']} attention layers"
+                 + (f", width {head['config']['width']}" if "width" in head["config"] else "")
+                 if head else "head")
         for data, result in scores.items():
             for name in (("unet", "head") if k == 0 else ("head",)):
                 if name in result:
@@ -89,43 +93,93 @@ def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
 
 
 HEADS_HEADING = "## Structured heads (ablation; not shipped)"
+GUARD_HEADING = "## Regression guard"
+SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
+HEAD_COMMANDS = [
+    "sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix",
+    "sketch2cad datagen --out data/head-test-lN --count 400 --seed 4000N --noise-level N",
+    "sketch2cad train-head --data data/head-train --out runs/head --epochs 20 --width 128 "
+    "--tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
+    "data/head-test-l3 --json runs/head/scores.json",
+    "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 20 "
+    "--width 128 --layers 0 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
+    "data/head-test-l3 --json runs/head-noctx/scores.json",
+    "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
+    "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
+    "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
+]
 
 
-def heads_section(runs: list[tuple[dict, dict | None]]) -> list[str]:
+def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict] | None = None,
+                  shipped: bool = False) -> list[str]:
     """The model card's section on the structured heads (inference/heads.py): `runs`,
-    each run's `train-head --json` scores and head checkpoint dictionary (or None)."""
+    each run's `train-head --json` scores and head checkpoint dictionary (or None), the
+    first being the head that ships when `shipped`; `recovery`, per data set the
+    end-to-end rows of scripts/recovery_with_head.py --json."""
     trained = []
     for _, head in runs:
         if head:
             params = sum(v.numel() for v in head["model"].values())
             s = head["settings"]
-            trained += [f"- Head, {head['config']['layers']} attention layers: {params} "
+            trained += [f"- Head, {head['config']['layers']} attention layers, width "
+                        f"{head['config'].get('width')}: {params} "
                         f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
                         f"of {head.get('train_samples')} samples of `{head.get('data')}` in "
                         f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
                         f"{s['threads']} torch thread(s), on the features of the U-Net with "
                         f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."]
     return [
-        HEADS_HEADING,
+        SHIPPED_HEAD_HEADING if shipped else HEADS_HEADING,
         "The heads read the frozen U-Net's features per stroke (sampled along the polyline, "
         "with its geometry) and per visible face (pooled over the face-ID map), with a "
-        "small transformer for the context between them, and choose each stroke's role and "
-        "the base face; the choices are painted back into C and F, so the paper's curve "
+        "small transformer for the context between them (its attention biased by how near "
+        "two strokes' ends lie and by how much of a stroke lies on a face), and choose each "
+        "stroke's role (with the counts the operator's drawing has: a prism's n start, n "
+        "profile and n end strokes, a sweep's 1, 2, 1, a bevel's one l) and the base face; "
+        "the choices are painted back into C and F, so the paper's curve "
         "accuracy and face IoU score them unchanged. Rows: `unet`, this network's own maps; "
         "`head`, the head's choices; each segmentation on the ground-truth operator's maps, "
         "as the paper scores them. Printed by `sketch2cad train-head ... --eval DIR ...` "
-        "(`make weights`); figures in %.",
+        "(`make weights`); figures in %." + (
+            f" The predictor loads `{HEAD_NAME}` with the U-Net beside it and refuses it "
+            "for any U-Net but the one whose SHA-256 it records." if shipped else ""),
         "",
         *trained,
         "",
         *ablation(runs),
         "",
+        *(end_to_end(recovery) if recovery else []),
+        "How to reproduce (`make weights`):",
+        "```",
+        *HEAD_COMMANDS,
+        "```",
+        "",
     ]
+
+
+def end_to_end(recovery: dict[str, dict]) -> list[str]:
+    """Recovery of whole interpret steps with the U-Net alone and with the head, per
+    data set (scripts/recovery_with_head.py --json), strict [with the flip]."""
+    out = ["End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
+           "the truth; in brackets with the named one-click flip of the Boolean), %; "
+           "interpret ms is wall time on the shared project machine, comparable only between "
+           "rows run at the same load:", "",
+           "| data | reading | " + " | ".join(f"{op} (n)" for op in OPS)
+           + " | interpret ms (median) |",
+           "|---|---|" + "---|" * len(OPS) + "---|"]
+    for data, rows in recovery.items():
+        for name, r in rows.items():
+            per = r["per_operator"]
+            out.append(f"| {data} | {name} | " + " | ".join(
+                f"{pct(per[op]['recovery_rate'])} [{pct(per[op]['recovery_rate_with_flip'])}]"
+                f" ({per[op]['recovery_n']})" for op in OPS)
+                + f" | {r['interpret_median_ms']:.0f} |")
+    return out + [""]
 
 
 def _head_beside(scores: Path) -> dict | None:
     """The head checkpoint in the scores' run folder, if there is one."""
-    path = scores.parent / "sketch2cad_head.pt"
+    path = scores.parent / HEAD_NAME
     return torch.load(path, map_location="cpu", weights_only=False) if path.exists() else None
 
 
@@ -174,16 +228,59 @@ def targets_met(level1: dict) -> str:
 
 
 def add_arguments(ap: argparse.ArgumentParser) -> None:
-    ap.add_argument("--run", type=Path, required=True, help="training run folder")
-    ap.add_argument("--eval", nargs="+", required=True, metavar="LEVEL=JSON",
+    ap.add_argument("--run", type=Path, help="training run folder (with --eval; without "
+                    "both, only the card's heads section is rewritten)")
+    ap.add_argument("--eval", nargs="+", metavar="LEVEL=JSON",
                     help="`sketch2cad eval` results per noise level of the held-out sets")
     ap.add_argument("--heads", type=Path, nargs="+", metavar="JSON",
                     help="`sketch2cad train-head --json` scores, one per head (the head "
                          "checkpoint beside each): the heads' ablation section")
+    ap.add_argument("--head-recovery", type=Path, nargs="+", metavar="JSON",
+                    help="scripts/recovery_with_head.py --json results: the heads' "
+                         "end-to-end table")
+    ap.add_argument("--ship-head", action="store_true",
+                    help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
+                         "U-Net (it must have been trained on that U-Net's features)")
 
+
+
+def _heads(args: argparse.Namespace) -> list[str]:
+    """The heads section from the arguments; with --ship-head, the head copied into the
+    package first. Raises ValueError for a head of another U-Net."""
+    if not args.heads:
+        return []
+    if args.ship_head:
+        from ..inference.heads import sha256_of
+        head = _head_beside(args.heads[0])
+        if head is None or head.get("unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
+            raise ValueError(f"{args.heads[0].parent / HEAD_NAME}: not a head trained on "
+                             f"the features of {WEIGHTS / 'sketch2cad_net.pt'}")
+        shutil.copyfile(args.heads[0].parent / HEAD_NAME, WEIGHTS / HEAD_NAME)
+    recovery = {p.stem: json.loads(p.read_text()) for p in args.head_recovery or []}
+    return heads_section([(json.loads(p.read_text()), _head_beside(p)) for p in args.heads],
+                         recovery, shipped=(WEIGHTS / HEAD_NAME).exists())
+
+
+def replace_heads_section(card: str, section: list[str]) -> str:
+    """The card with its heads section (from either heading up to the next "## ")
+    replaced by `section`, or `section` put before the regression guard."""
+    lines = card.splitlines()
+    starts = [i for i, ln in enumerate(lines) if ln in (HEADS_HEADING, SHIPPED_HEAD_HEADING)]
+    if starts:
+        end = next((i for i in range(starts[0] + 1, len(lines))
+                    if lines[i].startswith("## ")), len(lines))
+    else:
+        starts = [end] = [next(i for i, ln in enumerate(lines) if ln == GUARD_HEADING)]
+    return "\n".join(lines[:starts[0]] + section + lines[end:]) + "\n"
 
 
 def run(args: argparse.Namespace) -> int:
+    if (args.run is None) != (args.eval is None) or (args.run is None and not args.heads):
+        print("sketch2cad model-card: error: give --run with --eval (the whole card), or "
+              "--heads alone (its heads section)", file=sys.stderr)
+        return 2
+    if args.run is None:
+        return _write(args, WEIGHTS / "MODEL_CARD.md", None)
     evals = {}
     for item in args.eval:
         level, _, path = item.partition("=")
@@ -195,7 +292,35 @@ def run(args: argparse.Namespace) -> int:
     ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
     WEIGHTS.mkdir(exist_ok=True)
     shutil.copyfile(args.run / "sketch2cad_net.pt", WEIGHTS / "sketch2cad_net.pt")
+    _drop_stale_head()
+    return _write(args, WEIGHTS / "MODEL_CARD.md", (ckpt, evals))
 
+
+def _drop_stale_head() -> None:
+    """Remove a shipped head that another U-Net's features trained: the predictor would
+    refuse it (the new U-Net's card says whether a head for it ships)."""
+    from ..inference.heads import sha256_of
+    path = WEIGHTS / HEAD_NAME
+    if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(
+            "unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
+        path.unlink()
+        print(f"removed {path}: trained on another U-Net's features")
+
+
+def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None) -> int:
+    """The card written: whole (`full`: the U-Net's checkpoint and evaluations) or only
+    its heads section; the head shipped first with --ship-head."""
+    try:
+        heads = _heads(args)
+    except (FileNotFoundError, ValueError) as e:
+        print(f"sketch2cad model-card: error: {e}", file=sys.stderr)
+        return 2
+    if full is None:
+        card.write_text(replace_heads_section(card.read_text(), heads))
+        print(f"wrote the heads section of {card}"
+              + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else ""))
+        return 0
+    ckpt, evals = full
     one = evals["1"]
     limits = {"classification_accuracy": round(one["classification_accuracy"]
                                                - MARGIN_CLASSIFICATION, 3),
@@ -263,18 +388,14 @@ def run(args: argparse.Namespace) -> int:
         f"--threads {s['threads']}",
         "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
         "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
-        "sketch2cad datagen --out data/head-train --count 2304 --seed 1 --noise-level mix",
-        "sketch2cad train-head --data data/head-train --out runs/head --epochs 12 "
-        "--weights runs/main --eval data/test-l1 data/test-l3 --json runs/head/scores.json",
-        "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 12 "
-        "--layers 0 --weights runs/main --eval data/test-l1 --json runs/head-noctx/scores.json",
-        "sketch2cad model-card --run runs/main --heads runs/head/scores.json "
-        "runs/head-noctx/scores.json --eval 1=runs/eval-l1.json ...",
+        "(the structured heads: their section's commands)",
+        "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json ... --heads "
+        "runs/head/scores.json runs/head-noctx/scores.json --head-recovery "
+        "runs/head-recovery/heldout-l1.json runs/head-recovery/heldout-l3.json [--ship-head]",
         "```",
         "",
-        *(heads_section([(json.loads(p.read_text()), _head_beside(p)) for p in args.heads])
-          if args.heads else []),
-        "## Regression guard",
+        *heads,
+        GUARD_HEADING,
         "`thresholds.json`: the level-1 figures less "
         f"{MARGIN_CLASSIFICATION} (classification) and {MARGIN_SEGMENTATION} (face IoU, "
         "curve accuracy); `tests/inference/test_shipped_weights.py` evaluates these weights "

@@ -3,7 +3,7 @@
 U-Net, then score them against the U-Net's own maps on held-out data sets; rerunning with
 the same --out resumes after the last finished epoch (training/heads.py).
 
-`sketch2cad train-head --data DIR --out RUN [--weights W] [--epochs N]
+`sketch2cad train-head --data DIR --out RUN [--weights W] [--epochs N] [--tokens CACHE]
 [--eval DIR ...] [--json OUT.json]`.
 """
 from __future__ import annotations
@@ -23,6 +23,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--data", type=Path, required=True, help="training data set (datagen)")
     p.add_argument("--out", type=Path, required=True,
                    help="run folder: token cache, checkpoint, sketch2cad_head.pt")
+    p.add_argument("--tokens", type=Path,
+                   help="token cache folder (default OUT/tokens): runs on the same data and "
+                        "U-Net can share one")
+    p.add_argument("--count", type=int, help="train on the first COUNT samples of --data")
     p.add_argument("--weights", type=Path,
                    help="the U-Net whose features the head reads (default: the shipped one)")
     p.add_argument("--epochs", type=int, default=d.epochs)
@@ -33,6 +37,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--width", type=int, default=h.width)
     p.add_argument("--layers", type=int, default=h.layers,
                    help="attention layers (0: each token alone, no context)")
+    p.add_argument("--no-end-bias", action="store_true",
+                   help="attention between strokes without the bias by their end gaps")
     p.add_argument("--eval", type=Path, nargs="*", default=[], metavar="DIR",
                    help="held-out data sets to score the U-Net and the head on")
     p.add_argument("--limit", type=int, help="score the first LIMIT samples of each only")
@@ -50,8 +56,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         settings = HeadSettings(epochs=args.epochs, batch_size=args.batch_size, lr=args.lr,
                                 seed=args.seed, threads=args.threads,
-                                head=HeadConfig(width=args.width, layers=args.layers))
-        final = train_head(args.data, args.out, settings, args.weights)
+                                head=HeadConfig(width=args.width, layers=args.layers,
+                                                end_bias=not args.no_end_bias))
+        final = train_head(args.data, args.out, settings, args.weights, args.tokens,
+                           args.count)
         print(f"train-head: head weights {final}")
         scores = {}
         for data in args.eval:

@@ -38,6 +38,7 @@ import numpy as np
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
+from scipy.optimize import linear_sum_assignment
 
 from ..brep.files import atomic_path
 from ..brep.protocol import OperatorType
@@ -55,6 +56,14 @@ ROLES = (2, 2, 3, 3)
 ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
 STROKE_GEOMETRY = 14 + 7  # stroke_geometry and stroke_context
 FACE_GEOMETRY = 5 + 2 * N_OPS
+CLASS_EXTRA = 2 + N_OPS  # token counts, count_fits
+# Gaps between stroke ends (image widths) that the end bias tells apart: level-3 noise
+# moves an end by about 0.03, the sides of a small prism are about 0.1 long.
+END_GAP_BINS = (0.01, 0.02, 0.04, 0.08, 0.16)
+ENDS = slice(2, 6)  # the ends' coordinates within stroke_geometry
+# Shares of a stroke's points on a face that the face bias tells apart: none, a corner's
+# worth, part, most, all (a start stroke lies on the base face, an end stroke leaves it).
+ON_FACE_BINS = (0.05, 0.35, 0.65, 0.95)
 
 
 def feature_channels(model: Sketch2CADNet) -> int:
@@ -71,6 +80,8 @@ class HeadConfig:
     layers: int = 3
     attention_heads: int = 4
     dropout: float = 0.1
+    end_bias: bool = True  # attention between strokes biased by how near their ends lie
+    face_bias: bool = True  # attention between a stroke and a face by how much it lies on it
 
 
 @dataclass
@@ -79,13 +90,16 @@ class Tokens:
 
     stroke: (S, 2 channels + STROKE_GEOMETRY) float32; face: (K, channels +
     FACE_GEOMETRY) float32; face_ids: (K,) int64, the face-ID of each face token;
-    cls: (N_OPS + 2,) float32, the U-Net's class logits and the token counts.
+    cls: (N_OPS + CLASS_EXTRA,) float32, the U-Net's class logits, the token counts
+    and which operators' drawings have this many strokes (`count_fits`);
+    on_face: (S, K) float32, the share of each stroke's points on each face token.
     """
 
     stroke: torch.Tensor
     face: torch.Tensor
     face_ids: torch.Tensor
     cls: torch.Tensor
+    on_face: torch.Tensor
 
 
 # ---------------------------------------------------------------- features
@@ -169,7 +183,9 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     size = face_id.shape[-1]
     # faces: each map's mean over the face's visible full-size pixels, each pixel read
     # from the internal-size cell it falls in (a (K, I*I) count matrix times the maps)
-    ids, counts = np.unique(face_id[face_id >= 0], return_counts=True)
+    counts = np.bincount(face_id[face_id >= 0].ravel())  # faster than np.unique here
+    ids = np.nonzero(counts)[0]
+    counts = counts[ids]
     keep = np.argsort(-counts, kind="stable")[:MAX_FACES]
     ids, counts = ids[keep], counts[keep].astype(np.float32)
     k = len(ids)
@@ -185,13 +201,15 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     f_logits = maps[c - 5 - 2 * N_OPS:c - 5 - N_OPS][None]              # the U-Net's F
     votes_map = F.interpolate(f_logits, size=(size, size), mode="bilinear",
                               align_corners=False)[0].reshape(N_OPS, -1).numpy()[:, on] > 0
-    votes = np.stack([np.bincount(where[on], weights=v, minlength=k) for v in votes_map], 1)
-    pos = np.stack([xs, ys], 1) / size
-    centroid = np.stack([np.bincount(where[on], weights=p, minlength=k) for p in pos.T], 1) \
-        / counts[:, None]
-    spread = np.sqrt(np.clip(np.stack([np.bincount(where[on], weights=p ** 2, minlength=k)
-                                       for p in pos.T], 1) / counts[:, None]
-                             - centroid ** 2, 0, None))
+    # per face, in one pass over its pixels (not 8 bincounts): the U-Net's F votes and
+    # the sums of x, y, x^2, y^2
+    pos = torch.from_numpy(np.stack([xs, ys], 1) / size)
+    sums = torch.zeros(k, N_OPS + 4, dtype=torch.float64).index_add_(
+        0, torch.from_numpy(where[on]),
+        torch.cat([torch.from_numpy(votes_map.T.astype(np.float64)), pos, pos ** 2], 1)).numpy()
+    votes = sums[:, :N_OPS]
+    centroid = sums[:, N_OPS:N_OPS + 2] / counts[:, None]
+    spread = np.sqrt(np.clip(sums[:, N_OPS + 2:] / counts[:, None] - centroid ** 2, 0, None))
     geo = np.concatenate([counts[:, None] / size ** 2, centroid, spread,
                           votes / counts[:, None], votes / np.maximum(votes.sum(0), 1)], 1)
     face = torch.cat([mean, torch.from_numpy(geo.astype(np.float32))], 1)
@@ -211,12 +229,47 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
         np.zeros((0, STROKE_GEOMETRY), np.float32)
     stroke = torch.cat([samples.mean(2).T, samples.amax(2).T, torch.from_numpy(geo)], 1)
 
-    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16])])
+    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16,
+                                           *count_fits(len(strokes))])])
     return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
-                  cls.float())
+                  cls.float(), stroke_on_faces(pts, face_id, ids))
+
+
+def stroke_on_faces(pts: np.ndarray, face_id: np.ndarray, ids: np.ndarray) -> torch.Tensor:
+    """(S, K) share of each stroke's points (S, P, 2; pixels) on each face of `ids`."""
+    size = face_id.shape[-1]
+    ij = np.clip(np.floor(pts).astype(int), 0, size - 1)
+    under = face_id[ij[..., 1], ij[..., 0]]                             # (S, P)
+    return torch.from_numpy((under[:, :, None] == ids[None, None]).mean(1).astype(np.float32))
 
 
 # ---------------------------------------------------------------- the head
+class AttentionLayer(nn.Module):
+    """A pre-norm transformer layer whose attention adds a (B, heads, L, L) bias. Not
+    torch's TransformerEncoderLayer: its fused inference path reads a per-sample 3-D
+    mask otherwise than its training path (outputs differed by 0.6 in eval mode)."""
+
+    def __init__(self, width: int, heads: int, dropout: float):
+        super().__init__()
+        self.heads, self.dropout = heads, dropout
+        self.norm1, self.norm2 = nn.LayerNorm(width), nn.LayerNorm(width)
+        self.qkv = nn.Linear(width, 3 * width)
+        self.out = nn.Linear(width, width)
+        self.feed = nn.Sequential(nn.Linear(width, 2 * width), nn.ReLU(), nn.Dropout(dropout),
+                                  nn.Linear(2 * width, width))
+        self.drop = nn.Dropout(dropout)
+
+    def forward(self, h: torch.Tensor, bias: torch.Tensor) -> torch.Tensor:
+        """(B, L, width) tokens, (B, heads, L, L) bias -> (B, L, width)."""
+        b, n, w = h.shape
+        q, k, v = self.qkv(self.norm1(h)).view(b, n, 3, self.heads, w // self.heads) \
+            .permute(2, 0, 3, 1, 4)
+        a = F.scaled_dot_product_attention(q, k, v, attn_mask=bias,
+                                           dropout_p=self.dropout if self.training else 0.0)
+        h = h + self.drop(self.out(a.transpose(1, 2).reshape(b, n, w)))
+        return h + self.drop(self.feed(self.norm2(h)))
+
+
 class StructureHead(nn.Module):
     """Transformer over one class token, the stroke tokens and the face tokens."""
 
@@ -224,16 +277,26 @@ class StructureHead(nn.Module):
         super().__init__()
         self.config = cfg = config or HeadConfig()
         w = cfg.width
-        self.embed_cls = nn.Linear(N_OPS + 2, w)
+        self.embed_cls = nn.Linear(N_OPS + CLASS_EXTRA, w)
         self.embed_stroke = nn.Sequential(nn.LayerNorm(2 * cfg.channels + STROKE_GEOMETRY),
                                           nn.Linear(2 * cfg.channels + STROKE_GEOMETRY, w))
         self.embed_face = nn.Sequential(nn.LayerNorm(cfg.channels + FACE_GEOMETRY),
                                         nn.Linear(cfg.channels + FACE_GEOMETRY, w))
-        layer = nn.TransformerEncoderLayer(w, cfg.attention_heads, 2 * w, cfg.dropout,
-                                           batch_first=True, norm_first=True)
         # layers = 0: every token read alone (the ablation of the context)
-        self.encoder = nn.TransformerEncoder(layer, cfg.layers, enable_nested_tensor=False) \
-            if cfg.layers else None
+        self.layers = nn.ModuleList(AttentionLayer(w, cfg.attention_heads, cfg.dropout)
+                                    for _ in range(cfg.layers))
+        # per attention head, a learned bias per END_GAP_BINS bin of two strokes' end gap:
+        # the strokes of one outline meet end to end, which attention over coordinates
+        # finds only approximately (ablation: docs/NOTES.md, stop 22)
+        self.end_bias = nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads) \
+            if cfg.end_bias and cfg.layers else None
+        # and per bin of a stroke's share on a face, a bias each way (stroke to face, face
+        # to stroke): which face a stroke lies on is in no token
+        self.face_bias = nn.Embedding(len(ON_FACE_BINS) + 1, 2 * cfg.attention_heads) \
+            if cfg.face_bias and cfg.layers else None
+        for bias in (self.end_bias, self.face_bias):
+            if bias is not None:
+                nn.init.zeros_(bias.weight)
         self.norm = nn.LayerNorm(w)
         self.cls_out = nn.Linear(w, N_OPS)
         self.role_out = nn.Linear(w, sum(ROLES))
@@ -242,14 +305,35 @@ class StructureHead(nn.Module):
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
 
+    def _attention_bias(self, stroke: torch.Tensor, on_face: torch.Tensor, pad: torch.Tensor
+                        ) -> torch.Tensor:
+        """(B, heads, L, L) additive attention mask: -inf on padded keys; between strokes
+        the end bias of their nearest ends' gap bin; between a stroke and a face the face
+        bias of the stroke's share on it."""
+        b, n_s, heads = stroke.shape[0], stroke.shape[1], self.config.attention_heads
+        n = pad.shape[1]
+        mask = torch.zeros(b, heads, n, n).masked_fill(pad[:, None, None], float("-inf"))
+        if self.end_bias is not None:
+            geo = 2 * self.config.channels
+            ends = stroke[..., geo + ENDS.start:geo + ENDS.stop].reshape(b, n_s, 2, 2)
+            gap = (ends[:, :, None, :, None] - ends[:, None, :, None, :]).norm(dim=-1)
+            bins = torch.bucketize(gap.amin((-2, -1)), torch.tensor(END_GAP_BINS))
+            mask[:, :, 1:1 + n_s, 1:1 + n_s] += self.end_bias(bins).permute(0, 3, 1, 2)
+        if self.face_bias is not None:
+            bias = self.face_bias(torch.bucketize(on_face, torch.tensor(ON_FACE_BINS)))
+            mask[:, :, 1:1 + n_s, 1 + n_s:] += bias[..., :heads].permute(0, 3, 1, 2)
+            mask[:, :, 1 + n_s:, 1:1 + n_s] += bias[..., heads:].permute(0, 3, 2, 1)
+        return mask
+
     def forward(self, cls: torch.Tensor, stroke: torch.Tensor, stroke_mask: torch.Tensor,
-                face: torch.Tensor, face_mask: torch.Tensor
+                face: torch.Tensor, face_mask: torch.Tensor, on_face: torch.Tensor
                 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Padded batch -> logits.
 
         Args:
-            cls: (B, 6); stroke: (B, S, Ds), stroke_mask: (B, S) bool (True = real);
-            face: (B, K, Df), face_mask: (B, K) bool.
+            cls: (B, N_OPS + CLASS_EXTRA); stroke: (B, S, Ds), stroke_mask: (B, S) bool
+            (True = real); face: (B, K, Df), face_mask: (B, K) bool; on_face: (B, S, K)
+            each stroke's share on each face.
         Returns:
             class logits (B, 4) (the U-Net's plus a correction); role logits (B, S, 10)
             (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
@@ -258,8 +342,10 @@ class StructureHead(nn.Module):
         h = torch.cat([self.embed_cls(cls)[:, None], self.embed_stroke(stroke),
                        self.embed_face(face)], 1)
         pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
-        if self.encoder is not None:
-            h = self.encoder(h, src_key_padding_mask=pad)
+        if len(self.layers):
+            bias = self._attention_bias(stroke, on_face, pad)
+            for layer in self.layers:
+                h = layer(h, bias)
         h = self.norm(h)
         logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
         roles = self.role_out(h[:, 1:1 + n_s])
@@ -276,10 +362,12 @@ def collate(items: list[Tokens]) -> tuple[torch.Tensor, ...]:
     face = torch.zeros(b, n_f, items[0].face.shape[1])
     s_mask = torch.zeros(b, n_s, dtype=torch.bool)
     f_mask = torch.zeros(b, n_f, dtype=torch.bool)
+    on_face = torch.zeros(b, n_s, n_f)
     for j, t in enumerate(items):
         stroke[j, :len(t.stroke)], s_mask[j, :len(t.stroke)] = t.stroke, True
         face[j, :len(t.face)], f_mask[j, :len(t.face)] = t.face, True
-    return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask
+        on_face[j, :len(t.stroke), :len(t.face)] = t.on_face
+    return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask, on_face
 
 
 # ---------------------------------------------------------------- decoding
@@ -288,16 +376,50 @@ def role_probabilities(roles: torch.Tensor, op: int) -> torch.Tensor:
     return roles[:, ROLE_OFFSETS[op]:ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
 
 
+def role_counts(op: int, strokes: int) -> tuple[int, ...] | None:
+    """How many strokes take each role (curve label order) in a sketch of `strokes`
+    strokes of operator op, where the operator's drawing fixes it: a bevel has exactly
+    one profile l (paper, Fig. 7); a prism over an n-gon has n start, n profile and n end
+    strokes; a sweep its start and end ellipses joined by 2 profiles. None: not fixed
+    (an extrusion's offset strokes vary with the face), or a count the drawing cannot
+    have (then each stroke takes its own likeliest role)."""
+    kind = CLASSES[op]
+    if kind is OperatorType.BEVEL and strokes:
+        counts = [strokes - 1, strokes - 1]
+        counts[BEVEL_L] = 1
+        return tuple(counts)
+    if kind is OperatorType.ADDSUB and strokes and strokes % 3 == 0:
+        return (strokes // 3,) * 3
+    if kind is OperatorType.SWEEP and strokes == 4:
+        return (1, 2, 1)
+    return None
+
+
+def count_fits(strokes: int) -> list[float]:
+    """Per operator (CLASSES order), 1 where its drawing has this many strokes: an
+    extrusion any, a bevel its l and l', a prism 3n, a sweep 4; for the class token,
+    where a sum of stroke tokens hides it."""
+    fits = {OperatorType.EXTRUDE: True, OperatorType.BEVEL: strokes == 2,
+            OperatorType.ADDSUB: strokes > 0 and strokes % 3 == 0,
+            OperatorType.SWEEP: strokes == 4}
+    return [float(fits[k]) for k in CLASSES]
+
+
 def decode_roles(probs: torch.Tensor, op: int) -> list[int]:
-    """Each stroke's curve label from its role probabilities. A bevel has exactly one
-    profile l (paper, Fig. 7): the stroke likeliest to be l is, the others are l'."""
+    """Each stroke's curve label: the most likely labelling with `role_counts` strokes
+    per role (an assignment of strokes to role slots), else each stroke's argmax. The
+    counts turn a prism whose far outline the head half reads as start into n and n."""
     if not len(probs):
         return []
-    if CLASSES[op] is OperatorType.BEVEL:
-        labels = [1 - BEVEL_L] * len(probs)
-        labels[int(probs[:, BEVEL_L].argmax())] = BEVEL_L
-        return labels
-    return [int(v) for v in probs.argmax(1)]
+    counts = role_counts(op, len(probs))
+    if counts is None:
+        return [int(v) for v in probs.argmax(1)]
+    slots = np.repeat(np.arange(len(counts)), counts)
+    cost = -np.log(np.clip(probs.numpy()[:, slots], 1e-12, None))  # (strokes, slots)
+    rows, cols = linear_sum_assignment(cost)
+    labels = np.empty(len(probs), np.int64)
+    labels[rows] = slots[cols]
+    return [int(v) for v in labels]
 
 
 def paint_curve(strokes: list[np.ndarray], labels: list[int], size: int) -> np.ndarray:
@@ -357,7 +479,8 @@ class StructuredPredictor(NetworkPredictor):
     Context.strokes and Context.maps.face_id); `classify` and `segment` then answer with
     the head's class probabilities and the painted maps, and `stroke_roles` and
     `face_probabilities` expose the per-stroke and per-face probabilities behind them.
-    Without `observe` for the current inputs it answers as the plain U-Net predictor.
+    The first inputs after `observe` are taken as that sketch's; without `observe`, or
+    for other inputs after them, it answers as the plain U-Net predictor.
     """
 
     def __init__(self, model: Sketch2CADNet, head: StructureHead, threads: int | None = 2):
@@ -376,7 +499,9 @@ class StructuredPredictor(NetworkPredictor):
     def _structured(self, inputs: np.ndarray):
         if self._strokes is None:
             return None
-        if self._head_out is None or self._head_out[0] is not inputs:
+        if self._head_out is not None and self._head_out[0] is not inputs:
+            return None  # another sketch's inputs than the observed one: the U-Net alone
+        if self._head_out is None:  # the first inputs since `observe` are its sketch's
             if self.threads:
                 torch.set_num_threads(self.threads)
             x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
@@ -426,13 +551,14 @@ def load_structured_predictor(head_path: str | Path, weights: str | Path | None 
     """The U-Net of `weights` (default: shipped) with the head of `head_path`.
 
     Raises:
-        ValueError: the head was trained on another U-Net's features.
+        ValueError: the head was trained on another U-Net's features (or does not say
+            on which: it records the U-Net's SHA-256).
     """
     path = resolve(weights)
     model, _ = load_checkpoint(path)
     head, ckpt = load_head(head_path)
-    want = ckpt.get("unet_sha256")
-    if want and want != sha256_of(path):
+    # the head reads the U-Net's inner features, which another U-Net lays out otherwise
+    if ckpt.get("unet_sha256") != sha256_of(path):
         raise ValueError(f"{head_path} was trained on the features of another U-Net "
                          f"({ckpt.get('unet')}), not {path}")
     return StructuredPredictor(model, head)

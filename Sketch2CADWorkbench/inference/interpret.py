@@ -592,6 +592,8 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     solid = solid.copy()  # rendering meshes it and fitting adds p-curves: the caller's stays
     t0 = time.perf_counter()
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())
+    if hasattr(predictor, "observe"):  # a structured predictor reads strokes and faces
+        predictor.observe(ctx.strokes, ctx.maps.face_id)
     t1 = time.perf_counter()
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()

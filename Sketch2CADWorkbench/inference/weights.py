@@ -2,7 +2,10 @@
 """The shipped network weights, and the predictor that the interpret pipeline calls.
 
 The weights live inside the package (inference/weights/sketch2cad_net.pt, described by
-inference/weights/MODEL_CARD.md) and load from disk only: nothing is downloaded.
+inference/weights/MODEL_CARD.md) and load from disk only: nothing is downloaded. A
+structured head (inference/heads.py) beside a U-Net's file, sketch2cad_head.pt, is loaded
+with it; the head records the SHA-256 of the U-Net it was trained on, and a head beside
+another U-Net is refused.
 """
 from __future__ import annotations
 
@@ -18,6 +21,7 @@ from .models import Sketch2CADNet, load_checkpoint
 WEIGHTS_DIR = Path(__file__).resolve().parent / "weights"
 WEIGHTS_NAME = "sketch2cad_net.pt"
 DEFAULT_WEIGHTS = WEIGHTS_DIR / WEIGHTS_NAME
+HEAD_NAME = "sketch2cad_head.pt"
 
 
 def resolve(path: str | Path | None = None) -> Path:
@@ -77,7 +81,18 @@ class NetworkPredictor:
         return f[k], c[k]
 
 
-def load_predictor(path: str | Path | None = None) -> NetworkPredictor:
-    """The predictor for a weights file or run folder (default: the shipped weights)."""
-    model, _ = load_model(path)
+def load_predictor(path: str | Path | None = None, structured: bool = True
+                   ) -> NetworkPredictor:
+    """The predictor for a weights file or run folder (default: the shipped weights):
+    with the structured head when HEAD_NAME lies beside the weights file (and
+    `structured`), else the U-Net alone.
+
+    Raises:
+        ValueError: the head beside the weights was trained on another U-Net.
+    """
+    unet = resolve(path)
+    if structured and (unet.parent / HEAD_NAME).is_file():
+        from .heads import load_structured_predictor  # heads builds on this module
+        return load_structured_predictor(unet.parent / HEAD_NAME, unet)
+    model, _ = load_model(unet)
     return NetworkPredictor(model)

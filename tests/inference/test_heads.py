@@ -14,6 +14,7 @@ from Sketch2CADWorkbench.inference.heads import (
     StructuredPredictor,
     StructureHead,
     collate,
+    count_fits,
     decode_roles,
     feature_channels,
     feature_maps,
@@ -26,7 +27,7 @@ from Sketch2CADWorkbench.inference.heads import (
     tokens,
 )
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
-from Sketch2CADWorkbench.sketch.labels import BEVEL_L, CLASSES
+from Sketch2CADWorkbench.sketch.labels import BEVEL_L, CLASSES, END, PROFILE, START
 
 SIZE = 32
 
@@ -63,6 +64,17 @@ def test_one_token_per_stroke_and_per_visible_face(net):
     assert t.face.shape[0] == 2 and torch.isfinite(t.face).all() and torch.isfinite(t.stroke).all()
 
 
+def test_a_face_token_holds_its_area_centroid_and_spread(net):
+    face_id, strokes = _scene()
+    t = _tokens(net, strokes, face_id)
+    c = feature_channels(net)
+    for fid, token in zip(t.face_ids.tolist(), t.face):
+        ys, xs = np.nonzero(face_id == fid)
+        geo = token[c:c + 5].numpy()
+        assert np.allclose(geo, [len(xs) / SIZE ** 2, xs.mean() / SIZE, ys.mean() / SIZE,
+                                 xs.std() / SIZE, ys.std() / SIZE], atol=1e-6)
+
+
 def test_a_stroke_reads_the_same_drawn_either_way(net):
     face_id, strokes = _scene()
     forward = _tokens(net, strokes, face_id)
@@ -89,6 +101,21 @@ def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
     assert torch.isinf(faces[1, len(b.face):]).all() and torch.isfinite(faces[0]).all()
 
 
+def test_the_head_reads_a_batch_alike_in_training_and_in_inference(net):
+    face_id, strokes = _scene()
+    batch = collate([_tokens(net, strokes, face_id), _tokens(net, strokes[1:], face_id)])
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=2,
+                                    dropout=0.0))
+    with torch.no_grad():
+        head.end_bias.weight.normal_()
+        head.face_bias.weight.normal_()
+        trained = head.train()(*batch)
+    with torch.inference_mode():
+        inferred = head.eval()(*batch)
+    for a, b in zip(trained, inferred):
+        assert torch.allclose(a, b, atol=1e-5)
+
+
 def test_a_head_without_context_layers_reads_each_token_alone(net):
     face_id, strokes = _scene()
     t = _tokens(net, strokes, face_id)
@@ -107,6 +134,71 @@ def test_a_bevel_gets_exactly_one_profile_l():
     neither = torch.tensor([[0.9, 0.1], [0.6, 0.4]])
     labels = decode_roles(neither if BEVEL_L == 1 else neither[:, [1, 0]], bevel)
     assert labels.count(BEVEL_L) == 1 and labels[1] == BEVEL_L
+
+
+def test_a_prism_gets_n_start_n_profile_n_end_strokes():
+    # the head reads the far outline of a 3-sided prism half as start: the counts fix it
+    probs = torch.tensor([[0.9, 0.05, 0.05]] * 3 + [[0.1, 0.8, 0.1]] * 3
+                         + [[0.6, 0.0, 0.4], [0.55, 0.0, 0.45], [0.2, 0.0, 0.8]])
+    addsub = CLASSES.index(OperatorType.ADDSUB)
+    assert [int(v) for v in probs.argmax(1)].count(START) == 5
+    assert decode_roles(probs, addsub) == [START] * 3 + [PROFILE] * 3 + [END] * 3
+
+
+def test_a_sweep_gets_one_start_two_profiles_one_end():
+    probs = torch.tensor([[0.7, 0.2, 0.1], [0.1, 0.8, 0.1], [0.2, 0.7, 0.1], [0.6, 0.1, 0.3]])
+    assert decode_roles(probs, CLASSES.index(OperatorType.SWEEP)) == [START, PROFILE,
+                                                                       PROFILE, END]
+
+
+def test_counts_no_drawing_has_keep_each_strokes_likeliest_role():
+    probs = torch.tensor([[0.9, 0.05, 0.05]] * 4 + [[0.1, 0.1, 0.8]])
+    for op in (OperatorType.ADDSUB, OperatorType.SWEEP):  # 5 strokes: neither 3n nor 4
+        assert decode_roles(probs, CLASSES.index(op)) == [START] * 4 + [END]
+    extrude = torch.tensor([[0.9, 0.1]] * 4)
+    assert decode_roles(extrude, CLASSES.index(OperatorType.EXTRUDE)) == [0] * 4
+
+
+def test_the_class_token_says_which_drawings_have_that_many_strokes(net):
+    fits = dict(zip(CLASSES, zip(count_fits(2), count_fits(4), count_fits(9))))
+    assert fits[OperatorType.EXTRUDE] == (1, 1, 1) and fits[OperatorType.BEVEL] == (1, 0, 0)
+    assert fits[OperatorType.SWEEP] == (0, 1, 0) and fits[OperatorType.ADDSUB] == (0, 0, 1)
+    face_id, strokes = _scene()
+    assert _tokens(net, strokes, face_id).cls[-len(CLASSES):].tolist() == count_fits(3)
+
+
+def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
+    face_id, strokes = _scene()  # strokes 0 and 1 share an end; stroke 2 lies apart
+    a = _tokens(net, strokes, face_id)
+    b = _tokens(net, strokes[:1], face_id)
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    with torch.no_grad():
+        head.end_bias.weight.copy_(torch.arange(6.0)[:, None].repeat(1, 4))
+        cls, stroke, s_mask, face, f_mask, on_face = collate([a, b])
+        pad = torch.cat([torch.zeros(2, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
+        bias = head._attention_bias(stroke, on_face, pad)
+    strokes_block = bias[0, 0, 1:4, 1:4]
+    assert strokes_block[0, 1] == strokes_block[1, 0] == 0  # touching: the first bin
+    assert strokes_block[0, 2] == 5  # farther than the last bin edge
+    assert torch.isinf(bias[1, :, :, 2:4]).all()  # padded strokes are never attended to
+    assert bias[1, :, :2, 1].eq(0).all()
+
+
+def test_a_stroke_and_the_face_it_lies_on_attend_to_each_other_by_the_face_bias(net):
+    face_id, strokes = _scene()  # stroke 0 lies on face 3, stroke 2 on face 7
+    t = _tokens(net, strokes, face_id)
+    on = dict(zip(t.face_ids.tolist(), t.on_face.T))
+    assert on[3][0] == 1 and on[7][0] == 0 and on[7][2] == 1 and on[3][2] == 0
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    with torch.no_grad():
+        head.face_bias.weight.copy_(torch.arange(5.0)[:, None].repeat(1, 8))
+        head.face_bias.weight[:, 4:] += 10  # face-to-stroke apart from stroke-to-face
+        cls, stroke, s_mask, face, f_mask, on_face = collate([t])
+        pad = torch.cat([torch.zeros(1, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
+        bias = head._attention_bias(stroke, on_face, pad)[0, 0]
+    three = 4 + t.face_ids.tolist().index(3)  # its token: after cls and 3 strokes
+    assert bias[1, three] == 4 and bias[3, three] == 0  # stroke 0 -> face 3: all; 2: none
+    assert bias[three, 1] == 14 and bias[three, 3] == 10
 
 
 def test_painted_roles_reproduce_the_generators_curve_label():
@@ -144,6 +236,8 @@ def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path)
         assert set(faces) == {3, 7} and abs(sum(faces.values()) - 1) < 1e-5
         best = max(faces, key=faces.get)
         assert np.array_equal(f > 0.5, face_id == best)
+    x3 = x2.copy()  # inputs of a sketch it did not observe: never read with stale strokes
+    assert np.allclose(p.segment(x3, CLASSES[0])[1], unet[2][0, 0].numpy(), atol=1e-6)
 
 
 def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, tmp_path):

@@ -10,7 +10,15 @@ import subprocess
 import sys
 from pathlib import Path
 
-from Sketch2CADWorkbench.inference.weights import DEFAULT_WEIGHTS, WEIGHTS_DIR
+import torch
+
+from Sketch2CADWorkbench.inference.heads import StructuredPredictor, sha256_of
+from Sketch2CADWorkbench.inference.weights import (
+    DEFAULT_WEIGHTS,
+    HEAD_NAME,
+    WEIGHTS_DIR,
+    load_predictor,
+)
 from training.evaluate import evaluate
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
@@ -31,6 +39,14 @@ def test_shipped_weights_meet_the_model_cards_thresholds(tmp_path):
         if got["n"]:
             assert got["face_iou"] >= lim["face_iou"], (op, got)
             assert got["curve_accuracy"] >= lim["curve_accuracy"], (op, got)
+
+
+def test_the_shipped_head_reads_the_shipped_unets_features_and_is_the_default():
+    # the model card ships it (docs/NOTES.md, stop 22: end to end at least as well)
+    head = torch.load(WEIGHTS_DIR / HEAD_NAME, map_location="cpu", weights_only=False)
+    assert head["unet_sha256"] == sha256_of(DEFAULT_WEIGHTS)
+    assert (WEIGHTS_DIR / HEAD_NAME).stat().st_size < 5 * 2 ** 20
+    assert isinstance(load_predictor(), StructuredPredictor)
 
 
 def test_the_shipped_sessions_rebuild_the_models_they_were_drawn_from():

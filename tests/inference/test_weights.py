@@ -42,3 +42,30 @@ def test_a_garbage_weights_file_is_a_clean_error_naming_it(tmp_path):
     bad.write_bytes(bytes(range(256)) * 10)
     with pytest.raises(ValueError, match="bad.pt: not a readable sketch2cad-net checkpoint"):
         load_checkpoint(bad)
+
+
+def test_a_head_beside_the_weights_loads_with_them_and_only_for_that_unet(tiny_config,
+                                                                         tmp_path):
+    from Sketch2CADWorkbench.inference.heads import (
+        HeadConfig,
+        StructuredPredictor,
+        StructureHead,
+        feature_channels,
+        save_head,
+        sha256_of,
+    )
+    net = Sketch2CADNet(tiny_config)
+    unet = tmp_path / weights.WEIGHTS_NAME
+    save_checkpoint(unet, net)
+    assert type(weights.load_predictor(tmp_path)) is weights.NetworkPredictor
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    save_head(tmp_path / weights.HEAD_NAME, head, unet_sha256=sha256_of(unet))
+    assert isinstance(weights.load_predictor(tmp_path), StructuredPredictor)
+    assert type(weights.load_predictor(unet, structured=False)) is weights.NetworkPredictor
+    torch.manual_seed(1)
+    save_checkpoint(unet, Sketch2CADNet(tiny_config))  # the U-Net retrained, the head not
+    with pytest.raises(ValueError, match="another U-Net"):
+        weights.load_predictor(tmp_path)
+    save_head(tmp_path / weights.HEAD_NAME, head)  # a head that names no U-Net
+    with pytest.raises(ValueError, match="another U-Net"):
+        weights.load_predictor(tmp_path)

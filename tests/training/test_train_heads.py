@@ -12,7 +12,7 @@ from datagen.dataset import FORMAT, VERSION, Record, write_shard
 from network_fixtures import SIZE, synthetic_record
 from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.inference.heads import HeadConfig, load_head
-from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
+from Sketch2CADWorkbench.inference.models import Sketch2CADNet, load_checkpoint, save_checkpoint
 from training.heads import HeadSettings, evaluate_head, extract, train_head
 
 
@@ -109,3 +109,19 @@ def test_the_command_says_what_is_missing(tmp_path, capsys):
     assert main(["train-head", "--data", str(tmp_path / "none"), "--out",
                  str(tmp_path / "run")]) == 2
     assert "sketch2cad train-head: error" in capsys.readouterr().err
+
+
+def test_runs_sharing_a_token_cache_read_the_unet_once(stroke_data, tmp_path, monkeypatch):
+    import training.heads as th
+    cache = tmp_path / "tokens"
+    train_head(stroke_data, tmp_path / "a", _settings(1), stroke_data / "unet.pt", cache)
+
+    def no_unet(*args, **kwargs):
+        raise AssertionError("the U-Net ran again")
+    monkeypatch.setattr(th, "_sample_tokens", no_unet)
+    train_head(stroke_data, tmp_path / "b", _settings(1), stroke_data / "unet.pt", cache)
+    other = tmp_path / "other-unet.pt"  # another U-Net's features are not reused
+    torch.manual_seed(1)
+    save_checkpoint(other, Sketch2CADNet(load_checkpoint(stroke_data / "unet.pt")[0].config))
+    with pytest.raises(AssertionError, match="ran again"):
+        train_head(stroke_data, tmp_path / "c", _settings(1), other, cache)
