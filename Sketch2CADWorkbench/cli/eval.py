@@ -2,6 +2,10 @@
 """Classification accuracy, per-operator face IoU and curve accuracy, and latency of the
 networks (paper, Table 1), and the end-to-end recovery rate of the whole pipeline.
 
+The network figures are the U-Net's maps; when a structured head is shipped beside the
+weights (the default predictor reads with it), its choices painted into F and C are
+scored the same way under "structured", since they are what the fitting reads.
+
 `sketch2cad eval --data DIR [--weights DIR] --json OUT.json [--report OUT.png] [--recovery N]`.
 """
 from __future__ import annotations
@@ -12,11 +16,12 @@ import sys
 from pathlib import Path
 
 from training.evaluate import evaluate, has_ground_truth
+from training.heads import evaluate_head
 from training.recovery import recovery
 from training.report import report
 
 from ..inference.options import InterpretOptions
-from ..inference.weights import load_predictor
+from ..inference.weights import HEAD_NAME, load_predictor, resolve
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -44,6 +49,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     try:
         result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs)
+        head = resolve(args.weights).parent / HEAD_NAME
+        if head.is_file():
+            result["structured"] = evaluate_head(args.data, head, args.weights,
+                                                 args.limit)["head"]
         if args.recovery and not has_ground_truth(args.data):
             print(f"sketch2cad eval: warning: {args.data} stores no ground-truth operations; "
                   "the end-to-end recovery is skipped", file=sys.stderr)
@@ -71,5 +80,6 @@ def run(args: argparse.Namespace) -> int:
     if args.report:
         report(result, examples, args.report)
     print(json.dumps({k: result[k] for k in ("n", "classification_accuracy", "per_operator",
-                                            "latency_ms")}, indent=1))
+                                            "latency_ms", "structured") if k in result},
+                     indent=1))
     return 0

@@ -3,6 +3,7 @@
 U-Net's features, resume after an epoch, and are scored beside the U-Net with the paper's
 metrics on the same samples."""
 import json
+import shutil
 
 import numpy as np
 import pytest
@@ -11,8 +12,15 @@ import torch
 from datagen.dataset import FORMAT, VERSION, Record, write_shard
 from network_fixtures import SIZE, synthetic_record
 from Sketch2CADWorkbench.cli import main
-from Sketch2CADWorkbench.inference.heads import HeadConfig, load_head
+from Sketch2CADWorkbench.inference.heads import (
+    HeadConfig,
+    StructureHead,
+    feature_channels,
+    load_head,
+    save_head,
+)
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet, load_checkpoint, save_checkpoint
+from Sketch2CADWorkbench.inference.weights import HEAD_NAME
 from training.heads import HeadSettings, evaluate_head, extract, train_head
 
 
@@ -125,3 +133,26 @@ def test_runs_sharing_a_token_cache_read_the_unet_once(stroke_data, tmp_path, mo
     save_checkpoint(other, Sketch2CADNet(load_checkpoint(stroke_data / "unet.pt")[0].config))
     with pytest.raises(AssertionError, match="ran again"):
         train_head(stroke_data, tmp_path / "c", _settings(1), other, cache)
+
+
+def test_eval_scores_a_shipped_heads_choices_beside_the_unets_maps(stroke_data, tmp_path):
+    # the default predictor reads with a head lying beside the weights, so `sketch2cad
+    # eval` scores its painted F and C too, with the paper's metrics
+    run = tmp_path / "run"
+    run.mkdir()
+    shutil.copy(stroke_data / "unet.pt", run / "sketch2cad_net.pt")
+    net, _ = load_checkpoint(run / "sketch2cad_net.pt")
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    save_head(run / HEAD_NAME, head)
+    out = tmp_path / "m.json"
+    assert main(["eval", "--data", str(stroke_data), "--weights", str(run), "--json", str(out),
+                 "--limit", "16", "--latency-runs", "2", "--recovery", "0"]) == 0
+    r = json.loads(out.read_text())
+    assert r["structured"]["n"] == 16 and 0 <= r["structured"]["classification_accuracy"] <= 1
+    for name, d in r["structured"]["per_operator"].items():
+        if d["n"]:
+            assert 0 <= d["face_iou"] <= 1 and 0 <= d["curve_accuracy"] <= 1, name
+    (run / HEAD_NAME).unlink()
+    assert main(["eval", "--data", str(stroke_data), "--weights", str(run), "--json", str(out),
+                 "--limit", "16", "--latency-runs", "2", "--recovery", "0"]) == 0
+    assert "structured" not in json.loads(out.read_text())
