@@ -17,6 +17,7 @@ from pathlib import Path
 
 import torch
 
+from training import distributed
 from training.train import TrainSettings, train
 
 from ..inference.models import ModelConfig
@@ -83,6 +84,13 @@ def run(args: argparse.Namespace) -> int:
         return 2
     if args.nproc > 1 and "WORLD_SIZE" not in os.environ:
         return _torchrun(args)
+    code = _train(args)
+    if "WORLD_SIZE" in os.environ:  # a torchrun worker
+        distributed.exit_worker(code)
+    return code
+
+
+def _train(args: argparse.Namespace) -> int:
     try:
         settings = TrainSettings(
             minutes=args.minutes, steps=args.steps, batch_size=args.batch_size, lr=args.lr,

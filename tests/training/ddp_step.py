@@ -33,3 +33,4 @@ def main(data: Path, out: Path) -> None:
 
 if __name__ == "__main__":
     main(Path(sys.argv[1]), Path(sys.argv[2]))
+    distributed.exit_worker(0)  # as the train command's workers end
