@@ -21,7 +21,7 @@ from training.recovery import recovery
 from training.report import report
 
 from ..inference.options import InterpretOptions
-from ..inference.weights import HEAD_NAME, load_predictor, resolve
+from ..inference.weights import load_predictor, shipped_head
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -49,8 +49,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     try:
         result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs)
-        head = resolve(args.weights).parent / HEAD_NAME
-        if head.is_file():
+        head = shipped_head(args.weights)
+        if head is not None:
             result["structured"] = evaluate_head(args.data, head, args.weights,
                                                  args.limit)["head"]
         if args.recovery and not has_ground_truth(args.data):

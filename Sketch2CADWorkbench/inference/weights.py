@@ -81,6 +81,12 @@ class NetworkPredictor:
         return f[k], c[k]
 
 
+def shipped_head(path: str | Path | None = None) -> Path | None:
+    """The structured head lying beside the weights file of `path` (see `resolve`), if any."""
+    head = resolve(path).parent / HEAD_NAME
+    return head if head.is_file() else None
+
+
 def load_predictor(path: str | Path | None = None, structured: bool = True
                    ) -> NetworkPredictor:
     """The predictor for a weights file or run folder (default: the shipped weights):
@@ -91,8 +97,9 @@ def load_predictor(path: str | Path | None = None, structured: bool = True
         ValueError: the head beside the weights was trained on another U-Net.
     """
     unet = resolve(path)
-    if structured and (unet.parent / HEAD_NAME).is_file():
+    head = shipped_head(path)
+    if structured and head is not None:
         from .heads import load_structured_predictor  # heads builds on this module
-        return load_structured_predictor(unet.parent / HEAD_NAME, unet)
+        return load_structured_predictor(head, unet)
     model, _ = load_model(unet)
     return NetworkPredictor(model)
