@@ -101,6 +101,17 @@ class CurvedSurface:
         across = np.linalg.norm(rel - np.outer(h, self.axis), axis=1)
         return across - (self.radius + self.slope * h)
 
+    def normals(self, points: np.ndarray) -> np.ndarray:
+        """The face's outward unit normals (K, 3) at points (K, 3) of the surface: away
+        from the axis on a convex face, toward it on a bore's wall (a cone's tilted by
+        its slope)."""
+        rel = np.asarray(points, float) - self.origin
+        radial = rel - np.outer(rel @ self.axis, self.axis)
+        radial /= np.linalg.norm(radial, axis=1, keepdims=True)
+        n = radial - self.slope * self.axis  # the gradient of `level`
+        n /= np.linalg.norm(n, axis=1, keepdims=True)
+        return n if self.convex else -n
+
     def roots(self, points: np.ndarray, direction: np.ndarray, t: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Where the lines q + t direction (q: points (K, 3)) meet the surface, for t in

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..brep.faces import OperationError, model_scale
 from ..brep.operators import apply_operation
-from ..brep.protocol import Mode, Operation, OperatorType, per_operator
+from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep, per_operator
 from ..brep.symmetry import mid_plane, reflect
 from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
@@ -49,12 +49,18 @@ SAME_VOLUME = 1e-6
 # A face whose outward normal is within this cosine of edge-on, or turned away from the
 # view, is one the user cannot see from it.
 FACING_COS = 0.05
+# A primitive whose base centre lies farther than this (context pixels, in depth) behind
+# the surface the view shows there stands where the designer could not see it: the
+# outline drawn around a post's top back-projects just as well onto the plate far behind
+# it, along the view rays (examples/sessions/lamp.json, step 3). Such a reading ranks
+# with those on hidden faces. A few pixels: a centre on f sees f itself (depth equal).
+BEHIND_PX = 4.0
 from .fitting.addsub import fit_prism
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
-from .fitting.primitive import other_option_fits
+from .fitting.primitive import base_centre, other_option_fits
 from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
@@ -65,8 +71,9 @@ from .options import InterpretOptions
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
 BASE_FACE_TRIES = 4
-# The operators whose base face may be a cylinder's or cone's side (fitting/surface.py).
-ON_CURVED_FACES = (OperatorType.ADDSUB, OperatorType.SWEEP)
+# The operators whose base face may be a cylinder's or cone's side (fitting/surface.py;
+# an extrusion of one changes its radius: fitting/extrude.py).
+ON_CURVED_FACES = (OperatorType.EXTRUDE, OperatorType.ADDSUB, OperatorType.SWEEP)
 GOOD_FIT_PX = 3.0
 # Operators, like faces, are one search: the most probable operator that fits is read
 # first, and when its reading lies over GOOD_FIT_PX from the strokes the others are read
@@ -225,7 +232,8 @@ def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
 @dataclass
 class Reading:
     """One base face's fitted operation: how far its own sketch lies from the strokes,
-    whether the face is hidden from the sketch view, and (once built) the result."""
+    whether it is hidden from the sketch view (its face, or a primitive's base behind the
+    model), and (once built) the result."""
 
     distances: tuple[np.ndarray, np.ndarray]  # `verify.sketch_distances`
     op: Operation
@@ -285,6 +293,16 @@ def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
             and float(np.asarray(f.normalAt().toTuple()) @ d) > -FACING_COS}
 
 
+def stands_behind_the_model(op: Operation, ctx: Context) -> bool:
+    """Whether a prism's or sweep's base centre lies behind the model's surface in the
+    view (BEHIND_PX), where the designer could not have drawn it."""
+    if not isinstance(op, (AddSubPrism, Sweep)) or ctx.maps.view_depth is None:
+        return False
+    pixel, depth = ctx.camera.project(base_centre(op)[None])
+    seen = float(sample_map(ctx.maps.view_depth, pixel)[0])  # +inf over the background
+    return float(depth[0]) > seen + BEHIND_PX * ctx.camera.pixel_size
+
+
 def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context,
                     curved: bool = False) -> list[int]:
     """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
@@ -310,8 +328,8 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     F often ranks the right face second, so when that face's fit fails or leaves its
     own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
     (`candidate_faces`): of the readings that build and change the model, one on a face
-    the user sees wins over one on a hidden face, then the one whose sketch reprojects
-    closest. A reading that changes nothing (a hole cut into the air above a lower
+    the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
+    then the one whose sketch reprojects closest. A reading that changes nothing (a hole cut into the air above a lower
     face) is never the step.
 
     Returns:
@@ -333,7 +351,7 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
             first = first or e
             continue
         reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
-                          labels, used in hidden)
+                          labels, used in hidden or stands_behind_the_model(op, ctx))
         readings.append(reading)
         if reading.error <= GOOD_FIT_PX and not reading.hidden and \
                 _builds_a_change(solid, reading):

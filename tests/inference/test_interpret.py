@@ -24,6 +24,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     OperatorType,
+    Sweep,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
 from Sketch2CADWorkbench.inference.interpret import (
@@ -338,3 +339,35 @@ def test_a_bevel_along_a_whole_edge_the_plane_halves_is_not_mirrored_onto_itself
     assert len(ops) == 2
     assert box.Volume() - result.Volume() == pytest.approx(2 * (box.Volume() - alone.Volume()),
                                                            rel=1e-6)
+
+
+def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(renderer):
+    # Seen from above, the outline around the post's small top back-projects just as well
+    # onto the plate behind it along the view rays: the reading there stands where the
+    # designer could not see (its base centre behind the post's top), whatever F says.
+    plate = make_box(Box((70.0, 70.0, 10.0)))
+    post = apply_operation(plate, Sweep(FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+                                        (0.0, 0.0, 5.0), 3.0, 3.0, 60.0,
+                                        ((3.0, 20.0), (3.0, 40.0))))
+    top = FaceRef((0.0, 0.0, 65.0), (0.0, 0.0, 1.0))
+    shade = Sweep(top, (0.0, 0.0, 65.0), 8.0, 25.0, 25.0, ((12.0, 10.0), (22.0, 18.0)))
+    d = np.array([-0.44, -0.23, -0.87])
+    cam = OrthoCamera((0.0, 0.0, 40.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 60.0, 800, 600)
+    pts, labels = sketch(post, shade, cam)
+
+    class PlateFirst(Oracle):
+        def segment(self, inputs, op_type):
+            _, curve = super().segment(inputs, op_type)
+            ctx = to_context(self.solid, [cam.project(p)[0] for p in pts], cam, self.renderer)
+            ids = ctx.maps.face_id
+            plate_top = next(i for i, f in enumerate(self.solid.Faces())
+                             if f.geomType() == "PLANE" and f.Center().z == pytest.approx(5.0))
+            return (ids == plate_top).astype(np.float32), curve
+
+    got = interpret(post, [cam.project(p)[0] for p in pts], cam,
+                    PlateFirst(post, shade, pts, labels, cam, renderer), renderer,
+                    InterpretOptions(regularize=False))
+    (fitted,) = got.operations
+    assert fitted.face.point[2] == pytest.approx(65.0)
+    assert np.asarray(fitted.center)[:2] == pytest.approx((0.0, 0.0), abs=0.5)
+    assert volume_iou(got.solid, apply_operation(post, shade)) > 0.95

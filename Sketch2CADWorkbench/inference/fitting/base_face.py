@@ -21,7 +21,7 @@ def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape,
     then, for faces no such pixel falls on, by the mean F over their visible pixels
     (among faces of at least MIN_PIXELS pixels): an unsure network still orders them.
     Only planar faces count unless `curved` (an operator that stands on a cylinder's or
-    cone's side too: prisms and sweeps), and even then a curved face counts only by its
+    cone's side too: extrusions, prisms and sweeps), and even then a curved face counts only by its
     F > 0.5 pixels: it is often both large and next to the base face, and an unsure F
     would otherwise put it first.
 

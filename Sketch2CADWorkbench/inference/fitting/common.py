@@ -101,26 +101,30 @@ SIDE_SAMPLES = np.linspace(0.15, 0.85, 8)  # along a side edge, away from its no
 
 def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
                 field: DistanceField, candidates: np.ndarray,
-                sides: tuple[np.ndarray, DistanceField] | None = None) -> tuple[float, float]:
+                sides: tuple[np.ndarray, np.ndarray, DistanceField] | None = None
+                ) -> tuple[float, float]:
     """The offset t minimising the mean distance of projected (points + t * direction).
 
-    Every candidate is scored at once: points (P, 3) are projected once and shifted
-    in the image by t times the projected direction (projection is linear).
-    With `sides` = (corners (V, 3), field), the segments from each corner to the
-    corner moved by t are scored against that field too, and the two means averaged.
+    `direction` is one vector (3,) or one per point (P, 3) (a curved face moves along
+    its normal at each point). Every candidate is scored at once: points (P, 3) are
+    projected once and shifted in the image by t times the projected direction
+    (projection is linear). With `sides` = (corners (V, 3), their directions (V, 3) or
+    (3,), field), the segments from each corner to the corner moved by t are scored
+    against that field too, and the two means averaged.
 
     Returns:
         (best t refined between its neighbours by a parabola, its mean distance in px).
     """
     base, _ = camera.project(points)                                 # (P, 2)
-    step2d = camera.image_of(direction)                              # (2,) px per unit t
+    step2d = _images_of(camera, points, direction)                   # (P or 1, 2) px per t
     pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
     scores = field(pos).mean(axis=1)                                 # (K,)
     if sides is not None:
-        corners, side_field = sides
+        corners, corner_direction, side_field = sides
         c2d, _ = camera.project(corners)                             # (V, 2)
+        c_step = _images_of(camera, corners, corner_direction)       # (V or 1, 2)
         frac = (candidates[:, None] * SIDE_SAMPLES[None, :])         # (K, S)
-        spos = c2d[None, :, None, :] + frac[:, None, :, None] * step2d  # (K, V, S, 2)
+        spos = c2d[None, :, None, :] + frac[:, None, :, None] * c_step[None, :, None, :]
         scores = (scores + side_field(spos).mean(axis=(1, 2))) / 2
     k = int(np.argmin(scores))
     t = float(candidates[k])
@@ -130,6 +134,15 @@ def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
         if denom > 1e-12:
             t += 0.5 * (a - c) / denom * float(candidates[k + 1] - candidates[k])
     return t, float(scores[k])
+
+
+def _images_of(camera: OrthoCamera, points: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Pixel displacements of one direction (3,) -> (1, 2), or of one per point (P, 3)
+    -> (P, 2)."""
+    direction = np.asarray(direction, float)
+    if direction.ndim == 1:
+        return camera.image_of(direction)[None, :]
+    return camera.project(points + direction)[0] - camera.project(points)[0]
 
 
 def search_range(scale: float, lo: float = -1.5, hi: float = 1.5,

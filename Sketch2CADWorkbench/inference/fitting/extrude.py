@@ -5,8 +5,8 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import FaceFrame, face_ref_of, model_scale
-from ...brep.protocol import Extrude
+from ...brep.faces import CurvedSurface, FaceFrame, face_ref_at, face_ref_of, is_curved, model_scale
+from ...brep.protocol import Extrude, FaceRef
 from ...render.camera import OrthoCamera
 from .common import (
     DistanceField,
@@ -27,6 +27,11 @@ MAX_EDGE_SAMPLES = 4096
 # Views closer than this to head-on (|cos| of the angle between n_f and the view) show
 # no extrusion depth.
 HEAD_ON_COS = 0.995
+# A curved f may shrink by at most this share of its smallest radius: a cylinder
+# shrunk to its axis is no solid (brep/operators refuses |d| >= the radius).
+MAX_SHRINK = 0.95
+# Points of a curved f (around, along) among which p_f is chosen: 5 degrees apart.
+REF_GRID = (73, 7)
 
 
 def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
@@ -36,41 +41,70 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
 
     The paper matches the moved edges to the offset curve only; when side-edge strokes
     are given, the side edges from f's corners to the moved corners are matched to them
-    too, which halves the effect of endpoint noise on d.
+    too, which halves the effect of endpoint noise on d. On a curved f (a cylinder's or
+    cone's side, beyond the paper) each edge point moves along f's normal there: the
+    side's radius grows by d (shrinks for d < 0; a bore's wall narrows for d > 0), and
+    f is named by the point of it that faces the viewer most.
 
     Args:
         solid: the context solid (sets the search range: -1.5..1.5 model diagonals,
             step 0.0075 diagonal, as in the paper).
-        face: the base face f (planar).
+        face: the base face f (planar, or a cylinder's or cone's side).
         camera: the context camera; strokes are in its pixels.
         offset_strokes: the strokes classified as the offset curve (C > 0.5).
         profile_strokes: the strokes classified as side edges (C <= 0.5), if any.
     Raises:
-        FitError: no offset strokes, a head-on view, or no offset matches the strokes.
+        FitError: no offset strokes, a head-on view of a planar f, or no offset matches
+            the strokes.
     Returns:
         The Extrude operation on f.
     """
     if not offset_strokes:
         raise FitError("extrude: no stroke was recognised as the moved face's outline")
-    frame = FaceFrame.of(face)
-    if abs(float(frame.normal @ camera.basis()[2])) > HEAD_ON_COS:
+    curved = is_curved(face)
+    if not curved and abs(float(FaceFrame.of(face).normal @ camera.basis()[2])) > HEAD_ON_COS:
         raise FitError("extrude: the face is seen head-on, so its offset cannot be read; "
                        "turn the view")
     scale = model_scale(solid)
     field = DistanceField(stroke_pixels(offset_strokes, (camera.height, camera.width)))
     perimeter = sum(e.Length() for e in face.Edges())
     points = edge_samples(face, spacing=max(camera.pixel_size, perimeter / MAX_EDGE_SAMPLES))
+    corners = np.array([v.toTuple() for v in face.Vertices()])
     cands = search_range(scale)
+    if curved:
+        surface = CurvedSurface.of(face)
+        direction, corner_direction = surface.normals(points), surface.normals(corners)
+        cands = cands[cands * (1 if surface.convex else -1)
+                      > -MAX_SHRINK * _smallest_radius(surface, points)]
+    else:
+        direction = corner_direction = FaceFrame.of(face).normal
     cands = cands[np.abs(cands) > 1e-9]  # d = 0 is no operation
     sides = None
-    if profile_strokes:
-        corners = np.array([v.toTuple() for v in face.Vertices()])
-        sides = (corners, DistanceField(stroke_pixels(profile_strokes,
-                                                       (camera.height, camera.width))))
-    d, err = line_search(points, frame.normal, camera, field, cands, sides)
+    if profile_strokes and len(corners):
+        sides = (corners, corner_direction,
+                 DistanceField(stroke_pixels(profile_strokes, (camera.height, camera.width))))
+    d, err = line_search(points, direction, camera, field, cands, sides)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"extrude: no offset of the face matches the strokes (closest is "
                        f"{err:.1f} px off on average)")
     if abs(d) < 1e-6 * scale:
         raise FitError("extrude: the strokes lie on the face itself (offset 0)")
-    return Extrude(face_ref_of(face), float(d))
+    return Extrude(_facing_ref(face, camera) if curved else face_ref_of(face), float(d))
+
+
+def _smallest_radius(surface: CurvedSurface, points: np.ndarray) -> float:
+    """The side's smallest radius (mm) over points of it (a cone's narrow end)."""
+    return float(np.min(surface.radius + surface.slope * ((points - surface.origin)
+                                                          @ surface.axis)))
+
+
+def _facing_ref(face: cq.Face, camera: OrthoCamera) -> FaceRef:
+    """A curved f named at the point of it that faces the viewer most: any point of f
+    names it, and this one is where the designer sees it."""
+    u0, u1, v0, v1 = face.uvBounds()
+    adaptor = face._geomAdaptor()
+    grid = np.array([adaptor.Value(u, v).Coord()
+                     for u in np.linspace(u0, u1, REF_GRID[0])
+                     for v in np.linspace(v0, v1, REF_GRID[1])[1:-1]])  # off the rims
+    facing = CurvedSurface.of(face).normals(grid) @ np.asarray(camera.basis()[2], float)
+    return face_ref_at(face, grid[int(np.argmin(facing))])

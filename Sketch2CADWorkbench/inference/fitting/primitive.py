@@ -39,10 +39,10 @@ def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline:
                   tol: float, grid: int = 16) -> float:
     """The share of f's area inside an outline (K, 2 pixels) back-projected onto f's plane:
     how much of f a primitive with that base outline would stand on."""
-    corners = np.array([v.toTuple() for v in face.Vertices()])
-    if len(corners) < 2:
-        return 0.0
-    bb = frame.to_2d(corners)
+    # f's box, not its vertices: a disc (a post's top) has one vertex
+    b = face.BoundingBox()
+    bb = frame.to_2d(np.array([(x, y, z) for x in (b.xmin, b.xmax) for y in (b.ymin, b.ymax)
+                               for z in (b.zmin, b.zmax)]))
     lo, hi = bb.min(axis=0), bb.max(axis=0)
     u, v = np.meshgrid(np.linspace(lo[0], hi[0], grid), np.linspace(lo[1], hi[1], grid))
     pts = frame.to_3d(np.stack([u.ravel(), v.ravel()], axis=1))
@@ -104,6 +104,14 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
         return Mode.ADD if covered[0] >= covered[1] else Mode.SUBTRACT
     raise FitError("neither the start nor the end outline meets the base face, so the "
                    "sketch matches no addition or subtraction")
+
+
+def base_centre(op: AddSubPrism | Sweep) -> np.ndarray:
+    """Where a primitive stands on f (mm, (3,)): its base polygon's centre, or its base
+    circle's centre c0 (both lie on f's plane for either Boolean)."""
+    if isinstance(op, Sweep):
+        return np.asarray(op.center, float)
+    return np.asarray(op.polygon, float).mean(axis=0)
 
 
 def far_outline(op: AddSubPrism | Sweep, frame: FaceFrame) -> np.ndarray:

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Strokes on a curved face are back-projected onto the surface (view rays meet the
-cylinder, not a plane), so a prism or sweep sketched on a cylinder's side is recovered:
+cylinder, not a plane), so a prism or sweep sketched on a cylinder's side is recovered,
+and the side's edges moved along its normals are read as its radius changed:
 synthetic strokes from the sketch generator's curves, with their labels, fitted back."""
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Box,
+    Extrude,
     FaceRef,
     Mode,
     Surface,
@@ -17,10 +19,12 @@ from Sketch2CADWorkbench.brep.protocol import (
 )
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.extrude import fit_extrude
 from Sketch2CADWorkbench.inference.fitting.surface import surface_hits
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.labels import EXTRUDE_OFFSET, EXTRUDE_PROFILE
 
 R = 12.0  # a post of radius R standing on a box, its axis along z from z=5 to z=65
 CYL = Surface.CYLINDER
@@ -104,3 +108,25 @@ def test_an_outline_off_the_curved_face_is_refused(post, view):
     far_off = [s + (400.0, 0.0) for s in strokes]  # drawn in the air beside the post
     with pytest.raises(FitError):
         fit_prism(post, side_face(post), view, far_off, labels)
+
+
+@pytest.mark.parametrize("d", [3.0, -4.0])
+def test_a_cylinders_side_extruded_is_read_as_its_radius_changed(post, view, d):
+    truth = Extrude(SIDE, d)
+    strokes, labels = sketch(post, truth, view)
+    offset = [s for s, label in zip(strokes, labels) if label == EXTRUDE_OFFSET]
+    sides = [s for s, label in zip(strokes, labels) if label == EXTRUDE_PROFILE]
+    op = fit_extrude(post, side_face(post), view, offset, sides)
+    assert op.d == pytest.approx(d, abs=0.2)
+    # named on the side, where it faces the viewer, and replayed as the same step
+    assert op.face.surface is CYL
+    assert np.asarray(op.face.normal) @ view.direction < -0.9
+    assert apply_operation(post, op).Volume() == pytest.approx(
+        apply_operation(post, truth).Volume(), rel=0.02)
+
+
+def test_a_cylinder_is_never_read_as_shrunk_to_its_axis(post, view):
+    strokes, labels = sketch(post, Extrude(SIDE, -1.1 * R), view)  # drawn past its axis
+    shrunk = fit_extrude(post, side_face(post), view, strokes)
+    assert -R < shrunk.d < 0
+    apply_operation(post, shrunk)  # builds
