@@ -91,6 +91,8 @@ GOOD_FIT_PX = 3.0
 PRIOR_PX = 1.0
 OVERRULE_PROB = 1e-3
 RESCUE_SCORE_PX = GOOD_FIT_PX + PRIOR_PX  # a good fit with one decade of doubt
+# The operators the designer's Boolean choice (InterpretOptions.option) applies to.
+TAKE_A_BOOLEAN = (OperatorType.ADDSUB, OperatorType.SWEEP)
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
 
@@ -556,16 +558,17 @@ def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarra
                     predictor: Predictor, ctx: Context, options: InterpretOptions,
                     times: dict[str, float], errors: list[str],
                     read: list[tuple[float, OperatorType, Reading]]) -> None:
-    """Read the operators of `order` (taken from it) until one reads the strokes within
-    GOOD_FIT_PX, adding (score, operator, reading) to `read`: the first reading when `read`
-    is empty, and any later one that may replace the best there (see OVERRULE_PROB), the
-    score its reprojection error plus PRIOR_PX per decade of the classifier's doubt. Why
-    the others did not fit goes to `errors`; seconds spent go to `times`."""
-    while order:
-        p = float(probs[CLASSES.index(order[0])])
+    """Read the operators of `order` (taken from it, but for those too unlikely to replace
+    a reading) until one reads the strokes within GOOD_FIT_PX, adding (score, operator,
+    reading) to `read`: the first reading when `read` is empty, and any later one that may
+    replace the best there (see OVERRULE_PROB), the score its reprojection error plus
+    PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
+    `errors`; seconds spent go to `times`."""
+    for kind in list(order):
+        p = float(probs[CLASSES.index(kind)])
         if read and p < OVERRULE_PROB:
-            break  # the rest are less probable still
-        kind = order.pop(0)
+            continue  # too unlikely to replace a reading (kept for a later call)
+        order.remove(kind)
         ta = time.perf_counter()
         face_prob, curve = predictor.segment(ctx.inputs, kind)
         tb = time.perf_counter()
@@ -600,9 +603,10 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         renderer: a reusable MapRenderer (one is made if None).
         options: regularization, forced option, symmetry plane.
         op_type: force the operator instead of the classifier's choice (without it,
-            the operators are read in the order of the classifier's probabilities until
-            one reads the strokes within GOOD_FIT_PX, and the reading with the best
-            score is kept: see PRIOR_PX).
+            the operators are read in the order of the classifier's probabilities, those
+            a chosen Boolean applies to first (TAKE_A_BOOLEAN), until one reads the
+            strokes within GOOD_FIT_PX, and the reading with the best score is kept: see
+            PRIOR_PX).
     Raises:
         InterpretError: with the reason, when the sketch matches no operation.
     """
@@ -616,6 +620,10 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
     order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
+    if options.option is not None:
+        # a Boolean is a primitive's: a designer who chose one draws a prism or a sweep,
+        # so those are read first, however sure the classifier is of another operator
+        order.sort(key=lambda k: k not in TAKE_A_BOOLEAN)
     times = {"networks": t2 - t1, "fitting": 0.0}
     read, errors = [], []
     while True:

@@ -371,3 +371,31 @@ def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(r
     assert fitted.face.point[2] == pytest.approx(65.0)
     assert np.asarray(fitted.center)[:2] == pytest.approx((0.0, 0.0), abs=0.5)
     assert volume_iou(got.solid, apply_operation(post, shade)) > 0.95
+
+
+def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_another(
+        renderer):
+    # examples/sessions/pipe.json step 3: a bore drawn down a post, the classifier sure of
+    # an extrusion (p 0.9997, sweep 0.0003); the designer chose subtract, a primitive's
+    box = make_box(Box((40, 30, 10)))
+    post = apply_operation(box, Sweep(FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+                                      (0.0, 0.0, 5.0), 8.0, 8.0, 40.0,
+                                      ((8.0, 40 / 3), (8.0, 80 / 3))))
+    top = FaceRef((0.0, 0.0, 45.0), (0.0, 0.0, 1.0))
+    bore = Sweep(top, (0.0, 0.0, 45.0), 6.0, 6.0, 40.0, ((6.0, 40 / 3), (6.0, 80 / 3)),
+                 Mode.SUBTRACT)
+    cam = view()
+    pts, labels = sketch(post, bore, cam)
+
+    class SaysExtrude(Oracle):
+        def classify(self, inputs):
+            return np.array([0.9997, 1e-9, 1e-9, 0.0003])
+
+    strokes = [cam.project(p)[0] for p in pts]
+    oracle = SaysExtrude(post, bore, pts, labels, cam, renderer)
+    got = interpret(post, strokes, cam, oracle, renderer,
+                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    assert got.op_type is OperatorType.SWEEP
+    assert volume_iou(got.solid, apply_operation(post, bore)) > 0.97
+    unchosen = interpret(post, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+    assert unchosen.op_type is OperatorType.EXTRUDE  # the classifier's, as before
