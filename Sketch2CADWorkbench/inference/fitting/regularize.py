@@ -322,7 +322,11 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
     r0, r1, d = op.r0, op.r1, op.d
     mid = np.array(op.profile, float)
     chord = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
-    straight = np.max(np.linalg.norm(mid - chord, axis=1)) <= STRAIGHT_TOL * d
+    # how far the inner control points lie from the line, not from its thirds: points
+    # slid along the line (a hand drawing the side faster at one end) keep it straight
+    along = np.array([r1 - r0, d]) / np.hypot(r1 - r0, d)
+    off = mid - (r0, 0.0)
+    straight = np.max(np.abs(off[:, 0] * along[1] - off[:, 1] * along[0])) <= STRAIGHT_TOL * d
     if straight and "profile" not in s.skip and np.max(np.abs(mid - chord)) > 1e-9:
         s.record("profile", "a straight line (a cone)", mid.ravel(), chord.ravel())
         op = replace(op, profile=tuple(tuple(map(float, p)) for p in chord))

@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Regularization snaps what the designer drew close to something regular, on screen, and
 leaves a designed off-centre feature where it was drawn; every snap can be undone."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from fit_sketches import TOP_Z, face_towards, prism_sketch, sweep_sketch
@@ -172,3 +174,15 @@ def test_nearly_straight_equal_radii_become_an_exact_cylinder(box, camera):
                      camera)
     assert op.r0 == op.r1
     assert np.array(op.profile) == pytest.approx(np.array([(op.r0, op.d / 3), (op.r0, 2 * op.d / 3)]))
+
+
+def test_a_straight_side_drawn_faster_at_one_end_becomes_a_cylinder(box, camera):
+    # examples/sessions/pipe.json step 1: the pipe's profile read with its inner control
+    # points slid along the side (at a quarter and four fifths of d, 3% of d off it)
+    d = 9.0
+    op = Sweep(face_ref_of(face_towards(box, (0, 0, 1))), (3.3, 2.2, TOP_Z), 5.0, 5.0, d,
+               ((5.0 + 0.03 * d, 0.25 * d), (5.0, 0.8 * d)), Mode.ADD)
+    got = regularized(box, op, camera)
+    assert np.array(got.profile) == pytest.approx(np.array([(5.0, d / 3), (5.0, 2 * d / 3)]))
+    bulging = replace(op, profile=((5.0 + 0.2 * d, d / 3), (5.0 + 0.2 * d, 2 * d / 3)))
+    assert regularized(box, bulging, camera).profile == bulging.profile  # a barrel stays
