@@ -41,7 +41,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
 )
-from Sketch2CADWorkbench.brep.operators import apply_operation
+from Sketch2CADWorkbench.brep.operators import operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import write_shard
@@ -182,9 +182,10 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
                 continue
             op, f = got
             try:
-                result = Stage(apply_operation(stage.solid, op))
+                out = operation_result(stage.solid, op)
             except OperationError:
                 continue
+            result = Stage(out.solid, out.volume)
             if abs(result.volume - stage.volume) < MIN_VOLUME_CHANGE * stage.volume:
                 continue
             sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer,

@@ -18,11 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.faces import model_scale
+from Sketch2CADWorkbench.brep.faces import base_face_index, model_scale
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
-from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 from .sample import Sample

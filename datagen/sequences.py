@@ -26,7 +26,7 @@ import cadquery as cq
 import numpy as np
 
 from Sketch2CADWorkbench.brep.faces import OperationError, planar_faces
-from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.operators import make_box, operation_result
 from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Protocol, per_operator
 
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
@@ -50,9 +50,10 @@ class Stage:
         volume: its volume (mm^3).
     """
 
-    def __init__(self, solid: cq.Solid):
+    def __init__(self, solid: cq.Solid, volume: float | None = None):
+        """`volume`: the solid's, when known (an operation's result carries it)."""
         self.solid = solid
-        self.volume = float(solid.Volume())
+        self.volume = float(solid.Volume() if volume is None else volume)
         self._faces: list[PlanarFace] | None = None
 
     @property
@@ -125,11 +126,11 @@ def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
         op = samplers[kind](rng, stage.solid, face)
         if op is None or change_bound(op, face) < least:
             continue  # rejected before paying for the Boolean
-        try:
-            out = apply_operation(stage.solid, op)
+        try:  # f is the face op.face was drawn from: not resolved again
+            out = operation_result(stage.solid, op, face.face)
         except OperationError:
             continue
-        after = Stage(out)
+        after = Stage(out.solid, out.volume)
         if abs(after.volume - stage.volume) >= least:
             return Drawn(op, face, after)
     return None

@@ -42,7 +42,7 @@ CPU_COST_SHARD = 256  # samples per shard written by --cpu-cost, as datagen's de
 # where its callers look it up; time in a nested stage counts to that stage alone, and
 # what no stage claims counts as "other" (glue, per-sample labels).
 STAGES = [
-    (sequences, "apply_operation", "B-rep: Booleans (apply_operation)"),
+    (sequences, "operation_result", "B-rep: Booleans (apply_operation)"),
     (sequences, "sample_operation", "B-rep: faces, samplers, volumes"),
     (generate, "sample_operation", "B-rep: faces, samplers, volumes"),
     (generate, "sample_sequence", "B-rep: faces, samplers, volumes"),

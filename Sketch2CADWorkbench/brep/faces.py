@@ -14,7 +14,9 @@ from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
-from OCP.TopAbs import TopAbs_IN, TopAbs_ON
+from OCP.TopAbs import TopAbs_FACE, TopAbs_IN, TopAbs_ON
+from OCP.TopExp import TopExp
+from OCP.TopTools import TopTools_IndexedMapOfShape
 
 from .geometry import plane_basis
 from .protocol import FaceRef, OperationError, Surface  # OperationError is imported from here too
@@ -217,6 +219,27 @@ def model_box(solid: cq.Shape) -> tuple[np.ndarray, np.ndarray]:
     BRepBndLib.Add_s(solid.wrapped, box, True)
     x0, y0, z0, x1, y1, z1 = box.Get()
     return np.array([x0, y0, z0]), np.array([x1, y1, z1])
+
+
+def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
+    """The faces of a shape in the order of shape.Faces() (index i + 1 there is face i),
+    without wrapping every face in a cadquery object as Faces() does."""
+    faces = TopTools_IndexedMapOfShape()
+    TopExp.MapShapes_s(shape.wrapped, TopAbs_FACE, faces)
+    return faces
+
+
+def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
+    """The index in solid.Faces() of a face of it (the renderer's face IDs; for the
+    base face f, of resolve_face(context solid, op.face).face).
+
+    Raises:
+        ValueError: the face is not one of the solid's.
+    """
+    index = indexed_faces(solid).FindIndex(face.wrapped)  # matches as isSame does
+    if index == 0:
+        raise ValueError("the face is not a face of the solid")
+    return index - 1
 
 
 def points_on_face(face: cq.Face, points: np.ndarray, tol: float,

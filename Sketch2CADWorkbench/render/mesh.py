@@ -20,12 +20,9 @@ from OCP.IVtkOCC import IVtkOCC_Shape, IVtkOCC_ShapeMesher
 from OCP.IVtkVTK import IVtkVTK_ShapeData
 from OCP.Prs3d import Prs3d_IsoAspect
 from OCP.Quantity import Quantity_Color
-from OCP.TopAbs import TopAbs_FACE
-from OCP.TopExp import TopExp
-from OCP.TopTools import TopTools_IndexedMapOfShape
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from ..brep.faces import model_scale
+from ..brep.faces import indexed_faces, model_scale
 
 # Chordal deviation relative to the bounding-box diagonal: about half a pixel when the
 # whole model fills a 256-pixel view.
@@ -147,14 +144,6 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
     tris = tris.reshape(-1, 3).astype(np.int32)
     return FaceMesh(points, tris, face_index, _triangle_normals(points, tris, vnormals),
                     vnormals)
-
-
-def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
-    """The faces of a shape in the order of shape.Faces() (index i + 1 there is face i),
-    without wrapping every face in a cadquery object as Faces() does."""
-    faces = TopTools_IndexedMapOfShape()
-    TopExp.MapShapes_s(shape.wrapped, TopAbs_FACE, faces)
-    return faces
 
 
 def _triangle_normals(v: np.ndarray, t: np.ndarray, vn: np.ndarray) -> np.ndarray:

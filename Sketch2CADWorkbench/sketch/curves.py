@@ -38,7 +38,6 @@ from ..brep.protocol import (
     Sweep,
     per_operator,
 )
-from ..render.mesh import indexed_faces
 from .labels import BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE, START
 
 CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle
@@ -207,16 +206,3 @@ def operation_curves(solid: cq.Shape, op: Operation, direction,
             not resolved again).
     """
     return CURVES[op.type](face or resolve_face(solid, op.face), op, direction)
-
-
-def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
-    """The index in solid.Faces() of a face of it (the renderer's face IDs): for the
-    base face f, resolve_face(context solid, op.face).face.
-
-    Raises:
-        ValueError: the face is not one of the solid's.
-    """
-    index = indexed_faces(solid).FindIndex(face.wrapped)  # matches as isSame does
-    if index == 0:
-        raise ValueError("the face is not a face of the solid")
-    return index - 1

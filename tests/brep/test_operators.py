@@ -2,11 +2,18 @@
 """Each operator gives the analytically expected solid, and never touches its input."""
 import math
 
+import cadquery as cq
 import pytest
 
 from Sketch2CADWorkbench.brep.exchange import to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError
-from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
+from Sketch2CADWorkbench.brep.operators import (
+    apply_operation,
+    boolean,
+    make_box,
+    operation_result,
+    replay,
+)
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -15,6 +22,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     Protocol,
+    Surface,
     Sweep,
 )
 
@@ -236,3 +244,33 @@ def test_a_resolved_face_taken_from_the_solid_is_what_resolving_its_reference_fi
         found, held = resolve_face(box, face_ref_of(face)), ResolvedFace.of(face)
         assert found.face.isSame(held.face) and found.shift == held.shift == 0.0
         assert (found.normal == held.normal).all()
+
+
+def test_an_operation_given_a_face_of_another_solid_or_a_curved_reference_is_refused(box):
+    other = make_box(Box((LX, LY, LZ)))
+    with pytest.raises(ValueError, match="not a face of the solid"):
+        apply_operation(box, Extrude(TOP, 5.0), other.Faces()[5])
+    curved = FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, 1.0), Surface.CYLINDER)
+    with pytest.raises(ValueError, match="must be planar"):
+        apply_operation(box, Extrude(curved, 5.0), box.Faces()[5])
+
+
+def test_an_operation_result_carries_its_solid_s_volume(box):
+    out = operation_result(box, AddSubPrism(TOP, square(4, LZ / 2), 3.0, Mode.SUBTRACT))
+    assert out.volume == out.solid.Volume() == pytest.approx(BOX_VOLUME - 8 * 8 * 3, rel=REL)
+
+
+@pytest.mark.parametrize("mode,cadquery_op", [
+    (Mode.ADD, "fuse"), (Mode.SUBTRACT, "cut"), (Mode.INTERSECT, "intersect")])
+@pytest.mark.parametrize("compound", [False, True])
+def test_the_operators_boolean_gives_what_cadquery_s_gives(mode, cadquery_op, compound):
+    """The OCCT options `boolean` sets change its cost, not its result, on a solid or a
+    compound (whose shapes cadquery passes on in its place)."""
+    def inputs():
+        body = make_box(Box((LX, LY, LZ))).cut(cq.Solid.makeCylinder(4, LZ * 2, cq.Vector(8, 0, -LZ)))
+        return (body if compound else body.Solids()[0]), \
+            cq.Solid.makeCone(9, 3, LZ, cq.Vector(-5, 2, 0))
+    body, tool = inputs()
+    ours = boolean(body, tool, mode)
+    body, tool = inputs()
+    assert to_brep_text(ours) == to_brep_text(getattr(body, cadquery_op)(tool))

@@ -1,14 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Any sequence of in-range parameters ends in one valid solid or an OperationError."""
+"""Any sequence of in-range parameters ends in one valid solid or an OperationError, the
+same whether the base face is resolved or handed in."""
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from Sketch2CADWorkbench.brep.exchange import to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError, face_ref_of, planar_faces
 from Sketch2CADWorkbench.brep.geometry import plane_basis
-from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, operation_result
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Sweep
 
 unit = st.floats(0.0, 1.0)
@@ -64,3 +67,26 @@ def test_random_sequence_ends_in_a_valid_solid_or_an_operation_error(data, size,
             return
         assert len(result.Solids()) == 1 and result.isValid() and result.Volume() > 0
         solid = result
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data(), st.tuples(*[st.floats(5.0, 80.0)] * 3), st.integers(1, 3))
+def test_an_operation_given_its_base_face_builds_what_resolving_the_face_builds(data, size,
+                                                                                 length):
+    """Data generation hands apply_operation the face it drew op.face from: the result,
+    or the error, is the one resolving op.face gives."""
+    solid = make_box(Box(size))
+    for _ in range(length):
+        op = data.draw(operation_on(solid))
+        (face,) = [f for f, _, _ in planar_faces(solid) if face_ref_of(f) == op.face]
+        try:
+            resolved = operation_result(solid, op)
+        except OperationError as e:
+            with pytest.raises(OperationError) as held_error:
+                operation_result(solid, op, face)
+            assert str(held_error.value) == str(e)
+            return
+        held = operation_result(solid, op, face)
+        assert to_brep_text(held.solid) == to_brep_text(resolved.solid)
+        assert held.volume == resolved.volume == resolved.solid.Volume()
+        solid = resolved.solid

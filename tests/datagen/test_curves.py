@@ -4,11 +4,11 @@ import cadquery as cq
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.faces import base_face_index, resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
-from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves, outline_corners
+from Sketch2CADWorkbench.sketch.curves import operation_curves, outline_corners
 from Sketch2CADWorkbench.sketch.labels import (
     BEVEL_L,
     BEVEL_L_PRIME,

@@ -5,11 +5,11 @@ import numpy as np
 from datagen.generate import MESH_REL_TOLERANCE, PER_CONTEXT, generate_block, generate_sample
 from datagen.strokes import noise_sigma
 from datagen.views import MIN_FACE_PIXELS, relevant_visibility
-from Sketch2CADWorkbench.brep.faces import model_scale, resolve_face
+from Sketch2CADWorkbench.brep.faces import base_face_index, model_scale, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.render.mesh import tessellate
-from Sketch2CADWorkbench.sketch.curves import base_face_index, operation_curves
+from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import (
     BEVEL_L,
     BEVEL_L_PRIME,

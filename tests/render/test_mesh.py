@@ -4,11 +4,10 @@ import cadquery as cq
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.faces import model_scale
+from Sketch2CADWorkbench.brep.faces import indexed_faces, model_scale
 from Sketch2CADWorkbench.render.mesh import (
     ANGULAR_TOLERANCE,
     REL_TOLERANCE,
-    indexed_faces,
     tessellate,
     view_tolerance,
 )
