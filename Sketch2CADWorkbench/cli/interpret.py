@@ -2,7 +2,10 @@
 """Run every step of a sketch session (see inference/session.py) through the networks and
 fitting, into a protocol and a solid.
 
-`sketch2cad interpret SESSION.json [--protocol P.json] [--step S.step] [--png S.png]`.
+`sketch2cad interpret SESSION.json [--protocol P.json] [--step S.step] [--png S.png]`;
+`--compare P.json` prints each step's volume IoU with the protocol the sketches mean, and
+with `--each-step` reads every step on that protocol's model, one step's miss not carried
+into the next.
 """
 from __future__ import annotations
 
@@ -30,6 +33,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--compare", type=Path, metavar="PROTOCOL",
                    help="the model the sketches mean (a protocol with one operation per "
                         "step): print each step's volume IoU with it")
+    p.add_argument("--each-step", action="store_true",
+                   help="with --compare, read every step on the compared protocol's model "
+                        "before it, not on the model the earlier readings built, and print "
+                        "that step's volume IoU alone (where a session loses, step by step)")
     p.add_argument("--regularize", choices=("session", "on", "off"), default="session",
                    help="snapping and rectification: as each step's choices say (default), "
                         "or on or off for every step")
@@ -55,6 +62,11 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
         return 2
+    if args.each_step and (not args.compare or args.protocol or args.step or args.png):
+        print("sketch2cad interpret: error: --each-step needs --compare, and reads each step "
+              "on that protocol's model, so it writes no --protocol, --step or --png",
+              file=sys.stderr)
+        return 2
     try:
         session = load_session(args.session)
         reference = _reference(args.compare, len(session.steps)) if args.compare else None
@@ -74,6 +86,8 @@ def run(args: argparse.Namespace) -> int:
             choices = replace(choices, snap_px=args.snap_px)
         if args.regularize != "session":
             choices = replace(choices, regularize=args.regularize == "on")
+        if args.each_step:  # the step alone, on the model the designer drew it over
+            solid = reference[i - 1]
         try:
             got = interpret(solid, step.strokes, step.camera, predictor, renderer, choices)
         except InterpretError as e:
@@ -96,7 +110,8 @@ def run(args: argparse.Namespace) -> int:
                       f"set this step's choices.option to have it)")
             solid = got.solid
         if reference:
-            print(f"         volume IoU with {args.compare.name} after step {i}: "
+            alone = " (this step alone)" if args.each_step else ""
+            print(f"         volume IoU with {args.compare.name} after step {i}{alone}: "
                   f"{volume_iou(solid, reference[i]):.3f}")
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
           f"volume {solid.Volume():.1f} mm^3")

@@ -44,3 +44,30 @@ def test_the_replay_keeps_the_snaps_a_step_undid_undone_and_its_grid(tmp_path):
         outputs.append(out.stdout)
     assert "position snapped" in outputs[0] and "position snapped" not in outputs[1]
     assert all("snapped to the 1 mm grid" in o for o in outputs)
+
+
+def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
+    # lamp's plate and post; the plate's strokes are a scribble that reads as nothing, so
+    # the post, read after it on the box, misses the plate, and read alone on the
+    # protocol's plate is found
+    examples = SESSION.parents[1]
+    session = json.loads((examples / "sessions" / "lamp.json").read_text())
+    protocol = json.loads((examples / "protocols" / "lamp.json").read_text())
+    session["steps"] = session["steps"][:2]
+    session["steps"][0]["strokes"] = [[[10.0, 10.0], [11.0, 10.0]]]
+    protocol["operations"] = protocol["operations"][:2]
+    (tmp_path / "s.json").write_text(json.dumps(session))
+    (tmp_path / "p.json").write_text(json.dumps(protocol))
+    base = [*CLI, "interpret", str(tmp_path / "s.json"), "--compare", str(tmp_path / "p.json"),
+            "--keep-going", "--regularize", "off"]
+    ious = {}
+    for extra in ([], ["--each-step"]):
+        out = subprocess.run(base + extra, capture_output=True, text=True, timeout=600)
+        assert out.returncode == 0, out.stderr
+        ious[bool(extra)] = [float(line.rsplit(" ", 1)[1]) for line in out.stdout.splitlines()
+                             if "volume IoU" in line]
+        assert ("(this step alone)" in out.stdout) == bool(extra)
+    assert ious[True][1] > 0.95 > ious[False][1]
+    out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json"), "--each-step"],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 2 and "--each-step needs --compare" in out.stderr
