@@ -133,9 +133,9 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
         p.segment(x, CLASSES[int(probs.argmax())])
         lap("unet + head")
         with torch.inference_mode():
-            logits, maps = feature_maps(p.model, torch.from_numpy(x)[None])
+            u = feature_maps(p.model, torch.from_numpy(x)[None])
             lap("features")
-            t = tokens(logits[0], maps[0], s.strokes, s.face_id)
+            t = tokens(u.logits[0], u.maps[0], s.strokes, s.face_id)
             lap("tokens")
             _, roles, faces = p.head(*collate([t]))
             lap("head")

@@ -103,16 +103,25 @@ class Tokens:
 
 
 # ---------------------------------------------------------------- features
-def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor
-                 ) -> tuple[torch.Tensor, torch.Tensor]:
-    """The U-Net's class logits (B, 4) and the maps the tokens pool,
-    (B, feature_channels, I, I) at the internal size I, from full-size inputs."""
+@dataclass
+class UNetPass:
+    """One pass of the U-Net over full-size inputs: its outputs at the internal size I
+    and the maps the tokens pool (so a caller needing both runs the U-Net once)."""
+
+    logits: torch.Tensor  # (B, 4) class logits
+    f: torch.Tensor       # (B, 4, I, I) F logits
+    c: torch.Tensor       # (B, 4, I, I) C values
+    maps: torch.Tensor    # (B, feature_channels, I, I): decoder maps, F, C, pooled inputs
+
+
+def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
+    """The U-Net's outputs and the maps the tokens pool, from full-size inputs."""
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
     size = x.shape[-2:]
     maps = [F.interpolate(d, size=size, mode="bilinear", align_corners=False)
             for d in decoded[-DECODER_LEVELS:]]
-    return logits, torch.cat(maps + [f, c, x], 1).contiguous()
+    return UNetPass(logits, f, c, torch.cat(maps + [f, c, x], 1).contiguous())
 
 
 def _resample(stroke: np.ndarray, count: int) -> np.ndarray:
@@ -507,8 +516,8 @@ class StructuredPredictor(NetworkPredictor):
             x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
             with torch.inference_mode():
                 self.model.eval()
-                logits, maps = feature_maps(self.model, x)
-                t = tokens(logits[0], maps[0], self._strokes, self._face_id)
+                u = feature_maps(self.model, x)
+                t = tokens(u.logits[0], u.maps[0], self._strokes, self._face_id)
                 cls, roles, faces = self.head(*collate([t]))
             self._head_out = (inputs, t, cls[0].softmax(0).numpy(), roles[0], faces[0])
         return self._head_out

@@ -51,8 +51,8 @@ def net(tiny_config):
 def _tokens(net, strokes, face_id):
     x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
     with torch.no_grad():
-        logits, maps = feature_maps(net, x)
-    return tokens(logits[0], maps[0], strokes, face_id)
+        u = feature_maps(net, x)
+    return tokens(u.logits[0], u.maps[0], strokes, face_id)
 
 
 def test_one_token_per_stroke_and_per_visible_face(net):
