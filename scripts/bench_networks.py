@@ -101,13 +101,12 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
     stages: the U-Net's feature maps, the tokens, the head, the decoding and painting."""
     from datagen.dataset import Dataset
     from Sketch2CADWorkbench.inference.heads import (
+        choose,
         collate,
-        decode_roles,
         feature_maps,
         load_structured_predictor,
         paint_curve,
         paint_face,
-        role_probabilities,
         tokens,
     )
     from Sketch2CADWorkbench.inference.weights import HEAD_NAME
@@ -133,16 +132,16 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
         p.segment(x, CLASSES[int(probs.argmax())])
         lap("unet + head")
         with torch.inference_mode():
-            logits, maps = feature_maps(p.model, torch.from_numpy(x)[None])
+            u = feature_maps(p.model, torch.from_numpy(x)[None])
             lap("features")
-            t = tokens(logits[0], maps[0], s.strokes, s.face_id)
+            t = tokens(u.logits[0], u.maps[0], s.strokes, s.face_id)
             lap("tokens")
             _, roles, faces = p.head(*collate([t]))
             lap("head")
             op = int(probs.argmax())
-            paint_curve(s.strokes, decode_roles(role_probabilities(roles[0], op), op),
-                        s.face_id.shape[-1])
-            paint_face(faces[0, :, op].softmax(0), t.face_ids, s.face_id)
+            c = choose(roles[0], faces[0], op, s.strokes, t.face_ids, s.face_id, x[2:5])
+            paint_curve(s.strokes, c.roles, s.face_id.shape[-1])
+            paint_face(faces[0, :, op].softmax(0), t.face_ids, s.face_id, c.face)
             lap("decode + paint")
     return {name: 1e3 * statistics.median(v) for name, v in times.items()}
 

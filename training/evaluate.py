@@ -9,6 +9,7 @@ from __future__ import annotations
 import statistics
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,20 @@ import torch
 from tqdm import tqdm
 
 from datagen.dataset import Dataset, decode_inputs
+from Sketch2CADWorkbench.inference.heads import (
+    StructureHead,
+    Tokens,
+    UNetPass,
+    choose,
+    collate,
+    feature_maps,
+    load_head,
+    paint_curve,
+    paint_face,
+    tokens,
+)
+from Sketch2CADWorkbench.inference.models import Sketch2CADNet
+from Sketch2CADWorkbench.inference.weights import load_model, resolve
 
 from .metrics import Tally, curve_hits, face_overlap
 
@@ -37,69 +52,129 @@ def latency_ms(model, inputs: list[np.ndarray], threads: int = LATENCY_THREADS) 
     return statistics.median(times)
 
 
+@dataclass
+class Scores:
+    """What one pass of the U-Net over a data set scored, with a head's reading of its
+    features beside its maps when a head was given."""
+
+    unet: Tally
+    head: Tally | None              # the head's choices painted into F and C
+    examples: list[dict]            # EXAMPLES_PER_OP U-Net predictions per operator
+    inputs: list[np.ndarray]        # the first `keep_inputs` sketches' inputs (5, S, S)
+    data: dict                      # the data set's path, seed and noise
+
+
+def batch_tokens(u: UNetPass, meta: list[dict], face_id: np.ndarray) -> list[Tokens]:
+    """The head's tokens of a batch's samples from the U-Net's pass over them."""
+    return [tokens(u.logits[j], u.maps[j], [np.asarray(s, float) for s in m["strokes"]],
+                   face_id[j]) for j, m in enumerate(meta)]
+
+
+def _head_reading(head: StructureHead, u: UNetPass, x: np.ndarray, meta: list[dict],
+                  face_id: np.ndarray, op: torch.Tensor
+                  ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """The head's class logits (B, 4) and its choices under the true operator painted
+    into F and C (B, S, S), as the fitting reads them; x: the inputs (B, 5, S, S)."""
+    toks = batch_tokens(u, meta, face_id)
+    logits, roles, faces = head(*collate(toks))
+    pf, pc = [], []
+    for j, t in enumerate(toks):
+        o = int(op[j])
+        strokes = [np.asarray(s, float) for s in meta[j]["strokes"]]
+        c = choose(roles[j, :len(strokes)], faces[j], o, strokes, t.face_ids, face_id[j],
+                   x[j, 2:5])
+        pc.append(paint_curve(strokes, c.roles, face_id.shape[-1]))
+        pf.append(paint_face(faces[j, :len(t.face_ids), o].softmax(0), t.face_ids, face_id[j],
+                             c.face))
+    return logits, torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
+
+
+def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
+          limit: int | None = None, batch: int = 32, keep_inputs: int = 0) -> Scores:
+    """The paper's metrics over `data` (its first `limit` samples) from one pass of the
+    U-Net per batch: its own maps, and a `head`'s choices read from the same features;
+    each segmentation scored on the ground-truth operator's maps, as the paper does.
+    `batch` samples per forward pass (the outputs do not depend on it: batch norm uses
+    its running statistics at inference)."""
+    ds = Dataset(data)
+    n_total = min(len(ds), limit) if limit else len(ds)
+    if n_total == 0:
+        raise ValueError(f"{data}: the data set has no complete shard yet")
+    out = Scores(Tally(), Tally() if head is not None else None, [], [],
+                 {"path": str(data), "seed": ds.manifest.get("seed"),
+                  "noise": ds.manifest.get("noise")})
+    done = 0
+    with tqdm(total=n_total, desc="eval", unit="sample", leave=False) as bar:
+        for k in ds.shards:
+            a, meta = ds.shard_arrays(k), ds.shard_meta(k)
+            m = min(len(a["op_type"]), n_total - done)
+            for i in range(0, m, batch):
+                sl = slice(i, min(i + batch, m))
+                x = decode_inputs(a, sl)                                       # (B, 5, S, S)
+                op = torch.from_numpy(a["op_type"][sl].astype(np.int64))
+                noise = torch.from_numpy(a["noise_level"][sl])
+                face = torch.from_numpy(a["face_label"][sl].astype(np.float32))
+                curve = torch.from_numpy(a["curve_label"][sl].astype(np.float32))
+                mask = torch.from_numpy(a["stroke_mask"][sl].astype(np.float32))
+                rows = torch.arange(len(op))
+                with torch.inference_mode():
+                    u = feature_maps(model, torch.from_numpy(x))
+                    probs, f, c = model.full_size(u.logits, u.f, u.c)
+                    if head is not None:
+                        logits, pf, pc = _head_reading(head, u, x, meta[sl], a["face_id"][sl],
+                                                       op)
+                        out.head.add(op, logits.argmax(1), noise, *face_overlap(pf, face),
+                                     *curve_hits(pc, curve, mask, op))
+                fo, co = f[rows, op], c[rows, op]       # the true operator's maps (B, S, S)
+                out.unet.add(op, probs.argmax(1), noise, *face_overlap(fo, face),
+                             *curve_hits(co, curve, mask, op))
+                for j in range(len(op)):
+                    if len(out.inputs) < keep_inputs:
+                        out.inputs.append(x[j])
+                    if sum(e["op"] == int(op[j]) for e in out.examples) < EXAMPLES_PER_OP:
+                        out.examples.append({
+                            "op": int(op[j]), "pred": int(probs[j].argmax()),
+                            "sketch": x[j, 0], "depth": x[j, 1], "face": fo[j].numpy(),
+                            "face_label": face[j].numpy(), "curve": co[j].numpy(),
+                            "curve_label": curve[j].numpy(), "mask": mask[j].numpy()})
+                bar.update(len(op))
+            done += m
+            if done >= n_total:
+                break
+    out.examples.sort(key=lambda e: e["op"])
+    return out
+
+
 def evaluate(data: Path, weights: Path | None = None, limit: int | None = None,
-             latency_runs: int = 50, batch: int = 32) -> tuple[dict, list[dict]]:
+             latency_runs: int = 50, batch: int = 32, head: Path | None = None
+             ) -> tuple[dict, list[dict]]:
     """The metrics of the JSON and a few example predictions for the report.
 
     Args:
         data: data set folder; weights: file or folder (None: the shipped weights);
         limit: use the first `limit` samples only; latency_runs: sketches timed one by
-        one; batch: samples per forward pass for the metrics (the outputs do not depend
-        on it: batch norm uses its running statistics at inference).
+        one; batch: samples per forward pass for the metrics; head: a structured head
+        file, whose choices are scored under "structured" from the same pass.
     Returns:
         the result dictionary and example predictions (numpy maps per sample).
     """
-    from Sketch2CADWorkbench.inference.weights import load_model, resolve
     path = resolve(weights)
     model, ckpt = load_model(path)
-    ds = Dataset(data)
-    n_total = min(len(ds), limit) if limit else len(ds)
-    if n_total == 0:
-        raise ValueError(f"{data}: the data set has no complete shard yet")
-    tally, examples, timed = Tally(), [], []
-    done = 0
-    with tqdm(total=n_total, desc="eval", unit="sample", leave=False) as bar:
-        for k in ds.shards:
-            a = ds.shard_arrays(k)
-            m = min(len(a["op_type"]), n_total - done)
-            for i in range(0, m, batch):
-                sl = slice(i, min(i + batch, m))
-                x = decode_inputs(a, sl)                                       # (B, 5, S, S)
-                probs, f, c = model.predict(torch.from_numpy(x))
-                op = torch.from_numpy(a["op_type"][sl].astype(np.int64))
-                face = torch.from_numpy(a["face_label"][sl].astype(np.float32))
-                curve = torch.from_numpy(a["curve_label"][sl].astype(np.float32))
-                mask = torch.from_numpy(a["stroke_mask"][sl].astype(np.float32))
-                rows = torch.arange(len(op))
-                fo, co = f[rows, op], c[rows, op]       # the true operator's maps (B, S, S)
-                tally.add(op, probs.argmax(1), torch.from_numpy(a["noise_level"][sl]),
-                          *face_overlap(fo, face), *curve_hits(co, curve, mask, op))
-                for j in range(len(op)):
-                    if len(timed) < latency_runs:
-                        timed.append(x[j])
-                    if sum(e["op"] == int(op[j]) for e in examples) < EXAMPLES_PER_OP:
-                        examples.append({"op": int(op[j]), "pred": int(probs[j].argmax()),
-                                         "sketch": x[j, 0], "depth": x[j, 1],
-                                         "face": fo[j].numpy(), "face_label": face[j].numpy(),
-                                         "curve": co[j].numpy(), "curve_label": curve[j].numpy(),
-                                         "mask": mask[j].numpy()})
-                bar.update(len(op))
-            done += m
-            if done >= n_total:
-                break
-    result = tally.summary()
-    result["latency_ms"] = {"networks_median": latency_ms(model, timed),
-                            "runs": len(timed), "threads": LATENCY_THREADS}
-    result["data"] = {"path": str(data), "seed": ds.manifest.get("seed"),
-                      "noise": ds.manifest.get("noise")}
+    s = score(data, model, load_head(head)[0] if head is not None else None, limit, batch,
+              keep_inputs=latency_runs)
+    result = s.unet.summary()
+    result["latency_ms"] = {"networks_median": latency_ms(model, s.inputs),
+                            "runs": len(s.inputs), "threads": LATENCY_THREADS}
+    result["data"] = s.data
     result["weights"] = {"path": str(path), "config": ckpt["config"],
                          "trained_on": ckpt.get("data_key")}
+    if s.head is not None:
+        result["structured"] = s.head.summary()
     trained = ckpt.get("data_key") or {}
-    if trained.get("seed") == ds.manifest.get("seed") and trained.get("count") == len(ds):
+    if trained.get("seed") == s.data["seed"] and trained.get("count") == len(Dataset(data)):
         print(f"sketch2cad eval: warning: {data} looks like the training data set (same seed "
               "and size); generate a held-out set with another --seed", file=sys.stderr)
-    order = sorted(range(len(examples)), key=lambda e: examples[e]["op"])
-    return result, [examples[e] for e in order]
+    return result, s.examples
 
 
 def has_ground_truth(data: Path) -> bool:

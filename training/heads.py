@@ -5,8 +5,9 @@
 (cached in the run folder: the U-Net is frozen, so every epoch reuses them); `train_head`
 fits the head, resumable from out/head-checkpoint.pt after every epoch; `evaluate_head`
 scores, on a held-out data set, the U-Net's own maps and the head's choices painted back
-into F and C with the paper's metrics (training/metrics.py), one Tally each, so both rows
-of the ablation come from the same samples and the same code.
+into F and C with the paper's metrics (training/metrics.py), one Tally each from one
+pass of the U-Net (training/evaluate.score, which `sketch2cad eval` runs too), so both
+rows of the ablation come from the same samples and the same code.
 
 Losses, each averaged per sample first so that a bevel's 2 strokes weigh as much as an
 add/sub's 15: cross-entropy of the class, of each stroke's role under the ground-truth
@@ -35,21 +36,16 @@ from Sketch2CADWorkbench.inference.heads import (
     StructureHead,
     Tokens,
     collate,
-    decode_roles,
     feature_channels,
     feature_maps,
     load_head,
-    paint_curve,
-    paint_face,
-    role_probabilities,
     save_head,
     sha256_of,
-    tokens,
 )
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 
-from .metrics import Tally, curve_hits, face_overlap
+from .evaluate import batch_tokens, score
 
 @dataclass
 class HeadSettings:
@@ -80,18 +76,11 @@ class Item:
     face: int             # index of the base face among the face tokens, -1 not in view
 
 
-def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice):
-    """Tokens of the samples `sl` of a shard's arrays `a`, with their full-size U-Net
-    outputs (probabilities, F, C) for the baseline row."""
-    x = torch.from_numpy(decode_inputs(a, sl))
+def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice) -> list[Tokens]:
+    """Tokens of the samples `sl` of a shard's arrays `a` (their `meta`)."""
     with torch.inference_mode():
-        logits, maps = feature_maps(model, x)
-        f, c = maps[:, -5 - 8:-5 - 4], maps[:, -5 - 4:-5]
-        up = model.upsample(torch.cat([f, c], 1))
-        full = (logits.softmax(1), up[:, :4].sigmoid(), up[:, 4:])
-        toks = [tokens(logits[j], maps[j], [np.asarray(s, float) for s in meta[j]["strokes"]],
-                       a["face_id"][sl][j]) for j in range(len(x))]
-    return toks, full
+        u = feature_maps(model, torch.from_numpy(decode_inputs(a, sl)))
+        return batch_tokens(u, meta, a["face_id"][sl])
 
 
 def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
@@ -129,7 +118,7 @@ def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
             a, shard_items = ds.shard_arrays(k), []
             for i in range(0, take, batch):
                 sl = slice(i, min(i + batch, take))
-                toks, _ = _sample_tokens(model, a, meta[sl], sl)
+                toks = _sample_tokens(model, a, meta[sl], sl)
                 part = {name: v[sl] for name, v in a.items()}
                 shard_items += [_item(t, part, meta[sl][j], j) for j, t in enumerate(toks)]
                 bar.update(len(toks))
@@ -228,45 +217,7 @@ def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureH
 def evaluate_head(data: Path, head_path: Path, weights: Path | None = None,
                   limit: int | None = None, batch: int = 16) -> dict:
     """The paper's metrics on `data` for the U-Net's own maps ("unet") and for the head's
-    choices painted into F and C ("head"); each segmentation scored on the ground-truth
-    operator's maps, as the paper does."""
+    choices painted into F and C ("head"), from one pass of the U-Net (`score`)."""
     model, _ = load_model(resolve(weights))
-    head, _ = load_head(head_path)
-    ds = Dataset(data)
-    n = min(len(ds), limit) if limit else len(ds)
-    unet, structured, done = Tally(), Tally(), 0
-    with tqdm(total=n, desc="eval head", unit="sample", leave=False) as bar:
-        for k in ds.shards:
-            a, meta = ds.shard_arrays(k), ds.shard_meta(k)
-            for i in range(0, min(len(meta), n - done), batch):
-                sl = slice(i, min(i + batch, len(meta), i + n - done))
-                toks, (probs, f, c) = _sample_tokens(model, a, meta[sl], sl)
-                op = torch.from_numpy(a["op_type"][sl].astype(np.int64))
-                noise = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
-                face = torch.from_numpy(a["face_label"][sl].astype(np.float32))
-                curve = torch.from_numpy(a["curve_label"][sl].astype(np.float32))
-                mask = torch.from_numpy(a["stroke_mask"][sl].astype(np.float32))
-                rows = torch.arange(len(op))
-                unet.add(op, probs.argmax(1), noise, *face_overlap(f[rows, op], face),
-                         *curve_hits(c[rows, op], curve, mask, op))
-                with torch.inference_mode():
-                    logits, roles, faces = head(*collate(toks))
-                pf, pc = [], []
-                size = face.shape[-1]
-                for j, t in enumerate(toks):
-                    o = int(op[j])
-                    strokes = [np.asarray(s, float) for s in meta[sl][j]["strokes"]]
-                    labels = decode_roles(role_probabilities(roles[j, :len(strokes)], o), o)
-                    pc.append(paint_curve(strokes, labels, size))
-                    pf.append(paint_face(faces[j, :len(t.face_ids), o].softmax(0), t.face_ids,
-                                         a["face_id"][sl][j]))
-                pf, pc = torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
-                structured.add(op, logits.argmax(1), noise, *face_overlap(pf, face),
-                               *curve_hits(pc, curve, mask, op))
-                done += len(op)
-                bar.update(len(op))
-            if done >= n:
-                break
-    return {"data": {"path": str(data), "seed": ds.manifest.get("seed"),
-                     "noise": ds.manifest.get("noise")},
-            "unet": unet.summary(), "head": structured.summary()}
+    s = score(data, model, load_head(head_path)[0], limit, batch)
+    return {"data": s.data, "unet": s.unet.summary(), "head": s.head.summary()}

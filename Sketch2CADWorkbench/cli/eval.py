@@ -4,7 +4,8 @@ networks (paper, Table 1), and the end-to-end recovery rate of the whole pipelin
 
 The network figures are the U-Net's maps; when a structured head is shipped beside the
 weights (the default predictor reads with it), its choices painted into F and C are
-scored the same way under "structured", since they are what the fitting reads.
+scored the same way under "structured", since they are what the fitting reads (from
+the same pass of the U-Net as its own maps).
 
 `sketch2cad eval --data DIR [--weights DIR] --json OUT.json [--report OUT.png] [--recovery N]`.
 """
@@ -16,7 +17,6 @@ import sys
 from pathlib import Path
 
 from training.evaluate import evaluate, has_ground_truth
-from training.heads import evaluate_head
 from training.recovery import recovery
 from training.report import report
 
@@ -48,11 +48,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs)
-        head = shipped_head(args.weights)
-        if head is not None:
-            result["structured"] = evaluate_head(args.data, head, args.weights,
-                                                 args.limit)["head"]
+        result, examples = evaluate(args.data, args.weights, args.limit, args.latency_runs,
+                                    head=shipped_head(args.weights))
         if args.recovery and not has_ground_truth(args.data):
             print(f"sketch2cad eval: warning: {args.data} stores no ground-truth operations; "
                   "the end-to-end recovery is skipped", file=sys.stderr)

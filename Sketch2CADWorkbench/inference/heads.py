@@ -31,6 +31,7 @@ and which part of a profile points along n_f, only not about whole strokes.
 from __future__ import annotations
 
 import hashlib
+import itertools
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
@@ -43,7 +44,9 @@ from scipy.optimize import linear_sum_assignment
 from ..brep.files import atomic_path
 from ..brep.protocol import OperatorType
 from ..render.strokes import rasterize
-from ..sketch.labels import BEVEL_L, CLASSES
+from ..sketch.labels import BEVEL_L, CLASSES, END, START
+from .drawing import prism_labellings
+from .fitting.stroke_roles import MIN_SIN
 from .models import N_OPS, Sketch2CADNet, load_checkpoint
 from .weights import NetworkPredictor, resolve
 
@@ -103,16 +106,25 @@ class Tokens:
 
 
 # ---------------------------------------------------------------- features
-def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor
-                 ) -> tuple[torch.Tensor, torch.Tensor]:
-    """The U-Net's class logits (B, 4) and the maps the tokens pool,
-    (B, feature_channels, I, I) at the internal size I, from full-size inputs."""
+@dataclass
+class UNetPass:
+    """One pass of the U-Net over full-size inputs: its outputs at the internal size I
+    and the maps the tokens pool (so a caller needing both runs the U-Net once)."""
+
+    logits: torch.Tensor  # (B, 4) class logits
+    f: torch.Tensor       # (B, 4, I, I) F logits
+    c: torch.Tensor       # (B, 4, I, I) C values
+    maps: torch.Tensor    # (B, feature_channels, I, I): decoder maps, F, C, pooled inputs
+
+
+def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
+    """The U-Net's outputs and the maps the tokens pool, from full-size inputs."""
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
     size = x.shape[-2:]
     maps = [F.interpolate(d, size=size, mode="bilinear", align_corners=False)
             for d in decoded[-DECODER_LEVELS:]]
-    return logits, torch.cat(maps + [f, c, x], 1).contiguous()
+    return UNetPass(logits, f, c, torch.cat(maps + [f, c, x], 1).contiguous())
 
 
 def _resample(stroke: np.ndarray, count: int) -> np.ndarray:
@@ -422,23 +434,95 @@ def decode_roles(probs: torch.Tensor, op: int) -> list[int]:
     return [int(v) for v in labels]
 
 
+@dataclass
+class Choice:
+    """The head's reading of one sketch under one operator."""
+
+    roles: list[int]  # each stroke's curve label
+    face: int         # the chosen face token (index into face_ids); -1: no face in view
+
+
+def _start_end_labellings(op: int, strokes: list[np.ndarray], size: int) -> list[np.ndarray]:
+    """The labellings a drawing of op with start and end outlines allows: a prism's from
+    how its strokes meet (drawing.py), a sweep's any 1 / 2 / 1 split of its 4 strokes."""
+    kind = CLASSES[op]
+    if kind is OperatorType.ADDSUB:
+        return prism_labellings(strokes, size)
+    if kind is OperatorType.SWEEP and len(strokes) == 4:
+        return [np.array(p) for p in sorted(set(itertools.permutations((0, 1, 1, 2))))]
+    return []
+
+
+def face_normal_images(face_ids: torch.Tensor, face_id: np.ndarray, normal: np.ndarray
+                       ) -> np.ndarray:
+    """(K, 2) each face's mean outward normal seen in the image (x right, y down; its
+    length is the sine of the angle between the normal and the view), from the normal
+    map N of the inputs, (3, S, S) camera-space normal + 1 (render/maps.py)."""
+    on = face_id >= 0
+    ids = face_id[on].astype(np.int64)
+    count = np.maximum(np.bincount(ids, minlength=int(face_id.max()) + 1), 1)
+    nx = np.bincount(ids, normal[0][on] - 1.0, minlength=len(count)) / count
+    ny = np.bincount(ids, normal[1][on] - 1.0, minlength=len(count)) / count
+    k = face_ids.numpy()
+    return np.stack([nx[k], -ny[k]], 1)  # image y points down
+
+
+def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
+           strokes: list[np.ndarray], face_ids: torch.Tensor, face_id: np.ndarray,
+           normal: np.ndarray) -> Choice:
+    """The stroke roles and the base face, read together where the drawing ties them.
+
+    Start and end are ordered along n_f (sketch/curves.py: a hole's end outline is the
+    one on f), so in the image the end outline lies from the start outline along n_f's
+    image: the likeliest pair of a face and a labelling the drawing allows that agree so
+    is chosen (log-probabilities summed). A face seen head-on (its normal's image
+    shorter than MIN_SIN) agrees with either order. Where the drawing allows no such
+    labelling (another operator, not a prism's corner graph) or none agrees with any
+    face: `decode_roles` and the likeliest face, each alone.
+
+    Args:
+        role_logits: (S, 10) and face_logits: (K, 4), the head's outputs for one sketch;
+        strokes: its S polylines (pixels); face_ids: (K,) the face tokens' face-IDs;
+        face_id: (S, S) face-ID map; normal: (3, S, S) the inputs' normal map N.
+    """
+    probs = role_probabilities(role_logits, op)
+    face_lp = face_logits[:len(face_ids), op].log_softmax(0).numpy()
+    alone = Choice(decode_roles(probs, op), int(face_lp.argmax()) if len(face_lp) else -1)
+    labellings = _start_end_labellings(op, strokes, face_id.shape[-1])
+    if not labellings or not len(face_lp):
+        return alone
+    labels = np.stack(labellings)                                           # (L, S)
+    role_lp = np.log(np.clip(probs.numpy(), 1e-12, None))
+    score = role_lp[np.arange(len(strokes))[None], labels].sum(1)[:, None] + face_lp[None]
+    mids = np.stack([np.asarray(s, float).reshape(-1, 2).mean(0) for s in strokes])
+    shift = np.stack([mids[lab == END].mean(0) - mids[lab == START].mean(0) for lab in labels])
+    n_img = face_normal_images(face_ids, face_id, normal)                   # (K, 2)
+    agree = (shift @ n_img.T > 0) | (np.linalg.norm(n_img, axis=1) < MIN_SIN)[None]
+    score = np.where(agree, score, -np.inf)                                 # (L, K)
+    if not np.isfinite(score).any():
+        return alone
+    lab, face = np.unravel_index(int(score.argmax()), score.shape)
+    return Choice([int(v) for v in labels[lab]], int(face))
+
+
 def paint_curve(strokes: list[np.ndarray], labels: list[int], size: int) -> np.ndarray:
     """C: each stroke's pixels carry its label, drawn as the data generator draws C~
     (datagen/strokes.py: the later stroke wins where strokes cross)."""
     return rasterize(strokes, size, size, [float(v) for v in labels])
 
 
-def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.ndarray
-               ) -> np.ndarray:
-    """F: 1 on the likeliest face's pixels; every other face gets 0.5 p / p_max (below
-    the 0.5 that counts as f, so the paper's IoU and the fitting's vote see one face,
-    while the fitting's fallback order by mean F follows the head's probabilities)."""
+def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.ndarray,
+               chosen: int) -> np.ndarray:
+    """F: 1 on the chosen face's pixels (index into face_ids); every other face gets at
+    most 0.5 p / p_max (not above the 0.5 that counts as f, so the paper's IoU and the
+    fitting's vote see one face, while the fitting's fallback order by mean F follows
+    the head's probabilities)."""
     out = np.zeros(face_id.shape, np.float32)
     if not len(face_ids):
         return out
     p = face_probs.numpy()
     value = 0.5 * p / max(p.max(), 1e-12)
-    value[int(p.argmax())] = 1.0
+    value[chosen] = 1.0
     lut = np.zeros(int(face_id.max()) + 2, np.float32)
     lut[face_ids.numpy()] = value
     return np.where(face_id >= 0, lut[np.clip(face_id, -1, None)], 0.0).astype(np.float32)
@@ -507,8 +591,8 @@ class StructuredPredictor(NetworkPredictor):
             x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
             with torch.inference_mode():
                 self.model.eval()
-                logits, maps = feature_maps(self.model, x)
-                t = tokens(logits[0], maps[0], self._strokes, self._face_id)
+                u = feature_maps(self.model, x)
+                t = tokens(u.logits[0], u.maps[0], self._strokes, self._face_id)
                 cls, roles, faces = self.head(*collate([t]))
             self._head_out = (inputs, t, cls[0].softmax(0).numpy(), roles[0], faces[0])
         return self._head_out
@@ -540,10 +624,10 @@ class StructuredPredictor(NetworkPredictor):
         if out is None:
             return super().segment(inputs, op_type)
         k = CLASSES.index(op_type)
-        labels = decode_roles(role_probabilities(out[3], k), k)
-        size = self._face_id.shape[-1]
-        return (paint_face(out[4][:, k].softmax(0), out[1].face_ids, self._face_id),
-                paint_curve(self._strokes, labels, size))
+        c = choose(out[3], out[4], k, self._strokes, out[1].face_ids, self._face_id,
+                   np.asarray(inputs)[2:5])
+        return (paint_face(out[4][:, k].softmax(0), out[1].face_ids, self._face_id, c.face),
+                paint_curve(self._strokes, c.roles, self._face_id.shape[-1]))
 
 
 def load_structured_predictor(head_path: str | Path, weights: str | Path | None = None

@@ -179,7 +179,11 @@ class Sketch2CADNet(nn.Module):
             add/sub and sweep 0..2).
         """
         self.eval()
-        logits, f, c = self(self.pool(x))
+        return self.full_size(*self(self.pool(x)))
+
+    def full_size(self, logits: torch.Tensor, f: torch.Tensor, c: torch.Tensor
+                  ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """`forward`'s outputs -> `predict`'s (for a caller that ran `features` itself)."""
         up = self.upsample(torch.cat([f, c], 1))  # logits upsampled, then squashed: sharper
         return logits.softmax(1), up[:, :N_OPS].sigmoid(), up[:, N_OPS:]
 

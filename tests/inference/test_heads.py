@@ -6,6 +6,7 @@ import pytest
 import torch
 
 from datagen.strokes import stroke_maps
+from drawing_fixtures import prism_drawing
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.inference.heads import (
     ROLES,
@@ -13,6 +14,7 @@ from Sketch2CADWorkbench.inference.heads import (
     HeadConfig,
     StructuredPredictor,
     StructureHead,
+    choose,
     collate,
     count_fits,
     decode_roles,
@@ -22,6 +24,7 @@ from Sketch2CADWorkbench.inference.heads import (
     load_structured_predictor,
     paint_curve,
     paint_face,
+    role_probabilities,
     save_head,
     stroke_geometry,
     tokens,
@@ -51,8 +54,8 @@ def net(tiny_config):
 def _tokens(net, strokes, face_id):
     x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
     with torch.no_grad():
-        logits, maps = feature_maps(net, x)
-    return tokens(logits[0], maps[0], strokes, face_id)
+        u = feature_maps(net, x)
+    return tokens(u.logits[0], u.maps[0], strokes, face_id)
 
 
 def test_one_token_per_stroke_and_per_visible_face(net):
@@ -208,11 +211,13 @@ def test_painted_roles_reproduce_the_generators_curve_label():
     assert np.array_equal(paint_curve(strokes, labels, SIZE), truth)
 
 
-def test_painted_face_map_shows_one_face_and_orders_the_rest():
+def test_painted_face_map_shows_the_chosen_face_and_orders_the_rest():
     face_id, _ = _scene()
-    f = paint_face(torch.tensor([0.3, 0.7]), torch.tensor([3, 7]), face_id)
+    f = paint_face(torch.tensor([0.3, 0.7]), torch.tensor([3, 7]), face_id, 1)
     assert np.array_equal(f > 0.5, face_id == 7)
     assert 0 < f[face_id == 3].max() <= 0.5 and f[face_id < 0].max() == 0
+    f = paint_face(torch.tensor([0.3, 0.7]), torch.tensor([3, 7]), face_id, 0)
+    assert np.array_equal(f > 0.5, face_id == 3)  # chosen with the roles, not the likeliest
 
 
 def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path):
@@ -253,3 +258,61 @@ def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, 
     (tmp_path / "junk.pt").write_bytes(b"not a checkpoint")
     with pytest.raises(ValueError, match="sketch2cad-head"):
         load_head(tmp_path / "junk.pt")
+
+
+def _two_faces(size: int = 256) -> tuple[np.ndarray, np.ndarray]:
+    """A face-ID map of faces 3 (left) and 7 (right) and a normal map N (camera-space
+    normal + 1) in which face 3's normal points up the image and face 7's down."""
+    face_id = np.full((size, size), 3, np.int16)
+    face_id[:, size // 2:] = 7
+    normal = np.ones((3, size, size), np.float32)
+    normal[1][face_id == 3], normal[1][face_id == 7] = 1.8, 0.2   # camera y up / down
+    normal[2] += 0.6
+    return face_id, normal
+
+
+def _logits(probs: list[list[float]], op: int) -> torch.Tensor:
+    """(S, 10) role logits whose operator-op probabilities are `probs`."""
+    out = torch.full((len(probs), sum(ROLES)), -30.0)
+    off = sum(ROLES[:op])
+    out[:, off:off + ROLES[op]] = torch.tensor(probs).log()
+    return out
+
+
+def test_a_prism_is_read_as_its_drawing_allows():
+    # the head's likeliest roles take a side edge for an outline side and that side for a
+    # side edge; counts alone keep that (3 of each), the drawing's corners do not
+    addsub = CLASSES.index(OperatorType.ADDSUB)
+    strokes, truth = prism_drawing(3, 0, shift=(0.0, -70.0))   # the end outline above
+    probs = [[0.8, 0.1, 0.1] if t == START else [0.1, 0.8, 0.1] if t == PROFILE
+             else [0.1, 0.1, 0.8] for t in truth]
+    s, p = truth.index(START), truth.index(PROFILE)
+    probs[s], probs[p] = [0.3, 0.6, 0.1], [0.6, 0.3, 0.1]
+    face_id, normal = _two_faces()
+    faces = torch.tensor([[0.0] * 4, [0.0] * 4])
+    assert decode_roles(role_probabilities(_logits(probs, addsub), addsub), addsub) != truth
+    c = choose(_logits(probs, addsub), faces, addsub, strokes, torch.tensor([3, 7]), face_id,
+               normal)
+    assert c.roles == truth and c.face == 0  # face 3, whose normal points to the end
+
+
+def test_the_end_outline_lies_from_the_start_along_the_chosen_faces_normal():
+    # the head is a little surer of face 7, whose normal points away from where the
+    # strokes it reads as the end outline lie: the pair of face 3 and those roles wins
+    face_id, normal = _two_faces()
+    ids = torch.tensor([3, 7])
+    sweep = CLASSES.index(OperatorType.SWEEP)
+    t = np.linspace(0, 2 * np.pi, 40)
+    ring = np.stack([30 * np.cos(t), 10 * np.sin(t)], 1)
+    strokes = [ring + (128, 180), np.array([[98.0, 180.0], [98.0, 100.0]]),
+               np.array([[158.0, 180.0], [158.0, 100.0]]), ring + (128, 100)]
+    sure = [[0.9, 0.05, 0.05], [0.05, 0.9, 0.05], [0.05, 0.9, 0.05], [0.05, 0.05, 0.9]]
+    faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.5]])
+    c = choose(_logits(sure, sweep), faces, sweep, strokes, ids, face_id, normal)
+    assert c.roles == [START, PROFILE, PROFILE, END] and c.face == 0
+    # and where the head is sure of face 7 but not of which circle starts, the face
+    # says: the circle up the image (along face 7's normal, down) is the start
+    unsure = [[0.45, 0.1, 0.45], sure[1], sure[2], [0.45, 0.1, 0.45]]
+    faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 5.0]])
+    c = choose(_logits(unsure, sweep), faces, sweep, strokes, ids, face_id, normal)
+    assert c.roles == [END, PROFILE, PROFILE, START] and c.face == 1

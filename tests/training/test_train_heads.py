@@ -156,3 +156,28 @@ def test_eval_scores_a_shipped_heads_choices_beside_the_unets_maps(stroke_data, 
     assert main(["eval", "--data", str(stroke_data), "--weights", str(run), "--json", str(out),
                  "--limit", "16", "--latency-runs", "2", "--recovery", "0"]) == 0
     assert "structured" not in json.loads(out.read_text())
+
+
+def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(stroke_data, tmp_path,
+                                                                    monkeypatch):
+    # scoring the shipped head beside the U-Net's maps costs no second pass of the U-Net
+    run = tmp_path / "run"
+    run.mkdir()
+    shutil.copy(stroke_data / "unet.pt", run / "sketch2cad_net.pt")
+    net, _ = load_checkpoint(run / "sketch2cad_net.pt")
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
+    calls = []
+    original = Sketch2CADNet.features
+    monkeypatch.setattr(Sketch2CADNet, "features",
+                        lambda self, x: calls.append(len(x)) or original(self, x))
+    args = ["eval", "--data", str(stroke_data), "--weights", str(run), "--json",
+            str(tmp_path / "m.json"), "--limit", "48", "--latency-runs", "2", "--recovery", "0"]
+    assert main(args) == 0
+    alone = sum(calls)
+    save_head(run / HEAD_NAME, head)
+    calls.clear()
+    assert main(args) == 0
+    assert sum(calls) == alone  # 48 samples and the timed sketches
+    r = json.loads((tmp_path / "m.json").read_text())
+    assert r["structured"] == evaluate_head(stroke_data, run / HEAD_NAME, run,
+                                            limit=48)["head"]
