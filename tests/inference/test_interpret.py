@@ -67,9 +67,13 @@ class Oracle:
     def classify(self, inputs):
         return np.eye(4)[list(OperatorType).index(self.op.type)]
 
-    def segment(self, inputs, op_type):
+    def context(self):
+        """The sketch's context as the pipeline frames and renders it."""
         strokes = [self.view.project(p)[0] for p in self.strokes3d]
-        ctx = to_context(self.solid, strokes, self.view, self.renderer)
+        return to_context(self.solid, strokes, self.view, self.renderer)
+
+    def segment(self, inputs, op_type):
+        ctx = self.context()
         face = resolve_face(self.solid, self.op.face).face
         index = next(i for i, f in enumerate(self.solid.Faces()) if f.isSame(face))
         curve = rasterize(ctx.strokes, ctx.camera.width, ctx.camera.height,
@@ -200,8 +204,7 @@ def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_fou
     class SideFaceFirst(Oracle):
         def segment(self, inputs, op_type):
             top, curve = super().segment(inputs, op_type)
-            ctx = to_context(self.solid, [cam.project(p)[0] for p in pts], cam, self.renderer)
-            ids = ctx.maps.face_id
+            ids = self.context().maps.face_id
             others = np.bincount(ids[(ids >= 0) & (top == 0)])
             side = ids == int(others.argmax())  # the biggest other face in view
             return np.where(side, 0.9, 0.45 * top).astype(np.float32), curve
@@ -358,8 +361,7 @@ def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(r
     class PlateFirst(Oracle):
         def segment(self, inputs, op_type):
             _, curve = super().segment(inputs, op_type)
-            ctx = to_context(self.solid, [cam.project(p)[0] for p in pts], cam, self.renderer)
-            ids = ctx.maps.face_id
+            ids = self.context().maps.face_id
             plate_top = next(i for i, f in enumerate(self.solid.Faces())
                              if f.geomType() == "PLANE" and f.Center().z == pytest.approx(5.0))
             return (ids == plate_top).astype(np.float32), curve
