@@ -91,7 +91,8 @@ GOOD_FIT_PX = 3.0
 PRIOR_PX = 1.0
 OVERRULE_PROB = 1e-3
 RESCUE_SCORE_PX = GOOD_FIT_PX + PRIOR_PX  # a good fit with one decade of doubt
-# The operators the designer's Boolean choice (InterpretOptions.option) applies to.
+# The operators the designer's Boolean choice (InterpretOptions.option) applies to: with
+# one chosen, only these are read.
 TAKE_A_BOOLEAN = (OperatorType.ADDSUB, OperatorType.SWEEP)
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
@@ -603,10 +604,10 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         renderer: a reusable MapRenderer (one is made if None).
         options: regularization, forced option, symmetry plane.
         op_type: force the operator instead of the classifier's choice (without it,
-            the operators are read in the order of the classifier's probabilities, those
-            a chosen Boolean applies to first (TAKE_A_BOOLEAN), until one reads the
-            strokes within GOOD_FIT_PX, and the reading with the best score is kept: see
-            PRIOR_PX).
+            the operators are read in the order of the classifier's probabilities, only
+            those a chosen Boolean applies to when there is one (TAKE_A_BOOLEAN), until
+            one reads the strokes within GOOD_FIT_PX, and the reading with the best score
+            is kept: see PRIOR_PX).
     Raises:
         InterpretError: with the reason, when the sketch matches no operation.
     """
@@ -620,10 +621,11 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
     order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
-    if options.option is not None:
+    if options.option is not None and op_type is None:
         # a Boolean is a primitive's: a designer who chose one draws a prism or a sweep,
-        # so those are read first, however sure the classifier is of another operator
-        order.sort(key=lambda k: k not in TAKE_A_BOOLEAN)
+        # however sure the classifier is of another operator (a radial shrink of a pipe
+        # draws nearly the circles of the bore drawn into it)
+        order = [k for k in order if k in TAKE_A_BOOLEAN]
     times = {"networks": t2 - t1, "fitting": 0.0}
     read, errors = [], []
     while True:
@@ -631,6 +633,9 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         if not read:
             more = (" (read as any other operator, the strokes did not fit either)"
                     if len(errors) > 1 else "")
+            if options.option is not None and op_type is None:
+                more += (f" (with {options.option.value} chosen, only prisms and sweeps "
+                         "are read)")
             raise InterpretError(errors[0] + more) from None
         read.sort(key=lambda r: r[0])
         _, kind, reading = read.pop(0)

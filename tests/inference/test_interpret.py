@@ -401,3 +401,11 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
     assert volume_iou(got.solid, apply_operation(post, bore)) > 0.97
     unchosen = interpret(post, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
     assert unchosen.op_type is OperatorType.EXTRUDE  # the classifier's, as before
+    # an extrusion is never read with a Boolean chosen; what no prism or sweep fits is
+    # refused, saying why
+    op = Extrude(top, -10.0)
+    pts, labels = sketch(post, op, cam)
+    with pytest.raises(InterpretError, match="with subtract chosen, only prisms and sweeps"):
+        interpret(post, [cam.project(p)[0] for p in pts], cam,
+                  SaysExtrude(post, op, pts, labels, cam, renderer), renderer,
+                  InterpretOptions(regularize=False, option=Mode.SUBTRACT))
