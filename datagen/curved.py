@@ -86,9 +86,6 @@ def _point_on(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndar
     return np.array(p.Coord())
 
 
-def _local_radius(surface: CurvedSurface, p: np.ndarray) -> float:
-    h = float((p - surface.origin) @ surface.axis)
-    return surface.radius + surface.slope * h
 
 
 def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
@@ -100,7 +97,7 @@ def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
     f = CurvedFace(face, face_ref_at(face, p))
     if not f.surface.convex:
         return None  # the bores a subtraction makes are seen from inside: not sketched
-    radius = _local_radius(f.surface, np.asarray(f.ref.point))
+    radius = float(f.surface.radius_at(f.ref.point))
     if kind is OperatorType.EXTRUDE:
         d = rng.uniform(0.15, 0.5) * radius * rng.choice([-1.0, 1.0])
         return Extrude(f.ref, float(d)), f

@@ -103,6 +103,10 @@ class CurvedSurface:
         across = np.linalg.norm(rel - np.outer(h, self.axis), axis=1)
         return across - (self.radius + self.slope * h)
 
+    def radius_at(self, points: np.ndarray) -> np.ndarray:
+        """r(h) at the height of each point (..., 3) along the axis (mm)."""
+        return self.radius + self.slope * ((np.asarray(points, float) - self.origin) @ self.axis)
+
     def normals(self, points: np.ndarray) -> np.ndarray:
         """The face's outward unit normals (K, 3) at points (K, 3) of the surface: away
         from the axis on a convex face, toward it on a bore's wall (a cone's tilted by

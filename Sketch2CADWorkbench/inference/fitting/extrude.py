@@ -94,8 +94,7 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
 
 def _smallest_radius(surface: CurvedSurface, points: np.ndarray) -> float:
     """The side's smallest radius (mm) over points of it (a cone's narrow end)."""
-    return float(np.min(surface.radius + surface.slope * ((points - surface.origin)
-                                                          @ surface.axis)))
+    return float(np.min(surface.radius_at(points)))
 
 
 def _facing_ref(face: cq.Face, camera: OrthoCamera) -> FaceRef:
