@@ -86,8 +86,6 @@ def _point_on(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndar
     return np.array(p.Coord())
 
 
-
-
 def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
                      ) -> tuple[Operation, CurvedFace] | None:
     """An operation of `kind` on the curved face at a random point of it."""
