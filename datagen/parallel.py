@@ -5,20 +5,26 @@ Sample i is a function of (seed, i) alone (generate.sample_rng), so a data set i
 same whatever the number of workers. Workers make blocks of PER_CONTEXT samples (one
 shared context each); the main process gathers them into shards in order and writes
 each shard atomically. Shards already complete on disk are skipped, so rerunning the
-same command after an interruption finishes the set. With `--ray`, each shard is one
+same command after an interruption finishes the set. A pool worker that dies (killed,
+out of memory) is replaced once without losing work (`made_in_pool`). With `--ray`, each shard is one
 task of a Ray cluster instead (cluster.py), made by `make_shard` from (seed, shard index)
 alone: the same bytes.
 """
 from __future__ import annotations
 
+import collections
 import contextlib
 import json
 import multiprocessing as mp
 import os
 import sys
 import time
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeVar
 
 from tqdm import tqdm
 
@@ -155,11 +161,55 @@ def single_threaded_children():
                 os.environ[k] = v
 
 
-def start_pool(workers: int):
-    """A pool of fresh (spawned: VTK/OCCT state is not forked) single-threaded workers,
-    each with its own renderer."""
-    with single_threaded_children():
-        return mp.get_context("spawn").Pool(workers, initializer=_init_worker)
+class WorkerDied(RuntimeError):
+    """A pool's worker process died (killed, out of memory, or crashed in a native
+    library) again after the pool was started afresh once."""
+
+
+J = TypeVar("J")
+R = TypeVar("R")
+# Blocks queued per worker ahead of the one the main process waits for: enough to keep
+# every core busy while a slow block holds up the order, and a bound on the results held
+# in memory however large the set.
+LOOK_AHEAD = 4
+
+
+def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Iterator[R]:
+    """make(job) for each of `jobs`, in their order, computed by `workers` fresh
+    (spawned: VTK/OCCT state is not forked) single-threaded processes, each with its own
+    renderer.
+
+    At most LOOK_AHEAD * workers jobs are queued or done ahead of the one yielded next.
+    A worker that dies takes its pool down with it; the jobs not yet yielded then run in
+    a fresh pool (a block is a function of its job alone, so the output is the same),
+    once: a second death raises WorkerDied, since a crash that repeats is not bad luck.
+
+    Raises:
+        WorkerDied: saying which job was awaited when a worker died the second time.
+    """
+    yielded = 0
+    for attempt in (1, 2):
+        pool = ProcessPoolExecutor(workers, mp.get_context("spawn"), initializer=_init_worker)
+        try:
+            with single_threaded_children():  # the first jobs queued spawn all workers
+                queued = collections.deque(
+                    pool.submit(make, job) for job in jobs[yielded:yielded + LOOK_AHEAD * workers])
+            while queued:
+                result = queued.popleft().result()
+                following = yielded + len(queued) + 1
+                if following < len(jobs):
+                    queued.append(pool.submit(make, jobs[following]))
+                yielded += 1
+                yield result
+            return
+        except BrokenProcessPool:
+            if attempt == 2:
+                raise WorkerDied(f"a worker process died twice, the second time while job "
+                                 f"{yielded + 1} of {len(jobs)} was awaited (killed, out "
+                                 f"of memory, or crashed in VTK/OCCT: --workers 1 shows "
+                                 f"the crash)") from None
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _error(msg: str) -> int:
@@ -233,8 +283,12 @@ def generate_dataset(settings: DatagenSettings) -> int:
             if settings.workers == 1:
                 _collect(map(make_block, jobs), todo, counts, out, bar, done)
             else:
-                with start_pool(settings.workers) as pool:
-                    _collect(pool.imap(make_block, jobs), todo, counts, out, bar, done)
+                try:
+                    _collect(made_in_pool(make_block, jobs, settings.workers), todo, counts,
+                             out, bar, done)
+                except WorkerDied as e:
+                    return _error(f"{e}; the {len(complete)} shard(s) written are kept, and "
+                                  f"the same command makes the rest")
     secs = time.perf_counter() - start
     if made:
         where = "on Ray" if settings.ray is not None else f"with {settings.workers} worker(s)"

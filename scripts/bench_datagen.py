@@ -22,6 +22,7 @@ import functools
 import multiprocessing as mp
 import os
 import pstats
+import resource
 import tempfile
 import time
 from pathlib import Path
@@ -31,8 +32,8 @@ from tqdm import tqdm
 from datagen import generate, parallel, sequences
 from datagen.dataset import write_shard
 from datagen.generate import PER_CONTEXT, generate_block
-from Sketch2CADWorkbench.render import maps
 from Sketch2CADWorkbench.render.maps import MapRenderer
+from machine import machine_line
 
 TARGET = 40_000
 PAPER_SCALE = 400_000
@@ -96,27 +97,35 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256
           ) -> tuple[float, float, float, float]:
     """(start-up seconds, steady samples per second, steady CPU seconds per sample of
     the workers and this process together, and of this process alone: it receives the
-    blocks and writes the shards) of `workers` processes."""
+    blocks and writes the shards) of `workers` processes, as datagen runs them.
+
+    The steady state starts once the first `workers` blocks, one warm-up block per
+    worker of another seed, are back."""
     blocks = (count + PER_CONTEXT - 1) // PER_CONTEXT
+    warmup = [parallel.BlockJob(seed + 1, b, "1", "draw") for b in range(workers)]
     jobs = [parallel.BlockJob(seed, b, "1", "draw") for b in range(blocks)]
     shards = list(range((blocks * PER_CONTEXT + shard_size - 1) // shard_size))
     counts = {k: min(shard_size, blocks * PER_CONTEXT - k * shard_size) for k in shards}
     start = time.perf_counter()
-    with tempfile.TemporaryDirectory() as tmp, parallel.start_pool(workers) as pool:
-        pool.map(parallel.make_block,
-                 [parallel.BlockJob(seed + 1, b, "1", "draw") for b in range(workers)],
-                 chunksize=1)
-        ready = time.perf_counter()
-        children, main = _children_cpu(), time.process_time()
-        with tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
-            parallel._collect(pool.imap(parallel.make_block, jobs), shards, counts, Path(tmp), bar)
-        secs = time.perf_counter() - ready
-        children, main = _children_cpu() - children, time.process_time() - main
+    made = parallel.made_in_pool(parallel.make_block, warmup + jobs, workers)
+    for _ in warmup:
+        next(made)
+    ready = time.perf_counter()
+    # The workers' CPU so far, read live; once they have exited, the kernel books their
+    # whole CPU to this process's children.
+    before = _live_children_cpu() + _exited_children_cpu()
+    main = time.process_time()
+    with tempfile.TemporaryDirectory() as tmp, \
+            tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
+        parallel._collect(made, shards, counts, Path(tmp), bar)
+    secs = time.perf_counter() - ready
+    main = time.process_time() - main
+    children = _exited_children_cpu() - before
     n = blocks * PER_CONTEXT
     return ready - start, n / secs, (children + main) / n, main / n
 
 
-def _children_cpu() -> float:
+def _live_children_cpu() -> float:
     """User + system CPU seconds of this process's live children (Linux /proc)."""
     tick = os.sysconf("SC_CLK_TCK")
     total = 0
@@ -124,6 +133,12 @@ def _children_cpu() -> float:
         fields = Path(f"/proc/{child.pid}/stat").read_text().rsplit(")", 1)[1].split()
         total += int(fields[11]) + int(fields[12])  # utime, stime
     return total / tick
+
+
+def _exited_children_cpu() -> float:
+    """User + system CPU seconds of this process's children that have exited."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def profile(count: int, seed: int) -> None:
@@ -138,9 +153,10 @@ def profile(count: int, seed: int) -> None:
     pstats.Stats(prof).sort_stats("tottime").print_stats(25)
 
 
-def _stage_seconds(count: int, seed: int) -> tuple[int, dict[str, float], float, float]:
-    """(samples, CPU s per stage, CPU s, wall s) of `count` samples made and written in
-    shards in this process, after a warm-up block."""
+def _stage_seconds(job: tuple[int, int]) -> tuple[int, dict[str, float], float, float]:
+    """(samples, CPU s per stage, CPU s, wall s) of job = (count, seed): `count` samples
+    made and written in shards in this process, after a warm-up block."""
+    count, seed = job
     parallel.make_block(parallel.BlockJob(seed + 1, 0, "1", "draw"))
     clock = StageClock()
     for owner, name, stage in STAGES:
@@ -165,8 +181,7 @@ def _stage_seconds(count: int, seed: int) -> tuple[int, dict[str, float], float,
 def cpu_cost(count: int, seed: int) -> None:
     """CPU seconds per sample, by stage, of one worker as datagen starts it
     (single-threaded), writing its own shards."""
-    with parallel.start_pool(1) as pool:
-        n, stages, cpu, wall = pool.apply(_stage_seconds, (count, seed))
+    n, stages, cpu, wall = next(parallel.made_in_pool(_stage_seconds, [(count, seed)], 1))
     for stage, secs in sorted(stages.items(), key=lambda kv: -kv[1]):
         print(f"  {stage:36s} {secs / n * 1e3:7.1f} ms  {100 * secs / cpu:5.1f}%")
     print(f"bench_datagen: {cpu / n * 1e3:.1f} ms CPU per sample over {n} samples in one "
@@ -183,6 +198,7 @@ def main() -> None:
     p.add_argument("--profile", action="store_true")
     p.add_argument("--cpu-cost", action="store_true")
     args = p.parse_args()
+    print(machine_line())
     if args.profile:
         profile(args.count, args.seed)
         return

@@ -24,6 +24,7 @@ from pathlib import Path
 import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from machine import machine_line  # noqa: E402
 from Sketch2CADWorkbench.inference.models import (  # noqa: E402
     N_OPS,
     ModelConfig,
@@ -158,6 +159,7 @@ def main() -> int:
     p.add_argument("--head", type=Path, help="time the structured head (with --data)")
     p.add_argument("--data", type=Path, help="sketches for --head")
     args = p.parse_args()
+    print(machine_line())
     if args.head:
         if not args.data:
             p.error("--head needs --data (real strokes and face maps)")

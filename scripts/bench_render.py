@@ -22,6 +22,7 @@ from Sketch2CADWorkbench.brep.protocol import load
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import tessellate
+from machine import machine_line
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "protocols"
 
@@ -36,6 +37,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=256, help="map side in pixels")
     parser.add_argument("--repeats", type=int, default=20, help="timed runs per solid")
     args = parser.parse_args()
+    print(machine_line())
 
     rng = np.random.default_rng(0)
     renderer = MapRenderer()

@@ -13,6 +13,7 @@ regular parameters (datagen/regular.py).
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -56,7 +57,22 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "one shard, noise level 1 to 3)")
 
 
+def out_problem(out: Path) -> str | None:
+    """Why --out cannot be or become a data set's folder (it, or the nearest of its
+    parents that exists, is a file or a link to nothing), or None."""
+    for path in (out, *out.parents):
+        if path.is_symlink() and not path.exists():
+            return f"--out {out}: {path} is a link to {os.readlink(path)}, which does not exist"
+        if path.exists():
+            return None if path.is_dir() else f"--out {out}: {path} exists and is not a folder"
+    return None
+
+
 def run(args: argparse.Namespace) -> int:
+    problem = out_problem(args.out)
+    if problem:
+        print(f"sketch2cad datagen: error: {problem}", file=sys.stderr)
+        return 2
     if args.curved:
         if args.noise_level == "mix" or args.count <= 0:
             print("sketch2cad datagen: error: --curved needs --noise-level 1, 2 or 3 and a "

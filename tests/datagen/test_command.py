@@ -1,5 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""`sketch2cad datagen`: the same data with any worker count, resumable, with a preview."""
+"""`sketch2cad datagen`: the same data with any worker count, resumable, with a preview;
+a killed worker is replaced, and bad input is refused saying why."""
+import contextlib
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
@@ -98,3 +106,77 @@ def test_a_cluster_shard_carries_the_regular_share(tmp_path):
 def test_curved_sets_refuse_a_regular_share(tmp_path, capsys):
     assert datagen("--out", tmp_path, "--count", 2, "--curved", "--regular-share", 0.5) == 2
     assert "--regular-share" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("make", ["file", "dangling link", "file as parent"])
+def test_an_out_that_cannot_be_a_folder_is_refused_saying_why(tmp_path, capsys, make):
+    target = tmp_path / "set"
+    if make == "file":
+        target.write_text("notes")
+    elif make == "dangling link":
+        target.symlink_to(tmp_path / "gone")
+    else:
+        (tmp_path / "notes").write_text("notes")
+        target = tmp_path / "notes" / "set"
+    assert datagen("--out", target, *ARGS, "--workers", 1) == 2
+    err = capsys.readouterr().err
+    assert f"--out {target}" in err
+    assert ("which does not exist" if make == "dangling link" else "is not a folder") in err
+    assert not (tmp_path / "gone").exists()
+    if make != "dangling link":
+        assert (tmp_path / ("set" if make == "file" else "notes")).read_text() == "notes"
+
+
+def _kill_pool_workers(killed: list, stop: threading.Event, every: bool) -> None:
+    """SIGKILL this process's pool workers (spawned children) as they are seen: the
+    first one only, or every one until `stop`."""
+    me = str(os.getpid())
+    while not stop.is_set():
+        for pid in (p for p in os.listdir("/proc") if p.isdigit() and int(p) not in killed):
+            try:
+                ppid = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1]
+                title = Path(f"/proc/{pid}/cmdline").read_bytes()
+            except OSError:
+                continue
+            if ppid == me and b"spawn_main" in title:
+                os.kill(int(pid), signal.SIGKILL)
+                killed.append(int(pid))
+                if not every:
+                    return
+        time.sleep(0.05)
+
+
+@contextlib.contextmanager
+def killing_pool_workers(every: bool):
+    killed, stop = [], threading.Event()
+    killer = threading.Thread(target=_kill_pool_workers, args=(killed, stop, every))
+    killer.start()
+    try:
+        yield killed
+    finally:
+        stop.set()
+        killer.join()
+
+
+def test_a_killed_worker_is_replaced_and_the_data_is_the_same(one_worker, tmp_path):
+    with killing_pool_workers(every=False) as killed:
+        assert datagen("--out", tmp_path, *ARGS, "--workers", 2) == 0
+    assert len(killed) == 1
+    _same_shards(one_worker, tmp_path)
+
+
+def test_workers_that_keep_dying_stop_the_run_with_the_reason_keeping_shards_written(
+        one_worker, tmp_path, capsys):
+    for f in one_worker.iterdir():  # shard 0 written by an earlier run; shard 1 to make
+        if f.name != "manifest.json" and not f.name.startswith("shard-00001"):
+            (tmp_path / f.name).write_bytes(f.read_bytes())
+    kept = (tmp_path / "shard-00000.npz").stat().st_mtime_ns
+    with killing_pool_workers(every=True) as killed:
+        assert datagen("--out", tmp_path, *ARGS, "--workers", 2) == 2
+    assert len(killed) >= 2  # the pool was started afresh once
+    err = capsys.readouterr().err
+    assert "a worker process died twice" in err and "the 1 shard(s) written are kept" in err
+    assert (tmp_path / "shard-00000.npz").stat().st_mtime_ns == kept
+    assert Dataset(tmp_path).manifest["complete"] == [0]
+    assert datagen("--out", tmp_path, *ARGS, "--workers", 2) == 0  # the same command finishes
+    _same_shards(one_worker, tmp_path)
