@@ -6,9 +6,9 @@ same whatever the number of workers. Workers make blocks of PER_CONTEXT samples 
 shared context each); the main process gathers them into shards in order and writes
 each shard atomically. Shards already complete on disk are skipped, so rerunning the
 same command after an interruption finishes the set. A pool worker that dies (killed,
-out of memory) is replaced once without losing work (`made_in_pool`). With `--ray`, each shard is one
-task of a Ray cluster instead (cluster.py), made by `make_shard` from (seed, shard index)
-alone: the same bytes.
+out of memory) is replaced once without losing work (`made_in_pool`). With `--ray`, each
+shard is one task of a Ray cluster instead (cluster.py), made by `make_shard` from
+(seed, shard index) alone: the same bytes.
 """
 from __future__ import annotations
 
