@@ -15,6 +15,7 @@ Ray is the optional extra `sketch2cad[cluster]`; only this module imports it.
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import time
@@ -40,44 +41,57 @@ def require_ray():
     return ray
 
 
-def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
-               done: Callable[[int], None]) -> list[str]:
-    """Make the shards `counts` (shard -> samples) as Ray tasks; call done(k) as each is
-    written and advance the bar. Returns one line per shard that failed (empty: all
-    written)."""
+@contextlib.contextmanager
+def ray_cluster(address: str, workers: int):
+    """The ray module, connected while the block runs to the cluster at `address`, or
+    ("local") to one started here with `workers` CPUs, which ends with the block."""
     ray = require_ray()
-    start = time.perf_counter()
     # the workers: one thread each, and this checkout and its dependencies on the path
     # (the same folders on every node)
     env = dict(SINGLE_THREAD_ENV, PYTHONPATH=os.environ.get("PYTHONPATH", ""))
-    if settings.ray == "local":
-        ray.init(address="local", num_cpus=settings.workers, include_dashboard=False,
+    if address == "local":
+        ray.init(address="local", num_cpus=workers, include_dashboard=False,
                  object_store_memory=OBJECT_STORE_BYTES, logging_level=logging.WARNING,
                  runtime_env={"env_vars": env})
     else:
-        ray.init(address=settings.ray, logging_level=logging.WARNING,
-                 runtime_env={"env_vars": env})
+        ray.init(address=address, logging_level=logging.WARNING, runtime_env={"env_vars": env})
     try:
+        yield ray
+    finally:
+        ray.shutdown()
+
+
+def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
+               done: Callable[[int], None]) -> list[str]:
+    """Make the shards `counts` (shard -> samples) as Ray tasks on the cluster
+    settings.ray names; call done(k) as each is written and advance the bar. Returns one
+    line per shard that failed (empty: all written)."""
+    start = time.perf_counter()
+    with ray_cluster(settings.ray, settings.workers) as ray:
         cpus = int(ray.cluster_resources().get("CPU", 0))
         bar.write(f"datagen: {len(counts)} shard task(s) on Ray, {cpus} CPU(s), up in "
                   f"{time.perf_counter() - start:.0f} s")
-        task = ray.remote(num_cpus=1, max_retries=RETRIES)(make_shard)
-        pending = {task.remote(str(settings.out.resolve()), settings.seed,
-                               settings.noise_level, settings.hidden_lines, k, n,
-                               settings.shard_size, settings.regular_share): k
-                   for k, n in sorted(counts.items())}
-        failed = []
-        while pending:
-            ready, _ = ray.wait(list(pending), num_returns=1)
-            k = pending.pop(ready[0])
-            try:
-                ray.get(ready[0])
-            except ray.exceptions.RayError as e:
-                failed.append(f"shard {k}: {str(e).strip().splitlines()[-1]}")
-                bar.write(f"datagen: shard {k} failed: {e}")
-                continue
-            done(k)
-            bar.update(counts[k])
-        return failed
-    finally:
-        ray.shutdown()
+        return make_shards(ray, settings, counts, bar, done)
+
+
+def make_shards(ray, settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
+                done: Callable[[int], None]) -> list[str]:
+    """`run_on_ray`'s work on a cluster `ray` is connected to."""
+    task = ray.remote(num_cpus=1, max_retries=RETRIES)(make_shard)
+    pending = {task.remote(str(settings.out.resolve()), settings.seed,
+                           settings.noise_level, settings.hidden_lines, k, n,
+                           settings.shard_size, settings.regular_share): k
+               for k, n in sorted(counts.items())}
+    failed = []
+    while pending:
+        ready, _ = ray.wait(list(pending), num_returns=1)
+        k = pending.pop(ready[0])
+        try:
+            ray.get(ready[0])
+        except ray.exceptions.RayError as e:
+            failed.append(f"shard {k}: {str(e).strip().splitlines()[-1]}")
+            bar.write(f"datagen: shard {k} failed: {e}")
+            continue
+        done(k)
+        bar.update(counts[k])
+    return failed

@@ -11,7 +11,10 @@ datagen starts it, and writes them as shards there, and prints the CPU milliseco
 sample of each stage (B-rep operations, tessellation, rendering, the occlusion test,
 sketch synthesis, label maps, packing, compression and writing) with what 400,000
 samples cost in core-hours. `--profile` generates in this process under cProfile and
-lists where the time goes.
+lists where the time goes. `--ray` measures the same on a local Ray cluster of each
+worker count, as `datagen --ray` runs it (one task per shard of `--shard-size`), after
+one warm-up task per worker, and splits the CPU between the workers and Ray's own
+processes (GCS, raylet, agents).
 """
 from __future__ import annotations
 
@@ -29,7 +32,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from datagen import generate, parallel, sequences
+from datagen import cluster, generate, parallel, sequences
 from datagen.dataset import write_shard
 from datagen.generate import PER_CONTEXT, generate_block
 from Sketch2CADWorkbench.render.maps import MapRenderer
@@ -125,6 +128,60 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256
     return ready - start, n / secs, (children + main) / n, main / n
 
 
+def bench_ray(count: int, workers: int, seed: int, shard_size: int
+              ) -> tuple[float, float, float, float]:
+    """(start-up seconds, steady samples per second, steady CPU seconds per sample of
+    the Ray workers, and of Ray's own processes) of a local Ray cluster of `workers`
+    CPUs making `count` samples in shard tasks of `shard_size`, written to a temporary
+    folder. The steady state starts once one warm-up task per worker (one block of
+    another seed) is back."""
+    start = time.perf_counter()
+    with cluster.ray_cluster("local", workers) as ray, tempfile.TemporaryDirectory() as tmp:
+        warm = parallel.DatagenSettings(Path(tmp) / "warm", workers * PER_CONTEXT, seed + 1,
+                                        shard_size=PER_CONTEXT)
+        timed = parallel.DatagenSettings(Path(tmp) / "set", count, seed, shard_size=shard_size)
+        for settings in (warm, timed):
+            settings.out.mkdir()
+        cluster.make_shards(ray, warm, {k: PER_CONTEXT for k in range(workers)},
+                            tqdm(disable=True), lambda k: None)
+        ready = time.perf_counter()
+        before = _ray_cpu()
+        counts = {k: min(shard_size, count - k * shard_size)
+                  for k in range((count + shard_size - 1) // shard_size)}
+        with tqdm(total=count, unit="sample", desc="bench") as bar:
+            failed = cluster.make_shards(ray, timed, counts, bar, lambda k: None)
+        secs = time.perf_counter() - ready
+        after = _ray_cpu()
+    if failed:
+        raise RuntimeError("; ".join(failed))
+    return (ready - start, count / secs, (after[0] - before[0]) / count,
+            (after[1] - before[1]) / count)
+
+
+def _ray_cpu() -> tuple[float, float]:
+    """User + system CPU seconds of the live Ray workers among this process's
+    descendants (their titles start "ray::"), and of the other descendants: the local
+    cluster's own processes (Linux /proc)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    stats = {}
+    for pid in (p for p in os.listdir("/proc") if p.isdigit()):
+        try:
+            fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+            title = Path(f"/proc/{pid}/cmdline").read_bytes()
+        except OSError:  # exited meanwhile
+            continue
+        stats[int(pid)] = (int(fields[1]), (int(fields[11]) + int(fields[12])) / tick,
+                           title.startswith(b"ray::"))
+    mine, grew = {os.getpid()}, True
+    while grew:
+        new = {pid for pid, (ppid, _, _) in stats.items() if ppid in mine} - mine
+        mine |= new
+        grew = bool(new)
+    mine.discard(os.getpid())
+    workers = sum(stats[p][1] for p in mine if stats[p][2])
+    return workers, sum(stats[p][1] for p in mine) - workers
+
+
 def _live_children_cpu() -> float:
     """User + system CPU seconds of this process's live children (Linux /proc)."""
     tick = os.sysconf("SC_CLK_TCK")
@@ -197,6 +254,8 @@ def main() -> None:
     p.add_argument("--seed", type=int, default=12345)
     p.add_argument("--profile", action="store_true")
     p.add_argument("--cpu-cost", action="store_true")
+    p.add_argument("--ray", action="store_true", help="on a local Ray cluster")
+    p.add_argument("--shard-size", type=int, default=64, help="samples per Ray task")
     args = p.parse_args()
     print(machine_line())
     if args.profile:
@@ -204,6 +263,21 @@ def main() -> None:
         return
     if args.cpu_cost:
         cpu_cost(args.count, args.seed)
+        return
+    if args.ray:
+        rates = []
+        for workers in args.workers:
+            load = os.getloadavg()[0]
+            startup, rate, cpu, own = bench_ray(args.count, workers, args.seed, args.shard_size)
+            rates.append(rate)
+            print(f"bench_datagen: Ray, {rate:.2f} samples/s with {workers} worker(s) over "
+                  f"{args.count} samples in tasks of {args.shard_size}, {cpu * 1e3:.1f} ms "
+                  f"CPU per sample in the workers and {own * 1e3:.1f} ms in Ray's own "
+                  f"processes (start-up {startup:.1f} s, load average {load:.2f} -> "
+                  f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)")
+        if len(rates) > 1:
+            print(f"bench_datagen: Ray, {rates[-1] / rates[0]:.2f}x from {args.workers[0]} to "
+                  f"{args.workers[-1]} workers")
         return
     for workers in args.workers:
         load = os.getloadavg()[0]
