@@ -232,6 +232,9 @@ def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     return Context(cam, ctx, maps, inputs)
 
 
+Fit = tuple[Operation, int, list[int]]  # an operation, the face it stands on, stroke labels
+
+
 @dataclass
 class Reading:
     """One base face's fitted operation: how far its own sketch lies from the strokes,
@@ -349,16 +352,17 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     readings, first = [], None
     for index in order:
         try:
-            op, used, labels = _fit_on_face(solid, op_type, index, curve, ctx, options)
+            fits = _fit_on_face(solid, op_type, index, curve, ctx, options)
         except FitError as e:
             first = first or e
             continue
-        reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
-                          labels, used in hidden or stands_behind_the_model(op, ctx))
-        readings.append(reading)
-        if reading.error <= GOOD_FIT_PX and not reading.hidden and \
-                _builds_a_change(solid, reading):
-            return reading
+        for op, used, labels in fits:
+            reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
+                              labels, used in hidden or stands_behind_the_model(op, ctx))
+            readings.append(reading)
+            if reading.error <= GOOD_FIT_PX and not reading.hidden and \
+                    _builds_a_change(solid, reading):
+                return reading
     readings.sort(key=lambda r: (r.hidden, r.error))
     for reading in readings:
         if _builds_a_change(solid, reading):
@@ -369,22 +373,21 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
-                  curve: np.ndarray, ctx: Context, options: InterpretOptions
-                  ) -> tuple[Operation, int, list[int]]:
+                  curve: np.ndarray, ctx: Context, options: InterpretOptions) -> Fit:
     """`read_operation`'s (operation, base face index, per-stroke labels)."""
     r = read_operation(solid, op_type, face_prob, curve, ctx, options)
     return r.op, r.index, r.labels
 
 
 def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.ndarray,
-                 ctx: Context, options: InterpretOptions
-                 ) -> tuple[Operation, int, list[int]]:
-    """The operator's fitting on base face `index`: (operation, face used, labels)."""
+                 ctx: Context, options: InterpretOptions) -> list[Fit]:
+    """The operator's fittings on base face `index`, the likeliest first: one, or for a
+    primitive one per reading of the strokes' roles (`_fit_by_roles`)."""
     return _FIT_ON_FACE[op_type](solid, index, curve, ctx, options)
 
 
 def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                         options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+                         options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it)."""
     face = solid.Faces()[index]
@@ -398,27 +401,29 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
         # moved edges' distance to the strokes, which strokes of the other part
         # rarely mislead, so every stroke may serve both parts.
         op = fit_extrude(solid, face, cam, strokes, strokes)
-    return op, index, labels
+    return [(op, index, labels)]
 
 
 def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                       options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+                       options: InterpretOptions) -> list[Fit]:
     """The add/sub prism on face `index` (`_fit_by_roles`)."""
     return _fit_by_roles(fit_prism, OperatorType.ADDSUB, solid, index, curve, ctx, options)
 
 
 def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                       options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+                       options: InterpretOptions) -> list[Fit]:
     """The sweep on face `index` (`_fit_by_roles`)."""
     return _fit_by_roles(fit_sweep, OperatorType.SWEEP, solid, index, curve, ctx, options)
 
 
 def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: cq.Shape,
                   index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
-                  ) -> tuple[Operation, int, list[int]]:
+                  ) -> list[Fit]:
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
-    by those read from the strokes' geometry: the one whose own sketch lies closest to
-    the strokes."""
+    by those read from the strokes' geometry, the one whose own sketch lies closest to
+    the strokes first. All are kept: a thin slot seen nearly along f's normal also
+    reads, a little closer, as a tall post on its end, which a chosen subtract refuses
+    (it cuts nothing), and then the slot's own roles are the step."""
     face = solid.Faces()[index]
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
@@ -426,15 +431,17 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     prism = op_type is OperatorType.ADDSUB
     # a prism drawn with all its edges: three strokes per side
     sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
+    frame = face_frame(face, cam, np.concatenate(strokes))
     for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
         for count in sides:
-            try:  # C may mix up the strokes' roles: read them from the geometry too
-                roles = stroke_roles(strokes, face_frame(face, cam, np.concatenate(strokes)),
-                                     cam, prism, tol, count)
-            except FitError:
-                continue
-            if roles not in readings:
-                readings.append(roles)
+            # the second set of alike chords: f's outline may run along n_f's image too
+            for group in (0, 1) if prism and tol is not None else (0,):
+                try:  # C may mix up the strokes' roles: read them from the geometry too
+                    roles = stroke_roles(strokes, frame, cam, prism, tol, count, group)
+                except FitError:
+                    continue
+                if roles not in readings:
+                    readings.append(roles)
     fitted, first = [], None
     for reading in readings:
         try:
@@ -446,13 +453,11 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
         fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
     if not fitted:
         raise first
-    # both fit: the one whose own sketch lies closer to the strokes
-    _, op, labels = min(fitted, key=lambda f: f[0])
-    return op, index, labels
+    return [(op, index, labels) for _, op, labels in sorted(fitted, key=lambda f: f[0])]
 
 
 def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                        options: InterpretOptions) -> tuple[Operation, int, list[int]]:
+                        options: InterpretOptions) -> list[Fit]:
     """The bevel on face `index` whose profile l is the stroke C votes for most or, when
     that reading's own sketch lies more than GOOD_FIT_PX from the strokes, the one of
     the next stroke if it explains them better: C sometimes takes l' for l, and l' back
@@ -460,7 +465,7 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
     `options` has nothing for it.
 
     Returns:
-        (operation, face used, per-stroke labels).
+        [(operation, face used, per-stroke labels)].
     """
     strokes, cam = ctx.strokes, ctx.camera
     low = CURVE_THRESHOLDS[OperatorType.BEVEL][0]
@@ -486,7 +491,7 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
             break
     if best is None:
         raise first
-    return best[1], best[2], best[3]
+    return [best[1:]]
 
 
 _FIT_ON_FACE = per_operator({OperatorType.EXTRUDE: _fit_extrude_on_face,

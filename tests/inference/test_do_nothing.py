@@ -96,7 +96,7 @@ def test_a_reading_that_would_change_nothing_is_refused_saying_so(
     strokes, cam, oracle = _hole_drawn(stepped, renderer)
     # every face reads as the cut into the air (as the GUI check saw on a face above)
     monkeypatch.setattr(pipeline, "_fit_on_face",
-                        lambda solid, kind, index, *a: (IN_THE_AIR, index, [0] * len(strokes)))
+                        lambda solid, kind, index, *a: [(IN_THE_AIR, index, [0] * len(strokes))])
     with pytest.raises(InterpretError, match="would leave the model as it is"):
         interpret(stepped, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
 
@@ -114,7 +114,7 @@ def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
     fit = pipeline._fit_on_face
 
     def the_air_on_the_blocks_top(solid, kind, index, *a):  # as its own sketch: 0 px off
-        return (IN_THE_AIR, index, labels) if index == on_top else fit(solid, kind, index, *a)
+        return [(IN_THE_AIR, index, labels)] if index == on_top else fit(solid, kind, index, *a)
 
     monkeypatch.setattr(pipeline, "_fit_on_face", the_air_on_the_blocks_top)
     try:

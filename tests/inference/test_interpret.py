@@ -409,3 +409,26 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
         interpret(post, [cam.project(p)[0] for p in pts], cam,
                   SaysExtrude(post, op, pts, labels, cam, renderer), renderer,
                   InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+
+
+def test_a_slot_seen_nearly_along_its_length_with_subtract_chosen_is_the_slot(renderer):
+    # bolt.json's slot (14 x 2 mm, 3 deep): seen from here its long sides run along the
+    # image of the normal as its depth edges do, and read as a post's side edges (the
+    # post 24 mm tall reprojects a little closer); with subtract chosen the post cuts
+    # nothing, and the slot's own roles are the step. The curve map calls every stroke
+    # a profile, as the shipped networks' did on the bolt session's slot.
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0,
+                     Mode.SUBTRACT)
+    d = np.array([-0.51, 0.02, -0.86])
+    cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 30.0, 800, 600)
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, [1] * len(labels), cam, renderer)
+    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer,
+                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    (fitted,) = got.operations
+    assert isinstance(fitted, AddSubPrism) and len(fitted.polygon) == 4
+    assert fitted.d == pytest.approx(3.0, abs=0.2)
+    truth = apply_operation(box, op)
+    cut = box.Volume() - truth.Volume()
+    assert abs(got.solid.Volume() - truth.Volume()) < 0.05 * cut

@@ -38,6 +38,8 @@ CLOSED_SHARE = 0.2
 # its profiles; only the thousands of strokes of a stress test are bounded, which keeps
 # the cost linear in the strokes.
 NEAR_PROFILES = 200
+# The fewest side edges a prism has: a smaller set of alike chords is no other reading.
+MIN_SIDES = 3
 # Below this sine of the angle between n_f and the view, f is seen head-on: profile
 # strokes would be dots.
 MIN_SIN = 0.1
@@ -85,7 +87,7 @@ def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple
 
 def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
                  prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX),
-                 sides: int | None = None) -> list[int]:
+                 sides: int | None = None, group: int = 0) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
@@ -106,12 +108,17 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
     other strokes are 2 * `sides` open ones, the `sides` nearest the profiles' start
     ends are the start outline and the rest the end outline.
 
+    With `group` 1, a prism's profiles are the next largest set of alike chords instead
+    (at least MIN_SIDES): where f's outline sides also run along n_f's image (a thin
+    slot seen nearly along its length), its long sides and its side edges make two such
+    sets, and only the fitting can tell which reading is the step.
+
     A sweep with no stroke along n_f (a cone flaring past SWEEP_PROFILE_DEG) falls back
     on its two closed strokes (`_two_circles`).
 
     Raises:
         FitError: f is seen head-on, or no stroke runs along n_f (and, for a sweep,
-            there are not exactly two closed strokes).
+            there are not exactly two closed strokes), or there is no set `group`.
     """
     n2 = normal_image(camera, frame)
     tan_max = np.tan(np.radians(PRISM_PROFILE_DEG if prism else SWEEP_PROFILE_DEG))
@@ -133,9 +140,16 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         # a k-d tree counts each chord's neighbours without comparing every pair
         radii = share * np.linalg.norm(vec, axis=1) + px
         tree = cKDTree(vec)
-        best = int(np.argmax(tree.query_ball_point(vec, radii, return_length=True)))
-        kept = np.zeros(len(keys), bool)
-        kept[tree.query_ball_point(vec[best], radii[best])] = True
+        alike = tree.query_ball_point(vec, radii, return_length=True)
+        free = np.ones(len(keys), bool)  # chords in no larger set
+        for rank in range(group + 1):
+            best = int(np.argmax(np.where(free, alike, -1)))
+            kept = np.zeros(len(keys), bool)
+            kept[tree.query_ball_point(vec[best], radii[best])] = True
+            kept &= free
+            free &= ~kept
+            if rank and kept.sum() < MIN_SIDES:
+                raise FitError(f"no set {rank + 1} of alike strokes along the face normal")
         if sides is not None and kept.sum() > sides:
             gap = np.linalg.norm(vec - np.median(vec[kept], axis=0), axis=1)
             nearest = np.argsort(np.where(kept, gap, np.inf))[:sides]

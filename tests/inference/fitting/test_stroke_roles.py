@@ -127,3 +127,24 @@ def test_the_work_grows_linearly_with_the_strokes(monkeypatch):
         assert roles.count(1) > stroke_roles_module.NEAR_PROFILES
         work.append(sum(queried))
     assert work[1] < 2.5 * work[0]
+
+
+def test_a_slot_seen_nearly_along_its_length_has_its_depth_edges_as_the_second_reading():
+    # its long sides run along n_f's image too, and match one another as the side edges
+    # do: the largest set of alike chords may be either; the other is the second reading
+    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0,
+                     Mode.SUBTRACT)
+    solid = make_box(BOX)
+    cam = camera((-0.51, 0.02, -0.86))
+    curves = operation_curves(solid, op, np.array(cam.direction))
+    strokes = [cam.project(c.points)[0] for c in curves]
+    frame = FaceFrame.of(resolve_face(solid, TOP).face)
+    truth = [c.label for c in curves]
+    readings = [stroke_roles(strokes, frame, cam, prism=True, group=g) for g in (0, 1)]
+    assert truth in readings
+    other = readings[1 - readings.index(truth)]
+    long_sides = [k for k, c in enumerate(curves)
+                  if c.label != 1 and np.ptp(c.points[:, 0]) > 10]
+    assert sorted(k for k, r in enumerate(other) if r == 1) == long_sides
+    with pytest.raises(FitError, match="no set 3"):
+        stroke_roles(strokes, frame, cam, prism=True, group=2)
