@@ -41,12 +41,20 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
 )
-from Sketch2CADWorkbench.brep.operators import operation_result
+from Sketch2CADWorkbench.brep.geometry import plane_basis
+from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import write_shard
 from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
-from .operations import DIAG, PRISM_D, SWEEP_D, random_polygon, straight_profile
+from .operations import (
+    DIAG,
+    PRIMITIVE_VOLUMES,
+    PRISM_D,
+    SWEEP_D,
+    random_polygon,
+    straight_profile,
+)
 from .parallel import DatagenSettings, manifest_of
 from .sample import Sample
 from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
@@ -56,6 +64,11 @@ from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operati
 CURVED_WEIGHTS = {OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2, OperatorType.EXTRUDE: 1}
 ACROSS = (0.25, 0.6)   # a primitive's half-width across the axis / the side's radius
 TRIES = 40
+# Sides of the polygon, circumscribing a sweep's circle c0, whose corners bound how far
+# below the tangent plane the surface lies under c0.
+RING_SIDES = 16
+# Over the primitive volume, as `change_bound`: sampled outlines cut corners.
+BOUND_SLACK = 1.1
 
 
 class CurvedFace:
@@ -137,6 +150,45 @@ def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
     return bool(points_on_face(f.face, on, 1e-6 * model_scale(f.face), boundary=False).all())
 
 
+def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
+    """An upper bound (mm^3) on how much `op` on the curved f can change the volume of a
+    solid of size `scale` (mm), as `change_bound` for a planar f: lets most candidates,
+    whose primitive is too small for the solid, be rejected without their Booleans.
+
+    A prism or sweep changes it by at most its primitive before brep/operators clips it
+    to f's surface: the part above the tangent plane T plus its footprint on T times how
+    far it reaches below T (an addition reaches down to the surface under the footprint,
+    a subtraction starts just above T). f is convex (a subtraction's bore is not drawn
+    on), so how far the surface lies below T is a convex function on T and is largest at
+    a corner of the footprint, or of a polygon around c0. An extrusion of a cylinder's
+    side moves it by d: a shell of f's area times d (1 + d / 2r). A cone's is not
+    bounded here (infinite): its Boolean decides.
+    """
+    surface = f.surface
+    if op.type is OperatorType.EXTRUDE:
+        if surface.slope != 0.0:
+            return float("inf")
+        d = abs(op.d)
+        return BOUND_SLACK * f.face.Area() * d * (1.0 + d / (2.0 * surface.radius))
+    volume = PRIMITIVE_VOLUMES[op.type](op, f)  # what lies on T's side of n_f
+    if op.type is OperatorType.ADDSUB:
+        corners, area = np.array(op.polygon, float), volume / op.d
+    else:
+        u, v = plane_basis(f.normal)
+        ring = np.linspace(0, 2 * np.pi, RING_SIDES, endpoint=False)
+        reach = op.r0 / np.cos(np.pi / RING_SIDES)  # the circumscribed polygon's corners
+        corners = np.asarray(op.center) + reach * (np.outer(np.cos(ring), u)
+                                                   + np.outer(np.sin(ring), v))
+        area = np.pi * op.r0 ** 2
+    below = REACH_MARGIN_REL * scale
+    if op.mode is Mode.ADD:
+        t = surface.crossings(corners, f.normal, scale)
+        if np.isnan(t).any():
+            return float("inf")  # a corner past the surface: the Boolean decides
+        below += max(0.0, -float(t.min()))
+    return BOUND_SLACK * (volume + area * below)
+
+
 def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
     """A random sequence ending in an added straight sweep (a cylinder or a cone), and
     the curved faces of its final solid."""
@@ -171,17 +223,18 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
         seq, faces = curved_context(rng)
         context = Context(seq)
         stage = seq.stages[-1]
+        least, scale = MIN_VOLUME_CHANGE * stage.volume, model_scale(stage.solid)
         for _ in range(TRIES):
             got = sample_on_curved(rng, faces[int(rng.integers(len(faces)))], kind)
-            if got is None:
-                continue
+            if got is None or change_bound_on_curved(*got, scale) < least:
+                continue  # rejected before paying for the Booleans
             op, f = got
             try:
                 out = operation_result(stage.solid, op)
             except OperationError:
                 continue
             result = Stage(out.solid, out.volume)
-            if abs(result.volume - stage.volume) < MIN_VOLUME_CHANGE * stage.volume:
+            if abs(result.volume - stage.volume) < least:
                 continue
             sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer,
                                  size)
@@ -205,4 +258,3 @@ def write_curved_set(out: Path, count: int, seed: int, noise_level: int) -> int:
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
     print(f"datagen: {count} samples on curved faces in {out}/")
     return 0
-
