@@ -189,20 +189,24 @@ def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
     return BOUND_SLACK * (volume + area * below)
 
 
+def _straight_addition(op: Sweep) -> bool:
+    return op.mode is Mode.ADD and np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d))
+
+
 def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
     """A random sequence ending in an added straight sweep (a cylinder or a cone), and
-    the curved faces of its final solid."""
+    the curved faces of its final solid. Sweeps of other kinds (subtracted, or with a
+    curved profile: 70% of those drawn) are drawn again before their Booleans; each
+    counts as one of sample_operation's tries, so a solid that admits few sweeps is
+    given up a little sooner than when they were built and then thrown away."""
     while True:
         seq = sample_sequence(rng, int(rng.integers(0, 3)))
         for _ in range(TRIES):
-            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP)
+            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP,
+                                     keep=_straight_addition)
             if drawn is None:
                 break
-            op = drawn.op
-            if op.mode is not Mode.ADD or \
-                    not np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d)):
-                continue
-            protocol = seq.protocol.append(op)
+            protocol = seq.protocol.append(drawn.op)
             stages = seq.stages + [drawn.result]
             faces = [f for f in drawn.result.solid.Faces() if is_curved(f)]
             if faces:

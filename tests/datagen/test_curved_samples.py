@@ -12,9 +12,10 @@ from datagen.curved import (
     sample_on_curved,
 )
 from datagen.generate import sample_rng
-from Sketch2CADWorkbench.brep.faces import OperationError, model_scale
+from datagen.operations import straight_profile
+from Sketch2CADWorkbench.brep.faces import OperationError, is_curved, model_scale
 from Sketch2CADWorkbench.brep.operators import apply_operation, operation_result, replay
-from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.brep.protocol import Mode, OperatorType
 
 
 def test_a_curved_sample_stands_on_a_curved_face_of_its_context(renderer):
@@ -48,3 +49,12 @@ def test_the_cheap_bound_is_never_below_the_volume_change_a_candidate_makes():
             assert change <= change_bound_on_curved(op, f, model_scale(solid))
             checked.add(op.type)
     assert checked == {OperatorType.ADDSUB, OperatorType.SWEEP, OperatorType.EXTRUDE}
+
+
+def test_a_curved_context_ends_in_an_added_cylinder_or_cone():
+    for seed in range(3):
+        seq, faces = curved_context(np.random.default_rng(seed))
+        op = seq.protocol.operations[-1]
+        assert op.type is OperatorType.SWEEP and op.mode is Mode.ADD
+        assert np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d))
+        assert faces and all(is_curved(f) for f in faces)
