@@ -161,15 +161,15 @@ def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
     a subtraction starts just above T). f is convex (a subtraction's bore is not drawn
     on), so how far the surface lies below T is a convex function on T and is largest at
     a corner of the footprint, or of a polygon around c0. An extrusion of a cylinder's
-    side moves it by d: a shell of f's area times d (1 + d / 2r). A cone's is not
-    bounded here (infinite): its Boolean decides.
+    side moves it by d away from the axis (d < 0: toward it): a shell of f's area A
+    times |d| (1 + d / 2r). A cone's is not bounded here (infinite): its Boolean decides.
     """
     surface = f.surface
     if op.type is OperatorType.EXTRUDE:
         if surface.slope != 0.0:
             return float("inf")
-        d = abs(op.d)
-        return BOUND_SLACK * f.face.Area() * d * (1.0 + d / (2.0 * surface.radius))
+        outward = op.d if surface.convex else -op.d  # how far the surface leaves the axis
+        return BOUND_SLACK * f.face.Area() * abs(op.d) * (1.0 + outward / (2.0 * surface.radius))
     volume = PRIMITIVE_VOLUMES[op.type](op, f)  # what lies on T's side of n_f
     if op.type is OperatorType.ADDSUB:
         corners, area = np.array(op.polygon, float), volume / op.d
