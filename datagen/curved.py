@@ -7,9 +7,11 @@ The context is a random sequence (0 to 2 operations, datagen/sequences.py) follo
 an added straight sweep (a cylinder or a cone); the last operation is drawn on that
 sweep's side at a random point of it, in the tangent plane there (brep/protocol), with
 sizes relative to the side's radius so that the primitive fits across it, and its
-outline on the side (not overhanging its rims). A sample is
-then made as any other (datagen/generate.view_sample): an informative view, strokes
-from the operation's curves, the face label on the curved face.
+outline on the side (not overhanging its rims). A candidate too small to change the
+solid's volume by MIN_VOLUME_CHANGE is rejected before its Booleans by an upper bound on
+that change (`change_bound_on_curved`), so the samples are those the Booleans alone
+would accept. A sample is then made as any other (datagen/generate.view_sample): an
+informative view, strokes from the operation's curves, the face label on the curved face.
 
 `write_curved_set` writes such a held-out data set in the data set format
 (datagen/dataset.py), one worker: `sketch2cad datagen --curved ...`.
@@ -170,9 +172,9 @@ def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
             return float("inf")
         outward = op.d if surface.convex else -op.d  # how far the surface leaves the axis
         return BOUND_SLACK * f.face.Area() * abs(op.d) * (1.0 + outward / (2.0 * surface.radius))
-    volume = PRIMITIVE_VOLUMES[op.type](op, f)  # what lies on T's side of n_f
+    volume = PRIMITIVE_VOLUMES[op.type](op, f)  # the part above T (it reads f's normal)
     if op.type is OperatorType.ADDSUB:
-        corners, area = np.array(op.polygon, float), volume / op.d
+        corners, area = np.array(op.polygon, float), volume / op.d  # volume: area times d
     else:
         u, v = plane_basis(f.normal)
         ring = np.linspace(0, 2 * np.pi, RING_SIDES, endpoint=False)
