@@ -46,7 +46,10 @@ def test_the_cheap_bound_is_never_below_the_volume_change_a_candidate_makes():
                 change = abs(operation_result(solid, op).volume - seq.stages[-1].volume)
             except OperationError:
                 continue
-            assert change <= change_bound_on_curved(op, f, model_scale(solid))
+            # up to the noise of OCCT's volumes of a large solid (~1e-5 of it), far
+            # under the 1% a kept candidate changes
+            noise = 1e-4 * seq.stages[-1].volume
+            assert change <= change_bound_on_curved(op, f, model_scale(solid)) + noise
             checked.add(op.type)
     assert checked == {OperatorType.ADDSUB, OperatorType.SWEEP, OperatorType.EXTRUDE}
 
