@@ -69,7 +69,8 @@ TRIES = 40
 # Sides of the polygon, circumscribing a sweep's circle c0, whose corners bound how far
 # below the tangent plane the surface lies under c0.
 RING_SIDES = 16
-# Over the primitive volume, as `change_bound`: sampled outlines cut corners.
+# Over the primitive volume, as `change_bound`: sampled outlines cut corners, and OCCT's
+# volumes carry noise.
 BOUND_SLACK = 1.1
 
 
