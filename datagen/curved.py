@@ -7,9 +7,11 @@ The context is a random sequence (0 to 2 operations, datagen/sequences.py) follo
 an added straight sweep (a cylinder or a cone); the last operation is drawn on that
 sweep's side at a random point of it, in the tangent plane there (brep/protocol), with
 sizes relative to the side's radius so that the primitive fits across it, and its
-outline on the side (not overhanging its rims). A sample is
-then made as any other (datagen/generate.view_sample): an informative view, strokes
-from the operation's curves, the face label on the curved face.
+outline on the side (not overhanging its rims). A candidate too small to change the
+solid's volume by MIN_VOLUME_CHANGE is rejected before its Booleans by an upper bound on
+that change (`change_bound_on_curved`), so the samples are those the Booleans alone
+would accept. A sample is then made as any other (datagen/generate.view_sample): an
+informative view, strokes from the operation's curves, the face label on the curved face.
 
 `write_curved_set` writes such a held-out data set in the data set format
 (datagen/dataset.py), one worker: `sketch2cad datagen --curved ...`.
@@ -41,12 +43,20 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
 )
-from Sketch2CADWorkbench.brep.operators import operation_result
+from Sketch2CADWorkbench.brep.geometry import plane_basis
+from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import write_shard
 from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
-from .operations import DIAG, PRISM_D, SWEEP_D, random_polygon, straight_profile
+from .operations import (
+    DIAG,
+    PRIMITIVE_VOLUMES,
+    PRISM_D,
+    SWEEP_D,
+    random_polygon,
+    straight_profile,
+)
 from .parallel import DatagenSettings, manifest_of
 from .sample import Sample
 from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
@@ -56,6 +66,12 @@ from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operati
 CURVED_WEIGHTS = {OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2, OperatorType.EXTRUDE: 1}
 ACROSS = (0.25, 0.6)   # a primitive's half-width across the axis / the side's radius
 TRIES = 40
+# Sides of the polygon, circumscribing a sweep's circle c0, whose corners bound how far
+# below the tangent plane the surface lies under c0.
+RING_SIDES = 16
+# Over the primitive volume, as `change_bound`: sampled outlines cut corners, and OCCT's
+# volumes carry noise.
+BOUND_SLACK = 1.1
 
 
 class CurvedFace:
@@ -137,20 +153,63 @@ def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
     return bool(points_on_face(f.face, on, 1e-6 * model_scale(f.face), boundary=False).all())
 
 
+def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
+    """An upper bound (mm^3) on how much `op` on the curved f can change the volume of a
+    solid of size `scale` (mm), as `change_bound` for a planar f: lets most candidates,
+    whose primitive is too small for the solid, be rejected without their Booleans.
+
+    A prism or sweep changes it by at most its primitive before brep/operators clips it
+    to f's surface: the part above the tangent plane T plus its footprint on T times how
+    far it reaches below T (an addition reaches down to the surface under the footprint,
+    a subtraction starts just above T). f is convex (a subtraction's bore is not drawn
+    on), so how far the surface lies below T is a convex function on T and is largest at
+    a corner of the footprint, or of a polygon around c0. An extrusion of a cylinder's
+    side moves it by d away from the axis (d < 0: toward it): a shell of f's area A
+    times |d| (1 + d / 2r). A cone's is not bounded here (infinite): its Boolean decides.
+    """
+    surface = f.surface
+    if op.type is OperatorType.EXTRUDE:
+        if surface.slope != 0.0:
+            return float("inf")
+        outward = op.d if surface.convex else -op.d  # how far the surface leaves the axis
+        return BOUND_SLACK * f.face.Area() * abs(op.d) * (1.0 + outward / (2.0 * surface.radius))
+    volume = PRIMITIVE_VOLUMES[op.type](op, f)  # the part above T (it reads f's normal)
+    if op.type is OperatorType.ADDSUB:
+        corners, area = np.array(op.polygon, float), volume / op.d  # volume: area times d
+    else:
+        u, v = plane_basis(f.normal)
+        ring = np.linspace(0, 2 * np.pi, RING_SIDES, endpoint=False)
+        reach = op.r0 / np.cos(np.pi / RING_SIDES)  # the circumscribed polygon's corners
+        corners = np.asarray(op.center) + reach * (np.outer(np.cos(ring), u)
+                                                   + np.outer(np.sin(ring), v))
+        area = np.pi * op.r0 ** 2
+    below = REACH_MARGIN_REL * scale
+    if op.mode is Mode.ADD:
+        t = surface.crossings(corners, f.normal, scale)
+        if np.isnan(t).any():
+            return float("inf")  # a corner past the surface: the Boolean decides
+        below += max(0.0, -float(t.min()))
+    return BOUND_SLACK * (volume + area * below)
+
+
+def _straight_addition(op: Sweep) -> bool:
+    return op.mode is Mode.ADD and np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d))
+
+
 def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
     """A random sequence ending in an added straight sweep (a cylinder or a cone), and
-    the curved faces of its final solid."""
+    the curved faces of its final solid. Sweeps of other kinds (subtracted, or with a
+    curved profile: 70% of those drawn) are drawn again before their Booleans; each
+    counts as one of sample_operation's tries, so a solid that admits few sweeps is
+    given up a little sooner than when they were built and then thrown away."""
     while True:
         seq = sample_sequence(rng, int(rng.integers(0, 3)))
         for _ in range(TRIES):
-            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP)
+            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP,
+                                     keep=_straight_addition)
             if drawn is None:
                 break
-            op = drawn.op
-            if op.mode is not Mode.ADD or \
-                    not np.allclose(op.profile, straight_profile(op.r0, op.r1, op.d)):
-                continue
-            protocol = seq.protocol.append(op)
+            protocol = seq.protocol.append(drawn.op)
             stages = seq.stages + [drawn.result]
             faces = [f for f in drawn.result.solid.Faces() if is_curved(f)]
             if faces:
@@ -171,17 +230,18 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
         seq, faces = curved_context(rng)
         context = Context(seq)
         stage = seq.stages[-1]
+        least, scale = MIN_VOLUME_CHANGE * stage.volume, model_scale(stage.solid)
         for _ in range(TRIES):
             got = sample_on_curved(rng, faces[int(rng.integers(len(faces)))], kind)
-            if got is None:
-                continue
+            if got is None or change_bound_on_curved(*got, scale) < least:
+                continue  # rejected before paying for the Booleans
             op, f = got
             try:
                 out = operation_result(stage.solid, op)
             except OperationError:
                 continue
             result = Stage(out.solid, out.volume)
-            if abs(result.volume - stage.volume) < MIN_VOLUME_CHANGE * stage.volume:
+            if abs(result.volume - stage.volume) < least:
                 continue
             sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer,
                                  size)
@@ -205,4 +265,3 @@ def write_curved_set(out: Path, count: int, seed: int, noise_level: int) -> int:
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
     print(f"datagen: {count} samples on curved faces in {out}/")
     return 0
-

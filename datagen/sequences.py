@@ -21,6 +21,7 @@ the same as without the option.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -112,11 +113,14 @@ def is_regular(rng: np.random.Generator, regular_share: float) -> bool:
 
 
 def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
-                     regular_share: float = 0.0) -> Drawn | None:
+                     regular_share: float = 0.0,
+                     keep: Callable[[Operation], bool] | None = None) -> Drawn | None:
     """An operation of type `kind` on a random planar face that builds and changes the
     volume by at least MIN_VOLUME_CHANGE; None when TRIES draws all fail (this solid
     admits no such operation). It is regular (datagen/regular.py) with probability
-    `regular_share`, decided once, so that retries keep the share."""
+    `regular_share`, decided once, so that retries keep the share. `keep`: a condition
+    the operation must meet too (datagen/curved.py's straight additions), checked
+    before its Boolean; a draw that fails it counts as one of the TRIES."""
     if not stage.faces:
         return None
     samplers = REGULAR_SAMPLERS if is_regular(rng, regular_share) else SAMPLERS
@@ -124,7 +128,7 @@ def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
     for _ in range(TRIES):
         face = stage.faces[int(rng.integers(len(stage.faces)))]
         op = samplers[kind](rng, stage.solid, face)
-        if op is None or change_bound(op, face) < least:
+        if op is None or change_bound(op, face) < least or (keep and not keep(op)):
             continue  # rejected before paying for the Boolean
         try:  # f is the face op.face was drawn from: not resolved again
             out = operation_result(stage.solid, op, face.face)

@@ -56,6 +56,11 @@ def is_curved(face: cq.Face) -> bool:
     return face.geomType() in CURVED_GEOM_TYPES
 
 
+# A line's quadratic with a leading coefficient under this share of |direction|^2 is
+# linear: the line runs along a cylinder's axis or a cone's generatrix.
+LINEAR_REL = 1e-12
+
+
 @dataclass(frozen=True)
 class CurvedSurface:
     """The cylinder or cone a curved face lies on, and which side of it the solid is.
@@ -118,35 +123,49 @@ class CurvedSurface:
         n /= np.linalg.norm(n, axis=1, keepdims=True)
         return n if self.convex else -n
 
-    def roots(self, points: np.ndarray, direction: np.ndarray, t: np.ndarray
+    def roots(self, points: np.ndarray, direction: np.ndarray, lo: float, hi: float
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Where the lines q + t direction (q: points (K, 3)) meet the surface, for t in
-        the range of the increasing grid `t` (S,): the line index (M,), t (M,) to well
-        under a micrometre, and whether the line enters the surface there (M,) (passes
-        from outside to inside), ordered by line, then t."""
-        q = np.asarray(points, float)
-        direction = np.asarray(direction, float)
-        values = self.level((q[:, None, :] + t[None, :, None] * direction).reshape(-1, 3))
-        values = values.reshape(len(q), len(t))
-        k, j = np.nonzero(np.sign(values[:, :-1]) != np.sign(values[:, 1:]))
-        lo, hi = t[j].copy(), t[j + 1].copy()
-        entering = values[k, j] > 0
-        for _ in range(50):  # bisection of every bracket at once
-            mid = 0.5 * (lo + hi)
-            outside = self.level(q[k] + mid[:, None] * direction) > 0
-            lo = np.where(outside == entering, mid, lo)
-            hi = np.where(outside == entering, hi, mid)
-        return k, 0.5 * (lo + hi), entering
+        """Where the lines q + t direction (q: points (K, 3)) cross the surface for t in
+        [lo, hi]: the line index (M,), t (M,), and whether the line enters the surface
+        there (M,) (passes from outside to inside), ordered by line, then t.
 
-    def crossings(self, points: np.ndarray, direction: np.ndarray, span: float,
-                  steps: int = 4001) -> np.ndarray:
+        In closed form: along a line |rel_perp|^2 = r(h)^2 is a quadratic in t, whose
+        roots with r(h) >= 0 (on a cone's own nappe) are the crossings; a line that only
+        touches the surface does not cross it."""
+        q = np.atleast_2d(np.asarray(points, float))
+        direction = np.asarray(direction, float)
+        rel = q - self.origin
+        h0, da = rel @ self.axis, float(direction @ self.axis)
+        p0 = rel - np.outer(h0, self.axis)  # across the axis at t = 0, and its rate in t
+        dp = direction - da * self.axis
+        r0 = self.radius + self.slope * h0
+        a = float(dp @ dp) - (self.slope * da) ** 2
+        b = 2.0 * (p0 @ dp - self.slope * da * r0)
+        c = np.einsum("ij,ij->i", p0, p0) - r0 ** 2
+        k = np.arange(len(q))
+        if abs(a) <= LINEAR_REL * float(direction @ direction):
+            k = k[b != 0]  # along a cylinder's axis no crossing, along a cone's line one
+            t = -c[k] / b[k]
+        else:
+            disc = b * b - 4.0 * a * c
+            k = k[disc > 0]
+            half = -0.5 * (b[k] + np.copysign(np.sqrt(disc[k]), b[k]))  # no cancellation
+            k, t = np.concatenate([k, k]), np.concatenate([half / a, c[k] / half])
+        keep = (t >= lo) & (t <= hi) & (self.radius_at(q[k] + t[:, None] * direction) >= 0)
+        order = np.lexsort((t[keep], k[keep]))
+        k, t = k[keep][order], t[keep][order]
+        # entering where the quadratic (of `level`'s sign on the nappe) falls
+        return k, t, 2.0 * a * t + b[k] < 0
+
+    def crossings(self, points: np.ndarray, direction: np.ndarray, span: float
+                  ) -> np.ndarray:
         """For each point q (K, 3), the t nearest 0 in [-span, span] where q + t direction
-        meets the surface: (K,), NaN where the line misses it within the span."""
-        k, t, _ = self.roots(points, direction, np.linspace(-span, span, steps))
+        crosses the surface: (K,), NaN where the line misses it within the span."""
+        k, t, _ = self.roots(points, direction, -span, span)
         out = np.full(len(np.atleast_2d(points)), np.nan)
-        for i in np.unique(k):
-            mine = t[k == i]
-            out[i] = mine[np.argmin(np.abs(mine))]
+        nearest = np.lexsort((np.abs(t), k))  # per line, the smallest |t| first
+        first = np.unique(k[nearest], return_index=True)[1]
+        out[k[nearest][first]] = t[nearest][first]
         return out
 
     def solid(self, around: np.ndarray, extent: float) -> cq.Solid:

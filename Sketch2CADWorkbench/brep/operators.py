@@ -54,6 +54,9 @@ from .protocol import (
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
 PLANE_TOL = 1e-3
+# How far past a curved f's surface (of the model's size) a prism or sweep standing on it
+# starts: the primitive overlaps the solid there rather than leaving a sliver of gap.
+REACH_MARGIN_REL = 1e-3
 
 
 def make_box(box: Box) -> cq.Solid:
@@ -380,7 +383,7 @@ def _stand_on_curved(rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.nd
         raise OperationError(
             f"{what} reaches past the side of the {surface.kind.value} (at {_pt(footprint[k])} "
             f"the line along n_f misses it): keep it narrower than the {surface.kind.value}")
-    margin = 1e-3 * scale
+    margin = REACH_MARGIN_REL * scale
     if op.mode is Mode.ADD:
         start = -(max(0.0, -float(t.min())) + margin)
         tool = primitive(start, op.d - start)

@@ -86,16 +86,11 @@ def outline_corners(face: cq.Face) -> list[np.ndarray]:
             if len(ts) != 2 or float(ts[0] @ ts[1]) > limit]
 
 
-def _normals(face: cq.Face, points: np.ndarray) -> np.ndarray:
-    """f's outward unit normals (K, 3) at its points (K, 3)."""
-    return np.array([face.normalAt(cq.Vector(*map(float, p))).toTuple() for p in points])
-
-
 def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list[Curve]:
     def moved(points: np.ndarray) -> np.ndarray:
         if rf.surface is None:
             return points + rf.normal * op.d
-        return points + _normals(rf.face, points) * op.d
+        return points + rf.surface.normals(points) * op.d
 
     out = [Curve(moved(_edge_points(e)), EXTRUDE_OFFSET, relevant=True)
            for e in rf.face.Edges()]

@@ -15,7 +15,7 @@ from datagen.sequences import (
     sample_sequence,
 )
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, replay
-from Sketch2CADWorkbench.brep.protocol import Box, OperatorType
+from Sketch2CADWorkbench.brep.protocol import Box, Mode, OperatorType
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck))
@@ -73,8 +73,6 @@ def test_random_polygons_never_cross_themselves():
                 assert not (o[0] * o[1] < 0 and o[2] * o[3] < 0)
 
 
-
-
 def test_the_change_bound_is_never_below_the_actual_volume_change():
     rng = np.random.default_rng(3)
     stage = Stage(make_box(Box((60.0, 50.0, 40.0))))
@@ -107,3 +105,12 @@ def test_random_centres_keep_their_margin_from_the_face_edges():
     c = np.array(centres)
     assert (np.abs(c[:, 0]) <= 10.0 + 1e-9).all() and (np.abs(c[:, 1]) <= 5.0 + 1e-9).all()
     assert f.edge_distance(np.array([19.0, 0.0, 10.0])) == pytest.approx(1.0)  # kept, not stale
+
+
+def test_an_operation_drawn_with_a_condition_meets_it_and_builds():
+    stage = Stage(make_box(Box((60.0, 50.0, 40.0))))
+    for seed in range(4):
+        drawn = sample_operation(np.random.default_rng(seed), stage, OperatorType.SWEEP,
+                                 keep=lambda op: op.mode is Mode.SUBTRACT)
+        assert drawn.op.mode is Mode.SUBTRACT
+        assert drawn.result.volume < stage.volume * (1 - MIN_VOLUME_CHANGE)

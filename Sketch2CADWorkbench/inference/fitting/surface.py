@@ -28,9 +28,6 @@ from ...brep.protocol import FaceRef
 from ...render.camera import OrthoCamera
 from .common import FitError
 
-# Samples per model diagonal along a view ray when looking for the surface.
-RAY_STEPS = 2001
-
 
 def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.ndarray:
     """World points (K, 3) where the view rays of pixels (K, 2) first meet the curved face
@@ -40,8 +37,8 @@ def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.n
     origins, forward = camera.ray(np.atleast_2d(pixels))
     scale = model_scale(face)
     centre_depth = float((np.array(face.Center().toTuple()) - origins[0]) @ forward)
-    t = np.linspace(centre_depth - scale, centre_depth + scale, RAY_STEPS)
-    k, hit_t, entering = surface.roots(origins, forward, t)
+    k, hit_t, entering = surface.roots(origins, forward, centre_depth - scale,
+                                       centre_depth + scale)
     # a convex face looks at the viewer where the ray enters the surface, a concave one
     # (a bore's wall) where it leaves it
     facing = entering == surface.convex
