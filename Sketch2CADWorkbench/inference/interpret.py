@@ -15,6 +15,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Protocol as TypingProtocol
 
 import cadquery as cq
@@ -65,7 +66,7 @@ from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import fit_sweep
-from .fitting.verify import reprojection_error, sketch_distances
+from .fitting.verify import DrawnStrokes, sketch_distances
 from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
@@ -216,6 +217,21 @@ class Context:
     strokes: list[np.ndarray]
     maps: ContextMaps
     inputs: np.ndarray
+    # `sketch_distances` by (solid, operation): a face's fit scores its readings, and the
+    # one it keeps is scored again among the faces' readings
+    scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
+        default_factory=dict, repr=False, compare=False)
+
+    @cached_property
+    def drawn(self) -> DrawnStrokes:
+        """The strokes as every reading of them is scored against them."""
+        return DrawnStrokes(self.strokes, (self.camera.height, self.camera.width))
+
+    def sketch_distances(self, solid: cq.Shape, op: Operation) -> tuple[np.ndarray, np.ndarray]:
+        """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
+        if (solid, op) not in self.scores:
+            self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn)
+        return self.scores[solid, op]
 
 
 def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
@@ -248,13 +264,18 @@ class Reading:
 
     @property
     def error(self) -> float:
-        """Symmetric mean distance (pixels), `verify.reprojection_error`."""
-        return 0.5 * (float(self.distances[0].mean()) + float(self.distances[1].mean()))
+        return _error(self.distances)
 
     @property
     def doubtful(self) -> bool:
         """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
         return SketchFit.of_distances(*self.distances, 1.0).doubtful
+
+
+def _error(distances: tuple[np.ndarray, np.ndarray]) -> float:
+    """Symmetric mean distance (pixels) of `verify.sketch_distances`' two arrays, as
+    `verify.reprojection_error`."""
+    return 0.5 * (float(distances[0].mean()) + float(distances[1].mean()))
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -306,19 +327,18 @@ def stands_behind_the_model(op: Operation, ctx: Context) -> bool:
     return float(depth[0]) > seen + BEHIND_PX * ctx.camera.pixel_size
 
 
-def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context,
+def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden: set[int],
                     curved: bool = False) -> list[int]:
     """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
     the planar faces most of a stroke lies on (an outline is drawn on its base face, so
-    a face F missed is still tried), faces hidden from the view after all others.
-    `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
+    a face F missed is still tried), faces `hidden` from the view (`hidden_faces`) after
+    all others. `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
     ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid, curved)[:BASE_FACE_TRIES]
     faces = solid.Faces()
     for s in ctx.strokes:
         under = face_under_stroke(s, ctx.maps.face_id)
         if under is not None and under not in ranked and faces[under].geomType() == "PLANE":
             ranked.append(under)
-    hidden = hidden_faces(solid, ctx.camera)
     return sorted(ranked, key=lambda i: i in hidden)
 
 
@@ -332,8 +352,8 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
     (`candidate_faces`): of the readings that build and change the model, one on a face
     the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
-    then the one whose sketch reprojects closest. A reading that changes nothing (a hole cut into the air above a lower
-    face) is never the step.
+    then the one whose sketch reprojects closest. A reading that changes nothing (a hole
+    cut into the air above a lower face) is never the step.
 
     Returns:
         The reading, with its result built (without any mirror image).
@@ -341,11 +361,11 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         FitError: the strokes do not fit the operator on this model (the reason given
             for the best face), or every fitted reading fails to build or changes nothing.
     """
-    order = candidate_faces(solid, face_prob, ctx, op_type in ON_CURVED_FACES)
+    hidden = hidden_faces(solid, ctx.camera)
+    order = candidate_faces(solid, face_prob, ctx, hidden, op_type in ON_CURVED_FACES)
     if not order:
         raise FitError("no face of the model was recognised under the sketch; draw on a "
                        "visible face")
-    hidden = hidden_faces(solid, ctx.camera)
     readings, first = [], None
     for index in order:
         try:
@@ -353,7 +373,7 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         except FitError as e:
             first = first or e
             continue
-        reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
+        reading = Reading(ctx.sketch_distances(solid, op), op, used,
                           labels, used in hidden or stands_behind_the_model(op, ctx))
         readings.append(reading)
         if reading.error <= GOOD_FIT_PX and not reading.hidden and \
@@ -443,7 +463,7 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
         except FitError as e:
             first = first or e
             continue
-        fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
+        fitted.append((_error(ctx.sketch_distances(solid, op)), op, reading))
     if not fitted:
         raise first
     # both fit: the one whose own sketch lies closer to the strokes
@@ -479,7 +499,7 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         except FitError as e:
             first = first or e
             continue
-        error = reprojection_error(solid, op, cam, strokes)
+        error = _error(ctx.sketch_distances(solid, op))
         if best is None or error < best[0]:
             best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
         if error <= GOOD_FIT_PX:
