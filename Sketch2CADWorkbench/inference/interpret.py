@@ -172,6 +172,9 @@ class Interpretation:
     base_face: int
     stroke_labels: list[int]
     camera: OrthoCamera                 # the context camera (maps' pixels)
+    # ms per stage: render, networks, fitting, brep (every Boolean built: the readings'
+    # results, which fitting builds to refuse one that fails or changes nothing, and the
+    # step's mirror image or regularized rebuild) and total
     timings_ms: dict[str, float] = field(default_factory=dict)
     # The Boolean that explains the same strokes as well (a boss on f and a hole into f
     # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
@@ -221,6 +224,9 @@ class Context:
     # one it keeps is scored again among the faces' readings
     scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
         default_factory=dict, repr=False, compare=False)
+    # seconds spent building readings' results (`_builds_a_change`): B-rep work done while
+    # reading, timed as the B-rep stage
+    build_s: float = field(default=0.0, compare=False)
 
     @cached_property
     def drawn(self) -> DrawnStrokes:
@@ -292,9 +298,11 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
         len(before.Faces()) == len(after.Faces())
 
 
-def _builds_a_change(solid: cq.Shape, reading: Reading) -> bool:
-    """Build the reading's operation; keep the result, or say why it cannot be the step."""
+def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
+    """Build the reading's operation; keep the result, or say why it cannot be the step
+    (the time goes to ctx.build_s)."""
     if reading.result is None and not reading.refused:
+        start = time.perf_counter()
         try:
             result = apply_operation(solid, reading.op)
         except OperationError as e:
@@ -306,6 +314,8 @@ def _builds_a_change(solid: cq.Shape, reading: Reading) -> bool:
                                    "the face it stands on")
             else:
                 reading.result = result
+        finally:
+            ctx.build_s += time.perf_counter() - start
     return reading.result is not None
 
 
@@ -377,11 +387,11 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
                           labels, used in hidden or stands_behind_the_model(op, ctx))
         readings.append(reading)
         if reading.error <= GOOD_FIT_PX and not reading.hidden and \
-                _builds_a_change(solid, reading):
+                _builds_a_change(solid, reading, ctx):
             return reading
     readings.sort(key=lambda r: (r.hidden, r.error))
     for reading in readings:
-        if _builds_a_change(solid, reading):
+        if _builds_a_change(solid, reading, ctx):
             return reading
     if readings:
         raise FitError(readings[0].refused)
@@ -446,11 +456,15 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     prism = op_type is OperatorType.ADDSUB
     # a prism drawn with all its edges: three strokes per side
     sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
-    for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
+    try:  # C may mix up the strokes' roles: read them from the geometry too
+        frame = face_frame(face, cam, np.concatenate(strokes))
+    except FitError:  # the strokes miss a curved f: C's roles alone
+        frame = None
+    tolerances = () if frame is None else PRISM_CHORD_TOLERANCES if prism else (None,)
+    for tol in tolerances:
         for count in sides:
-            try:  # C may mix up the strokes' roles: read them from the geometry too
-                roles = stroke_roles(strokes, face_frame(face, cam, np.concatenate(strokes)),
-                                     cam, prism, tol, count)
+            try:
+                roles = stroke_roles(strokes, frame, cam, prism, tol, count)
             except FitError:
                 continue
             if roles not in readings:
@@ -683,6 +697,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
                           reading.index, reading.labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * times["networks"],
-                           "fitting": 1e3 * times["fitting"], "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)}, other,
+                           "fitting": 1e3 * (times["fitting"] - ctx.build_s),
+                           "brep": 1e3 * (ctx.build_s + td - tc), "total": 1e3 * (td - t0)},
+                          other,
                           fit, snaps)

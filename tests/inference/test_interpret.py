@@ -99,6 +99,10 @@ def test_an_extrusion_sketch_becomes_the_extrusion(renderer):
     assert fitted.d == pytest.approx(9.0, abs=0.5)
     assert got.solid.Volume() == pytest.approx(apply_operation(box, op).Volume(), rel=0.02)
     assert set(got.timings_ms) >= {"render", "networks", "fitting", "brep", "total"}
+    # the reading's Boolean, built while reading it, is timed as B-rep, not as fitting
+    stages = [got.timings_ms[k] for k in ("render", "networks", "fitting", "brep")]
+    assert min(stages) >= 0.0 and got.timings_ms["brep"] > 0.0
+    assert sum(stages) <= got.timings_ms["total"] * (1 + 1e-9)
 
 
 def test_an_extrusion_survives_a_curve_map_that_calls_side_edges_offset_edges(renderer):
