@@ -247,6 +247,18 @@ def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
     return faces
 
 
+def face_at(shape: cq.Shape, index: int) -> cq.Face:
+    """shape.Faces()[index] (the same face), without wrapping every face as Faces() does.
+
+    Raises:
+        IndexError: the shape has no face `index`.
+    """
+    faces = indexed_faces(shape)
+    if not 0 <= index < faces.Extent():
+        raise IndexError(f"face {index} of a shape with {faces.Extent()} faces")
+    return cq.Face(faces.FindKey(index + 1))
+
+
 def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
     """The index in solid.Faces() of a face of it (the renderer's face IDs; for the
     base face f, of resolve_face(context solid, op.face).face).

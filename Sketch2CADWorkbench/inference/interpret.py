@@ -21,7 +21,7 @@ from typing import Protocol as TypingProtocol
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, model_scale
+from ..brep.faces import OperationError, face_at, model_scale
 from ..brep.operators import apply_operation
 from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep, per_operator
 from ..brep.symmetry import mid_plane, reflect
@@ -417,7 +417,7 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
                          options: InterpretOptions) -> tuple[Operation, int, list[int]]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it)."""
-    face = solid.Faces()[index]
+    face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
     try:
@@ -449,7 +449,7 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
     by those read from the strokes' geometry: the one whose own sketch lies closest to
     the strokes."""
-    face = solid.Faces()[index]
+    face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
     readings = [labels]
@@ -504,12 +504,12 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         face_index = index
         under = face_under_stroke(strokes[pick], ctx.maps.face_id)
         if under is not None and under != index and \
-                solid.Faces()[under].geomType() == "PLANE":
+                face_at(solid, under).geomType() == "PLANE":
             # the profile l lies on f by definition: when F points elsewhere, the
             # stroke's own face is the one it was drawn on
             face_index = under
         try:
-            op = fit_bevel(solid, solid.Faces()[face_index], cam, strokes[pick])
+            op = fit_bevel(solid, face_at(solid, face_index), cam, strokes[pick])
         except FitError as e:
             first = first or e
             continue
@@ -535,7 +535,7 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
     when the designer did not choose one): see `Interpretation.other_option`."""
     if options.option is not None or op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP):
         return None
-    if not other_option_fits(solid.Faces()[base_face], camera, op):
+    if not other_option_fits(face_at(solid, base_face), camera, op):
         return None
     return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
 
@@ -677,7 +677,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         try:
             op, snaps, built = reading.op, (), reading.result
             if options.regularize:
-                reg = regularize_operation(solid, op, solid.Faces()[reading.index], view,
+                reg = regularize_operation(solid, op, face_at(solid, reading.index), view,
                                            options.snap_step, options.snap_px,
                                            options.skip_snaps)
                 if reg.snaps:  # the reading moved: build it again

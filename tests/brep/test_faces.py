@@ -7,7 +7,7 @@ from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
-from Sketch2CADWorkbench.brep.faces import FaceFrame, points_on_face
+from Sketch2CADWorkbench.brep.faces import FaceFrame, face_at, points_on_face
 
 BOX = cq.Solid.makeBox(40, 30, 20, cq.Vector(-20, -15, -10))
 SOLIDS = {
@@ -51,3 +51,13 @@ def test_points_on_a_planar_face_are_told_as_occts_classifier_tells_them(name):
             for boundary in (True, False):
                 np.testing.assert_array_equal(points_on_face(face, points, tol, boundary),
                                               occt(face, points, tol, boundary))
+
+
+@pytest.mark.parametrize("name", SOLIDS)
+def test_face_at_is_the_face_of_faces_at_that_index(name):
+    faces = SOLIDS[name].Faces()
+    for i, face in enumerate(faces):
+        got = face_at(SOLIDS[name], i)
+        assert got.isSame(face) and got.wrapped.Orientation() == face.wrapped.Orientation()
+    with pytest.raises(IndexError):
+        face_at(SOLIDS[name], len(faces))
