@@ -66,7 +66,7 @@ from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import fit_sweep
-from .fitting.verify import DrawnStrokes, sketch_distances
+from .fitting.verify import DrawnStrokes, mean_distance, sketch_distances
 from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
@@ -143,7 +143,7 @@ class SketchFit:
     def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray,
                      confidence: float) -> "SketchFit":
         """From `verify.sketch_distances`' two arrays."""
-        return SketchFit(0.5 * (float(to_sketch.mean()) + float(to_strokes.mean())),
+        return SketchFit(mean_distance((to_sketch, to_strokes)),
                          float(to_sketch.mean()), float(to_strokes.mean()),
                          float(np.mean(to_sketch > EXPLAINED_PX)),
                          float(np.mean(to_strokes > EXPLAINED_PX)), float(confidence))
@@ -270,18 +270,13 @@ class Reading:
 
     @property
     def error(self) -> float:
-        return _error(self.distances)
+        """Symmetric mean distance (pixels), `verify.mean_distance`."""
+        return mean_distance(self.distances)
 
     @property
     def doubtful(self) -> bool:
         """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
         return SketchFit.of_distances(*self.distances, 1.0).doubtful
-
-
-def _error(distances: tuple[np.ndarray, np.ndarray]) -> float:
-    """Symmetric mean distance (pixels) of `verify.sketch_distances`' two arrays, as
-    `verify.reprojection_error`."""
-    return 0.5 * (float(distances[0].mean()) + float(distances[1].mean()))
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -477,7 +472,7 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
         except FitError as e:
             first = first or e
             continue
-        fitted.append((_error(ctx.sketch_distances(solid, op)), op, reading))
+        fitted.append((mean_distance(ctx.sketch_distances(solid, op)), op, reading))
     if not fitted:
         raise first
     # both fit: the one whose own sketch lies closer to the strokes
@@ -513,7 +508,7 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         except FitError as e:
             first = first or e
             continue
-        error = _error(ctx.sketch_distances(solid, op))
+        error = mean_distance(ctx.sketch_distances(solid, op))
         if best is None or error < best[0]:
             best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
         if error <= GOOD_FIT_PX:

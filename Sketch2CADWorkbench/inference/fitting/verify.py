@@ -72,5 +72,10 @@ def reprojection_error(solid: cq.Shape, op: Operation, camera: OrthoCamera,
                        strokes: list[np.ndarray], seen: ContextMaps | None = None) -> float:
     """Symmetric mean distance (pixels) between the strokes and op's projected curves
     (with `seen`, the parts of them the view sees: `sketch_distances`)."""
-    to_sketch, to_strokes = sketch_distances(solid, op, camera, strokes, seen)
+    return mean_distance(sketch_distances(solid, op, camera, strokes, seen))
+
+
+def mean_distance(distances: tuple[np.ndarray, np.ndarray]) -> float:
+    """The symmetric mean distance (pixels) of `sketch_distances`' two arrays."""
+    to_sketch, to_strokes = distances
     return 0.5 * (float(to_sketch.mean()) + float(to_strokes.mean()))

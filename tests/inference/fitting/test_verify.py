@@ -7,6 +7,7 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.verify import (
     DrawnStrokes,
+    mean_distance,
     reprojection_error,
     sketch_distances,
 )
@@ -67,3 +68,7 @@ def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themsel
         for got, want in zip(sketch_distances(box, op, cam, drawn),
                              sketch_distances(box, op, cam, strokes)):
             np.testing.assert_array_equal(got, want)
+
+
+def test_the_reprojection_error_weighs_both_ways_alike_however_many_samples_each_has():
+    assert mean_distance((np.array([1.0, 1.0, 1.0, 5.0]), np.array([4.0]))) == 3.0
