@@ -9,8 +9,10 @@ Interprets the first LIMIT samples of a generated set (level 1, no regularizatio
 median and 90% quantile of each stage `interpret` times itself: render (framing the
 strokes and the VTK context maps), networks (classifier and the segmentations of every
 operator read), fitting (every face and operator read, regularization, the other
-Boolean), B-rep (the step applied, with its mirror image if asked) and the total. Wall
-time: other work on the machine inflates it; say the load beside the figure.
+Boolean), B-rep (every Boolean built: the results of the readings fitting keeps, built
+while reading to refuse one that fails or changes nothing, and the step's mirror image
+or regularized rebuild) and the total. Wall time: other work on the machine inflates
+it; say the load beside the figure.
 """
 from __future__ import annotations
 

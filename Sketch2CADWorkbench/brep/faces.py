@@ -9,13 +9,22 @@ import cadquery as cq
 import numpy as np
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Tool
-from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.GeomAbs import GeomAbs_Line, GeomAbs_Plane
 from OCP.gp import gp_Pnt
-from OCP.TopAbs import TopAbs_FACE, TopAbs_IN, TopAbs_ON
-from OCP.TopExp import TopExp
+from OCP.TopAbs import (
+    TopAbs_EDGE,
+    TopAbs_FACE,
+    TopAbs_FORWARD,
+    TopAbs_IN,
+    TopAbs_ON,
+    TopAbs_REVERSED,
+)
+from OCP.TopExp import TopExp, TopExp_Explorer
+from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedMapOfShape
 
 from .geometry import plane_basis
@@ -26,6 +35,11 @@ NORMAL_COS_TOL = 1.0 - 1e-6
 # OCCT's names of the surfaces a base face may lie on.
 GEOM_TYPES = {Surface.PLANE: "PLANE", Surface.CYLINDER: "CYLINDER", Surface.CONE: "CONE"}
 CURVED_GEOM_TYPES = (GEOM_TYPES[Surface.CYLINDER], GEOM_TYPES[Surface.CONE])
+# `points_on_face` counts crossings for a point farther than this many times the
+# classifier's tolerance plus the face's own (edges' and vertices') from every side of a
+# straight-sided planar face: there OCCT's answer is IN or OUT, never ON, and the count
+# is exact; nearer points go to OCCT's classifier.
+CLEAR_OF_SIDES = 4.0
 
 
 @dataclass(frozen=True)
@@ -252,6 +266,18 @@ def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
     return faces
 
 
+def face_at(shape: cq.Shape, index: int) -> cq.Face:
+    """shape.Faces()[index] (the same face), without wrapping every face as Faces() does.
+
+    Raises:
+        IndexError: the shape has no face `index`.
+    """
+    faces = indexed_faces(shape)
+    if not 0 <= index < faces.Extent():
+        raise IndexError(f"face {index} of a shape with {faces.Extent()} faces")
+    return cq.Face(faces.FindKey(index + 1))
+
+
 def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
     """The index in solid.Faces() of a face of it (the renderer's face IDs; for the
     base face f, of resolve_face(context solid, op.face).face).
@@ -271,15 +297,76 @@ def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
 
     OCCT's face classifier (a third of the time of a distance query per point). With
     `boundary`, points within tol of f's edges count as on f; without, only strictly
-    inside ones do.
+    inside ones do. On a planar f whose sides are all straight, the points clear of
+    them (CLEAR_OF_SIDES) are told by counting crossings in f's plane, as OCCT tells
+    them but without a call per point (`_straight_sides`).
     """
+    points = np.asarray(points, float).reshape(-1, 3)
+    sides = _straight_sides(face)
+    if sides is None:
+        return _classify(face, points, tol, boundary)
+    origin, axes, ends, own_tol = sides
+    q = (points - origin) @ axes.T                                 # (K, 2) in f's plane
+    a, b = ends[:, 0], ends[:, 1]                                  # (E, 2) each
+    ab = b - a
+    rel = q[:, None, :] - a[None]                                  # (K, E, 2)
+    t = np.clip((rel * ab).sum(axis=2) / np.maximum((ab * ab).sum(axis=1), 1e-300), 0.0, 1.0)
+    gap = np.hypot(*np.moveaxis(rel - t[..., None] * ab, 2, 0)).min(axis=1)
+    # even-odd count of the sides crossing the ray from each point along +u, half open
+    # at the ends so that a ray through a vertex counts it once
+    above_a, above_b = a[None, :, 1] > q[:, None, 1], b[None, :, 1] > q[:, None, 1]
+    straddles = above_a != above_b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[None, :, 0] + (q[:, None, 1] - a[None, :, 1]) * ab[None, :, 0] / ab[None, :, 1]
+    inside = (straddles & (q[:, None, 0] < x)).sum(axis=1) % 2 == 1
+    near = gap <= CLEAR_OF_SIDES * (tol + own_tol)
+    out = inside
+    if near.any():
+        out[near] = _classify(face, points[near], tol, boundary)
+    return out
+
+
+def _classify(face: cq.Face, points: np.ndarray, tol: float, boundary: bool) -> np.ndarray:
+    """`points_on_face` by OCCT's classifier, point by point."""
     states = (TopAbs_IN, TopAbs_ON) if boundary else (TopAbs_IN,)
     classifier = BRepClass_FaceClassifier()
     out = np.empty(len(points), bool)
-    for i, p in enumerate(np.asarray(points, float)):
+    for i, p in enumerate(points):
         classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
         out[i] = classifier.State() in states
     return out
+
+
+def _straight_sides(face: cq.Face) -> tuple[np.ndarray, np.ndarray, np.ndarray, float] | None:
+    """A planar face's sides, when all are straight and bound it (forward or reversed):
+    its plane's origin (3,) and (u, v) axes (2, 3), each side's end vertices in them
+    (E, 2, 2), and the largest tolerance of its edges and vertices; else None.
+
+    The ends are the vertices' points, which the sides meeting there share, so the
+    outline closes exactly and a count of crossings is exact for it; the true sides lie
+    within their tolerance of it.
+    """
+    surface = BRepAdaptor_Surface(face.wrapped)
+    if surface.GetType() != GeomAbs_Plane:
+        return None
+    frame = surface.Plane().Position()
+    origin = np.array(frame.Location().Coord())
+    axes = np.array([frame.XDirection().Coord(), frame.YDirection().Coord()])
+    ends, own_tol = [], 0.0
+    explorer = TopExp_Explorer(face.wrapped, TopAbs_EDGE)
+    while explorer.More():
+        edge = TopoDS.Edge_s(explorer.Current())
+        explorer.Next()
+        if edge.Orientation() not in (TopAbs_FORWARD, TopAbs_REVERSED) or \
+                BRepAdaptor_Curve(edge).GetType() != GeomAbs_Line:
+            return None
+        vertices = (TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge))
+        ends.append([BRep_Tool.Pnt_s(v).Coord() for v in vertices])
+        own_tol = max(own_tol, BRep_Tool.Tolerance_s(edge),
+                      *(BRep_Tool.Tolerance_s(v) for v in vertices))
+    if not ends:
+        return None
+    return origin, axes, (np.array(ends) - origin) @ axes.T, own_tol
 
 
 def inside_face(face: cq.Face, point: np.ndarray) -> bool:

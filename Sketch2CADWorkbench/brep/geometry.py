@@ -40,16 +40,21 @@ def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
     """`count` points (count, D) evenly spaced by arc length along a polyline (K, D) of
     at least two points, both ends included (linear between its points)."""
     p = np.asarray(points, float)
-    s = arc_lengths(p)
-    t = np.linspace(0.0, s[-1], count)
-    return np.stack([np.interp(t, s, p[:, k]) for k in range(p.shape[1])], axis=1)
+    return _at_lengths(p, arc_lengths(p), count)
 
 
 def resample_every(points: np.ndarray, step: float) -> np.ndarray:
     """A polyline (K, D) of at least two points resampled every ~`step` of arc length
     (its units), both ends included: at least two points."""
     p = np.asarray(points, float)
-    return resample_polyline(p, max(int(np.ceil(arc_lengths(p)[-1] / step)) + 1, 2))
+    s = arc_lengths(p)
+    return _at_lengths(p, s, max(int(np.ceil(s[-1] / step)) + 1, 2))
+
+
+def _at_lengths(p: np.ndarray, s: np.ndarray, count: int) -> np.ndarray:
+    """`resample_polyline` of p (K, D) given its `arc_lengths` s."""
+    t = np.linspace(0.0, s[-1], count)
+    return np.stack([np.interp(t, s, p[:, k]) for k in range(p.shape[1])], axis=1)
 
 
 def crossing_sides(polygon: np.ndarray) -> tuple[int, int] | None:

@@ -15,12 +15,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Protocol as TypingProtocol
 
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, model_scale
+from ..brep.faces import OperationError, face_at, model_scale
 from ..brep.operators import apply_operation
 from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep, per_operator
 from ..brep.symmetry import mid_plane, reflect
@@ -65,7 +66,7 @@ from .fitting.regularize import Snap, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import fit_sweep
-from .fitting.verify import reprojection_error, sketch_distances
+from .fitting.verify import DrawnStrokes, mean_distance, sketch_distances
 from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
@@ -142,7 +143,7 @@ class SketchFit:
     def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray,
                      confidence: float) -> "SketchFit":
         """From `verify.sketch_distances`' two arrays."""
-        return SketchFit(0.5 * (float(to_sketch.mean()) + float(to_strokes.mean())),
+        return SketchFit(mean_distance((to_sketch, to_strokes)),
                          float(to_sketch.mean()), float(to_strokes.mean()),
                          float(np.mean(to_sketch > EXPLAINED_PX)),
                          float(np.mean(to_strokes > EXPLAINED_PX)), float(confidence))
@@ -171,6 +172,9 @@ class Interpretation:
     base_face: int
     stroke_labels: list[int]
     camera: OrthoCamera                 # the context camera (maps' pixels)
+    # ms per stage: render, networks, fitting, brep (every Boolean built: the readings'
+    # results, which fitting builds to refuse one that fails or changes nothing, and the
+    # step's mirror image or regularized rebuild) and total
     timings_ms: dict[str, float] = field(default_factory=dict)
     # The Boolean that explains the same strokes as well (a boss on f and a hole into f
     # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
@@ -216,6 +220,24 @@ class Context:
     strokes: list[np.ndarray]
     maps: ContextMaps
     inputs: np.ndarray
+    # `sketch_distances` by (solid, operation): a face's fit scores its readings, and the
+    # one it keeps is scored again among the faces' readings
+    scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
+        default_factory=dict, repr=False, compare=False)
+    # seconds spent building readings' results (`_builds_a_change`): B-rep work done while
+    # reading, timed as the B-rep stage
+    build_s: float = field(default=0.0, compare=False)
+
+    @cached_property
+    def drawn(self) -> DrawnStrokes:
+        """The strokes as every reading of them is scored against them."""
+        return DrawnStrokes(self.strokes, (self.camera.height, self.camera.width))
+
+    def sketch_distances(self, solid: cq.Shape, op: Operation) -> tuple[np.ndarray, np.ndarray]:
+        """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
+        if (solid, op) not in self.scores:
+            self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn)
+        return self.scores[solid, op]
 
 
 def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
@@ -251,8 +273,8 @@ class Reading:
 
     @property
     def error(self) -> float:
-        """Symmetric mean distance (pixels), `verify.reprojection_error`."""
-        return 0.5 * (float(self.distances[0].mean()) + float(self.distances[1].mean()))
+        """Symmetric mean distance (pixels), `verify.mean_distance`."""
+        return mean_distance(self.distances)
 
     @property
     def doubtful(self) -> bool:
@@ -274,9 +296,11 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
         len(before.Faces()) == len(after.Faces())
 
 
-def _builds_a_change(solid: cq.Shape, reading: Reading) -> bool:
-    """Build the reading's operation; keep the result, or say why it cannot be the step."""
+def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
+    """Build the reading's operation; keep the result, or say why it cannot be the step
+    (the time goes to ctx.build_s)."""
     if reading.result is None and not reading.refused:
+        start = time.perf_counter()
         try:
             result = apply_operation(solid, reading.op)
         except OperationError as e:
@@ -288,6 +312,8 @@ def _builds_a_change(solid: cq.Shape, reading: Reading) -> bool:
                                    "the face it stands on")
             else:
                 reading.result = result
+        finally:
+            ctx.build_s += time.perf_counter() - start
     return reading.result is not None
 
 
@@ -309,19 +335,18 @@ def stands_behind_the_model(op: Operation, ctx: Context) -> bool:
     return float(depth[0]) > seen + BEHIND_PX * ctx.camera.pixel_size
 
 
-def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context,
+def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden: set[int],
                     curved: bool = False) -> list[int]:
     """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
     the planar faces most of a stroke lies on (an outline is drawn on its base face, so
-    a face F missed is still tried), faces hidden from the view after all others.
-    `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
+    a face F missed is still tried), faces `hidden` from the view (`hidden_faces`) after
+    all others. `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
     ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid, curved)[:BASE_FACE_TRIES]
     faces = solid.Faces()
     for s in ctx.strokes:
         under = face_under_stroke(s, ctx.maps.face_id)
         if under is not None and under not in ranked and faces[under].geomType() == "PLANE":
             ranked.append(under)
-    hidden = hidden_faces(solid, ctx.camera)
     return sorted(ranked, key=lambda i: i in hidden)
 
 
@@ -335,8 +360,8 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
     (`candidate_faces`): of the readings that build and change the model, one on a face
     the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
-    then the one whose sketch reprojects closest. A reading that changes nothing (a hole cut into the air above a lower
-    face) is never the step.
+    then the one whose sketch reprojects closest. A reading that changes nothing (a hole
+    cut into the air above a lower face) is never the step.
 
     Returns:
         The reading, with its result built (without any mirror image).
@@ -344,11 +369,11 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         FitError: the strokes do not fit the operator on this model (the reason given
             for the best face), or every fitted reading fails to build or changes nothing.
     """
-    order = candidate_faces(solid, face_prob, ctx, op_type in ON_CURVED_FACES)
+    hidden = hidden_faces(solid, ctx.camera)
+    order = candidate_faces(solid, face_prob, ctx, hidden, op_type in ON_CURVED_FACES)
     if not order:
         raise FitError("no face of the model was recognised under the sketch; draw on a "
                        "visible face")
-    hidden = hidden_faces(solid, ctx.camera)
     readings, first = [], None
     for index in order:
         try:
@@ -357,15 +382,15 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
             first = first or e
             continue
         for op, used, labels in fits:
-            reading = Reading(sketch_distances(solid, op, ctx.camera, ctx.strokes), op, used,
+            reading = Reading(ctx.sketch_distances(solid, op), op, used,
                               labels, used in hidden or stands_behind_the_model(op, ctx))
             readings.append(reading)
             if reading.error <= GOOD_FIT_PX and not reading.hidden and \
-                    _builds_a_change(solid, reading):
+                    _builds_a_change(solid, reading, ctx):
                 return reading
     readings.sort(key=lambda r: (r.hidden, r.error))
     for reading in readings:
-        if _builds_a_change(solid, reading):
+        if _builds_a_change(solid, reading, ctx):
             return reading
     if readings:
         raise FitError(readings[0].refused)
@@ -390,7 +415,7 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
                          options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it)."""
-    face = solid.Faces()[index]
+    face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
     try:
@@ -424,19 +449,23 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     the strokes first. All are kept: a thin slot seen nearly along f's normal also
     reads, a little closer, as a tall post on its end, which a chosen subtract refuses
     (it cuts nothing), and then the slot's own roles are the step."""
-    face = solid.Faces()[index]
+    face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
     readings = [labels]
     prism = op_type is OperatorType.ADDSUB
     # a prism drawn with all its edges: three strokes per side
     sides = (None,) + ((len(strokes) // 3,) if prism and len(strokes) % 3 == 0 else ())
-    frame = face_frame(face, cam, np.concatenate(strokes))
-    for tol in PRISM_CHORD_TOLERANCES if prism else (None,):
+    try:  # C may mix up the strokes' roles: read them from the geometry too
+        frame = face_frame(face, cam, np.concatenate(strokes))
+    except FitError:  # the strokes miss a curved f: C's roles alone
+        frame = None
+    tolerances = () if frame is None else PRISM_CHORD_TOLERANCES if prism else (None,)
+    for tol in tolerances:
         for count in sides:
             # the second set of alike chords: f's outline may run along n_f's image too
             for group in (0, 1) if prism and tol is not None else (0,):
-                try:  # C may mix up the strokes' roles: read them from the geometry too
+                try:
                     roles = stroke_roles(strokes, frame, cam, prism, tol, count, group)
                 except FitError:
                     continue
@@ -450,7 +479,7 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
         except FitError as e:
             first = first or e
             continue
-        fitted.append((reprojection_error(solid, op, cam, strokes), op, reading))
+        fitted.append((mean_distance(ctx.sketch_distances(solid, op)), op, reading))
     if not fitted:
         raise first
     return [(op, index, labels) for _, op, labels in sorted(fitted, key=lambda f: f[0])]
@@ -475,16 +504,16 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         face_index = index
         under = face_under_stroke(strokes[pick], ctx.maps.face_id)
         if under is not None and under != index and \
-                solid.Faces()[under].geomType() == "PLANE":
+                face_at(solid, under).geomType() == "PLANE":
             # the profile l lies on f by definition: when F points elsewhere, the
             # stroke's own face is the one it was drawn on
             face_index = under
         try:
-            op = fit_bevel(solid, solid.Faces()[face_index], cam, strokes[pick])
+            op = fit_bevel(solid, face_at(solid, face_index), cam, strokes[pick])
         except FitError as e:
             first = first or e
             continue
-        error = reprojection_error(solid, op, cam, strokes)
+        error = mean_distance(ctx.sketch_distances(solid, op))
         if best is None or error < best[0]:
             best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
         if error <= GOOD_FIT_PX:
@@ -506,7 +535,7 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
     when the designer did not choose one): see `Interpretation.other_option`."""
     if options.option is not None or op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP):
         return None
-    if not other_option_fits(solid.Faces()[base_face], camera, op):
+    if not other_option_fits(face_at(solid, base_face), camera, op):
         return None
     return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
 
@@ -648,7 +677,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         try:
             op, snaps, built = reading.op, (), reading.result
             if options.regularize:
-                reg = regularize_operation(solid, op, solid.Faces()[reading.index], view,
+                reg = regularize_operation(solid, op, face_at(solid, reading.index), view,
                                            options.snap_step, options.snap_px,
                                            options.skip_snaps)
                 if reg.snaps:  # the reading moved: build it again
@@ -668,6 +697,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
                           reading.index, reading.labels, ctx.camera,
                           {"render": 1e3 * (t1 - t0), "networks": 1e3 * times["networks"],
-                           "fitting": 1e3 * times["fitting"], "brep": 1e3 * (td - tc),
-                           "total": 1e3 * (td - t0)}, other,
+                           "fitting": 1e3 * (times["fitting"] - ctx.build_s),
+                           "brep": 1e3 * (ctx.build_s + td - tc), "total": 1e3 * (td - t0)},
+                          other,
                           fit, snaps)

@@ -9,6 +9,7 @@ its bottom-left-origin mouse positions to this.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -50,12 +51,20 @@ class OrthoCamera:
 
     # ------------------------------------------------------------ frame
     def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Unit (right, up, forward) vectors of the camera in world coordinates."""
+        """Unit (right, up, forward) vectors of the camera in world coordinates (read-only
+        arrays)."""
+        return self._basis
+
+    @cached_property
+    def _basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        # made once: every projection asks for it, thousands of times a sketch step
         f = _unit(np.asarray(self.direction, float))
         u = _unit(np.asarray(self.up, float))
         u = u - (u @ f) * f
         u = u / np.linalg.norm(u)
         r = np.cross(f, u)  # right-handed: right = forward x up
+        for axis in (r, u, f):
+            axis.flags.writeable = False
         return r, u, f
 
     @property

@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     CLASSES,
     InterpretError,
@@ -98,6 +99,10 @@ def test_an_extrusion_sketch_becomes_the_extrusion(renderer):
     assert fitted.d == pytest.approx(9.0, abs=0.5)
     assert got.solid.Volume() == pytest.approx(apply_operation(box, op).Volume(), rel=0.02)
     assert set(got.timings_ms) >= {"render", "networks", "fitting", "brep", "total"}
+    # the reading's Boolean, built while reading it, is timed as B-rep, not as fitting
+    stages = [got.timings_ms[k] for k in ("render", "networks", "fitting", "brep")]
+    assert min(stages) >= 0.0 and got.timings_ms["brep"] > 0.0
+    assert sum(stages) <= got.timings_ms["total"] * (1 + 1e-9)
 
 
 def test_an_extrusion_survives_a_curve_map_that_calls_side_edges_offset_edges(renderer):
@@ -214,6 +219,24 @@ def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_fou
     (fitted,) = got.operations
     assert fitted.face.normal == pytest.approx((0, 0, 1))
     assert fitted.d == pytest.approx(9.0, abs=0.5)
+
+
+def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    ctx = Oracle(box, op, pts, labels, cam, renderer).context()
+    calls = []
+    monkeypatch.setattr(interpret_module, "sketch_distances",
+                        lambda *a: calls.append(a) or sketch_distances(*a))
+    first = ctx.sketch_distances(box, op)
+    assert ctx.sketch_distances(box, op) is first and len(calls) == 1
+    for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes)):
+        np.testing.assert_array_equal(got, want)
+    ctx.sketch_distances(box, Extrude(TOP, 4.0))
+    ctx.sketch_distances(apply_operation(box, op), op)  # another solid: scored anew
+    assert len(calls) == 3
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):

@@ -24,3 +24,14 @@ def test_a_direction_of_any_finite_length_is_the_same_view(scale):
     points = [(1.0, 2.0, 3.0), (-4.0, 0.5, 2.0)]
     for got, want in zip(big.project(points), unit.project(points)):
         np.testing.assert_allclose(got, want, atol=1e-9)
+
+
+def test_the_basis_is_made_once_and_cannot_be_changed_by_a_caller():
+    cam = OrthoCamera((1.0, 2.0, 3.0), (0.6, 0.9, -1.2), (0, 0, 1), 45.0)
+    r, u, f = cam.basis()
+    assert cam.basis()[0] is r
+    np.testing.assert_allclose(np.stack([r, u, f]) @ np.stack([r, u, f]).T, np.eye(3),
+                               atol=1e-12)
+    np.testing.assert_allclose(np.cross(f, u), r)
+    with pytest.raises(ValueError):
+        u *= 2.0

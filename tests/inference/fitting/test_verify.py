@@ -5,7 +5,12 @@ import pytest
 
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+from Sketch2CADWorkbench.inference.fitting.verify import (
+    DrawnStrokes,
+    mean_distance,
+    reprojection_error,
+    sketch_distances,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 
@@ -50,3 +55,20 @@ def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lin
              for c in visible_curves(operation_curves(box, hole, cam.direction), cam, maps[hole])]
     assert reprojection_error(box, hole, cam, drawn, maps[hole]) == pytest.approx(0.0, abs=0.5)
     assert reprojection_error(box, boss, cam, drawn, maps[boss]) > 3.0
+
+
+def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themselves():
+    box = make_box(Box((40, 30, 20)))
+    d = np.array([0.6, 0.9, -1.2])
+    cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
+    strokes = [cam.project(c.points)[0]
+               for c in operation_curves(box, sweep(4.0, 10.0), cam.direction)]
+    drawn = DrawnStrokes(strokes, (cam.height, cam.width))
+    for op in (sweep(4.0, 10.0), sweep(9.0, 16.0)):
+        for got, want in zip(sketch_distances(box, op, cam, drawn),
+                             sketch_distances(box, op, cam, strokes)):
+            np.testing.assert_array_equal(got, want)
+
+
+def test_the_reprojection_error_weighs_both_ways_alike_however_many_samples_each_has():
+    assert mean_distance((np.array([1.0, 1.0, 1.0, 5.0]), np.array([4.0]))) == 3.0

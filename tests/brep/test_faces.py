@@ -1,0 +1,63 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Which points lie on a face: as OCCT's classifier tells them, point by point."""
+import cadquery as cq
+import numpy as np
+import pytest
+from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.gp import gp_Pnt
+from OCP.TopAbs import TopAbs_IN, TopAbs_ON
+
+from Sketch2CADWorkbench.brep.faces import FaceFrame, face_at, points_on_face
+
+BOX = cq.Solid.makeBox(40, 30, 20, cq.Vector(-20, -15, -10))
+SOLIDS = {
+    "box": BOX,
+    "through hole": BOX.cut(cq.Solid.makeBox(10, 8, 40, cq.Vector(-5, -4, -20))),
+    "notch": BOX.cut(cq.Solid.makeBox(15, 15, 8, cq.Vector(5, 0, 2))),
+    "round hole": BOX.cut(cq.Solid.makeCylinder(5, 40, cq.Vector(12, 8, -20))),
+    "turned": BOX.cut(cq.Solid.makeBox(10, 8, 40, cq.Vector(-5, -4, -20)))
+                 .rotate(cq.Vector(0, 0, 0), cq.Vector(1, 2, 3), 33),
+}
+
+
+def occt(face, points, tol, boundary):
+    states = (TopAbs_IN, TopAbs_ON) if boundary else (TopAbs_IN,)
+    classifier = BRepClass_FaceClassifier()
+    out = []
+    for p in points:
+        classifier.Perform(face.wrapped, gp_Pnt(*map(float, p)), tol)
+        out.append(classifier.State() in states)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("name", SOLIDS)
+def test_points_on_a_planar_face_are_told_as_occts_classifier_tells_them(name):
+    rng = np.random.default_rng(len(name))
+    for face in SOLIDS[name].Faces():
+        if face.geomType() != "PLANE":
+            continue
+        frame = FaceFrame.of(face)
+        corners = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))
+        lo, hi = corners.min(axis=0) - 3, corners.max(axis=0) + 3
+        at = corners[rng.integers(0, len(corners), 30)]
+        grid = np.stack(np.meshgrid(np.linspace(lo[0] + 3, hi[0] - 3, 7),
+                                    np.linspace(lo[1] + 3, hi[1] - 3, 7)), -1).reshape(-1, 2)
+        # anywhere, at the corners and just beside them, and on a grid over the face's box
+        # (whose outer rows run along its sides), a hair off the plane
+        flat = np.concatenate([rng.uniform(lo, hi, (40, 2)), at,
+                               at + rng.normal(0, 1e-3, at.shape), grid])
+        points = frame.to_3d(flat) + rng.normal(0, 1e-9, (len(flat), 3))
+        for tol in (1e-7, 0.3):
+            for boundary in (True, False):
+                np.testing.assert_array_equal(points_on_face(face, points, tol, boundary),
+                                              occt(face, points, tol, boundary))
+
+
+@pytest.mark.parametrize("name", SOLIDS)
+def test_face_at_is_the_face_of_faces_at_that_index(name):
+    faces = SOLIDS[name].Faces()
+    for i, face in enumerate(faces):
+        got = face_at(SOLIDS[name], i)
+        assert got.isSame(face) and got.wrapped.Orientation() == face.wrapped.Orientation()
+    with pytest.raises(IndexError):
+        face_at(SOLIDS[name], len(faces))
