@@ -36,6 +36,7 @@ from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
 )
 from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
 from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 STAGES = ("render", "networks", "fitting", "brep", "total")
 
@@ -47,6 +48,7 @@ def main() -> int:
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--warmup", type=int, default=3)
     a = p.parse_args()
+    print(machine_line())
     torch.set_num_threads(a.threads)
     predictor, renderer = load_predictor(), MapRenderer()
     ds = Dataset(a.data)
