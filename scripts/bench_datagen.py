@@ -162,16 +162,13 @@ def _ray_cpu() -> tuple[float, float]:
     """User + system CPU seconds of the live Ray workers among this process's
     descendants (their titles start "ray::"), and of the other descendants: the local
     cluster's own processes (Linux /proc)."""
-    tick = os.sysconf("SC_CLK_TCK")
     stats = {}
-    for pid in (p for p in os.listdir("/proc") if p.isdigit()):
+    for pid in (int(p) for p in os.listdir("/proc") if p.isdigit()):
         try:
-            fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-            title = Path(f"/proc/{pid}/cmdline").read_bytes()
+            stats[pid] = (*_proc_stat(pid),
+                          Path(f"/proc/{pid}/cmdline").read_bytes().startswith(b"ray::"))
         except OSError:  # exited meanwhile
             continue
-        stats[int(pid)] = (int(fields[1]), (int(fields[11]) + int(fields[12])) / tick,
-                           title.startswith(b"ray::"))
     mine, grew = {os.getpid()}, True
     while grew:
         new = {pid for pid, (ppid, _, _) in stats.items() if ppid in mine} - mine
@@ -184,12 +181,14 @@ def _ray_cpu() -> tuple[float, float]:
 
 def _live_children_cpu() -> float:
     """User + system CPU seconds of this process's live children (Linux /proc)."""
-    tick = os.sysconf("SC_CLK_TCK")
-    total = 0
-    for child in mp.active_children():
-        fields = Path(f"/proc/{child.pid}/stat").read_text().rsplit(")", 1)[1].split()
-        total += int(fields[11]) + int(fields[12])  # utime, stime
-    return total / tick
+    return sum(_proc_stat(child.pid)[1] for child in mp.active_children())
+
+
+def _proc_stat(pid: int) -> tuple[int, float]:
+    """(parent pid, user + system CPU seconds) of a live process (Linux /proc/PID/stat;
+    OSError once it has exited)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return int(fields[1]), (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def _exited_children_cpu() -> float:

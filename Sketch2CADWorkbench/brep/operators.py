@@ -33,7 +33,7 @@ from .faces import (
     OperationError,
     ResolvedFace,
     base_face_index,
-    indexed_faces,
+    face_at,
     model_box,
     model_scale,
     resolve_face,
@@ -548,7 +548,7 @@ def operation_result(solid: cq.Solid, op: Operation, face: cq.Face | None = None
         # BRepBuilderAPI_Copy keeps the order of the faces: the held face is the copy's
         # face at the same index
         rf = resolve_face(solid, op.face, f"{op.NOUN} face f") if index is None \
-            else ResolvedFace.of(cq.Shape.cast(indexed_faces(solid).FindKey(index + 1)))
+            else ResolvedFace.of(face_at(solid, index))
         tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
         return combine(solid, tool, op.boolean, op.name)
     except OperationError:
