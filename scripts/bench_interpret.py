@@ -51,6 +51,7 @@ def main() -> int:
     print(machine_line())
     torch.set_num_threads(a.threads)
     predictor, renderer = load_predictor(), MapRenderer()
+    predictor.threads = a.threads  # the predictor sets torch's threads on each pass
     ds = Dataset(a.data)
     n = min(a.limit, len(ds))
     times: dict[str, list[float]] = {k: [] for k in STAGES}

@@ -21,9 +21,17 @@ from typing import Protocol as TypingProtocol
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, face_at, model_scale
+from ..brep.faces import OperationError, ResolvedFace, face_at, model_scale, resolve_face
 from ..brep.operators import apply_operation
-from ..brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep, per_operator
+from ..brep.protocol import (
+    AddSubPrism,
+    FaceRef,
+    Mode,
+    Operation,
+    OperatorType,
+    Sweep,
+    per_operator,
+)
 from ..brep.symmetry import mid_plane, reflect
 from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
@@ -56,7 +64,7 @@ FACING_COS = 0.05
 # it, along the view rays (examples/sessions/lamp.json, step 3). Such a reading ranks
 # with those on hidden faces. A few pixels: a centre on f sees f itself (depth equal).
 BEHIND_PX = 4.0
-from .fitting.addsub import fit_prism
+from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import fit_bevel
 from .fitting.common import FitError, classify_strokes, resample, sample_map
@@ -224,6 +232,10 @@ class Context:
     # one it keeps is scored again among the faces' readings
     scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
         default_factory=dict, repr=False, compare=False)
+    # base faces resolved by (solid, reference): every reading on one planar face names
+    # it alike, and each is scored and built
+    faces: dict[tuple[cq.Shape, FaceRef], ResolvedFace] = field(
+        default_factory=dict, repr=False, compare=False)
     # seconds spent building readings' results (`_builds_a_change`): B-rep work done while
     # reading, timed as the B-rep stage
     build_s: float = field(default=0.0, compare=False)
@@ -233,10 +245,17 @@ class Context:
         """The strokes as every reading of them is scored against them."""
         return DrawnStrokes(self.strokes, (self.camera.height, self.camera.width))
 
+    def resolved(self, solid: cq.Shape, ref: FaceRef) -> ResolvedFace:
+        """`resolve_face` of ref on `solid`, once for each (OperationError as it)."""
+        if (solid, ref) not in self.faces:
+            self.faces[solid, ref] = resolve_face(solid, ref)
+        return self.faces[solid, ref]
+
     def sketch_distances(self, solid: cq.Shape, op: Operation) -> tuple[np.ndarray, np.ndarray]:
         """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
         if (solid, op) not in self.scores:
-            self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn)
+            self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn,
+                                                      face=self.resolved(solid, op.face))
         return self.scores[solid, op]
 
 
@@ -302,7 +321,11 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
     if reading.result is None and not reading.refused:
         start = time.perf_counter()
         try:
-            result = apply_operation(solid, reading.op)
+            op = reading.op
+            # a planar f is held (resolved while the reading was scored), a curved one
+            # resolved where the step stands
+            held = None if op.face.surface.curved else ctx.resolved(solid, op.face).face
+            result = apply_operation(solid, op, held)
         except OperationError as e:
             reading.refused = str(e)
         else:
@@ -432,7 +455,7 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
 def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
                        options: InterpretOptions) -> list[Fit]:
     """The add/sub prism on face `index` (`_fit_by_roles`)."""
-    return _fit_by_roles(fit_prism, OperatorType.ADDSUB, solid, index, curve, ctx, options)
+    return _fit_by_roles(prism_fit, OperatorType.ADDSUB, solid, index, curve, ctx, options)
 
 
 def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
@@ -441,9 +464,9 @@ def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Cont
     return _fit_by_roles(fit_sweep, OperatorType.SWEEP, solid, index, curve, ctx, options)
 
 
-def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: cq.Shape,
-                  index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
-                  ) -> list[Fit]:
+def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorType,
+                  solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
+                  options: InterpretOptions) -> list[Fit]:
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
     by those read from the strokes' geometry, the one whose own sketch lies closest to
     the strokes first. All are kept: a thin slot seen nearly along f's normal also
@@ -475,14 +498,24 @@ def _fit_by_roles(fit: Callable[..., Operation], op_type: OperatorType, solid: c
     for reading in readings:
         try:
             # regularized after the choice of face and reading (regularize_operation)
-            op = fit(solid, face, cam, strokes, reading, options.option)
+            got = fit(solid, face, cam, strokes, reading, options.option)
         except FitError as e:
             first = first or e
             continue
-        fitted.append((mean_distance(ctx.sketch_distances(solid, op)), op, reading))
+        op = got.operation if isinstance(got, PrismFit) else got
+        fitted.append((mean_distance(ctx.sketch_distances(solid, op)), op, reading, got))
     if not fitted:
         raise first
-    return [(op, index, labels) for _, op, labels in sorted(fitted, key=lambda f: f[0])]
+    fitted.sort(key=lambda f: f[0])
+    if isinstance(fitted[0][3], PrismFit):
+        # a prism's joint refinement costs more than the rest of its fit, and readings
+        # of the roles that lie near each other refine to nearly one prism: only the
+        # closest is refined (docs/NOTES.md, stop 26)
+        _, _, reading, got = fitted[0]
+        op = got.refined()
+        fitted[0] = (mean_distance(ctx.sketch_distances(solid, op)), op, reading, got)
+        fitted.sort(key=lambda f: f[0])
+    return [(op, index, labels) for _, op, labels, _ in fitted]
 
 
 def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,

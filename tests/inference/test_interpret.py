@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
+from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     CLASSES,
@@ -229,7 +230,7 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
     ctx = Oracle(box, op, pts, labels, cam, renderer).context()
     calls = []
     monkeypatch.setattr(interpret_module, "sketch_distances",
-                        lambda *a: calls.append(a) or sketch_distances(*a))
+                        lambda *a, **k: calls.append(a) or sketch_distances(*a, **k))
     first = ctx.sketch_distances(box, op)
     assert ctx.sketch_distances(box, op) is first and len(calls) == 1
     for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes)):
@@ -237,6 +238,52 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
     ctx.sketch_distances(box, Extrude(TOP, 4.0))
     ctx.sketch_distances(apply_operation(box, op), op)  # another solid: scored anew
     assert len(calls) == 3
+
+
+def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    ctx = Oracle(box, op, pts, labels, cam, renderer).context()
+    resolved = []
+    monkeypatch.setattr(interpret_module, "resolve_face",
+                        lambda *a: resolved.append(a) or resolve_face(*a))
+    for d in (9.0, 4.0, -3.0):
+        ctx.sketch_distances(box, Extrude(TOP, d))
+    assert len(resolved) == 1
+    assert ctx.resolved(box, TOP).face.isSame(resolve_face(box, TOP).face)
+    other = apply_operation(box, op)
+    ctx.sketch_distances(other, op)  # another solid: its own face
+    assert len(resolved) == 2
+
+
+def test_of_several_readings_of_a_prisms_strokes_only_the_closest_is_refined(
+        renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.ADDSUB)
+    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    # a second reading of the roles, which fits a prism 3 px off the strokes
+    other = [{0: 2, 2: 0}.get(label, label) for label in labels]
+    monkeypatch.setattr(interpret_module, "stroke_roles", lambda *a, **k: other)
+
+    def fit(solid, face, camera, strokes, roles, option):
+        if roles == other:
+            strokes, roles = [s + 3.0 for s in strokes], labels
+        return prism_fit(solid, face, camera, strokes, roles, option)
+
+    refined, refine = [], PrismFit.refined
+    monkeypatch.setattr(PrismFit, "refined", lambda fit: refined.append(fit) or refine(fit))
+    fits = interpret_module._fit_by_roles(fit, OperatorType.ADDSUB, box, index, curve, ctx,
+                                          InterpretOptions())
+    assert len(fits) == 2 and len(refined) == 1
+    assert fits[0][0] == refine(refined[0])  # the closest, refined, first
+    assert volume_iou(apply_operation(box, fits[0][0]), apply_operation(box, op)) > 0.97
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):

@@ -2,10 +2,12 @@
 """Add/subtract regression: N-gon, option, base polygon and length d (paper, Sec. 4.2)."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import is_curved, model_scale
+from ...brep.faces import FaceFrame, is_curved, model_scale
 from ...brep.protocol import AddSubPrism, Mode
 from ...render.camera import OrthoCamera
 from .common import (
@@ -44,15 +46,51 @@ def _simple_fit(corners: np.ndarray, strokes: list[np.ndarray]) -> np.ndarray:
     return poly if is_simple(poly) else order_around_centre(corners)
 
 
+@dataclass(frozen=True, eq=False)
+class PrismFit:
+    """A prism read from its strokes, before the joint refinement of its base polygon and
+    length against all of them (`refine.py`), which costs more than the rest of the fit:
+    a caller that weighs several readings of the strokes refines only the one it keeps."""
+
+    operation: AddSubPrism      # as fitted, unrefined
+    base: np.ndarray            # (N, 2) its base polygon c on f, context pixels
+    step: np.ndarray            # (2,) image displacement of 1 mm along its direction, pixels
+    strokes: list[np.ndarray]   # every stroke of the prism (start, profile, end)
+    face: cq.Face
+    camera: OrthoCamera
+    frame: FaceFrame
+
+    def refined(self) -> AddSubPrism:
+        """The operation with its base polygon and length refined together against all
+        the strokes; as fitted when f is curved (the refinement fits straight sides) or
+        when the refined polygon is degenerate or d turned negative."""
+        if is_curved(self.face):
+            return self.operation
+        base, d = refine_prism(self.base, self.operation.d, self.step, self.strokes)
+        if d <= 0 or not is_simple(base) or _shortest_side(base) < MIN_SIDE_PX:
+            return self.operation
+        base3d = back_project(self.camera, self.face, self.frame, base)
+        return AddSubPrism(self.operation.face, tuple(tuple(map(float, p)) for p in base3d),
+                           float(d), self.operation.mode)
+
+
 def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
               labels: list[int], option: Mode | None = None) -> AddSubPrism:
-    """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2).
+    """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2):
+    `prism_fit`, refined (`PrismFit.refined`). Same arguments and errors."""
+    return prism_fit(solid, face, camera, strokes, labels, option).refined()
+
+
+def prism_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
+              labels: list[int], option: Mode | None = None) -> PrismFit:
+    """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2),
+    up to the joint refinement.
 
     N is the number of profile strokes; N-gons are fitted to the start and end strokes
     from the profile strokes' end points; the option follows from which polygon lies on
     f; d is found by line search along the prism's direction against the other outline;
-    then the base polygon and d are refined together against all the strokes
-    (`refine.py`) and the polygon is back-projected onto f. On a curved f the corners
+    `PrismFit.refined` then refines the base polygon and d together against all the
+    strokes (`refine.py`), the polygon back-projected onto f. On a curved f the corners
     are back-projected onto the surface and carried onto its tangent plane at the
     outline's centre (`surface.py`), and d is measured from that plane.
 
@@ -64,7 +102,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         FitError: not 3 to 6 profile strokes, a missing outline, neither outline on f,
             a self-intersecting polygon, or no length matching the strokes.
     Returns:
-        The AddSubPrism operation.
+        The fit, its AddSubPrism operation unrefined.
     """
     groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
     n = len(groups[1])
@@ -83,8 +121,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         raise FitError("the base outline crosses itself")
     if _shortest_side(base) < MIN_SIDE_PX:
         raise FitError("two corners of the base outline coincide")
-    curved = is_curved(face)
-    if curved:  # its sides are curves on f: the profile strokes' ends are its corners
+    if is_curved(face):  # its sides are curves on f: the profile strokes' ends are its corners
         base = order_around_centre(starts if mode is not Mode.SUBTRACT else ends)
     frame = face_frame(face, camera, base)  # on a curved f: T under the corners' mean
     base3d = back_project(camera, face, frame, base)
@@ -97,11 +134,7 @@ def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     d, err = line_search(edge_pts, direction, camera, field, cands)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
-    if not curved:  # the refinement fits straight sides; on a curved f they are curves
-        refined, d_refined = refine_prism(base, d, camera.image_of(direction),
-                                          groups[0] + groups[1] + groups[2])
-        if d_refined > 0 and is_simple(refined) and _shortest_side(refined) >= MIN_SIDE_PX:
-            base3d = back_project(camera, face, frame, refined)
-            d = d_refined
-    return AddSubPrism(face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d),
-                       float(d), mode)
+    op = AddSubPrism(face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d),
+                     float(d), mode)
+    return PrismFit(op, base, camera.image_of(direction), groups[0] + groups[1] + groups[2],
+                    face, camera, frame)

@@ -15,6 +15,7 @@ from functools import cached_property
 import cadquery as cq
 import numpy as np
 
+from ...brep.faces import ResolvedFace
 from ...brep.protocol import Operation
 from ...render.camera import OrthoCamera
 from ...render.maps import ContextMaps
@@ -44,8 +45,8 @@ class DrawnStrokes:
 
 
 def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
-                     strokes: list[np.ndarray] | DrawnStrokes, seen: ContextMaps | None = None
-                     ) -> tuple[np.ndarray, np.ndarray]:
+                     strokes: list[np.ndarray] | DrawnStrokes, seen: ContextMaps | None = None,
+                     face: ResolvedFace | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Distances (pixels) from the strokes' samples to op's projected curves, and from
     the curves' samples to the strokes.
 
@@ -54,8 +55,9 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
         seen: maps of the model after op, rendered with `camera`: only the parts of op's
             curves that view sees count (every curve when None). When it sees none, the
             strokes are infinitely far from them.
+        face: op.face resolved on `solid`, when the caller holds it (`operation_curves`).
     """
-    curves = operation_curves(solid, op, camera.direction)
+    curves = operation_curves(solid, op, camera.direction, face)
     if seen is not None:
         curves = visible_curves(curves, camera, seen)
     shape = (camera.height, camera.width)

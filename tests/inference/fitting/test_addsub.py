@@ -7,7 +7,7 @@ from fit_sketches import QUAD, TOP_Z, face_towards, prism_sketch
 
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import Mode
-from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism, prism_fit
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 
 
@@ -30,6 +30,16 @@ def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edge
     err = max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD)
     # from the start outline alone the corners would be 4 px off
     assert err < 0.5 * 4.0 * camera.pixel_size and op.d == pytest.approx(6.0, abs=0.3)
+
+
+def test_a_prism_fit_is_fitted_prism_once_refined_and_its_start_outlines_before(box, camera):
+    # as above: unrefined, the base polygon is the start outline's, 4 px off
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
+    fit = prism_fit(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    assert fit.refined() == fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    off = max(np.min(np.linalg.norm(np.array(fit.operation.polygon) - v, axis=1)) for v in QUAD)
+    assert off > 0.75 * 4.0 * camera.pixel_size
 
 
 def test_deep_cut_is_read_as_a_subtraction(box, camera):
