@@ -105,6 +105,11 @@ RESCUE_SCORE_PX = GOOD_FIT_PX + PRIOR_PX  # a good fit with one decade of doubt
 TAKE_A_BOOLEAN = (OperatorType.ADDSUB, OperatorType.SWEEP)
 # Strokes tried as the bevel's profile l, in the order of C's votes.
 BEVEL_READINGS = 2
+# Of a prism's readings of the stroke roles, those whose unrefined sketch lies within
+# this factor of the closest one's distance from the strokes are refined: readings
+# farther apart refined to within 0.1 px of each other on held-out level 1 (docs/NOTES.md,
+# stop 26).
+REFINE_WITHIN = 1.5
 
 
 class InterpretError(ValueError):
@@ -507,14 +512,14 @@ def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorTyp
     if not fitted:
         raise first
     fitted.sort(key=lambda f: f[0])
-    if isinstance(fitted[0][3], PrismFit):
-        # a prism's joint refinement costs more than the rest of its fit, and readings
-        # of the roles that lie near each other refine to nearly one prism: only the
-        # closest is refined (docs/NOTES.md, stop 26)
-        _, _, reading, got = fitted[0]
-        op = got.refined()
-        fitted[0] = (mean_distance(ctx.sketch_distances(solid, op)), op, reading, got)
-        fitted.sort(key=lambda f: f[0])
+    # a prism's joint refinement costs more than the rest of its fit, and readings of
+    # the roles far apart before it refine to nearly one prism: only those within
+    # REFINE_WITHIN of the closest are refined (docs/NOTES.md, stop 26)
+    for k, (error, _, reading, got) in enumerate(fitted):
+        if isinstance(got, PrismFit) and error <= REFINE_WITHIN * fitted[0][0]:
+            op = got.refined()
+            fitted[k] = (mean_distance(ctx.sketch_distances(solid, op)), op, reading, got)
+    fitted.sort(key=lambda f: f[0])
     return [(op, index, labels) for _, op, labels, _ in fitted]
 
 
