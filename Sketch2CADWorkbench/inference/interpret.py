@@ -515,8 +515,9 @@ def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorTyp
     # a prism's joint refinement costs more than the rest of its fit, and readings of
     # the roles far apart before it refine to nearly one prism: only those within
     # REFINE_WITHIN of the closest are refined (docs/NOTES.md, stop 26)
+    closest = fitted[0][0]
     for k, (error, _, reading, got) in enumerate(fitted):
-        if isinstance(got, PrismFit) and error <= REFINE_WITHIN * fitted[0][0]:
+        if isinstance(got, PrismFit) and error <= REFINE_WITHIN * closest:
             op = got.refined()
             fitted[k] = (mean_distance(ctx.sketch_distances(solid, op)), op, reading, got)
     fitted.sort(key=lambda f: f[0])

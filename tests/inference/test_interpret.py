@@ -274,10 +274,9 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
     monkeypatch.setattr(interpret_module, "stroke_roles", lambda *a, **k: other)
 
-    def fit(solid, face, camera, strokes, roles, option):
-        if roles == other:
-            strokes, roles = [s + off_px for s in strokes], labels
-        return prism_fit(solid, face, camera, strokes, roles, option)
+    def fit(solid, face, camera, strokes, roles, option):  # the true roles, once moved
+        shift = off_px if roles == other else 0.0
+        return prism_fit(solid, face, camera, [s + shift for s in strokes], labels, option)
 
     refined, refine = [], PrismFit.refined
     monkeypatch.setattr(PrismFit, "refined", lambda fit: refined.append(fit) or refine(fit))
