@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
+from cadquery.occ_impl.shapes import geom_LUT_FACE
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
@@ -259,6 +260,29 @@ def indexed_faces(shape: cq.Shape) -> TopTools_IndexedMapOfShape:
     faces = TopTools_IndexedMapOfShape()
     TopExp.MapShapes_s(shape.wrapped, TopAbs_FACE, faces)
     return faces
+
+
+def face_kinds(shape: cq.Shape) -> list[str]:
+    """Each face's surface kind as cadquery's geomType() names it ("PLANE", "CYLINDER",
+    ...), in the order of shape.Faces(), without wrapping every face as Faces() does."""
+    faces = indexed_faces(shape)
+    return [geom_LUT_FACE[BRepAdaptor_Surface(TopoDS.Face_s(faces.FindKey(i))).GetType()]
+            for i in range(1, faces.Extent() + 1)]
+
+
+def plane_normals(shape: cq.Shape) -> dict[int, np.ndarray]:
+    """The outward unit normal of each planar face (as face.normalAt() gives it: the
+    plane's u x v, reversed with the face), by its index in shape.Faces()."""
+    faces, out = indexed_faces(shape), {}
+    for i in range(faces.Extent()):
+        face = TopoDS.Face_s(faces.FindKey(i + 1))
+        surface = BRepAdaptor_Surface(face)
+        if surface.GetType() != GeomAbs_Plane:
+            continue
+        frame = surface.Plane().Position()
+        n = np.cross(frame.XDirection().Coord(), frame.YDirection().Coord())
+        out[i] = -n if face.Orientation() == TopAbs_REVERSED else n
+    return out
 
 
 def face_at(shape: cq.Shape, index: int) -> cq.Face:

@@ -21,7 +21,15 @@ from typing import Protocol as TypingProtocol
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, ResolvedFace, face_at, model_scale, resolve_face
+from ..brep.faces import (
+    OperationError,
+    ResolvedFace,
+    face_at,
+    face_kinds,
+    model_scale,
+    plane_normals,
+    resolve_face,
+)
 from ..brep.operators import apply_operation
 from ..brep.protocol import (
     AddSubPrism,
@@ -349,8 +357,7 @@ def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
     """Planar faces the user cannot see from the view: turned away from it, or seen
     within FACING_COS of edge-on."""
     d = np.asarray(camera.basis()[2], float)
-    return {i for i, f in enumerate(solid.Faces()) if f.geomType() == "PLANE"
-            and float(np.asarray(f.normalAt().toTuple()) @ d) > -FACING_COS}
+    return {i for i, n in plane_normals(solid).items() if float(n @ d) > -FACING_COS}
 
 
 def stands_behind_the_model(op: Operation, ctx: Context) -> bool:
@@ -370,10 +377,10 @@ def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden
     a face F missed is still tried), faces `hidden` from the view (`hidden_faces`) after
     all others. `curved`: cylinders' and cones' sides count too (`rank_base_faces`)."""
     ranked = rank_base_faces(face_prob, ctx.maps.face_id, solid, curved)[:BASE_FACE_TRIES]
-    faces = solid.Faces()
+    kinds = face_kinds(solid)
     for s in ctx.strokes:
         under = face_under_stroke(s, ctx.maps.face_id)
-        if under is not None and under not in ranked and faces[under].geomType() == "PLANE":
+        if under is not None and under not in ranked and kinds[under] == "PLANE":
             ranked.append(under)
     return sorted(ranked, key=lambda i: i in hidden)
 

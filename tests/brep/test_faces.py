@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Which points lie on a face: as OCCT's classifier tells them, point by point."""
+"""Which points lie on a face (as OCCT's classifier tells them), and faces read without wrapping
+each one: by index, their kinds, planar normals."""
 import cadquery as cq
 import numpy as np
 import pytest
@@ -7,7 +8,13 @@ from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN, TopAbs_ON
 
-from Sketch2CADWorkbench.brep.faces import FaceFrame, face_at, points_on_face
+from Sketch2CADWorkbench.brep.faces import (
+    FaceFrame,
+    face_at,
+    face_kinds,
+    plane_normals,
+    points_on_face,
+)
 
 BOX = cq.Solid.makeBox(40, 30, 20, cq.Vector(-20, -15, -10))
 SOLIDS = {
@@ -61,3 +68,13 @@ def test_face_at_is_the_face_of_faces_at_that_index(name):
         assert got.isSame(face) and got.wrapped.Orientation() == face.wrapped.Orientation()
     with pytest.raises(IndexError):
         face_at(SOLIDS[name], len(faces))
+
+
+@pytest.mark.parametrize("name", SOLIDS)
+def test_face_kinds_and_plane_normals_are_cadquerys_face_by_face(name):
+    faces = SOLIDS[name].Faces()
+    assert face_kinds(SOLIDS[name]) == [f.geomType() for f in faces]
+    normals = plane_normals(SOLIDS[name])
+    assert sorted(normals) == [i for i, f in enumerate(faces) if f.geomType() == "PLANE"]
+    for i, n in normals.items():  # outward, reversed faces included
+        np.testing.assert_allclose(n, faces[i].normalAt().toTuple(), atol=1e-12)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import CURVED_GEOM_TYPES
+from ...brep.faces import CURVED_GEOM_TYPES, face_kinds
 from .common import FitError, resample, sample_map
 
 MIN_PIXELS = 20
@@ -35,10 +35,10 @@ def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape,
     Raises:
         FitError: no face that may be the base face in view.
     """
-    faces = solid.Faces()
+    faces = face_kinds(solid)
     kinds = CURVED_GEOM_TYPES + ("PLANE",) if curved else ("PLANE",)
-    planar = np.array([f.geomType() == "PLANE" for f in faces] + [False])
-    usable = np.array([f.geomType() in kinds for f in faces] + [False])
+    planar = np.array([f == "PLANE" for f in faces] + [False])
+    usable = np.array([f in kinds for f in faces] + [False])
     seen = face_id >= 0
     if not seen.any():
         raise FitError("the model is not in view under the sketch; draw over the model")
