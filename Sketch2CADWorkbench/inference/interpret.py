@@ -506,29 +506,39 @@ def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorTyp
                     continue
                 if roles not in readings:
                     readings.append(roles)
-    fitted, first = [], None
+    fits, first = [], None
     for reading in readings:
         try:
             # regularized after the choice of face and reading (regularize_operation)
-            got = fit(solid, face, cam, strokes, reading, options.option)
+            fits.append((fit(solid, face, cam, strokes, reading, options.option), reading))
         except FitError as e:
             first = first or e
-            continue
-        op = got.operation if isinstance(got, PrismFit) else got
-        fitted.append((mean_distance(ctx.sketch_distances(solid, op)), op, reading, got))
-    if not fitted:
+    if not fits:
         raise first
-    fitted.sort(key=lambda f: f[0])
-    # a prism's joint refinement costs more than the rest of its fit, and readings of
-    # the roles far apart before it refine to nearly one prism: only those within
-    # REFINE_WITHIN of the closest are refined (docs/NOTES.md, stop 26)
-    closest = fitted[0][0]
-    for k, (error, _, reading, got) in enumerate(fitted):
-        if isinstance(got, PrismFit) and error <= REFINE_WITHIN * closest:
-            op = got.refined()
-            fitted[k] = (mean_distance(ctx.sketch_distances(solid, op)), op, reading, got)
-    fitted.sort(key=lambda f: f[0])
-    return [(op, index, labels) for _, op, labels, _ in fitted]
+    return [(op, index, labels) for _, op, labels in _scored_readings(fits, solid, ctx)]
+
+
+def _scored_readings(fits: list[tuple[Operation | PrismFit, list[int]]], solid: cq.Shape,
+                     ctx: Context) -> list[tuple[float, Operation, list[int]]]:
+    """Each (fit, stroke roles) as (reprojection distance, operation, roles), closest
+    first. A prism's joint refinement costs more than the rest of its fit, and readings
+    of the roles far apart before it refine to nearly one prism: of several readings of
+    a prism only those within REFINE_WITHIN of the closest unrefined one are refined
+    (docs/NOTES.md, stop 26), and a lone one is refined without being scored first."""
+    def score(op: Operation) -> float:
+        return mean_distance(ctx.sketch_distances(solid, op))
+
+    before = {id(got): score(got.operation) for got, _ in fits
+              if isinstance(got, PrismFit)} if len(fits) > 1 else {}
+    closest = min(before.values(), default=np.inf)
+    scored = []
+    for got, roles in sorted(fits, key=lambda f: before.get(id(f[0]), np.inf)):
+        op = got
+        if isinstance(got, PrismFit):
+            far = before.get(id(got), closest) > REFINE_WITHIN * closest
+            op = got.operation if far else got.refined()
+        scored.append((score(op), op, roles))
+    return sorted(scored, key=lambda f: f[0])
 
 
 def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,

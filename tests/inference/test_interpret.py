@@ -28,6 +28,7 @@ from Sketch2CADWorkbench.brep.protocol import (
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
 from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     CLASSES,
@@ -285,6 +286,29 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
     assert len(fits) == 2 and len(refined) == refined_count
     assert fits[0][0] in [refine(f) for f in refined]  # the first is a refined one
     assert volume_iou(apply_operation(box, fits[0][0]), apply_operation(box, op)) > 0.97
+
+
+def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.ADDSUB)
+    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    def no_other_reading(*args, **kwargs):
+        raise FitError("no other reading")
+
+    monkeypatch.setattr(interpret_module, "stroke_roles", no_other_reading)
+    scored = []
+    monkeypatch.setattr(interpret_module, "sketch_distances",
+                        lambda *a, **k: scored.append(a[1]) or sketch_distances(*a, **k))
+    ((fitted, _, _),) = interpret_module._fit_by_roles(
+        lambda *a: prism_fit(*a[:4], labels, a[5]), OperatorType.ADDSUB, box, index, curve,
+        ctx, InterpretOptions())
+    assert scored == [fitted]  # the refined prism only
+    assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):
