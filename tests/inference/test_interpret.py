@@ -223,12 +223,17 @@ def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_fou
     assert fitted.d == pytest.approx(9.0, abs=0.5)
 
 
-def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
+def top_extrusion(renderer):
+    """A box, a 9 mm extrusion of its top, and its sketch's context."""
     box = make_box(Box((40, 30, 20)))
     op = Extrude(TOP, 9.0)
     cam = view()
     pts, labels = sketch(box, op, cam)
-    ctx = Oracle(box, op, pts, labels, cam, renderer).context()
+    return box, op, Oracle(box, op, pts, labels, cam, renderer).context()
+
+
+def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
+    box, op, ctx = top_extrusion(renderer)
     calls = []
     monkeypatch.setattr(interpret_module, "sketch_distances",
                         lambda *a, **k: calls.append(a) or sketch_distances(*a, **k))
@@ -242,11 +247,7 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
 
 
 def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, monkeypatch):
-    box = make_box(Box((40, 30, 20)))
-    op = Extrude(TOP, 9.0)
-    cam = view()
-    pts, labels = sketch(box, op, cam)
-    ctx = Oracle(box, op, pts, labels, cam, renderer).context()
+    box, op, ctx = top_extrusion(renderer)
     resolved = []
     monkeypatch.setattr(interpret_module, "resolve_face",
                         lambda *a: resolved.append(a) or resolve_face(*a))
@@ -259,9 +260,9 @@ def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, m
     assert len(resolved) == 2
 
 
-@pytest.mark.parametrize("off_px, refined_count", [(3.0, 1), (0.0, 2)])
-def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
-        renderer, monkeypatch, off_px, refined_count):
+def top_prism(renderer):
+    """A box, a prism added on its top, its sketch's true roles and context, and the
+    top's index and the perfect C map there."""
     box = make_box(Box((40, 30, 20)))
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
     cam = view()
@@ -270,6 +271,13 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
     ctx = oracle.context()
     face_prob, curve = oracle.segment(ctx.inputs, OperatorType.ADDSUB)
     index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    return box, op, labels, ctx, index, curve
+
+
+@pytest.mark.parametrize("off_px, refined_count", [(3.0, 1), (0.0, 2)])
+def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
+        renderer, monkeypatch, off_px, refined_count):
+    box, op, labels, ctx, index, curve = top_prism(renderer)
     # a second reading of the roles, which fits a prism off_px off the strokes: 3 px is
     # beyond REFINE_WITHIN of the first (within a pixel of them), 0 px within it
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
@@ -289,14 +297,8 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
 
 
 def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, monkeypatch):
-    box = make_box(Box((40, 30, 20)))
-    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
-    cam = view()
-    pts, labels = sketch(box, op, cam)
-    oracle = Oracle(box, op, pts, labels, cam, renderer)
-    ctx = oracle.context()
-    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.ADDSUB)
-    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    box, op, labels, ctx, index, curve = top_prism(renderer)
+
     def no_other_reading(*args, **kwargs):
         raise FitError("no other reading")
 
