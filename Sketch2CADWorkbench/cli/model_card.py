@@ -124,7 +124,7 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
             trained += [f"- Head, {head['config']['layers']} attention layers, width "
                         f"{head['config'].get('width')}: {params} "
                         f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
-                        f"of {head.get('train_samples')} samples of `{head.get('data')}` in "
+                        f"of {head.get('train_samples')} samples of {_trained_on(head)} in "
                         f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
                         f"{s['threads']} torch thread(s), on the features of the U-Net with "
                         f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."]
@@ -155,6 +155,14 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
         "```",
         "",
     ]
+
+
+def _trained_on(head: dict) -> str:
+    """The head's training data: each set with its count when it trained on several."""
+    counts = head.get("data_counts") or {}
+    if len(counts) > 1:
+        return "the union of " + ", ".join(f"{n} of `{d}`" for d, n in counts.items())
+    return f"`{head.get('data')}`"
 
 
 def end_to_end(recovery: dict[str, dict]) -> list[str]:
@@ -241,7 +249,6 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--ship-head", action="store_true",
                     help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
                          "U-Net (it must have been trained on that U-Net's features)")
-
 
 
 def _heads(args: argparse.Namespace) -> list[str]:
@@ -408,4 +415,3 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
     print(f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
           "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png")
     return 0
-
