@@ -97,13 +97,17 @@ GUARD_HEADING = "## Regression guard"
 SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
 HEAD_COMMANDS = [
     "sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix",
+    "sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 --noise-level mix",
+    "sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 "
+    "--noise-level 1",
     "sketch2cad datagen --out data/head-test-lN --count 400 --seed 4000N --noise-level N",
-    "sketch2cad train-head --data data/head-train --out runs/head --epochs 20 --width 128 "
-    "--tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
-    "data/head-test-l3 --json runs/head/scores.json",
-    "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 20 "
-    "--width 128 --layers 0 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
-    "data/head-test-l3 --json runs/head-noctx/scores.json",
+    "sketch2cad train-head --data data/head-train data/curved-train --out runs/head --epochs 20 "
+    "--width 128 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
+    "data/head-test-l3 data/curved-50003 --json runs/head/scores.json",
+    "sketch2cad train-head --data data/head-train data/curved-train --out runs/head-noctx "
+    "--epochs 20 --width 128 --layers 0 --tokens runs/head-tokens --weights runs/main "
+    "--eval data/head-test-l1 data/head-test-l3 data/curved-50003 "
+    "--json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
     "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
     "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
