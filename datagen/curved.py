@@ -13,12 +13,15 @@ that change (`change_bound_on_curved`), so the samples are those the Booleans al
 would accept. A sample is then made as any other (datagen/generate.view_sample): an
 informative view, strokes from the operation's curves, the face label on the curved face.
 
-`write_curved_set` writes such a held-out data set in the data set format
-(datagen/dataset.py), one worker: `sketch2cad datagen --curved ...`.
+`write_curved_set` writes such a data set in the data set format (datagen/dataset.py),
+one worker, a noise level or the levels taking turns ("mix"): held-out sets to measure
+operators on curved faces, and the curved part of the head's training data
+(`sketch2cad datagen --curved ...`).
 """
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import cadquery as cq
@@ -43,11 +46,12 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
 )
+from Sketch2CADWorkbench.brep.files import atomic_path
 from Sketch2CADWorkbench.brep.geometry import plane_basis
 from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
-from .dataset import write_shard
+from .dataset import shard_complete, write_shard
 from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
 from .operations import (
     DIAG,
@@ -57,7 +61,7 @@ from .operations import (
     random_polygon,
     straight_profile,
 )
-from .parallel import DatagenSettings, manifest_of
+from .parallel import SHARD_SIZE, DatagenSettings, manifest_of, noise_of_block
 from .sample import Sample
 from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
 
@@ -249,19 +253,50 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
                 return sample
 
 
-def write_curved_set(out: Path, count: int, seed: int, noise_level: int) -> int:
-    """A held-out data set of `count` curved-face samples in one shard (one worker);
-    sample i is a function of (seed, i). Returns the exit code."""
-    out = Path(out)
+def curved_settings(out: Path, count: int, seed: int, noise: str) -> DatagenSettings:
+    """The settings of a curved set: one worker, shards of SHARD_SIZE (one shard of
+    `count` when that is fewer)."""
+    return DatagenSettings(Path(out), count, seed, noise, workers=1,
+                           shard_size=min(count, SHARD_SIZE))
+
+
+def write_curved_set(out: Path, count: int, seed: int, noise: str) -> int:
+    """A data set of `count` curved-face samples (one worker), for held-out measures or
+    for training the head; sample i is a function of (seed, i) and its noise level, with
+    "mix" the levels taking turns per context as in planar sets (`noise_of_block`: a
+    curved sample has a context of its own). Written shard by shard:
+    a rerun keeps the complete shards and makes the rest. Returns the exit code."""
+    settings = curved_settings(out, count, seed, noise)
+    out, size = settings.out, settings.shard_size
     out.mkdir(parents=True, exist_ok=True)
-    settings = DatagenSettings(out, count, seed, str(noise_level), workers=1,
-                               shard_size=count)
-    manifest = manifest_of(settings, [0])
-    manifest["curved"] = True
+    mpath = out / "manifest.json"
+
+    def manifest(complete: list[int]) -> dict:
+        return {**manifest_of(settings, complete), "curved": True}
+
+    if mpath.exists():
+        old, new = json.loads(mpath.read_text()), manifest([])
+        keys = ("version", "count", "seed", "noise", "shard_size", "curved")
+        if {k: old.get(k) for k in keys} != {k: new[k] for k in keys}:
+            print(f"sketch2cad datagen: error: {out} holds a different data set; use "
+                  "another --out", file=sys.stderr)
+            return 2
+    n_shards = len(manifest([])["shards"])
+    complete = [k for k in range(n_shards) if shard_complete(out, k)]
     renderer = MapRenderer()
-    samples = [curved_sample(sample_rng(seed, i), noise_level, renderer)
-               for i in tqdm(range(count), desc="curved samples", unit="sample")]
-    write_shard(out, 0, samples)
-    (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
+    with tqdm(total=count, initial=sum(min(size, count - k * size) for k in complete),
+              desc="curved samples", unit="sample") as bar:
+        for k in range(n_shards):
+            if k in complete:
+                continue
+            samples = []
+            for i in range(k * size, min((k + 1) * size, count)):
+                samples.append(curved_sample(sample_rng(seed, i), noise_of_block(noise, i),
+                                             renderer))
+                bar.update()
+            write_shard(out, k, samples)
+            complete.append(k)
+            with atomic_path(mpath) as tmp:
+                tmp.write_text(json.dumps(manifest(sorted(complete)), indent=1) + "\n")
     print(f"datagen: {count} samples on curved faces in {out}/")
     return 0

@@ -21,6 +21,7 @@ import math
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 import torch
@@ -46,6 +47,7 @@ from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 
 from .evaluate import batch_tokens, score
+
 
 @dataclass
 class HeadSettings:
@@ -150,23 +152,45 @@ def losses(head: StructureHead, items: list[Item]) -> tuple[torch.Tensor, ...]:
             torch.stack(face_terms).mean() if face_terms else zero)
 
 
-def train_head(data: Path, out: Path, settings: HeadSettings, weights: Path | None = None,
-               tokens_cache: Path | None = None, count: int | None = None) -> Path:
-    """Train the head on `data` (its first `count` samples, default all) with the U-Net
-    of `weights` frozen; a rerun with the same `out` resumes after the last finished
-    epoch. Tokens are cached in `tokens_cache` (default out/tokens). Returns
+def training_items(sets: Sequence[Path], model: Sketch2CADNet, cache: Path,
+                   limit: int | None = None, unet: str = "") -> tuple[list[Item], dict]:
+    """The items of every data set in `sets`, in that order (each its first `limit`
+    samples, default all), each set's tokens cached in its own folder cache/<its name>;
+    and how many each gave (path -> count). Raises ValueError for two sets of one name
+    (they would share a cache folder)."""
+    names = [Path(d).name for d in sets]
+    if len(set(names)) < len(names):
+        raise ValueError(f"training sets need distinct folder names (their token caches): "
+                         f"{', '.join(map(str, sets))}")
+    items, counts = [], {}
+    for d in sets:
+        got = extract(d, model, cache / Path(d).name, limit=limit, unet=unet)
+        counts[str(d)] = len(got)
+        items += got
+    return items, counts
+
+
+def train_head(data: Path | Sequence[Path], out: Path, settings: HeadSettings,
+               weights: Path | None = None, tokens_cache: Path | None = None,
+               count: int | None = None) -> Path:
+    """Train the head on the union of the data sets `data` (one folder or several;
+    the first `count` samples of each, default all) with the U-Net of `weights` frozen;
+    a rerun with the same `out` resumes after the last finished epoch. Tokens are cached
+    per set in `tokens_cache` (default out/tokens; `training_items`). Returns
     out/HEAD_NAME."""
+    sets = [Path(data)] if isinstance(data, (str, Path)) else [Path(d) for d in data]
     torch.set_num_threads(settings.threads)
     out.mkdir(parents=True, exist_ok=True)
     unet_path = resolve(weights)
     model, _ = load_model(unet_path)
     unet_sha = sha256_of(unet_path)
-    items = extract(data, model, tokens_cache or out / "tokens", limit=count, unet=unet_sha)
+    items, counts = training_items(sets, model, tokens_cache or out / "tokens", count, unet_sha)
     settings.head.channels = feature_channels(model)
     head, log = fit(items, out / "head-checkpoint.pt", settings)
     final = out / HEAD_NAME
     save_head(final, head.eval(), settings=asdict(settings), log=log, train_samples=len(items),
-              data=str(data), unet=str(unet_path), unet_sha256=unet_sha)
+              data=" + ".join(map(str, sets)), data_counts=counts, unet=str(unet_path),
+              unet_sha256=unet_sha)
     return final
 
 

@@ -8,7 +8,8 @@ resumable (datagen/parallel.py).
 --ray, one Ray task per shard (datagen/cluster.py), on a local cluster of W CPUs or on the
 cluster at ADDRESS. `--regular-share P`: that share of the operations take a designer's
 regular parameters (datagen/regular.py).
-`--curved`: a held-out set whose operations stand on curved faces (datagen/curved.py).
+`--curved`: a set whose operations stand on curved faces (datagen/curved.py): held out,
+or the curved part of the head's training data.
 """
 from __future__ import annotations
 
@@ -53,8 +54,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
     p.add_argument("--curved", action="store_true",
                    help="every sample's operation stands on a cylinder's or cone's side (a "
-                        "held-out set for measuring operators on curved faces; one worker, "
-                        "one shard, noise level 1 to 3)")
+                        "held-out set for measuring operators on curved faces, or training "
+                        "data for the head; one worker, shards of %d)" % SHARD_SIZE)
 
 
 def out_problem(out: Path) -> str | None:
@@ -74,9 +75,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"sketch2cad datagen: error: {problem}", file=sys.stderr)
         return 2
     if args.curved:
-        if args.noise_level == "mix" or args.count <= 0:
-            print("sketch2cad datagen: error: --curved needs --noise-level 1, 2 or 3 and a "
-                  "positive --count", file=sys.stderr)
+        if args.count <= 0:
+            print("sketch2cad datagen: error: --curved needs a positive --count",
+                  file=sys.stderr)
             return 2
         if args.ray is not None or args.hidden_lines != "draw" or args.regular_share:
             print("sketch2cad datagen: error: --curved makes its set in one process with "
@@ -84,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
                   "and --regular-share", file=sys.stderr)
             return 2
         from datagen.curved import write_curved_set
-        return write_curved_set(args.out, args.count, args.seed, int(args.noise_level))
+        return write_curved_set(args.out, args.count, args.seed, args.noise_level)
     return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
                                             args.hidden_lines, args.workers, args.shard_size,
                                             args.preview, args.ray, args.regular_share))

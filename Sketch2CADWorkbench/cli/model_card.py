@@ -97,13 +97,17 @@ GUARD_HEADING = "## Regression guard"
 SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
 HEAD_COMMANDS = [
     "sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix",
+    "sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 --noise-level mix",
+    "sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 "
+    "--noise-level 1",
     "sketch2cad datagen --out data/head-test-lN --count 400 --seed 4000N --noise-level N",
-    "sketch2cad train-head --data data/head-train --out runs/head --epochs 20 --width 128 "
-    "--tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
-    "data/head-test-l3 --json runs/head/scores.json",
-    "sketch2cad train-head --data data/head-train --out runs/head-noctx --epochs 20 "
-    "--width 128 --layers 0 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
-    "data/head-test-l3 --json runs/head-noctx/scores.json",
+    "sketch2cad train-head --data data/head-train data/curved-train --out runs/head --epochs 20 "
+    "--width 128 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
+    "data/head-test-l3 data/curved-50003 --json runs/head/scores.json",
+    "sketch2cad train-head --data data/head-train data/curved-train --out runs/head-noctx "
+    "--epochs 20 --width 128 --layers 0 --tokens runs/head-tokens --weights runs/main "
+    "--eval data/head-test-l1 data/head-test-l3 data/curved-50003 "
+    "--json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
     "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
     "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
@@ -124,7 +128,7 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
             trained += [f"- Head, {head['config']['layers']} attention layers, width "
                         f"{head['config'].get('width')}: {params} "
                         f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
-                        f"of {head.get('train_samples')} samples of `{head.get('data')}` in "
+                        f"of {head.get('train_samples')} samples of {_trained_on(head)} in "
                         f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
                         f"{s['threads']} torch thread(s), on the features of the U-Net with "
                         f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."]
@@ -155,6 +159,14 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
         "```",
         "",
     ]
+
+
+def _trained_on(head: dict) -> str:
+    """The head's training data: each set with its count when it trained on several."""
+    counts = head.get("data_counts") or {}
+    if len(counts) > 1:
+        return "the union of " + ", ".join(f"{n} of `{d}`" for d, n in counts.items())
+    return f"`{head.get('data')}`"
 
 
 def end_to_end(recovery: dict[str, dict]) -> list[str]:
@@ -241,7 +253,6 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--ship-head", action="store_true",
                     help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
                          "U-Net (it must have been trained on that U-Net's features)")
-
 
 
 def _heads(args: argparse.Namespace) -> list[str]:
@@ -408,4 +419,3 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
     print(f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
           "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png")
     return 0
-

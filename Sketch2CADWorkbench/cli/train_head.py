@@ -3,8 +3,9 @@
 U-Net, then score them against the U-Net's own maps on held-out data sets; rerunning with
 the same --out resumes after the last finished epoch (training/heads.py).
 
-`sketch2cad train-head --data DIR --out RUN [--weights W] [--epochs N] [--tokens CACHE]
-[--eval DIR ...] [--json OUT.json]`.
+`sketch2cad train-head --data DIR [DIR ...] --out RUN [--weights W] [--epochs N]
+[--tokens CACHE] [--eval DIR ...] [--json OUT.json]`: several --data sets train on their
+union (e.g. the planar set and a curved one), each set's tokens cached apart.
 """
 from __future__ import annotations
 
@@ -20,13 +21,15 @@ from ..inference.heads import HeadConfig
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     d, h = HeadSettings(), HeadConfig()
-    p.add_argument("--data", type=Path, required=True, help="training data set (datagen)")
+    p.add_argument("--data", type=Path, nargs="+", required=True, metavar="DIR",
+                   help="training data sets (datagen): the head trains on their union")
     p.add_argument("--out", type=Path, required=True,
                    help="run folder: token cache, checkpoint, sketch2cad_head.pt")
     p.add_argument("--tokens", type=Path,
-                   help="token cache folder (default OUT/tokens): runs on the same data and "
-                        "U-Net can share one")
-    p.add_argument("--count", type=int, help="train on the first COUNT samples of --data")
+                   help="token cache folder (default OUT/tokens), one subfolder per data "
+                        "set: runs on the same data and U-Net can share one")
+    p.add_argument("--count", type=int,
+                   help="train on the first COUNT samples of each --data set")
     p.add_argument("--weights", type=Path,
                    help="the U-Net whose features the head reads (default: the shipped one)")
     p.add_argument("--epochs", type=int, default=d.epochs)

@@ -39,6 +39,20 @@ def test_the_heads_section_has_a_row_per_reading_and_the_papers_row():
     assert any(ln.startswith("| paper, Table 1 |") for ln in lines)
 
 
+def test_a_head_trained_on_several_sets_names_each_with_its_count():
+    head = {"config": {"layers": 3, "width": 128}, "model": {},
+            "settings": {"epochs": 20, "threads": 1}, "log": [{"seconds": 60}],
+            "train_samples": 12, "data": "data/a + data/b",
+            "data_counts": {"data/a": 8, "data/b": 4}}
+    scores = {"data/t-l1": {"unet": _summary(0.8, 0.7), "head": _summary(0.9, 0.9)}}
+    lines = heads_section([(scores, head)])
+    assert any("20 epochs of 12 samples of the union of 8 of `data/a`, 4 of `data/b` in"
+               in ln for ln in lines)
+    one = {**head, "train_samples": 8, "data": "data/a", "data_counts": {"data/a": 8}}
+    assert any("20 epochs of 8 samples of `data/a` in" in ln
+               for ln in heads_section([(scores, one)]))
+
+
 def _recovery(strict, flip, n=100):
     per = {op: {"recovery_rate": strict, "recovery_rate_with_flip": flip, "recovery_n": n}
            for op in OPS}

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Training the structured heads: they learn stroke roles and the base face on the frozen
-U-Net's features, resume after an epoch, and are scored beside the U-Net with the paper's
-metrics on the same samples."""
+U-Net's features, resume after an epoch, train on the union of several data sets, and are
+scored beside the U-Net with the paper's metrics on the same samples."""
 import json
 import shutil
 
@@ -97,7 +97,7 @@ def test_the_head_learns_roles_and_faces_and_beats_chance(stroke_data, tmp_path)
 def test_a_rerun_resumes_after_the_last_epoch(stroke_data, tmp_path, capsys):
     out = tmp_path / "run"
     train_head(stroke_data, out, _settings(2), stroke_data / "unet.pt")
-    assert (out / "tokens" / "tokens-00000.pt").exists()
+    assert (out / "tokens" / stroke_data.name / "tokens-00000.pt").exists()
     train_head(stroke_data, out, _settings(3), stroke_data / "unet.pt")
     assert "resuming after epoch 2" in capsys.readouterr().out
     _, ckpt = load_head(out / "head-checkpoint.pt")
@@ -181,3 +181,38 @@ def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(stroke_data, 
     r = json.loads((tmp_path / "m.json").read_text())
     assert r["structured"] == evaluate_head(stroke_data, run / HEAD_NAME, run,
                                             limit=48)["head"]
+
+
+def test_several_data_sets_train_one_head_on_their_union(stroke_data, tmp_path, capsys):
+    other = tmp_path / "curved-toy"  # a second set: the first shard of the first
+    other.mkdir()
+    for name in ("shard-00000.npz", "shard-00000.json"):
+        shutil.copy(stroke_data / name, other / name)
+    manifest = json.loads((stroke_data / "manifest.json").read_text())
+    (other / "manifest.json").write_text(json.dumps(
+        {**manifest, "count": 32, "seed": 7, "shards": ["shard-00000.npz"]}))
+    code = main(["train-head", "--data", str(stroke_data), str(other), "--out",
+                 str(tmp_path / "run"), "--weights", str(stroke_data / "unet.pt"),
+                 "--epochs", "1", "--width", "16", "--layers", "1", "--count", "40"])
+    assert code == 0
+    _, ckpt = load_head(tmp_path / "run" / HEAD_NAME)
+    assert ckpt["train_samples"] == 40 + 32  # the first 40 of one, all 32 of the other
+    assert ckpt["data_counts"] == {str(stroke_data): 40, str(other): 32}
+    for d in (stroke_data, other):  # one token cache per set
+        assert (tmp_path / "run" / "tokens" / d.name / "tokens-00000.pt").exists()
+    # the union's items are each set's, in order
+    from Sketch2CADWorkbench.inference.weights import load_model
+    from training.heads import training_items
+    model, _ = load_model(stroke_data / "unet.pt")
+    items, _ = training_items([stroke_data, other], model, tmp_path / "run" / "tokens", 40)
+    alone = extract(other, model)
+    assert len(items) == 72 and [it.op for it in items[40:]] == [it.op for it in alone[:32]]
+
+
+def test_two_training_sets_of_one_name_are_refused(stroke_data, tmp_path, capsys):
+    twin = tmp_path / "x" / stroke_data.name
+    shutil.copytree(stroke_data, twin)
+    assert main(["train-head", "--data", str(stroke_data), str(twin), "--out",
+                 str(tmp_path / "run"), "--weights", str(stroke_data / "unet.pt"),
+                 "--epochs", "1"]) == 2
+    assert "distinct folder names" in capsys.readouterr().err
