@@ -20,7 +20,6 @@ operators on curved faces, and the curved part of the head's training data
 """
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -46,12 +45,11 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
 )
-from Sketch2CADWorkbench.brep.files import atomic_path
 from Sketch2CADWorkbench.brep.geometry import plane_basis
 from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
-from .dataset import shard_complete, write_shard
+from .dataset import write_shard
 from .generate import IMAGE_SIZE, Context, sample_rng, view_sample
 from .operations import (
     DIAG,
@@ -61,7 +59,13 @@ from .operations import (
     random_polygon,
     straight_profile,
 )
-from .parallel import SHARD_SIZE, DatagenSettings, manifest_of, noise_of_block
+from .parallel import (
+    SHARD_SIZE,
+    DatagenSettings,
+    manifest_of,
+    noise_of_block,
+    open_set_folder,
+)
 from .sample import Sample
 from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operation, sample_sequence
 
@@ -267,26 +271,15 @@ def write_curved_set(out: Path, count: int, seed: int, noise: str) -> int:
     curved sample has a context of its own). Written shard by shard:
     a rerun keeps the complete shards and makes the rest. Returns the exit code."""
     settings = curved_settings(out, count, seed, noise)
-    out, size = settings.out, settings.shard_size
-    out.mkdir(parents=True, exist_ok=True)
-    mpath = out / "manifest.json"
-
-    def manifest(complete: list[int]) -> dict:
-        return {**manifest_of(settings, complete), "curved": True}
-
-    if mpath.exists():
-        old, new = json.loads(mpath.read_text()), manifest([])
-        keys = ("version", "count", "seed", "noise", "shard_size", "curved")
-        if {k: old.get(k) for k in keys} != {k: new[k] for k in keys}:
-            print(f"sketch2cad datagen: error: {out} holds a different data set; use "
-                  "another --out", file=sys.stderr)
-            return 2
-    n_shards = len(manifest([])["shards"])
-    complete = [k for k in range(n_shards) if shard_complete(out, k)]
+    folder = open_set_folder(settings, {"curved": True})
+    if isinstance(folder, str):
+        print(f"sketch2cad datagen: error: {folder}", file=sys.stderr)
+        return 2
+    out, size, complete = settings.out, settings.shard_size, folder.complete
     renderer = MapRenderer()
     with tqdm(total=count, initial=sum(min(size, count - k * size) for k in complete),
               desc="curved samples", unit="sample") as bar:
-        for k in range(n_shards):
+        for k in range(len(manifest_of(settings, [])["shards"])):
             if k in complete:
                 continue
             samples = []
@@ -295,8 +288,6 @@ def write_curved_set(out: Path, count: int, seed: int, noise: str) -> int:
                                              renderer))
                 bar.update()
             write_shard(out, k, samples)
-            complete.append(k)
-            with atomic_path(mpath) as tmp:
-                tmp.write_text(json.dumps(manifest(sorted(complete)), indent=1) + "\n")
+            folder.done(k)
     print(f"datagen: {count} samples on curved faces in {out}/")
     return 0

@@ -212,6 +212,46 @@ def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Ite
             pool.shutdown(wait=True, cancel_futures=True)
 
 
+@dataclass
+class SetFolder:
+    """A data set's folder made shard by shard: the shards complete so far, and the
+    manifest (manifest_of, plus `extra` entries such as a curved set's) rewritten
+    atomically as each shard is added, so that a rerun makes only the rest."""
+
+    settings: DatagenSettings
+    extra: dict
+    complete: list[int]
+
+    def done(self, k: int | None) -> None:
+        """Record shard k as written (None: only write the manifest)."""
+        if k is not None:
+            self.complete.append(k)
+        with atomic_path(self.settings.out / "manifest.json") as tmp:
+            tmp.write_text(json.dumps({**manifest_of(self.settings, self.complete),
+                                       **self.extra}, indent=1) + "\n")
+
+
+def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> SetFolder | str:
+    """The folder settings.out, made if missing, with the shards already complete there;
+    or why it cannot take this data set (it holds another one: a different version,
+    count, seed, noise, shard size, hidden lines, regular share or `extra`)."""
+    out, extra = settings.out, extra or {}
+    out.mkdir(parents=True, exist_ok=True)
+    manifest = {**manifest_of(settings, []), **extra}
+    mpath = out / "manifest.json"
+    if mpath.exists():
+        old = json.loads(mpath.read_text())
+        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines",
+                "regular_share") + tuple(extra)
+        old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
+        old.setdefault("regular_share", 0.0)    # ... and before regular samples
+        if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
+            return (f"{out} holds a different data set ({'/'.join(keys)} "
+                    f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out")
+    complete = [k for k in range(len(manifest["shards"])) if shard_complete(out, k)]
+    return SetFolder(settings, extra, complete)
+
+
 def _error(msg: str) -> int:
     print(f"sketch2cad datagen: error: {msg}", file=sys.stderr)
     return 2
@@ -235,32 +275,13 @@ def generate_dataset(settings: DatagenSettings) -> int:
         except RuntimeError as e:
             return _error(str(e))
     out: Path = settings.out
-    out.mkdir(parents=True, exist_ok=True)
-    manifest = manifest_of(settings, [])
-    mpath = out / "manifest.json"
-    if mpath.exists():
-        old = json.loads(mpath.read_text())
-        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines",
-                "regular_share")
-        old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
-        old.setdefault("regular_share", 0.0)    # ... and before regular samples
-        if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
-            return _error(f"{out} holds a different data set (version/count/seed/noise/shard "
-                          f"size/hidden lines/regular share "
-                          f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out")
-
+    folder = open_set_folder(settings)
+    if isinstance(folder, str):
+        return _error(folder)
     size = settings.shard_size
-    n_shards = len(manifest["shards"])
-    complete = [k for k in range(n_shards) if shard_complete(out, k)]
-    todo = sorted(set(range(n_shards)) - set(complete))
+    complete, done = folder.complete, folder.done
+    todo = sorted(set(range(len(manifest_of(settings, [])["shards"]))) - set(complete))
     counts = {k: min(size, settings.count - k * size) for k in todo}
-
-    def done(k: int | None) -> None:  # the manifest lists each shard once it is written
-        if k is not None:
-            complete.append(k)
-        with atomic_path(mpath) as tmp:
-            tmp.write_text(json.dumps(manifest_of(settings, complete), indent=1) + "\n")
-
     done(None)
     made = sum(counts.values())
     start = time.perf_counter()
