@@ -32,8 +32,10 @@ def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def arc_lengths(points: np.ndarray) -> np.ndarray:
     """The arc length (K,) from a polyline's first point (K, D) to each of its points."""
-    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    return np.concatenate([[0.0], np.cumsum(seg)])
+    d = np.diff(points, axis=0)
+    # np.linalg.norm's own sum of squares, without its overhead: strokes are resampled
+    # a hundred times per interpret step
+    return np.concatenate([[0.0], np.cumsum(np.sqrt((d * d).sum(axis=1)))])
 
 
 def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
@@ -43,18 +45,23 @@ def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
     return _at_lengths(p, arc_lengths(p), count)
 
 
-def resample_every(points: np.ndarray, step: float) -> np.ndarray:
+def resample_every(points: np.ndarray, step: float, lengths: np.ndarray | None = None
+                   ) -> np.ndarray:
     """A polyline (K, D) of at least two points resampled every ~`step` of arc length
-    (its units), both ends included: at least two points."""
+    (its units), both ends included: at least two points. `lengths`: its `arc_lengths`,
+    when the caller has them."""
     p = np.asarray(points, float)
-    s = arc_lengths(p)
+    s = arc_lengths(p) if lengths is None else lengths
     return _at_lengths(p, s, max(int(np.ceil(s[-1] / step)) + 1, 2))
 
 
 def _at_lengths(p: np.ndarray, s: np.ndarray, count: int) -> np.ndarray:
     """`resample_polyline` of p (K, D) given its `arc_lengths` s."""
     t = np.linspace(0.0, s[-1], count)
-    return np.stack([np.interp(t, s, p[:, k]) for k in range(p.shape[1])], axis=1)
+    out = np.empty((count, p.shape[1]))
+    for k in range(p.shape[1]):
+        out[:, k] = np.interp(t, s, p[:, k])
+    return out
 
 
 def crossing_sides(polygon: np.ndarray) -> tuple[int, int] | None:

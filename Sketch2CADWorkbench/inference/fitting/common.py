@@ -23,9 +23,10 @@ def resample(polyline: np.ndarray, step: float = 1.0) -> np.ndarray:
     """Points every `step` pixels along a stroke (its ends included), (K, 2); a stroke of
     one point, or of no length, is that one point."""
     p = np.asarray(polyline, float)
-    if len(p) < 2 or arc_lengths(p)[-1] == 0:
+    if len(p) < 2:
         return p[:1].copy()
-    return resample_every(p, step)
+    s = arc_lengths(p)
+    return p[:1].copy() if s[-1] == 0 else resample_every(p, step, s)
 
 
 def sample_map(img: np.ndarray, pts: np.ndarray) -> np.ndarray:
