@@ -78,7 +78,7 @@ from .fitting.bevel import fit_bevel
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
 from .fitting.primitive import base_centre, other_option_fits
-from .fitting.regularize import Snap, regularize_operation
+from .fitting.regularize import Snap, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import fit_sweep
@@ -733,9 +733,9 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         try:
             op, snaps, built = reading.op, (), reading.result
             if options.regularize:
+                tol = hand_tolerance(options.snap_px, reading.error, ctx.camera, view)
                 reg = regularize_operation(solid, op, face_at(solid, reading.index), view,
-                                           options.snap_step, options.snap_px,
-                                           options.skip_snaps)
+                                           options.snap_step, tol, options.skip_snaps)
                 if reg.snaps:  # the reading moved: build it again
                     op, snaps, built = reg.operation, reg.snaps, None
             other = other_option(solid, op, reading.index, ctx.camera, options)

@@ -13,7 +13,9 @@ class InterpretOptions:
     """Regularization (snap and rectify), a forced Boolean option, a mirror plane.
 
     With `regularize`, values snap to targets within `snap_px` pixels of the view the
-    strokes were drawn in and lengths to multiples of `snap_step` mm (0: no grid);
+    strokes were drawn in (farther when the strokes miss their reading by more:
+    `fitting.regularize.hand_tolerance`) and lengths to multiples of `snap_step` mm
+    (0: no grid);
     `skip_snaps` names snaps the designer undid (keys of
     inference.fitting.regularize.SNAP_KINDS).
     """

@@ -13,7 +13,7 @@ JSON schema, version 1::
                     "symmetry": null | "x" | "y" | "z", # mirror through that mid-plane
                     "regularize": true,                 # snapping and rectification
                     "snap_step": 0.0,                   # optional: the length grid (mm)
-                    "snap_px": 5.0,                     # optional: the snap tolerance
+                    "snap_px": 5.0,                     # optional: the least snap tolerance
                     "skip_snaps": ["position", ...]}}]} # optional: the snaps undone
 
 Each step's strokes are in its camera's pixels (render/camera.py's convention); the

@@ -8,11 +8,13 @@ angles within 20 degrees, equal side lengths within 20% of the mean (`equalize`,
 Snapping (`regularize_operation`) goes past the paper's "key points within 10% of the
 face diameter", which moved a designed off-centre feature on a big face: a fitted value
 snaps only to a target that lies within `snap_px` pixels of it in the view the strokes
-were drawn in, where the hand's error lives. Targets: the base face's corners, edge
-midpoints, centre and centre lines; earlier features' circle centres (concentric with a
-hole or sweep), vertices and straight edges (aligned with a boss); earlier features'
-sizes (edge lengths, radii); and multiples of the user's grid step. Every snap applied is
-returned as a `Snap`, and any of them can be left out (`skip`) to undo it.
+were drawn in, where the hand's error lives, or within HAND_SNAP times as far as the
+strokes miss the reading's own lines, when that is farther (`hand_tolerance`). Targets:
+the base face's corners, edge midpoints, centre and centre lines; earlier features'
+circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
+with a boss); earlier features' sizes (edge lengths, radii); and multiples of the user's
+grid step. Every snap applied is returned as a `Snap`, and any of them can be left out
+(`skip`) to undo it.
 """
 from __future__ import annotations
 
@@ -114,6 +116,10 @@ def align_to_edges(poly: np.ndarray, edge_dirs: np.ndarray) -> np.ndarray:
 # A value snaps to a target within this many pixels of the view the strokes were drawn
 # in (the hand's error): 10 px lost held-out recoveries, 5 did not (docs/NOTES.md).
 SNAP_PX = 5.0
+# The tolerance grows with the hand: a reading whose own sketch lies m pixels from its
+# strokes (its misfit) was drawn by a hand that misses by about that much, so a target
+# within HAND_SNAP * m view pixels is taken as meant (docs/NOTES.md, stop 27).
+HAND_SNAP = 3.0
 # A displacement seen nearly along the view looks short on screen but is not: it counts
 # at least this share of its true length in pixels.
 FORESHORTEN_FLOOR = 0.5
@@ -352,6 +358,20 @@ _REGULARIZE = per_operator({OperatorType.EXTRUDE: _regularize_extrude,
                             OperatorType.BEVEL: _regularize_bevel,
                             OperatorType.ADDSUB: _regularize_prism,
                             OperatorType.SWEEP: _regularize_sweep}, "_REGULARIZE")
+
+
+def hand_tolerance(snap_px: float, misfit_px: float, context: OrthoCamera,
+                   view: OrthoCamera) -> float:
+    """The snapping tolerance (view pixels) for a reading: `snap_px`, or HAND_SNAP times
+    its misfit when larger.
+
+    Args:
+        snap_px: the designer's tolerance, view pixels.
+        misfit_px: the reading's symmetric mean distance to the strokes, in pixels of
+            `context` (the camera it was fitted in, framed on the strokes).
+        view: the camera the strokes were drawn in.
+    """
+    return max(snap_px, HAND_SNAP * misfit_px * context.pixel_size / view.pixel_size)
 
 
 def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: OrthoCamera,

@@ -11,7 +11,12 @@ from Sketch2CADWorkbench.brep.faces import face_ref_of
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, Extrude, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
-from Sketch2CADWorkbench.inference.fitting.regularize import SNAP_PX, regularize_operation
+from Sketch2CADWorkbench.inference.fitting.regularize import (
+    HAND_SNAP,
+    SNAP_PX,
+    hand_tolerance,
+    regularize_operation,
+)
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
@@ -68,6 +73,26 @@ def test_the_tolerance_is_in_pixels_of_the_view(big, view):
     near = OrthoCamera(view.center, view.direction, view.up, view.scale / 8, 800, 600)
     assert regularize_operation(big, op, face, near).snaps == ()
     assert [s.key for s in regularize_operation(big, op, face, view).snaps] == ["position"]
+
+
+def test_a_hand_that_misses_its_lines_by_more_snaps_from_farther(big, view):
+    # 3 mm off the centre, zoomed in 8x: dozens of view pixels, past SNAP_PX
+    face, op = prism(big, (2.4, -1.8), 1.0)
+    near = OrthoCamera(view.center, view.direction, view.up, view.scale / 8, 800, 600)
+    off_px = float(np.linalg.norm(near.image_of(np.array([2.4, -1.8, 0.0]))))
+    assert off_px > SNAP_PX
+    # a precise hand keeps the designer's tolerance, and the feature where it was drawn
+    precise = hand_tolerance(SNAP_PX, 0.5 * SNAP_PX / HAND_SNAP, near, near)
+    assert precise == SNAP_PX
+    assert regularize_operation(big, op, face, near, tol_px=precise).snaps == ()
+    # strokes 2 px (of a context camera with 4x the view's pixels) off the reading's own
+    # lines: the hand misses by about 8 view pixels, so the centre that far was meant
+    context = OrthoCamera(view.center, view.direction, view.up, near.scale * 4 * 256 / 600,
+                          256, 256)
+    sloppy = hand_tolerance(SNAP_PX, 1.1 * off_px / (4 * HAND_SNAP), context, near)
+    assert sloppy == pytest.approx(1.1 * off_px)
+    got = regularize_operation(big, op, face, near, tol_px=sloppy)
+    assert [(s.key, s.target) for s in got.snaps] == [("position", "the face's centre")]
 
 
 def test_a_nearly_concentric_hole_snaps_to_an_earlier_sweeps_axis(big, view):
