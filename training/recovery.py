@@ -15,7 +15,10 @@ recovered when that one click would recover it, and `other_option_share` says ho
 often a step offered it. `strict_ceiling` is the most a strict reading can reach: the
 share of samples that are not a subtraction whose boss draws the same lines so that the
 pipeline's +/- rule, given the operation's own outlines, takes the boss (the paper's
-default in that case).
+default in that case). `strokes_ceiling` is the most a reading chosen by how closely its
+own sketch reprojects onto the strokes can reach on these samples: the share of samples
+not missed by a reading that lies closer to the strokes than the truth does
+(`verify.reprojection_error`), where the hand drew the reading more than the truth.
 """
 from __future__ import annotations
 
@@ -36,6 +39,7 @@ from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
+from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -108,6 +112,13 @@ def a_boss_draws_it(context: cq.Shape, sample) -> bool:
         return False
 
 
+def strokes_favour(context: cq.Shape, reading: Operation, sample) -> bool:
+    """Whether the reading's own sketch lies closer to the sample's strokes than the true
+    operation's (both reprojected in the sample's camera): a miss the strokes favour."""
+    return reprojection_error(context, reading, sample.camera, sample.strokes) < \
+        reprojection_error(context, sample.operation, sample.camera, sample.strokes)
+
+
 def recovery(data, predictor, limit: int, oracle: bool = False,
              options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
@@ -126,6 +137,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
     hits: dict[tuple[str, int], list[bool]] = {}
     flips: dict[str, list[tuple[bool, bool]]] = {}  # (offered, recovered with the flip)
     beyond: dict[str, list[bool]] = {}  # a hole a boss draws: beyond a strict reading
+    favoured: dict[str, list[bool]] = {}  # missed by a reading nearer the strokes than truth
     ious: dict[str, list[float]] = {}
     times, reasons = [], {}
     reader = None if oracle else predictor
@@ -137,7 +149,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                 if bar.n >= limit:
                     break
                 context = replay(s.context)[-1]
-                other, flipped, iou = None, False, 0.0
+                other, flipped, iou, nearer = None, False, 0.0, False
                 try:
                     truth = apply_operation(context, s.operation)
                     got = read_step(s, context, reader, renderer, options)
@@ -150,12 +162,15 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                         flip = dataclasses.replace(options, option=other)
                         flipped = volume_iou(read_step(s, context, reader, renderer, flip).solid,
                                              truth) >= RECOVERY_IOU
+                    if not ok:
+                        nearer = strokes_favour(context, got.operation, s)
                 except (InterpretError, OperationError) as e:
                     ok = False
                     key = str(e).split(":")[0][:60]
                     reasons[key] = reasons.get(key, 0) + 1
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
                 beyond.setdefault(s.op_type.value, []).append(a_boss_draws_it(context, s))
+                favoured.setdefault(s.op_type.value, []).append(nearer)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
                 ious.setdefault(s.op_type.value, []).append(iou)
                 bar.update(1)
@@ -172,7 +187,9 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                             "other_option_share": float(np.mean([o for o, _ in fl]))
                             if fl else None,
                             "strict_ceiling": 1.0 - float(np.mean(beyond[op.value]))
-                            if beyond.get(op.value) else None}
+                            if beyond.get(op.value) else None,
+                            "strokes_ceiling": 1.0 - float(np.mean(favoured[op.value]))
+                            if favoured.get(op.value) else None}
     levels = sorted({lvl for _, lvl in hits})
     return {"per_operator": per_op,
             "per_noise_level": {str(lvl): {o: float(np.mean(v)) for (o, l2), v in hits.items()

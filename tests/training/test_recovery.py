@@ -8,7 +8,8 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
 from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.render.frustum import fit_camera
-from training.recovery import RECOVERY_IOU, a_boss_draws_it, recovery
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+from training.recovery import RECOVERY_IOU, a_boss_draws_it, recovery, strokes_favour
 
 
 @pytest.fixture(scope="module")
@@ -73,3 +74,28 @@ def test_the_strict_ceiling_counts_only_holes_a_boss_on_their_rim_draws(mode, ce
                        8.0, mode)
     box, sample = _drawn(hole, (1.0, 0.6, -1.0))  # the rim boss stands 8 mm towards -x
     assert a_boss_draws_it(box, sample) is expected
+
+
+def _strokes_of(box, op, camera):
+    """The op's own sketch curves, projected: strokes drawn exactly as it."""
+    return [camera.project(c.points)[0] for c in operation_curves(box, op, camera.direction)]
+
+
+def test_a_miss_counts_against_the_strokes_only_when_they_lie_nearer_the_reading():
+    face = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
+    square = tuple((dx, dy, 10.0) for dx, dy in ((-5, -5), (5, -5), (5, 5), (-5, 5)))
+    truth, reading = AddSubPrism(face, square, 8.0, Mode.ADD), AddSubPrism(face, square, 12.0,
+                                                                           Mode.ADD)
+    box, sample = _drawn(truth, (1.0, 0.6, -1.0))
+    sample.strokes = _strokes_of(box, reading, sample.camera)  # the hand drew 12 mm
+    assert strokes_favour(box, reading, sample)
+    sample.strokes = _strokes_of(box, truth, sample.camera)    # the hand drew 8 mm
+    assert not strokes_favour(box, reading, sample)
+
+
+def test_the_strokes_ceiling_bounds_the_strict_rate(generated):
+    for v in recovery(generated, None, 16, oracle=True)["per_operator"].values():
+        if v["recovery_n"]:
+            assert v["recovery_rate"] <= v["strokes_ceiling"] <= 1.0, v
+        else:
+            assert v["strokes_ceiling"] is None
