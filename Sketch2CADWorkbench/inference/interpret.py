@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Protocol as TypingProtocol
 
@@ -424,12 +424,35 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
                     _builds_a_change(solid, reading, ctx):
                 return reading
     readings.sort(key=lambda r: (r.hidden, r.error))
-    for reading in readings:
+    for reading in readings + _with_the_other_boolean(solid, op_type, readings, curve, ctx,
+                                                       options):
         if _builds_a_change(solid, reading, ctx):
             return reading
     if readings:
         raise FitError(readings[0].refused)
     raise first
+
+
+def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: list[Reading],
+                            curve: np.ndarray, ctx: Context, options: InterpretOptions
+                            ) -> list[Reading]:
+    """When no reading of a primitive builds a change, the best one fitted again with the
+    other Boolean on its face (the designer chose none), the closest first: a boss read
+    as the hole its lines also draw (paper Fig. 5b) may cut the model in two, or cut
+    only air, where the boss builds."""
+    if options.option is not None or op_type not in TAKE_A_BOOLEAN or not refused or \
+            refused[0].op.mode not in (Mode.ADD, Mode.SUBTRACT):
+        return []
+    best = refused[0]
+    other = Mode.SUBTRACT if best.op.mode is Mode.ADD else Mode.ADD
+    try:
+        fits = _fit_on_face(solid, op_type, best.index, curve, ctx,
+                            replace(options, option=other))
+    except FitError:
+        return []
+    readings = [Reading(ctx.sketch_distances(solid, op), op, used, labels, best.hidden)
+                for op, used, labels in fits]
+    return sorted(readings, key=lambda r: r.error)
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,

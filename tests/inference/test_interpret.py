@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
+from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
 from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
@@ -529,3 +530,29 @@ def test_a_slot_seen_nearly_along_its_length_with_subtract_chosen_is_the_slot(re
     truth = apply_operation(box, op)
     cut = box.Volume() - truth.Volume()
     assert abs(got.solid.Volume() - truth.Volume()) < 0.05 * cut
+
+
+def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
+        renderer, monkeypatch):
+    # test-l1 (seed 10001) sample 174: a boss read as the hole its lines also draw (paper
+    # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
+    # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
+    # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
+    bar = make_box(Box((60, 8, 4)))
+    top = FaceRef((0.0, 0.0, 2.0), (0.0, 0.0, 1.0))
+    boss = Sweep(top, (0.0, 0.0, 2.0), 6.0, 6.0, 12.0, ((6.0, 4.0), (6.0, 8.0)))
+    d = np.array([1.0, 0.05, -1.2])
+    cam = OrthoCamera((0.0, 0.0, 6.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 40.0, 800, 600)
+    pts, labels = sketch(bar, boss, cam)
+    strokes = [cam.project(p)[0] for p in pts]
+    rule = sweep_fitting.choose_option
+    monkeypatch.setattr(sweep_fitting, "choose_option",
+                        lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a))
+    got = interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
+                    renderer, InterpretOptions(regularize=False))
+    assert got.op_type is OperatorType.SWEEP and got.operations[0].mode is Mode.ADD
+    assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97
+    # the designer's own choice is never overruled: subtract chosen, the split is refused
+    with pytest.raises(InterpretError, match="falls apart"):
+        interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
+                  renderer, InterpretOptions(regularize=False, option=Mode.SUBTRACT))
