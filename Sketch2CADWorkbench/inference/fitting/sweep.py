@@ -131,5 +131,9 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     else:  # no profile drawn: the straight one
         mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
     mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))  # keep c_p off the axis
+    # and between the circles' planes: c_p's heights past d (or below 0), which the
+    # PROFILE_SLACK band lets in, fold its surface of revolution back over the far circle
+    # (OCCT: an invalid solid), while every height within [0, d] keeps c_p between them
+    mid[:, 1] = np.clip(mid[:, 1], 0.0, d)
     return Sweep(face_ref(face, frame), tuple(map(float, c0)), float(r0), float(r1), float(d),
                  tuple(tuple(map(float, p)) for p in mid), mode)
