@@ -37,9 +37,9 @@ from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
-from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
+from Sketch2CADWorkbench.inference.fitting.regularize import hand_tolerance, regularize_operation
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
-from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, reprojection_error
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -87,8 +87,10 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
     if options.regularize:  # as interpret() does after fitting
+        tol = hand_tolerance(options.snap_px, mean_distance(ctx.sketch_distances(context, op)),
+                             ctx.camera, sample.camera)
         op = regularize_operation(context, op, context.Faces()[index], sample.camera,
-                                  options.snap_step, options.snap_px).operation
+                                  options.snap_step, tol).operation
     return StepReading(op, apply_operation(context, op),
                        other_option(context, op, index, ctx.camera, options), None)
 
