@@ -416,16 +416,15 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
         except FitError as e:
             first = first or e
             continue
-        for op, used, labels in fits:
-            reading = Reading(ctx.sketch_distances(solid, op), op, used,
-                              labels, used in hidden or stands_behind_the_model(op, ctx))
+        for fit in fits:
+            reading = _reading(solid, fit, ctx, hidden)
             readings.append(reading)
             if reading.error <= GOOD_FIT_PX and not reading.hidden and \
                     _builds_a_change(solid, reading, ctx):
                 return reading
     readings.sort(key=lambda r: (r.hidden, r.error))
     for reading in readings + _with_the_other_boolean(solid, op_type, readings, curve, ctx,
-                                                       options):
+                                                       options, hidden):
         if _builds_a_change(solid, reading, ctx):
             return reading
     if readings:
@@ -433,9 +432,17 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     raise first
 
 
+def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
+    """A fit scored against the strokes; hidden when its face is (`hidden_faces`) or it
+    stands behind the model."""
+    op, used, labels = fit
+    return Reading(ctx.sketch_distances(solid, op), op, used, labels,
+                   used in hidden or stands_behind_the_model(op, ctx))
+
+
 def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: list[Reading],
-                            curve: np.ndarray, ctx: Context, options: InterpretOptions
-                            ) -> list[Reading]:
+                            curve: np.ndarray, ctx: Context, options: InterpretOptions,
+                            hidden: set[int]) -> list[Reading]:
     """When no reading of a primitive builds a change, the best one fitted again with the
     other Boolean on its face (the designer chose none), the closest first: a boss read
     as the hole its lines also draw (paper Fig. 5b) may cut the model in two, or cut
@@ -450,9 +457,7 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
                             replace(options, option=other))
     except FitError:
         return []
-    readings = [Reading(ctx.sketch_distances(solid, op), op, used, labels, best.hidden)
-                for op, used, labels in fits]
-    return sorted(readings, key=lambda r: r.error)
+    return sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
