@@ -37,7 +37,6 @@ from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
-from Sketch2CADWorkbench.inference.fitting.regularize import hand_tolerance, regularize_operation
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, reprojection_error
 from Sketch2CADWorkbench.inference.interpret import (
@@ -47,6 +46,7 @@ from Sketch2CADWorkbench.inference.interpret import (
     fit_operation,
     interpret,
     other_option,
+    snap_or_keep,
 )
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -86,12 +86,12 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
                                      sample.curve_label, ctx, options)
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
+    result = None
     if options.regularize:  # as interpret() does after fitting
-        tol = hand_tolerance(options.snap_px, mean_distance(ctx.sketch_distances(context, op)),
-                             ctx.camera, sample.camera)
-        op = regularize_operation(context, op, context.Faces()[index], sample.camera,
-                                  options.snap_step, tol).operation
-    return StepReading(op, apply_operation(context, op),
+        op, _, result, _ = snap_or_keep(context, op, context.Faces()[index],
+                                        mean_distance(ctx.sketch_distances(context, op)),
+                                        ctx.camera, sample.camera, options)
+    return StepReading(op, apply_operation(context, op) if result is None else result,
                        other_option(context, op, index, ctx.camera, options), None)
 
 

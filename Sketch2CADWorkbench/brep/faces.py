@@ -40,7 +40,8 @@ CURVED_GEOM_TYPES = (GEOM_TYPES[Surface.CYLINDER], GEOM_TYPES[Surface.CONE])
 
 @dataclass(frozen=True)
 class FaceFrame:
-    """A planar face's plane: origin (on the plane), outward unit normal n, in-plane u, v."""
+    """A planar face's plane, or a curved face's tangent plane at a point: origin (on the
+    plane), outward unit normal n, in-plane u, v."""
 
     origin: np.ndarray
     normal: np.ndarray
@@ -51,6 +52,17 @@ class FaceFrame:
     def of(face: cq.Face) -> "FaceFrame":
         n = np.array(face.normalAt().toTuple())
         return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
+
+    @staticmethod
+    def tangent(face: cq.Face, ref: FaceRef) -> "FaceFrame":
+        """The tangent plane T of a curved f at a step's point p_f (`ref`: p_f and n_f
+        there), in which its prism's polygon or sweep's c0 lies (brep/operators): u runs
+        along the surface's generatrix through p_f, v around the surface."""
+        surface = CurvedSurface.of(face)
+        n = np.asarray(ref.normal, float)
+        u = surface.axis - (surface.axis @ n) * n
+        u /= np.linalg.norm(u)
+        return FaceFrame(np.asarray(ref.point, float), n, u, np.cross(n, u))
 
     def to_2d(self, pts: np.ndarray) -> np.ndarray:
         q = np.atleast_2d(pts) - self.origin

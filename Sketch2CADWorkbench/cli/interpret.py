@@ -101,6 +101,8 @@ def run(args: argparse.Namespace) -> int:
                 print(f"step {i}: {describe(op)}")
             for snap in got.snaps:
                 print(f"         (snapped: {snap.describe()})")
+            if got.unsnapped:
+                print(f"         (not snapped: {got.unsnapped})")
             print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
                   f"{got.timings_ms['total']:.0f} ms)")
             if got.doubtful:

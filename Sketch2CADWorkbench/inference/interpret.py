@@ -204,6 +204,8 @@ class Interpretation:
     fit: SketchFit | None = None
     # The snaps regularization applied, in order (InterpretOptions.skip_snaps undoes one).
     snaps: tuple[Snap, ...] = ()
+    # Why the snaps found were not applied (the snapped shape does not build); "" if none.
+    unsnapped: str = ""
 
     @property
     def misfit_px(self) -> float:
@@ -351,6 +353,37 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
         finally:
             ctx.build_s += time.perf_counter() - start
     return reading.result is not None
+
+
+def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float,
+                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions
+                 ) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
+    """A fitted operation regularized within the hand's tolerance (`hand_tolerance` of
+    its misfit, in pixels of the `context` camera it was fitted in) and built: the
+    operation, its snaps, its result and "". When nothing snaps, or the snapped operation
+    does not build (a snapped sweep OCCT calls invalid): `op` itself, no snaps, None (the
+    caller holds its result) and why not, if it did not build. Snapping never costs a
+    reading that builds."""
+    tol = hand_tolerance(options.snap_px, misfit_px, context, view)
+    reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
+                               options.skip_snaps)
+    if not reg.snaps:
+        return op, (), None, ""
+    try:
+        return reg.operation, reg.snaps, apply_operation(solid, reg.operation), ""
+    except OperationError as e:
+        return op, (), None, f"snapped, it would not build ({e}), so it stays as drawn"
+
+
+def _snapped(solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera,
+             options: InterpretOptions) -> tuple[Operation, tuple[Snap, ...], cq.Solid, str]:
+    """`snap_or_keep` for a reading, its result the reading's own when it is kept (the
+    rebuild goes to ctx.build_s)."""
+    start = time.perf_counter()
+    op, snaps, result, why = snap_or_keep(solid, reading.op, face_at(solid, reading.index),
+                                          reading.error, ctx.camera, view, options)
+    ctx.build_s += time.perf_counter() - start
+    return op, snaps, reading.result if result is None else result, why
 
 
 def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
@@ -759,13 +792,9 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
         _, kind, reading = read.pop(0)
         tb = time.perf_counter()
         try:
-            op, snaps, built = reading.op, (), reading.result
+            op, snaps, built, unsnapped = reading.op, (), reading.result, ""
             if options.regularize:
-                tol = hand_tolerance(options.snap_px, reading.error, ctx.camera, view)
-                reg = regularize_operation(solid, op, face_at(solid, reading.index), view,
-                                           options.snap_step, tol, options.skip_snaps)
-                if reg.snaps:  # the reading moved: build it again
-                    op, snaps, built = reg.operation, reg.snaps, None
+                op, snaps, built, unsnapped = _snapped(solid, reading, ctx, view, options)
             other = other_option(solid, op, reading.index, ctx.camera, options)
             tc = time.perf_counter()
             times["fitting"] += tc - tb
@@ -784,4 +813,4 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
                            "fitting": 1e3 * (times["fitting"] - ctx.build_s),
                            "brep": 1e3 * (ctx.build_s + td - tc), "total": 1e3 * (td - t0)},
                           other,
-                          fit, snaps)
+                          fit, snaps, unsnapped)

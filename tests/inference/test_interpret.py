@@ -30,6 +30,7 @@ from Sketch2CADWorkbench.inference import interpret as interpret_module
 from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
 from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.regularize import Regularized
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     CLASSES,
@@ -426,6 +427,30 @@ def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
     assert "position" not in [s.key for s in undone.snaps]
     assert np.mean(undone.operations[0].polygon, axis=0)[0] == pytest.approx(0.4, abs=0.3)
     assert undone.operations[0].d == pytest.approx(7.0)
+
+
+def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
+        renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = AddSubPrism(TOP, ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0),
+                           (-4.6, 5.0, 10.0)), 7.3, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    strokes = [cam.project(p)[0] for p in pts]
+    snapped = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
+    assert snapped.snaps and not snapped.unsnapped
+
+    def off_the_face(solid, fitted, face, view, step, tol, skip):  # a snap OCCT refuses
+        lifted = tuple((x, y, z + 5.0) for x, y, z in fitted.polygon)
+        return Regularized(replace(fitted, polygon=lifted), snapped.snaps)
+    monkeypatch.setattr(interpret_module, "regularize_operation", off_the_face)
+    got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
+    drawn = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+    assert got.operations == drawn.operations and got.snaps == ()
+    assert volume_iou(got.solid, drawn.solid) == pytest.approx(1.0)
+    assert got.unsnapped.startswith("snapped, it would not build (")
+    assert "off the base face's plane" in got.unsnapped
 
 
 def test_a_bevel_along_a_whole_edge_the_plane_halves_is_not_mirrored_onto_itself():

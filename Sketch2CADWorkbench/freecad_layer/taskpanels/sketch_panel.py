@@ -271,6 +271,8 @@ class SketchPanel:
                                "that was meant.").format(r.other_option.value) + "</p>"
         if r.doubtful:
             other += f"<p style='color:#b60'><b>{tr('Warning:')}</b> {r.doubt()}.</p>"
+        if r.unsnapped:
+            other += f"<p>{tr('Not snapped:')} {r.unsnapped}.</p>"
         done = tr("OK adds it to the model.") if self.feature is None else \
             tr("OK applies it to {}.").format(self.feature.Label)
         first = r.operations[0]

@@ -10,7 +10,8 @@ face diameter", which moved a designed off-centre feature on a big face: a fitte
 snaps only to a target that lies within `snap_px` pixels of it in the view the strokes
 were drawn in, where the hand's error lives, or within HAND_SNAP times as far as the
 strokes miss the reading's own lines, when that is farther (`hand_tolerance`). Targets:
-the base face's corners, edge midpoints, centre and centre lines; earlier features'
+the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
+cone's side: its rims and the middle of its height); earlier features'
 circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
 with a boss); earlier features' sizes (edge lengths, radii); and multiples of the user's
 grid step. Every snap applied is returned as a `Snap`, and any of them can be left out
@@ -23,7 +24,7 @@ from dataclasses import dataclass, replace
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import FaceFrame
+from ...brep.faces import FaceFrame, is_curved
 from ...brep.protocol import AddSubPrism, Bevel, Extrude, Operation, OperatorType, Sweep, per_operator
 from ...brep.snap_targets import FACE_EDGE, SnapTargets, snap_targets
 from ...render.camera import OrthoCamera
@@ -128,6 +129,9 @@ FORESHORTEN_FLOOR = 0.5
 STRAIGHT_TOL = 0.08
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
+# A free direction slides onto the grid only along a grid direction within 60 degrees of
+# it (a planar f's two grid directions always give one within 45).
+GRID_ALONG = 0.5
 
 # What a snap changed, as the Sketch panel names it; also the keys `skip` takes.
 SNAP_KINDS = {
@@ -238,7 +242,7 @@ class _Snapper:
                 if px <= self.tol:
                     found.append((px, off, p, d, name, a))
         found.sort(key=lambda f: f[0])
-        move, names, free = np.zeros(2), [], [targets.axes[0], targets.axes[1]]
+        move, names, free = np.zeros(2), [], list(targets.axes)
         if found:
             _, move, _, d1, name, _ = found[0]
             names, free = [name], [d1]
@@ -254,6 +258,8 @@ class _Snapper:
             moved = False
             for d in free:  # slide along d until an anchor's offset is on the grid
                 g = max(targets.axes, key=lambda g: abs(g @ d))
+                if abs(g @ d) < GRID_ALONG:
+                    continue  # around a curved f, where no grid runs
                 rest = [(self.step * round(t / self.step) - t) / (g @ d) * d
                         for t in ((anchors + move - targets.origin) @ g)]
                 shift = min(rest, key=lambda r: float(np.linalg.norm(r)))
@@ -381,7 +387,8 @@ def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: Or
 
     Args:
         solid: the model the operation applies to (earlier features' axes, edges, sizes).
-        op: the fitted operation; `face` its base face f (planar).
+        op: the fitted operation; `face` its base face f: on a curved f the frame is
+            the tangent plane T at op.face's p_f, where its polygon or c0 lies.
         view: the camera the strokes were drawn in: tolerances are its pixels.
         step: the grid step for lengths, mm (0: no grid).
         tol_px: the snapping tolerance, view pixels.
@@ -389,7 +396,7 @@ def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: Or
     Returns:
         The operation and the snaps applied, in order. Bevels are returned unchanged.
     """
-    frame = FaceFrame.of(face)
+    frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
     s = _Snapper(frame, view, tol_px, step, frozenset(skip))
     op = _REGULARIZE[op.type](op, s, snap_targets(solid, face, frame))
     return Regularized(op, tuple(s.snaps))

@@ -3,11 +3,12 @@
 leaves a designed off-centre feature where it was drawn; every snap can be undone."""
 from dataclasses import replace
 
+import cadquery as cq
 import numpy as np
 import pytest
 from fit_sketches import TOP_Z, face_towards, prism_sketch, sweep_sketch
 
-from Sketch2CADWorkbench.brep.faces import face_ref_of
+from Sketch2CADWorkbench.brep.faces import face_ref_at, face_ref_of
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, Extrude, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
@@ -211,3 +212,67 @@ def test_a_straight_side_drawn_faster_at_one_end_becomes_a_cylinder(box, camera)
     assert np.array(got.profile) == pytest.approx(np.array([(5.0, d / 3), (5.0, 2 * d / 3)]))
     bulging = replace(op, profile=((5.0 + 0.2 * d, d / 3), (5.0 + 0.2 * d, 2 * d / 3)))
     assert regularized(box, bulging, camera).profile == bulging.profile  # a barrel stays
+
+
+# ------------------------------------------------ on a curved face (a pipe's side, #16)
+
+R_PIPE, H_PIPE = 12.0, 70.0  # a pipe on the z axis, from z = 0 up: its side's middle is 35
+
+
+@pytest.fixture
+def pipe():
+    return cq.Solid.makeCylinder(R_PIPE, H_PIPE)
+
+
+@pytest.fixture
+def pipe_view():
+    """The whole pipe in an 800 x 600 view, from the side and a little above."""
+    d = np.array([-1.0, -0.4, -0.3])
+    return OrthoCamera((0.0, 0.0, 35.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 45.0,
+                       800, 600)
+
+
+def boss_on_side(pipe, z, angle=0.0, w=6.0, h=10.0):
+    """A w x h boss standing on the pipe's side at height z, `angle` (rad) around it: its
+    polygon in the tangent plane T at p_f (brep.operators)."""
+    side = next(f for f in pipe.Faces() if f.geomType() == "CYLINDER")
+    radial, around = np.array([np.cos(angle), np.sin(angle), 0]), np.array([-np.sin(angle),
+                                                                          np.cos(angle), 0])
+    ref = face_ref_at(side, R_PIPE * radial + (0, 0, z))
+    p = np.asarray(ref.point)
+    corners = [p + a * w / 2 * around + b * h / 2 * np.array([0, 0, 1.0])
+               for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    return side, AddSubPrism(ref, tuple(map(tuple, corners)), 3.0, Mode.ADD)
+
+
+def test_a_feature_on_a_pipes_side_snaps_to_the_middle_of_its_height_and_still_builds(
+        pipe, pipe_view):
+    side, op = boss_on_side(pipe, 35.6, angle=0.4)  # a few pixels below the middle
+    got = regularize_operation(pipe, op, side, pipe_view)
+    assert [(s.key, s.target) for s in got.snaps] == [
+        ("position", "the middle of the curved face's height")]
+    poly = np.array(got.operation.polygon)
+    assert poly[:, 2].mean() == pytest.approx(35.0, abs=1e-9)
+    # still in the tangent plane at p_f, where the operator takes it, and built
+    n, p = np.asarray(op.face.normal), np.asarray(op.face.point)
+    assert (poly - p) @ n == pytest.approx(np.zeros(4), abs=1e-9)
+    assert apply_operation(pipe, got.operation).isValid()
+
+
+def test_a_feature_on_a_pipes_side_snaps_along_it_to_the_grid_never_around_it(
+        pipe, pipe_view):
+    side, op = boss_on_side(pipe, 20.3, angle=0.4)  # far from the middle and the rims
+    got = regularize_operation(pipe, op, side, pipe_view, step=1.0)
+    assert [s.key for s in got.snaps] == ["position"]
+    moved = np.array(got.operation.polygon) - np.array(op.polygon)
+    # 0.3 mm down the pipe: the grid counts from the side's middle, along its axis
+    assert moved == pytest.approx(np.tile([0.0, 0.0, -0.3], (4, 1)), abs=1e-9)
+    assert apply_operation(pipe, got.operation).isValid()
+
+
+def test_a_radial_hole_near_a_pipes_rim_snaps_its_edge_to_the_rim(pipe, pipe_view):
+    side, op = boss_on_side(pipe, H_PIPE - 5.4, w=4.0)  # its top edge 0.4 mm under the rim
+    hole = replace(op, mode=Mode.SUBTRACT)
+    got = regularize_operation(pipe, hole, side, pipe_view)
+    assert [(s.key, s.target) for s in got.snaps] == [("position", "a face edge")]
+    assert np.array(got.operation.polygon)[:, 2].max() == pytest.approx(H_PIPE, abs=1e-9)
