@@ -21,7 +21,7 @@ from .common import (
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option
 from .refine import refine_prism
-from .surface import back_project, face_frame, face_ref
+from .surface import back_project, face_frame, face_ref, option_frame
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
 # length matches: above the noisiest strokes the generator draws (docs/NOTES.md).
@@ -112,7 +112,7 @@ def prism_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     starts, ends = profile_ends(groups[1], groups[0], groups[2])
     poly_s = _simple_fit(starts, groups[0])
     poly_e = _simple_fit(ends, groups[2])
-    frame = face_frame(face, camera, np.concatenate([poly_s, poly_e]))
+    frame = option_frame(face, camera, starts, ends)  # on a curved f: the corners drawn
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, _outline_samples(poly_s),
                          _outline_samples(poly_e), option)

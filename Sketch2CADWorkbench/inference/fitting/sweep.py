@@ -13,7 +13,7 @@ from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
 from .common import FitError, fit_bezier, resample
 from .primitive import choose_option
-from .surface import back_project, face_frame, face_ref
+from .surface import back_project, face_frame, face_ref, option_frame
 
 # Inner control points of a fitted profile must lie within this share of d beyond the
 # circles' planes, and within this multiple of the larger radius from the axis.
@@ -103,7 +103,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     if not groups[0] or not groups[2]:
         raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
-    frame = face_frame(face, camera, np.concatenate([e_s.points(), e_e.points()]))
+    frame = option_frame(face, camera, e_s.points(), e_e.points())
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), option)
     base, far = (e_s, e_e) if mode is not Mode.SUBTRACT else (e_e, e_s)

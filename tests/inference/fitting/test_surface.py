@@ -68,6 +68,33 @@ def test_view_rays_meet_the_cylinder_where_it_faces_the_viewer(post, view):
     assert np.isnan(miss).all()
 
 
+def test_a_ray_the_hand_drew_just_past_the_cylinders_outline_meets_it_there(post, view):
+    # the post's outline at mid-height, on the right: where its normal is across the view
+    theta = np.arctan2(-view.direction[0], view.direction[1])
+    normal = np.array([np.cos(theta), np.sin(theta), 0.0])
+    edge = R * normal + (0.0, 0.0, 35.0)
+    outward = view.image_of(normal) / np.linalg.norm(view.image_of(normal))
+    pixel = view.project(edge[None])[0][0]
+    near, far = surface_hits(view, np.array([pixel + 2.0 * outward, pixel + 20 * outward]),
+                             side_face(post))
+    assert near == pytest.approx(edge, abs=0.05)  # a hand's 2 px: the outline point
+    assert np.isnan(far).all()  # 20 px beside the post: in the air
+
+
+def test_a_boss_drawn_flush_with_the_posts_top_a_pixel_past_its_rim_is_read(post, view):
+    top = 65.0
+    poly = ((-4.0, -R, top - 8), (4.0, -R, top - 8), (4.0, -R, top), (-4.0, -R, top))
+    truth = AddSubPrism(FaceRef((0.0, -R, top - 4), SIDE.normal, CYL), poly, 5.0, Mode.ADD)
+    strokes, labels = sketch(post, truth, view)
+    up = view.image_of(np.array([0.0, 0.0, 1.0]))
+    drawn = [s + up / np.linalg.norm(up) for s in strokes]  # the hand, a pixel high
+    op = fit_prism(post, side_face(post), view, drawn, labels)
+    assert op.mode is Mode.ADD and op.d == pytest.approx(5.0, abs=0.3)
+    assert np.array(op.polygon)[:, 2].max() == pytest.approx(top, abs=0.8)
+    want = apply_operation(post, truth).Volume() - post.Volume()
+    assert apply_operation(post, op).Volume() - post.Volume() == pytest.approx(want, rel=0.15)
+
+
 @pytest.mark.parametrize("mode, d", [(Mode.ADD, 5.0), (Mode.SUBTRACT, 3.0)])
 def test_a_prism_sketched_on_a_cylinders_side_is_recovered(post, view, mode, d):
     poly = ((-5.0, -R, 30.0), (5.0, -R, 31.0), (4.0, -R, 41.0), (-4.0, -R, 40.0))
