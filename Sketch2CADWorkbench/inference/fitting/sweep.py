@@ -11,6 +11,7 @@ import numpy as np
 from ...brep.faces import FaceFrame, model_scale
 from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
+from ...sketch.curves import silhouette_side
 from .common import FitError, fit_bezier, resample
 from .primitive import choose_option
 from .surface import back_project, face_frame, face_ref, option_frame
@@ -62,24 +63,27 @@ def _offset_along_axis(camera: OrthoCamera, c0: np.ndarray, axis: np.ndarray,
 
 
 def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.ndarray,
-                axis: np.ndarray, frame: FaceFrame) -> np.ndarray | None:
-    """The stroke's points as (r, h) in the plane through the axis and its base point."""
+                axis: np.ndarray) -> np.ndarray | None:
+    """The stroke's points as (r, h) in the plane through the axis that faces the view
+    (where the generator draws c_p, `sketch.curves.sweep_curves`), on the stroke's side
+    of the axis. (The paper's plane through the axis and the stroke's foot lifted onto
+    c0's plane tilts toward the view when the foot lies off that plane: on a curved f,
+    where a profile starts on the surface below T, it read a radial peg's straight side
+    as a bulge.)"""
     pts = resample(stroke)
     if np.linalg.norm(pts[0] - base.center) > np.linalg.norm(pts[-1] - base.center):
         pts = pts[::-1]  # run from the base circle to the far one
-    foot = camera.back_project_to_plane(pts[:1], c0, axis)[0]  # lifted onto c0's plane
-    radial = foot - c0
-    radial -= (radial @ axis) * axis
-    if np.linalg.norm(radial) < 1e-9:
-        return None
-    radial /= np.linalg.norm(radial)
-    normal = np.cross(axis, radial)
+    side = silhouette_side(axis, np.asarray(camera.direction, float))
+    p0 = camera.project(c0[None])[0][0]
+    if (pts.mean(axis=0) - p0) @ camera.image_of(side) < 0:
+        side = -side
+    normal = np.cross(axis, side)
     try:
         q = camera.back_project_to_plane(pts, c0, normal)
     except ValueError:
         return None
     rel = q - c0
-    return np.stack([rel @ radial, rel @ axis], axis=1)
+    return np.stack([rel @ side, rel @ axis], axis=1)
 
 
 def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
@@ -117,7 +121,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     r0, r1 = base.a * camera.pixel_size, far.a * camera.pixel_size
     inner = []
     for s in groups[1]:
-        rh = _profile_rh(camera, s, base, c0, axis, frame)
+        rh = _profile_rh(camera, s, base, c0, axis)
         if rh is not None and len(rh) >= 4:
             ctrl = fit_bezier(rh, np.array([r0, 0.0]), np.array([r1, d]))
             r, h = ctrl[1:3, 0], ctrl[1:3, 1]
