@@ -145,6 +145,24 @@ def back_project(camera: OrthoCamera, face: cq.Face, frame: FaceFrame,
     return hits - np.outer((hits - frame.origin) @ frame.normal, frame.normal)
 
 
+def check_circle_on_surface(face: cq.Face, frame: FaceFrame, centre: np.ndarray,
+                            radius: float) -> None:
+    """On a curved f, refuse a circle of T (a sweep's c0: centre (3,), radius mm) that
+    reaches past the surface's side, where the lines along n_f from it miss f (the
+    generator cannot draw it, nor the operator build it).
+
+    Raises:
+        FitError: the circle is wider than the curved face there.
+    """
+    if not is_curved(face):
+        return
+    t = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+    ring = centre + radius * (np.outer(np.cos(t), frame.u) + np.outer(np.sin(t), frame.v))
+    if np.isnan(CurvedSurface.of(face).crossings(ring, frame.normal, model_scale(face))).any():
+        raise FitError("the base circle reaches past the side of the curved face it stands "
+                       "on")
+
+
 def face_ref(face: cq.Face, frame: FaceFrame) -> FaceRef:
     """f for the protocol: a planar face as `face_ref_of` names it; a curved one by p_f,
     n_f there and its surface's kind."""

@@ -8,13 +8,13 @@ import cadquery as cq
 import cv2
 import numpy as np
 
-from ...brep.faces import FaceFrame, model_scale
+from ...brep.faces import model_scale
 from ...brep.protocol import Mode, Sweep
 from ...render.camera import OrthoCamera
 from ...sketch.curves import silhouette_side
 from .common import FitError, fit_bezier, resample
 from .primitive import choose_option
-from .surface import back_project, face_frame, face_ref, option_frame
+from .surface import back_project, check_circle_on_surface, face_frame, face_ref, option_frame
 
 # Inner control points of a fitted profile must lie within this share of d beyond the
 # circles' planes, and within this multiple of the larger radius from the axis.
@@ -119,6 +119,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         raise FitError("sweep: the far circle does not lie beyond the base circle along "
                        "the face normal")
     r0, r1 = base.a * camera.pixel_size, far.a * camera.pixel_size
+    check_circle_on_surface(face, frame, c0, r0)
     inner = []
     for s in groups[1]:
         rh = _profile_rh(camera, s, base, c0, axis)

@@ -129,6 +129,15 @@ def test_a_radial_peg_sketched_on_a_cylinders_side_is_recovered(post, view):
     assert (op.r0, op.r1, op.d) == pytest.approx((4.0, 4.0, 10.0), abs=0.5)
 
 
+def test_a_peg_drawn_wider_than_the_post_is_refused_saying_why(post, view):
+    truth = Sweep(SIDE, SIDE.point, 4.0, 4.0, 10.0, straight(4, 4, 10))
+    strokes, labels = sketch(post, truth, view)
+    c = view.project(np.array([SIDE.point]))[0][0]
+    wide = [c + 3.3 * (s - c) for s in strokes]  # a base circle of radius ~13 on T: R is 12
+    with pytest.raises(FitError, match="reaches past the side of the curved face"):
+        fit_sweep(post, side_face(post), view, wide, labels, option=Mode.ADD)
+
+
 def test_an_outline_off_the_curved_face_is_refused(post, view):
     poly = ((-5.0, -R, 30.0), (5.0, -R, 30.0), (5.0, -R, 40.0), (-5.0, -R, 40.0))
     strokes, labels = sketch(post, AddSubPrism(SIDE, poly, 6.0), view)
