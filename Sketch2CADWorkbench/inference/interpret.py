@@ -304,6 +304,8 @@ class Reading:
     hidden: bool
     result: cq.Solid | None = None
     refused: str = ""   # why it cannot be the step: its Boolean fails or changes nothing
+    # read with the other Boolean because none with the first built: no flip back to it
+    flip_refused: bool = False
 
     @property
     def error(self) -> float:
@@ -490,7 +492,10 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
                             replace(options, option=other))
     except FitError:
         return []
-    return sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
+    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
+    for reading in readings:
+        reading.flip_refused = True
+    return readings
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
@@ -795,7 +800,8 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
             op, snaps, built, unsnapped = reading.op, (), reading.result, ""
             if options.regularize:
                 op, snaps, built, unsnapped = _snapped(solid, reading, ctx, view, options)
-            other = other_option(solid, op, reading.index, ctx.camera, options)
+            other = None if reading.flip_refused else \
+                other_option(solid, op, reading.index, ctx.camera, options)
             tc = time.perf_counter()
             times["fitting"] += tc - tb
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)

@@ -577,6 +577,7 @@ def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
                     renderer, InterpretOptions(regularize=False))
     assert got.op_type is OperatorType.SWEEP and got.operations[0].mode is Mode.ADD
     assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97
+    assert got.other_option is None  # the hole it was first read as is no choice to offer
     # the designer's own choice is never overruled: subtract chosen, the split is refused
     with pytest.raises(InterpretError, match="falls apart"):
         interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
