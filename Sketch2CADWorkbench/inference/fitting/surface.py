@@ -43,7 +43,7 @@ def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.n
     f from the viewer's side (where f's outward normal faces the viewer), NaN rows where
     a ray misses f by more than the hand's slack, SURFACE_SLACK_PX: a ray that meets the
     surface that close past f's rim takes that point, and one that passes that close
-    outside the surface (a corner drawn just past a cylinder's outline) the surface
+    outside a convex surface (a corner drawn just past a post's outline) the surface
     point nearest its closest approach to the axis."""
     surface = CurvedSurface.of(face)
     origins, forward = camera.ray(np.atleast_2d(pixels))
@@ -63,7 +63,7 @@ def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.n
                 out[i] = p
                 break
     missed = np.flatnonzero(~np.isin(np.arange(len(origins)), k))  # never met the surface
-    if len(missed):
+    if len(missed) and surface.convex:  # (a bore's wall is not seen from outside it)
         near, apart = _grazing(surface, origins[missed], forward)
         ok = (apart <= slack) & points_on_face(face, near, slack)
         out[missed[ok]] = near[ok]
