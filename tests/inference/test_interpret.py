@@ -407,15 +407,19 @@ def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged
         assert far.doubt().startswith("the strokes do not look much like this bevel: ")
 
 
-def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
+def off_centre_boss(renderer):
+    """A square boss drawn 0.4 mm off a box's top face's centre, 7.3 mm tall: the box,
+    the camera, the strokes and a stand-in for the networks."""
     box = make_box(Box((40, 30, 20)))
-    # a square boss drawn 0.4 mm off the top face's centre, 7.3 mm tall
     op = AddSubPrism(TOP, ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0),
                            (-4.6, 5.0, 10.0)), 7.3, Mode.ADD)
     cam = view()
     pts, labels = sketch(box, op, cam)
-    oracle = Oracle(box, op, pts, labels, cam, renderer)
-    strokes = [cam.project(p)[0] for p in pts]
+    return box, cam, [cam.project(p)[0] for p in pts], Oracle(box, op, pts, labels, cam, renderer)
+
+
+def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
+    box, cam, strokes, oracle = off_centre_boss(renderer)
     got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
     keys = [s.key for s in got.snaps]
     assert "position" in keys and "d" in keys, [s.describe() for s in got.snaps]
@@ -431,13 +435,7 @@ def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
 
 def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
         renderer, monkeypatch):
-    box = make_box(Box((40, 30, 20)))
-    op = AddSubPrism(TOP, ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0),
-                           (-4.6, 5.0, 10.0)), 7.3, Mode.ADD)
-    cam = view()
-    pts, labels = sketch(box, op, cam)
-    oracle = Oracle(box, op, pts, labels, cam, renderer)
-    strokes = [cam.project(p)[0] for p in pts]
+    box, cam, strokes, oracle = off_centre_boss(renderer)
     snapped = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
     assert snapped.snaps and not snapped.unsnapped
 
