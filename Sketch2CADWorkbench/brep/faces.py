@@ -14,6 +14,7 @@ from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.GeomAbs import GeomAbs_Line, GeomAbs_Plane
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import (
@@ -33,6 +34,8 @@ from .protocol import FaceRef, OperationError, Surface  # OperationError is impo
 
 # Normals within this angle (cosine) are taken as the same direction.
 NORMAL_COS_TOL = 1.0 - 1e-6
+# A point within this share of the model's size (at least of 1 mm) of a face lies on it.
+ON_FACE_REL = 1e-6
 # OCCT's names of the surfaces a base face may lie on.
 GEOM_TYPES = {Surface.PLANE: "PLANE", Surface.CYLINDER: "CYLINDER", Surface.CONE: "CONE"}
 CURVED_GEOM_TYPES = (GEOM_TYPES[Surface.CYLINDER], GEOM_TYPES[Surface.CONE])
@@ -429,7 +432,7 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
         OperationError: no face of the solid matches the reference.
     """
     scale = model_scale(solid)
-    tol = 1e-6 * max(scale, 1.0)
+    tol = ON_FACE_REL * max(scale, 1.0)
     n_ref = np.asarray(ref.normal, dtype=float)
     p_ref = np.asarray(ref.point, dtype=float)
     if not (np.isfinite(n_ref).all() and np.isfinite(p_ref).all()) \
@@ -522,7 +525,8 @@ def face_ref_of(face: cq.Face) -> FaceRef:
 
 def face_ref_at(face: cq.Face, point) -> FaceRef:
     """A FaceRef for a step standing at `point` on a face of any kind: the point moved
-    onto the face's surface, the outward normal there, and the surface's kind.
+    onto the face's surface (onto the face itself when that lies beyond its edges), the
+    outward normal there, and the surface's kind.
 
     Raises:
         OperationError: the face is neither planar, cylindrical nor conical.
@@ -532,9 +536,16 @@ def face_ref_at(face: cq.Face, point) -> FaceRef:
         raise OperationError(f"a base face must be planar, cylindrical or conical, not "
                              f"{face.geomType().lower()}")
     at = cq.Vector(*map(float, point))
-    n = face.normalAt(at)
     projected = GeomAPI_ProjectPointOnSurf(at.toPnt(), BRep_Tool.Surface_s(face.wrapped))
     p = projected.NearestPoint().Coord() if projected.NbPoints() else at.toTuple()
+    vertex = cq.Vertex.makeVertex(*p)
+    if face.distance(vertex) > ON_FACE_REL * max(model_scale(face), 1.0):
+        # beyond the face's edges on its surface (the mean of an outline around a cone's
+        # narrow end): its nearest point of the face, where the reference resolves
+        extrema = BRepExtrema_DistShapeShape(vertex.wrapped, face.wrapped)
+        p = extrema.PointOnShape2(1).Coord()
+        at = cq.Vector(*p)
+    n = face.normalAt(at)
     return FaceRef(tuple(round(float(c), 9) for c in p),
                    tuple(round(c, 12) for c in n.toTuple()), kinds[face.geomType()])
 

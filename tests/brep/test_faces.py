@@ -12,8 +12,10 @@ from Sketch2CADWorkbench.brep.faces import (
     FaceFrame,
     face_at,
     face_kinds,
+    face_ref_at,
     plane_normals,
     points_on_face,
+    resolve_face,
 )
 
 BOX = cq.Solid.makeBox(40, 30, 20, cq.Vector(-20, -15, -10))
@@ -78,3 +80,14 @@ def test_face_kinds_and_plane_normals_are_cadquerys_face_by_face(name):
     assert sorted(normals) == [i for i, f in enumerate(faces) if f.geomType() == "PLANE"]
     for i, n in normals.items():  # outward, reversed faces included
         np.testing.assert_allclose(n, faces[i].normalAt().toTuple(), atol=1e-12)
+
+
+def test_a_step_placed_past_a_curved_faces_edge_stands_on_the_face_and_resolves():
+    post = cq.Solid.makeCylinder(5.0, 10.0)  # its side from z = 0 to 10
+    side = next(f for f in post.Faces() if f.geomType() == "CYLINDER")
+    ref = face_ref_at(side, (6.0, 0.0, 15.0))  # beyond the top rim, on the surface's line
+    assert ref.point == pytest.approx((5.0, 0.0, 10.0), abs=1e-6)
+    assert ref.normal == pytest.approx((1.0, 0.0, 0.0), abs=1e-6)
+    assert resolve_face(post, ref).face.isSame(side)
+    # a point on the face is only moved onto its surface
+    assert face_ref_at(side, (6.0, 0.0, 4.0)).point == pytest.approx((5.0, 0.0, 4.0))
