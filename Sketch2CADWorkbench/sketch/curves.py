@@ -34,6 +34,7 @@ from ..brep.protocol import (
     Extrude,
     Mode,
     Operation,
+    OperationError,
     OperatorType,
     Sweep,
     per_operator,
@@ -117,7 +118,7 @@ def on_surface(rf: ResolvedFace, points: np.ndarray) -> np.ndarray:
         return points
     t = rf.surface.crossings(points, rf.normal, model_scale(rf.face))
     if np.isnan(t).any():
-        raise ValueError("the outline reaches past the side of the curved face")
+        raise OperationError("the outline reaches past the side of the curved face")
     return points + t[:, None] * rf.normal
 
 

@@ -6,7 +6,17 @@ import pytest
 
 from Sketch2CADWorkbench.brep.faces import base_face_index, resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, FaceRef, Mode, Sweep
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Box,
+    Extrude,
+    FaceRef,
+    Mode,
+    OperationError,
+    Surface,
+    Sweep,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves, outline_corners
 from Sketch2CADWorkbench.sketch.labels import (
@@ -108,3 +118,13 @@ def test_base_face_index_matches_the_face_in_either_orientation_and_refuses_othe
     assert base_face_index(BOX, cq.Face(faces[3].wrapped.Reversed())) == 3
     with pytest.raises(ValueError, match="not a face of the solid"):
         base_face_index(BOX, make_box(Box((40.0, 30.0, 20.0))).Faces()[3])
+
+
+def test_a_circle_wider_than_the_curved_face_it_stands_on_is_refused_as_an_operation():
+    # what a reading's score needs (interpret refuses that operator, saying why) rather
+    # than a bare ValueError that stopped the whole step
+    post = cq.Solid.makeCylinder(5.0, 10.0)
+    side = FaceRef((5.0, 0.0, 5.0), (1.0, 0.0, 0.0), Surface.CYLINDER)
+    peg = Sweep(side, (5.0, 0.0, 5.0), 6.0, 6.0, 4.0, ((6.0, 4 / 3), (6.0, 8 / 3)))
+    with pytest.raises(OperationError, match="reaches past the side of the curved face"):
+        operation_curves(post, peg, np.array([-1.0, 0.2, -0.3]))
