@@ -102,11 +102,20 @@ def face_frame(face: cq.Face, camera: OrthoCamera, outline: np.ndarray) -> FaceF
     """
     if not is_curved(face):
         return FaceFrame.of(face)
-    hits = surface_hits(camera, outline, face)
-    hits = hits[~np.isnan(hits[:, 0])]
-    if len(hits) < max(3, len(outline) // 2):
+    return _frame_under(face, surface_hits(camera, outline, face))
+
+
+def _frame_under(face: cq.Face, hits: np.ndarray) -> FaceFrame:
+    """T at the point of the curved f nearest the mean of an outline's hits (K, 3; NaN
+    rows: its rays that miss f), `face_frame`'s.
+
+    Raises:
+        FitError: fewer than half the outline's rays (or 3) meet f.
+    """
+    met = hits[~np.isnan(hits[:, 0])]
+    if len(met) < max(3, len(hits) // 2):
         raise FitError("the base outline does not lie on the curved face it was drawn on")
-    at = face_ref_at(face, hits.mean(axis=0))  # the surface's point nearest the mean
+    at = face_ref_at(face, met.mean(axis=0))  # the face's point nearest the mean
     n = np.asarray(at.normal, float)
     return FaceFrame(np.asarray(at.point, float), n, *plane_basis(n))
 
@@ -124,8 +133,9 @@ def option_frame(face: cq.Face, camera: OrthoCamera, start: np.ndarray, end: np.
     """
     if not is_curved(face):
         return FaceFrame.of(face)
-    on = [np.mean(~np.isnan(surface_hits(camera, o, face)[:, 0])) for o in (start, end)]
-    return face_frame(face, camera, end if on[1] > on[0] else start)
+    hits = [surface_hits(camera, o, face) for o in (start, end)]
+    on = [np.mean(~np.isnan(h[:, 0])) for h in hits]
+    return _frame_under(face, hits[1] if on[1] > on[0] else hits[0])
 
 
 def back_project(camera: OrthoCamera, face: cq.Face, frame: FaceFrame,
