@@ -433,11 +433,15 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     then the one whose sketch reprojects closest. A reading that changes nothing (a hole
     cut into the air above a lower face) is never the step.
 
+    A face or a reading whose own sketch cannot be drawn for its score (an outline that
+    leaves a curved face: OperationError) is passed over like one that does not fit.
+
     Returns:
         The reading, with its result built (without any mirror image).
     Raises:
         FitError: the strokes do not fit the operator on this model (the reason given
             for the best face), or every fitted reading fails to build or changes nothing.
+        OperationError: no reading could be scored, the first one's reason.
     """
     hidden = hidden_faces(solid, ctx.camera)
     order = candidate_faces(solid, face_prob, ctx, hidden, op_type in ON_CURVED_FACES)
@@ -448,11 +452,15 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     for index in order:
         try:
             fits = _fit_on_face(solid, op_type, index, curve, ctx, options)
-        except FitError as e:
+        except (FitError, OperationError) as e:
             first = first or e
             continue
         for fit in fits:
-            reading = _reading(solid, fit, ctx, hidden)
+            try:
+                reading = _reading(solid, fit, ctx, hidden)
+            except OperationError as e:
+                first = first or e
+                continue
             readings.append(reading)
             if reading.error <= GOOD_FIT_PX and not reading.hidden and \
                     _builds_a_change(solid, reading, ctx):
@@ -490,12 +498,17 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
     try:
         fits = _fit_on_face(solid, op_type, best.index, curve, ctx,
                             replace(options, option=other))
-    except FitError:
+    except (FitError, OperationError):
         return []
-    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
-    for reading in readings:
+    readings = []
+    for fit in fits:
+        try:
+            reading = _reading(solid, fit, ctx, hidden)
+        except OperationError:
+            continue  # its sketch cannot be drawn to score it: not a reading
         reading.flip_refused = True
-    return readings
+        readings.append(reading)
+    return sorted(readings, key=lambda r: r.error)
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
@@ -590,9 +603,22 @@ def _scored_readings(fits: list[tuple[Operation | PrismFit, list[int]]], solid: 
     first. A prism's joint refinement costs more than the rest of its fit, and readings
     of the roles far apart before it refine to nearly one prism: of several readings of
     a prism only those within REFINE_WITHIN of the closest unrefined one are refined
-    (docs/NOTES.md, stop 26), and a lone one is refined without being scored first."""
+    (docs/NOTES.md, stop 26), and a lone one is refined without being scored first.
+
+    A reading whose own sketch cannot be drawn (OperationError: an outline that leaves a
+    curved face) is dropped; the others stand.
+
+    Raises:
+        OperationError: no reading could be scored (the first one's reason).
+    """
+    errors: list[OperationError] = []
+
     def score(op: Operation) -> float:
-        return mean_distance(ctx.sketch_distances(solid, op))
+        try:
+            return mean_distance(ctx.sketch_distances(solid, op))
+        except OperationError as e:
+            errors.append(e)
+            return np.inf
 
     before = {id(got): score(got.operation) for got, _ in fits
               if isinstance(got, PrismFit)} if len(fits) > 1 else {}
@@ -601,9 +627,15 @@ def _scored_readings(fits: list[tuple[Operation | PrismFit, list[int]]], solid: 
     for got, roles in sorted(fits, key=lambda f: before.get(id(f[0]), np.inf)):
         op = got
         if isinstance(got, PrismFit):
+            if before.get(id(got)) == np.inf:
+                continue  # its sketch could not be drawn
             far = before.get(id(got), closest) > REFINE_WITHIN * closest
             op = got.operation if far else got.refined()
-        scored.append((score(op), op, roles))
+        error = score(op)
+        if error < np.inf:
+            scored.append((error, op, roles))
+    if not scored:
+        raise errors[0]
     return sorted(scored, key=lambda f: f[0])
 
 
@@ -632,10 +664,10 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
             face_index = under
         try:
             op = fit_bevel(solid, face_at(solid, face_index), cam, strokes[pick])
-        except FitError as e:
+            error = mean_distance(ctx.sketch_distances(solid, op))
+        except (FitError, OperationError) as e:
             first = first or e
             continue
-        error = mean_distance(ctx.sketch_distances(solid, op))
         if best is None or error < best[0]:
             best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
         if error <= GOOD_FIT_PX:

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import resolve_face
+from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -313,6 +313,64 @@ def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, m
         ctx, InterpretOptions())
     assert scored == [fitted]  # the refined prism only
     assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
+
+
+def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
+        renderer, monkeypatch):
+    box, op, labels, ctx, index, curve = top_prism(renderer)
+    other = [{0: 2, 2: 0}.get(label, label) for label in labels]
+    monkeypatch.setattr(interpret_module, "stroke_roles", lambda *a, **k: other)
+    undrawable = []
+
+    def fit(solid, face, camera, strokes, roles, option):
+        got = prism_fit(solid, face, camera, [s + 3.0 * (roles == other) for s in strokes],
+                        labels, option)
+        if roles == other:
+            undrawable.append(got.operation)
+        return got
+
+    def distances(solid, op, *args, **kwargs):  # the other reading leaves a curved face
+        if any(op is u or op == u for u in undrawable):
+            raise OperationError("the outline leaves the face")
+        return sketch_distances(solid, op, *args, **kwargs)
+
+    monkeypatch.setattr(interpret_module, "sketch_distances", distances)
+    ((fitted, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.ADDSUB, box, index,
+                                                       curve, ctx, InterpretOptions())
+    assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
+
+
+def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
+        renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    ids = ctx.maps.face_id
+    side = ids == int(np.bincount(ids[(ids >= 0) & (top == 0)]).argmax())
+    face_prob = np.where(side, 0.9, 0.45 * top).astype(np.float32)  # the side ranked first
+
+    fit = interpret_module.fit_extrude
+
+    def fit_extrude(solid, face, camera, offset, sides):  # the side fits, as drawn off it
+        if np.allclose(face.normalAt().toTuple(), (0, 0, 1)):
+            return fit(solid, face, camera, offset, sides)
+        return Extrude(FaceRef(face.Center().toTuple(), face.normalAt().toTuple()), 5.0)
+
+    def distances(solid, op, *args, **kwargs):
+        if op.face.normal != pytest.approx((0, 0, 1)):
+            raise OperationError("the outline leaves the face")
+        return sketch_distances(solid, op, *args, **kwargs)
+
+    monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    monkeypatch.setattr(interpret_module, "sketch_distances", distances)
+    got = interpret_module.read_operation(box, OperatorType.EXTRUDE, face_prob, curve, ctx,
+                                          InterpretOptions())
+    assert got.op.face.normal == pytest.approx((0, 0, 1))
+    assert got.op.d == pytest.approx(9.0, abs=0.5)
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):
