@@ -81,7 +81,7 @@ from .fitting.primitive import base_centre, other_option_fits
 from .fitting.regularize import Snap, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
-from .fitting.sweep import fit_sweep
+from .fitting.sweep import SweepFit, sweep_fit
 from .fitting.verify import DrawnStrokes, mean_distance, sketch_distances
 from .options import InterpretOptions
 
@@ -552,10 +552,10 @@ def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Cont
 def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
                        options: InterpretOptions) -> list[Fit]:
     """The sweep on face `index` (`_fit_by_roles`)."""
-    return _fit_by_roles(fit_sweep, OperatorType.SWEEP, solid, index, curve, ctx, options)
+    return _fit_by_roles(sweep_fit, OperatorType.SWEEP, solid, index, curve, ctx, options)
 
 
-def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorType,
+def _fit_by_roles(fit: Callable[..., PrismFit | SweepFit], op_type: OperatorType,
                   solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
                   options: InterpretOptions) -> list[Fit]:
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
@@ -597,13 +597,15 @@ def _fit_by_roles(fit: Callable[..., Operation | PrismFit], op_type: OperatorTyp
     return [(op, index, labels) for _, op, labels in _scored_readings(fits, solid, ctx)]
 
 
-def _scored_readings(fits: list[tuple[Operation | PrismFit, list[int]]], solid: cq.Shape,
+def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: cq.Shape,
                      ctx: Context) -> list[tuple[float, Operation, list[int]]]:
     """Each (fit, stroke roles) as (reprojection distance, operation, roles), closest
-    first. A prism's joint refinement costs more than the rest of its fit, and readings
-    of the roles far apart before it refine to nearly one prism: of several readings of
-    a prism only those within REFINE_WITHIN of the closest unrefined one are refined
-    (docs/NOTES.md, stop 26), and a lone one is refined without being scored first.
+    first. A primitive's joint refinement costs more than the rest of its fit, and
+    readings of the roles far apart before it refine to nearly one primitive: of several
+    readings only those within REFINE_WITHIN of the closest unrefined one are refined
+    (docs/NOTES.md, stop 26), and a lone prism is refined without being scored first. A
+    refined sweep is kept only where its sketch lies closer to the strokes than the
+    fitted one's (the refinement's robust loss is not the score; docs/NOTES.md, stop 29).
 
     A reading whose own sketch cannot be drawn (OperationError: an outline that leaves a
     curved face) is dropped; the others stand.
@@ -621,17 +623,17 @@ def _scored_readings(fits: list[tuple[Operation | PrismFit, list[int]]], solid: 
             return np.inf
 
     before = {id(got): score(got.operation) for got, _ in fits
-              if isinstance(got, PrismFit)} if len(fits) > 1 else {}
+              if len(fits) > 1 or isinstance(got, SweepFit)}
     closest = min(before.values(), default=np.inf)
     scored = []
     for got, roles in sorted(fits, key=lambda f: before.get(id(f[0]), np.inf)):
-        op = got
-        if isinstance(got, PrismFit):
-            if before.get(id(got)) == np.inf:
-                continue  # its sketch could not be drawn
-            far = before.get(id(got), closest) > REFINE_WITHIN * closest
-            op = got.operation if far else got.refined()
+        if before.get(id(got)) == np.inf:
+            continue  # its sketch could not be drawn
+        far = before.get(id(got), closest) > REFINE_WITHIN * closest
+        op = got.operation if far else got.refined()
         error = score(op)
+        if isinstance(got, SweepFit) and before[id(got)] < error:
+            op, error = got.operation, before[id(got)]
         if error < np.inf:
             scored.append((error, op, roles))
     if not scored:

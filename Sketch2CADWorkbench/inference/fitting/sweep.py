@@ -8,12 +8,13 @@ import cadquery as cq
 import cv2
 import numpy as np
 
-from ...brep.faces import model_scale
-from ...brep.protocol import Mode, Sweep
+from ...brep.faces import is_curved, model_scale
+from ...brep.protocol import FaceRef, Mode, Sweep
 from ...render.camera import OrthoCamera
 from ...sketch.curves import silhouette_side
 from .common import FitError, fit_bezier, resample
 from .primitive import choose_option
+from .refine import SweepImage, refine_sweep
 from .surface import back_project, check_circle_on_surface, face_frame, face_ref, option_frame
 
 # Inner control points of a fitted profile must lie within this share of d beyond the
@@ -86,9 +87,56 @@ def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.n
     return np.stack([rel @ side, rel @ axis], axis=1)
 
 
+def _sweep(face: FaceRef, c0: np.ndarray, r0: float, r1: float, d: float, mid: np.ndarray,
+           mode: Mode) -> Sweep:
+    """The Sweep of these parameters, its profile's inner control points `mid` (2, 2)
+    kept off the axis and between the circles' planes: heights past d (or below 0) fold
+    its surface of revolution back over the far circle (OCCT: an invalid solid), while
+    every height within [0, d] keeps c_p between them."""
+    mid = np.array(mid, float)
+    mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))
+    mid[:, 1] = np.clip(mid[:, 1], 0.0, d)
+    return Sweep(face, tuple(map(float, c0)), float(r0), float(r1), float(d),
+                 tuple(tuple(map(float, p)) for p in mid), mode)
+
+
+@dataclass(frozen=True, eq=False)
+class SweepFit:
+    """A sweep read from its strokes, before the joint refinement of its centre, radii,
+    offset and profile against all of them (`refine.py`): as for a prism, a caller that
+    weighs several readings of the strokes refines only those it may keep."""
+
+    operation: Sweep            # as fitted, unrefined
+    image: SweepImage           # how its curves move in the image with its parameters
+    side: np.ndarray            # (3,) the unit vectors of the image's `side` and `other`
+    other: np.ndarray
+    strokes: list[np.ndarray]   # every stroke of the sweep (circles and profiles)
+    curved: bool                # f is curved: the base circle follows the surface
+
+    def refined(self) -> Sweep:
+        """The operation with its centre (in f's plane), radii, offset and profile refined
+        together against all the strokes; as fitted on a curved f (the refinement draws
+        the base circle flat)."""
+        op = self.operation
+        if self.curved:
+            return op
+        x = refine_sweep(self.image, np.array([0.0, 0.0, op.r0, op.r1, op.d,
+                                               *np.ravel(op.profile)]), self.strokes)
+        c0 = np.asarray(op.center, float) + x[0] * self.side + x[1] * self.other
+        return _sweep(op.face, c0, x[2], x[3], x[4], x[5:].reshape(2, 2), op.mode)
+
+
 def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
               labels: list[int], option: Mode | None = None) -> Sweep:
-    """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1).
+    """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1):
+    `sweep_fit`, refined (`SweepFit.refined`). Same arguments and errors."""
+    return sweep_fit(solid, face, camera, strokes, labels, option).refined()
+
+
+def sweep_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
+              labels: list[int], option: Mode | None = None) -> SweepFit:
+    """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1), up
+    to the joint refinement.
 
     Args:
         solid, face, camera: the context solid, base face f and context camera.
@@ -101,7 +149,7 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     On a curved f, c0's centre is where the base ellipse's centre meets the surface,
     carried onto the tangent plane there (`surface.py`), and d is measured from it.
     Returns:
-        The Sweep operation.
+        The fit, its Sweep operation unrefined.
     """
     groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
     if not groups[0] or not groups[2]:
@@ -135,10 +183,9 @@ def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
         mid = np.mean(inner, axis=0)
     else:  # no profile drawn: the straight one
         mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
-    mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))  # keep c_p off the axis
-    # and between the circles' planes: c_p's heights past d (or below 0), which the
-    # PROFILE_SLACK band lets in, fold its surface of revolution back over the far circle
-    # (OCCT: an invalid solid), while every height within [0, d] keeps c_p between them
-    mid[:, 1] = np.clip(mid[:, 1], 0.0, d)
-    return Sweep(face_ref(face, frame), tuple(map(float, c0)), float(r0), float(r1), float(d),
-                 tuple(tuple(map(float, p)) for p in mid), mode)
+    op = _sweep(face_ref(face, frame), c0, r0, r1, d, mid, mode)
+    side = silhouette_side(axis, np.asarray(camera.direction, float))
+    other = np.cross(axis, side)
+    image = SweepImage(camera.project(c0[None])[0][0], camera.image_of(side),
+                       camera.image_of(other), camera.image_of(axis))
+    return SweepFit(op, image, side, other, groups[0] + groups[1] + groups[2], is_curved(face))
