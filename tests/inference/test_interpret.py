@@ -31,6 +31,7 @@ from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
 from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.regularize import Regularized
+from Sketch2CADWorkbench.inference.fitting.sweep import SweepFit, sweep_fit
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     CLASSES,
@@ -371,6 +372,33 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
                                           InterpretOptions())
     assert got.op.face.normal == pytest.approx((0, 0, 1))
     assert got.op.d == pytest.approx(9.0, abs=0.5)
+
+
+def test_a_refined_sweep_is_kept_only_where_its_sketch_lies_closer_to_the_strokes(
+        renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    op = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
+    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    fitted = []
+
+    def fit(*args):
+        got = sweep_fit(*args)
+        fitted.append(got.operation)
+        return got
+
+    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=12.0))
+    ((kept, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index,
+                                                     curve, ctx, InterpretOptions())
+    assert kept in fitted  # the refinement drew it farther off: the fit as it was
+    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=9.0))
+    ((kept, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index,
+                                                     curve, ctx, InterpretOptions())
+    assert kept.d == 9.0
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):

@@ -122,6 +122,16 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
             jac[rows, -1] = (wa * sa[seg][:, None] + wb * sb[seg][:, None]) @ step
         return res, jac
 
+    x0 = np.concatenate([np.asarray(base, float).ravel(), [d]])
+    scale = np.concatenate([np.ones(2 * n), [1.0 / max(float(np.linalg.norm(step)), 1e-9)]])
+    x = _robust_least_squares(evaluate, x0, x_scale=scale)
+    return x[:-1].reshape(n, 2), float(x[-1])
+
+
+def _robust_least_squares(evaluate, x0: np.ndarray, **options) -> np.ndarray:
+    """scipy's least squares with the soft L1 loss from x0, `evaluate(x)` giving the
+    residuals and their Jacobian together (computed once for each x); `options` go to
+    scipy (bounds, x_scale)."""
     cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
 
     def cached(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -131,12 +141,9 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
             cache[key] = evaluate(x)
         return cache[key]
 
-    x0 = np.concatenate([np.asarray(base, float).ravel(), [d]])
-    scale = np.concatenate([np.ones(2 * n), [1.0 / max(float(np.linalg.norm(step)), 1e-9)]])
-    sol = least_squares(lambda x: cached(x)[0], x0, jac=lambda x: cached(x)[1],
-                        loss="soft_l1", f_scale=ROBUST_PX, x_scale=scale,
-                        max_nfev=MAX_EVALUATIONS, ftol=1e-4, xtol=1e-4)
-    return sol.x[:-1].reshape(n, 2), float(sol.x[-1])
+    return least_squares(lambda x: cached(x)[0], x0, jac=lambda x: cached(x)[1],
+                         loss="soft_l1", f_scale=ROBUST_PX, max_nfev=MAX_EVALUATIONS,
+                         ftol=1e-4, xtol=1e-4, **options).x
 
 
 CIRCLE_SAMPLES = 96     # points per circle of a sweep for the distances both ways
@@ -175,12 +182,11 @@ class SweepImage:
         s = np.linspace(0.0, 1.0, PROFILE_SAMPLES)
         bern = np.stack([(1 - s) ** 3, 3 * s * (1 - s) ** 2, 3 * s ** 2 * (1 - s), s ** 3], 1)
         lines = []
+        at = [np.broadcast_to(v, (len(s), 2)) for v in (self.side, self.other)]
         for sign in (1.0, -1.0):
             r = sign * bern[:, :, None] * self.side        # (S, 4, 2): r's Bernstein terms
             h = bern[:, :, None] * self.axis
-            cols = [np.broadcast_to(self.side, (len(s), 2)), np.broadcast_to(self.other,
-                                                                                (len(s), 2)),
-                    r[:, 0], r[:, 3], h[:, 3], r[:, 1], h[:, 1], r[:, 2], h[:, 2]]
+            cols = at + [r[:, 0], r[:, 3], h[:, 3], r[:, 1], h[:, 1], r[:, 2], h[:, 2]]
             lines.append(np.stack(cols, axis=2))
         return np.concatenate([base, far] + lines)
 
@@ -213,21 +219,9 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray]) ->
                               weight * np.einsum("kc,kcp->kp", u2, jac_k)])
         return res, jac
 
-    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
-
-    def cached(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        key = p.tobytes()
-        if key not in cache:
-            cache.clear()
-            cache[key] = evaluate(p)
-        return cache[key]
-
     x0 = np.asarray(x, float)
     size = max(float(x0[2]), float(x0[3]))
     low = np.array([-np.inf, -np.inf, 1e-3 * size, 1e-3 * size, 1e-3 * x0[4], 0.0, -np.inf,
                     0.0, -np.inf])
-    x0 = np.maximum(x0, low + 1e-9 * size)
-    sol = least_squares(lambda p: cached(p)[0], x0, jac=lambda p: cached(p)[1],
-                        bounds=(low, np.inf), loss="soft_l1", f_scale=ROBUST_PX,
-                        max_nfev=MAX_EVALUATIONS, ftol=1e-4, xtol=1e-4)
-    return sol.x
+    return _robust_least_squares(evaluate, np.maximum(x0, low + 1e-9 * size),
+                                 bounds=(low, np.inf))

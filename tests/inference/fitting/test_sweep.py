@@ -51,6 +51,19 @@ def test_a_profile_read_a_little_past_the_far_circle_stays_between_the_circles(
     apply_operation(box, op)  # one valid solid (raises otherwise)
 
 
+def test_a_tail_the_hand_leaves_on_a_circle_does_not_pull_the_sweep_off(box, camera):
+    strokes, labels = sweep_sketch(camera, (4, -2, TOP_Z), 6.0, 3.0, 10.0, +1)
+    # the far circle drawn on past its start: a 4 mm tail leaving it tangentially, which
+    # pulls a free ellipse fitted to that stroke alone (r1 2.85, d 10.22)
+    t = np.linspace(0, 2 * np.pi, 72)
+    ring = np.stack([4 + 3 * np.cos(t), -2 + 3 * np.sin(t), np.full_like(t, TOP_Z + 10)], 1)
+    tail = ring[-1] + np.linspace(0, 4.0, 20)[1:, None] * np.array([0.0, 1.0, 0.0])
+    strokes[labels.index(2)] = camera.project(np.vstack([ring, tail]))[0]
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+    assert op.center == pytest.approx((4, -2, TOP_Z), abs=0.05)
+    assert (op.r0, op.r1, op.d) == pytest.approx((6.0, 3.0, 10.0), abs=0.06)
+
+
 def test_deep_hole_is_read_as_a_subtraction(box, camera):
     strokes, labels = sweep_sketch(camera, (0, 0, TOP_Z), 4.0, 4.0, 16.0, -1)
     op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
