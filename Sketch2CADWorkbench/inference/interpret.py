@@ -604,8 +604,9 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
     readings of the roles far apart before it refine to nearly one primitive: of several
     readings only those within REFINE_WITHIN of the closest unrefined one are refined
     (docs/NOTES.md, stop 26), and a lone prism is refined without being scored first. A
-    refined sweep is kept only where its sketch lies closer to the strokes than the
-    fitted one's (the refinement's robust loss is not the score; docs/NOTES.md, stop 29).
+    refined sweep is a reading beside the fitted one, each scored: the refinement's
+    robust loss is not the score, and OCCT refuses some refined profiles (docs/NOTES.md,
+    stop 29).
 
     A reading whose own sketch cannot be drawn (OperationError: an outline that leaves a
     curved face) is dropped; the others stand.
@@ -632,8 +633,10 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
         far = before.get(id(got), closest) > REFINE_WITHIN * closest
         op = got.operation if far else got.refined()
         error = score(op)
-        if isinstance(got, SweepFit) and before[id(got)] < error:
-            op, error = got.operation, before[id(got)]
+        if isinstance(got, SweepFit) and op is not got.operation:
+            # the fitted sweep stays a reading: the closer one first, and the other one
+            # built if that one is not a valid solid (OCCT refuses some refined profiles)
+            scored.append((before[id(got)], got.operation, roles))
         if error < np.inf:
             scored.append((error, op, roles))
     if not scored:

@@ -374,8 +374,8 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
     assert got.op.d == pytest.approx(9.0, abs=0.5)
 
 
-def test_a_refined_sweep_is_kept_only_where_its_sketch_lies_closer_to_the_strokes(
-        renderer, monkeypatch):
+def sweep_on_top(renderer):
+    """A box, a sweep on its top, and its sketch's context, the top's index and C map."""
     box = make_box(Box((40, 30, 20)))
     op = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
     cam = view()
@@ -384,6 +384,13 @@ def test_a_refined_sweep_is_kept_only_where_its_sketch_lies_closer_to_the_stroke
     ctx = oracle.context()
     face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
     index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    return box, ctx, index, face_prob, curve
+
+
+@pytest.mark.parametrize("refined_d, refined_first", [(12.0, False), (9.0, True)])
+def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
+        renderer, monkeypatch, refined_d, refined_first):
+    box, ctx, index, _, curve = sweep_on_top(renderer)
     fitted = []
 
     def fit(*args):
@@ -391,14 +398,28 @@ def test_a_refined_sweep_is_kept_only_where_its_sketch_lies_closer_to_the_stroke
         fitted.append(got.operation)
         return got
 
-    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=12.0))
-    ((kept, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index,
-                                                     curve, ctx, InterpretOptions())
-    assert kept in fitted  # the refinement drew it farther off: the fit as it was
+    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=refined_d))
+    fits = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index, curve, ctx,
+                                          InterpretOptions())
+    assert [op in fitted for op, _, _ in fits] == [not refined_first, refined_first]
+    assert {op.d for op, _, _ in fits} == {refined_d, fitted[0].d}
+
+
+def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, monkeypatch):
+    box, ctx, _, face_prob, curve = sweep_on_top(renderer)
     monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=9.0))
-    ((kept, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index,
-                                                     curve, ctx, InterpretOptions())
-    assert kept.d == 9.0
+    build = interpret_module.apply_operation
+
+    def apply_operation(solid, op, face=None):  # OCCT refuses the refined profile
+        if op.d == 9.0:
+            raise OperationError("add sweep: OCCT reports the result as an invalid solid")
+        return build(solid, op, face)
+
+    monkeypatch.setattr(interpret_module, "apply_operation", apply_operation)
+    got = interpret_module.read_operation(box, OperatorType.SWEEP, face_prob, curve, ctx,
+                                          InterpretOptions())
+    assert got.op.d != 9.0 and got.op.d == pytest.approx(9.0, abs=0.5)
+    assert got.result is not None
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):
