@@ -44,6 +44,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Operation,
     OperatorType,
     Sweep,
+    straight_profile,
 )
 from Sketch2CADWorkbench.brep.geometry import plane_basis
 from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
@@ -57,7 +58,6 @@ from .operations import (
     PRISM_D,
     SWEEP_D,
     random_polygon,
-    straight_profile,
 )
 from .parallel import (
     SHARD_SIZE,

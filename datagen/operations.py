@@ -29,6 +29,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
     per_operator,
+    straight_profile,
 )
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
@@ -166,12 +167,6 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
     return Sweep(f.ref, tuple(map(float, c)), float(r0), float(r1), float(d),
                  tuple((float(a), float(b)) for a, b in inner), mode)
-
-
-def straight_profile(r0: float, r1: float, d: float) -> tuple[tuple[float, float], ...]:
-    """A sweep's inner control points for a straight profile (a cylinder or a cone)."""
-    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
-            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
 
 
 # ----------------------------------------------------------------- bevel

@@ -38,6 +38,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     OperatorType,
     Sweep,
     per_operator,
+    straight_profile,
 )
 from Sketch2CADWorkbench.brep.snap_targets import (
     CENTRE_LINE,
@@ -56,7 +57,6 @@ from .operations import (
     SWEEP_RADIUS,
     PlanarFace,
     face_size,
-    straight_profile,
 )
 
 GRID = 1.0          # mm: the step regular lengths and offsets are multiples of; the

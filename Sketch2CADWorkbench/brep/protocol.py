@@ -479,6 +479,13 @@ class Sweep(_CombinedOperation):
                      retuned_profile(self.profile, (self.r0, self.r1, self.d), new), self.mode)
 
 
+def straight_profile(r0: float, r1: float, d: float) -> tuple[Vec2, Vec2]:
+    """A sweep's inner (r, h) control points for a straight profile from (r0, 0) to
+    (r1, d): the line's thirds (a cone, or a cylinder)."""
+    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
+            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
+
+
 def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[Vec2, Vec2]:
     """A sweep's inner (r, h) control points after its (r0, r1, d) change from `old` to
     `new`.

@@ -18,7 +18,7 @@ from datagen.curved import (
     sample_on_curved,
 )
 from datagen.generate import sample_rng
-from datagen.operations import straight_profile
+from Sketch2CADWorkbench.brep.protocol import straight_profile
 from Sketch2CADWorkbench.brep.faces import OperationError, is_curved, model_scale
 from Sketch2CADWorkbench.brep.operators import apply_operation, operation_result, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, OperatorType

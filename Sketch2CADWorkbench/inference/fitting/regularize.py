@@ -25,7 +25,16 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import FaceFrame, is_curved
-from ...brep.protocol import AddSubPrism, Bevel, Extrude, Operation, OperatorType, Sweep, per_operator
+from ...brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Extrude,
+    Operation,
+    OperatorType,
+    Sweep,
+    per_operator,
+    straight_profile,
+)
 from ...brep.snap_targets import FACE_EDGE, SnapTargets, snap_targets
 from ...render.camera import OrthoCamera
 
@@ -333,7 +342,7 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
     frame, n = s.frame, s.frame.normal
     r0, r1, d = op.r0, op.r1, op.d
     mid = np.array(op.profile, float)
-    chord = np.array([[r0 + (r1 - r0) * k / 3, d * k / 3] for k in (1, 2)])
+    chord = np.array(straight_profile(r0, r1, d))
     # how far the inner control points lie from the line, not from its thirds: points
     # slid along the line (a hand drawing the side faster at one end) keep it straight
     along = np.array([r1 - r0, d]) / np.hypot(r1 - r0, d)

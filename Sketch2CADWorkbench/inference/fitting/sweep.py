@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 
 from ...brep.faces import is_curved, model_scale
-from ...brep.protocol import FaceRef, Mode, Sweep
+from ...brep.protocol import FaceRef, Mode, Sweep, straight_profile
 from ...render.camera import OrthoCamera
 from ...sketch.curves import silhouette_side
 from .common import FitError, fit_bezier, resample
@@ -114,16 +114,17 @@ class SweepFit:
     curved: bool                # f is curved: the base circle follows the surface
 
     def refined(self) -> Sweep:
-        """The operation with its centre (in f's plane), radii, offset and profile refined
-        together against all the strokes; as fitted on a curved f (the refinement draws
-        the base circle flat)."""
+        """The operation with its centre (in f's plane), radii and offset refined together
+        against all the strokes, its profile keeping its shape (`refine.SweepImage`); as
+        fitted on a curved f (the refinement draws the base circle flat)."""
         op = self.operation
         if self.curved:
             return op
-        x = refine_sweep(self.image, np.array([0.0, 0.0, op.r0, op.r1, op.d,
-                                               *np.ravel(op.profile)]), self.strokes)
-        c0 = np.asarray(op.center, float) + x[0] * self.side + x[1] * self.other
-        return _sweep(op.face, c0, x[2], x[3], x[4], x[5:].reshape(2, 2), op.mode)
+        a, b, r0, r1, d = refine_sweep(self.image, np.array([0.0, 0.0, op.r0, op.r1, op.d]),
+                                       self.strokes)
+        c0 = np.asarray(op.center, float) + a * self.side + b * self.other
+        mid = np.array(straight_profile(r0, r1, d)) + self.image.bulge
+        return _sweep(op.face, c0, r0, r1, d, mid, op.mode)
 
 
 def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
@@ -179,13 +180,12 @@ def sweep_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
             if np.all((h >= -PROFILE_SLACK * d) & (h <= (1 + PROFILE_SLACK) * d)
                       & (r > 0) & (r <= PROFILE_MAX_R * max(r0, r1))):
                 inner.append(ctrl[1:3])
-    if inner:
-        mid = np.mean(inner, axis=0)
-    else:  # no profile drawn: the straight one
-        mid = np.array([[r0 + (r1 - r0) / 3, d / 3], [r0 + 2 * (r1 - r0) / 3, 2 * d / 3]])
+    # no profile drawn: the straight one
+    mid = np.mean(inner, axis=0) if inner else np.array(straight_profile(r0, r1, d))
     op = _sweep(face_ref(face, frame), c0, r0, r1, d, mid, mode)
     side = silhouette_side(axis, np.asarray(camera.direction, float))
     other = np.cross(axis, side)
     image = SweepImage(camera.project(c0[None])[0][0], camera.image_of(side),
-                       camera.image_of(other), camera.image_of(axis))
+                       camera.image_of(other), camera.image_of(axis),
+                       np.array(op.profile) - np.array(straight_profile(r0, r1, d)))
     return SweepFit(op, image, side, other, groups[0] + groups[1] + groups[2], is_curved(face))
