@@ -263,17 +263,24 @@ def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, m
     assert len(resolved) == 2
 
 
-def top_prism(renderer):
-    """A box, a prism added on its top, its sketch's true roles and context, and the
-    top's index and the perfect C map there."""
+def drawn_on_top(renderer, op):
+    """A box, the true stroke roles and context of `op`'s sketch on its top, the top's
+    index and the perfect F and C maps there."""
     box = make_box(Box((40, 30, 20)))
-    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
     cam = view()
     pts, labels = sketch(box, op, cam)
     oracle = Oracle(box, op, pts, labels, cam, renderer)
     ctx = oracle.context()
-    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.ADDSUB)
+    face_prob, curve = oracle.segment(ctx.inputs, op.type)
     index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    return box, labels, ctx, index, face_prob, curve
+
+
+def top_prism(renderer):
+    """A box, a prism added on its top, its sketch's true roles and context, and the
+    top's index and the perfect C map there."""
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    box, labels, ctx, index, _, curve = drawn_on_top(renderer, op)
     return box, op, labels, ctx, index, curve
 
 
@@ -374,23 +381,13 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
     assert got.op.d == pytest.approx(9.0, abs=0.5)
 
 
-def sweep_on_top(renderer):
-    """A box, a sweep on its top, and its sketch's context, the top's index and C map."""
-    box = make_box(Box((40, 30, 20)))
-    op = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
-    cam = view()
-    pts, labels = sketch(box, op, cam)
-    oracle = Oracle(box, op, pts, labels, cam, renderer)
-    ctx = oracle.context()
-    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
-    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
-    return box, ctx, index, face_prob, curve
+TOP_SWEEP = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
 
 
 @pytest.mark.parametrize("refined_d, refined_first", [(12.0, False), (9.0, True)])
 def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
         renderer, monkeypatch, refined_d, refined_first):
-    box, ctx, index, _, curve = sweep_on_top(renderer)
+    box, _, ctx, index, _, curve = drawn_on_top(renderer, TOP_SWEEP)
     fitted = []
 
     def fit(*args):
@@ -406,7 +403,7 @@ def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
 
 
 def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, monkeypatch):
-    box, ctx, _, face_prob, curve = sweep_on_top(renderer)
+    box, _, ctx, _, face_prob, curve = drawn_on_top(renderer, TOP_SWEEP)
     monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=9.0))
     build = interpret_module.apply_operation
 
