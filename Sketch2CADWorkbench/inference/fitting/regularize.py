@@ -25,6 +25,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import FaceFrame, is_curved
+from ...brep.geometry import bezier
 from ...brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -336,21 +337,40 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
     return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly)), d=d)
 
 
+def best_line(op: Sweep) -> tuple[float, float]:
+    """The radii at both ends of the straight line r = a + b h that fits the sweep's
+    profile c_p best (least squares over c_p sampled evenly in h from 0 to d)."""
+    t = np.linspace(0.0, 1.0, 65)
+    rh = bezier(np.array(op.control_points(), float), t)
+    weight = np.abs(np.gradient(rh[:, 1], t))  # evenly in h, however c_p runs in t
+    if weight.sum() <= 0:
+        return op.r0, op.r1
+    a, b = np.polyfit(rh[:, 1], rh[:, 0], 1, w=np.sqrt(weight))[::-1]
+    return float(a), float(a + b * op.d)
+
+
 def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
-    """A nearly straight profile becomes a cone (a cylinder when the radii are within 20%
-    and the tolerance); then c0's centre, the radii and d snap."""
+    """A nearly straight profile becomes the cone that fits it best (`best_line`: a
+    profile fitted with a bulge its strokes did not have, and end radii that make up for
+    it, becomes the cone its sides draw), a cylinder when the radii are within 20% and
+    the tolerance; then c0's centre, the radii and d snap."""
     frame, n = s.frame, s.frame.normal
     r0, r1, d = op.r0, op.r1, op.d
     mid = np.array(op.profile, float)
-    chord = np.array(straight_profile(r0, r1, d))
     # how far the inner control points lie from the line, not from its thirds: points
     # slid along the line (a hand drawing the side faster at one end) keep it straight
     along = np.array([r1 - r0, d]) / np.hypot(r1 - r0, d)
     off = mid - (r0, 0.0)
     straight = np.max(np.abs(off[:, 0] * along[1] - off[:, 1] * along[0])) <= STRAIGHT_TOL * d
-    if straight and "profile" not in s.skip and np.max(np.abs(mid - chord)) > 1e-9:
-        s.record("profile", "a straight line (a cone)", mid.ravel(), chord.ravel())
-        op = replace(op, profile=tuple(tuple(map(float, p)) for p in chord))
+    if straight and "profile" not in s.skip:
+        line = best_line(op)
+        chord = np.array(straight_profile(*line, d))
+        if min(line) > 0 and np.max(np.abs(np.r_[mid.ravel(), r0, r1]
+                                           - np.r_[chord.ravel(), line])) > 1e-9:
+            s.record("profile", "a straight line (a cone)", (r0, r1, *mid.ravel()),
+                     (*line, *chord.ravel()))
+            r0, r1 = line
+            op = replace(op, r0=r0, r1=r1, profile=tuple(tuple(map(float, p)) for p in chord))
     radial = frame.u  # radii change the rim's size in f's plane
     if straight and "radii" not in s.skip and 0 < abs(r0 - r1) <= LENGTH_TOL * (r0 + r1) / 2 \
             and s.px(abs(r0 - r1) / 2 * radial) <= s.tol:
