@@ -19,9 +19,10 @@ point of those curves is affine in the parameters, so this runs in 2D too. The p
 fits each circle to its own outline alone (an ellipse with five free parameters, when
 the image of a circle about a known axis has three), and a loop or an overshoot at a
 hand-drawn ellipse's end pulls it off; the side lines then see the same centre and
-radii. (Tried at stop 12, before the profiles were read in the silhouette plane and
-before readings were scored by their reprojection, it measured no better; the caller
-now keeps it only where its sketch lies closer to the strokes: docs/NOTES.md, stop 29.)
+radii. (Tried at stop 12 with the profile refined too, before the profiles were read in
+the silhouette plane and before readings were scored by their reprojection, it measured
+no better; the caller now scores the refined sweep beside the fitted one: docs/NOTES.md,
+stop 29.)
 """
 from __future__ import annotations
 

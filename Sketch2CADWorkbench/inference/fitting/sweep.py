@@ -102,9 +102,10 @@ def _sweep(face: FaceRef, c0: np.ndarray, r0: float, r1: float, d: float, mid: n
 
 @dataclass(frozen=True, eq=False)
 class SweepFit:
-    """A sweep read from its strokes, before the joint refinement of its centre, radii,
-    offset and profile against all of them (`refine.py`): as for a prism, a caller that
-    weighs several readings of the strokes refines only those it may keep."""
+    """A sweep read from its strokes, before the joint refinement of its centre, radii
+    and offset against all of them (`refine.py`; the profile keeps its shape): as for a
+    prism, a caller that weighs several readings of the strokes refines only those it
+    may keep."""
 
     operation: Sweep            # as fitted, unrefined
     image: SweepImage           # how its curves move in the image with its parameters
