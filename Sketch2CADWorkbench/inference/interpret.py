@@ -500,15 +500,11 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
                             replace(options, option=other))
     except (FitError, OperationError):
         return []
-    readings = []
-    for fit in fits:
-        try:
-            reading = _reading(solid, fit, ctx, hidden)
-        except OperationError:
-            continue  # its sketch cannot be drawn to score it: not a reading
+    # a primitive's fits were scored by `_scored_readings`, which drops any that cannot be
+    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
+    for reading in readings:
         reading.flip_refused = True
-        readings.append(reading)
-    return sorted(readings, key=lambda r: r.error)
+    return readings
 
 
 def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
