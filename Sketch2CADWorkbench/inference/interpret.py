@@ -82,7 +82,7 @@ from .fitting.regularize import Snap, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
-from .fitting.verify import DrawnStrokes, mean_distance, sketch_distances
+from .fitting.verify import DrawnStrokes, mean_distance, reading_score, sketch_distances
 from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
@@ -158,12 +158,13 @@ class SketchFit:
     @staticmethod
     def of(solid: cq.Shape, op: Operation, camera: OrthoCamera, strokes: list[np.ndarray],
            confidence: float) -> "SketchFit":
-        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes), confidence)
+        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes)[:2],
+                                      confidence)
 
     @staticmethod
     def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray,
                      confidence: float) -> "SketchFit":
-        """From `verify.sketch_distances`' two arrays."""
+        """From `verify.sketch_distances`' first two arrays."""
         return SketchFit(mean_distance((to_sketch, to_strokes)),
                          float(to_sketch.mean()), float(to_strokes.mean()),
                          float(np.mean(to_sketch > EXPLAINED_PX)),
@@ -266,7 +267,8 @@ class Context:
             self.faces[solid, ref] = resolve_face(solid, ref)
         return self.faces[solid, ref]
 
-    def sketch_distances(self, solid: cq.Shape, op: Operation) -> tuple[np.ndarray, np.ndarray]:
+    def sketch_distances(self, solid: cq.Shape, op: Operation
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
         if (solid, op) not in self.scores:
             self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn,
@@ -297,7 +299,7 @@ class Reading:
     whether it is hidden from the sketch view (its face, or a primitive's base behind the
     model), and (once built) the result."""
 
-    distances: tuple[np.ndarray, np.ndarray]  # `verify.sketch_distances`
+    distances: tuple[np.ndarray, np.ndarray, np.ndarray]  # `verify.sketch_distances`
     op: Operation
     index: int
     labels: list[int]
@@ -313,9 +315,14 @@ class Reading:
         return mean_distance(self.distances)
 
     @property
+    def score(self) -> float:
+        """What readings are ranked by (pixels), `verify.reading_score`."""
+        return reading_score(self.distances)
+
+    @property
     def doubtful(self) -> bool:
         """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
-        return SketchFit.of_distances(*self.distances, 1.0).doubtful
+        return SketchFit.of_distances(*self.distances[:2], 1.0).doubtful
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -430,8 +437,8 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
     (`candidate_faces`): of the readings that build and change the model, one on a face
     the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
-    then the one whose sketch reprojects closest. A reading that changes nothing (a hole
-    cut into the air above a lower face) is never the step.
+    then the one whose sketch reprojects best (`verify.reading_score`). A reading that
+    changes nothing (a hole cut into the air above a lower face) is never the step.
 
     A face or a reading whose own sketch cannot be drawn for its score (an outline that
     leaves a curved face: OperationError) is passed over like one that does not fit.
@@ -465,7 +472,7 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
             if reading.error <= GOOD_FIT_PX and not reading.hidden and \
                     _builds_a_change(solid, reading, ctx):
                 return reading
-    readings.sort(key=lambda r: (r.hidden, r.error))
+    readings.sort(key=lambda r: (r.hidden, r.score))
     for reading in readings + _with_the_other_boolean(solid, op_type, readings, curve, ctx,
                                                        options, hidden):
         if _builds_a_change(solid, reading, ctx):
@@ -501,7 +508,7 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
     except (FitError, OperationError):
         return []
     # a primitive's fits were scored by `_scored_readings`, which drops any that cannot be
-    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.error)
+    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.score)
     for reading in readings:
         reading.flip_refused = True
     return readings
@@ -595,10 +602,11 @@ def _fit_by_roles(fit: Callable[..., PrismFit | SweepFit], op_type: OperatorType
 
 def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: cq.Shape,
                      ctx: Context) -> list[tuple[float, Operation, list[int]]]:
-    """Each (fit, stroke roles) as (reprojection distance, operation, roles), closest
-    first. A primitive's joint refinement costs more than the rest of its fit, and
-    readings of the roles far apart before it refine to nearly one primitive: of several
-    readings only those within REFINE_WITHIN of the closest unrefined one are refined
+    """Each (fit, stroke roles) as (score, operation, roles), the best first
+    (`verify.reading_score`). A primitive's joint refinement costs more than the rest of
+    its fit, and readings of the roles far apart before it refine to nearly one
+    primitive: of several readings only those within REFINE_WITHIN of the closest
+    unrefined one (by mean distance) are refined
     (docs/NOTES.md, stop 26), and a lone prism is refined without being scored first. A
     refined sweep is a reading beside the fitted one, each scored: the refinement's
     robust loss is not the score, and OCCT refuses some refined profiles (docs/NOTES.md,
@@ -612,29 +620,30 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
     """
     errors: list[OperationError] = []
 
-    def score(op: Operation) -> float:
+    def distances(op: Operation) -> tuple[np.ndarray, ...] | None:
         try:
-            return mean_distance(ctx.sketch_distances(solid, op))
+            return ctx.sketch_distances(solid, op)
         except OperationError as e:
             errors.append(e)
-            return np.inf
+            return None
 
-    before = {id(got): score(got.operation) for got, _ in fits
+    before = {id(got): distances(got.operation) for got, _ in fits
               if len(fits) > 1 or isinstance(got, SweepFit)}
-    closest = min(before.values(), default=np.inf)
+    apart = {k: np.inf if d is None else mean_distance(d) for k, d in before.items()}
+    closest = min(apart.values(), default=np.inf)
     scored = []
-    for got, roles in sorted(fits, key=lambda f: before.get(id(f[0]), np.inf)):
-        if before.get(id(got)) == np.inf:
+    for got, roles in sorted(fits, key=lambda f: apart.get(id(f[0]), np.inf)):
+        if apart.get(id(got)) == np.inf:
             continue  # its sketch could not be drawn
-        far = before.get(id(got), closest) > REFINE_WITHIN * closest
+        far = apart.get(id(got), closest) > REFINE_WITHIN * closest
         op = got.operation if far else got.refined()
-        error = score(op)
+        after = distances(op)
         if isinstance(got, SweepFit) and op is not got.operation:
-            # the fitted sweep stays a reading: the closer one first, and the other one
+            # the fitted sweep stays a reading: the better one first, and the other one
             # built if that one is not a valid solid (OCCT refuses some refined profiles)
-            scored.append((before[id(got)], got.operation, roles))
-        if error < np.inf:
-            scored.append((error, op, roles))
+            scored.append((reading_score(before[id(got)]), got.operation, roles))
+        if after is not None:
+            scored.append((reading_score(after), op, roles))
     if not scored:
         raise errors[0]
     return sorted(scored, key=lambda f: f[0])
@@ -844,7 +853,7 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
             errors.append(f"read as {kind.value}, but {e}")
     td = time.perf_counter()
     confidence = float(probs[CLASSES.index(kind)])
-    fit = (SketchFit.of_distances(*reading.distances, confidence) if op is reading.op
+    fit = (SketchFit.of_distances(*reading.distances[:2], confidence) if op is reading.op
            else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence))
     return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
                           reading.index, reading.labels, ctx.camera,

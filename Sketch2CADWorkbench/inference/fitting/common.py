@@ -10,9 +10,14 @@ from __future__ import annotations
 import cadquery as cq
 import cv2
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from ...brep.geometry import arc_lengths, bezier, resample_every
 from ...render.camera import OrthoCamera
+
+
+# A stroke whose ends lie closer than this share of its extent is a loop (a circle).
+LOOP_GAP = 0.3
 
 
 class FitError(ValueError):
@@ -51,6 +56,36 @@ def classify_strokes(strokes: list[np.ndarray], curve: np.ndarray,
         cls = np.searchsorted(np.asarray(thresholds), vals, side="left")
         labels.append(int(np.bincount(cls, minlength=len(thresholds) + 1).argmax()))
     return labels
+
+
+def open_ends(strokes: list[np.ndarray]) -> np.ndarray:
+    """(S, 2, 2) the first and last points of the strokes that are not loops (a loop's
+    ends lie closer than LOOP_GAP of its extent: a circle drawn once around)."""
+    ends = [(s[0], s[-1]) for s in map(np.asarray, strokes)
+            if len(s) > 1 and np.linalg.norm(s[-1] - s[0]) > LOOP_GAP * np.ptp(s, axis=0).max()]
+    return np.array(ends, float).reshape(-1, 2, 2)
+
+
+def match_ends(curve_ends: np.ndarray, stroke_ends: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which open curve each open stroke draws, and which way: the one-to-one matching
+    with the least sum of squared gaps between their ends (the hand the data generator
+    models, datagen/strokes.py: a curve drawn as one stroke whose two ends miss the
+    curve's by Gaussian noise, spread linearly along it).
+
+    Args:
+        curve_ends: (C, 2, 2) each open curve's first and last points, pixels.
+        stroke_ends: (S, 2, 2) each open stroke's (`open_ends`).
+    Returns:
+        (strokes, curves, swapped): the matched indices, and whether each stroke runs
+        from its curve's last point to its first.
+    """
+    if not len(curve_ends) or not len(stroke_ends):
+        return np.zeros(0, int), np.zeros(0, int), np.zeros(0, bool)
+    same = ((stroke_ends[:, None] - curve_ends[None]) ** 2).sum(axis=(2, 3))
+    swapped = ((stroke_ends[:, None] - curve_ends[None, :, ::-1]) ** 2).sum(axis=(2, 3))
+    rows, cols = linear_sum_assignment(np.minimum(same, swapped))
+    return rows, cols, swapped[rows, cols] < same[rows, cols]
 
 
 def stroke_pixels(strokes: list[np.ndarray], shape: tuple[int, int]) -> np.ndarray:

@@ -12,6 +12,13 @@ point to the nearest edge, every edge point to the nearest stroke), with a robus
 projection the edges stay straight and the far outline is the base translated by d
 times the image of the prism's direction, so the whole refinement runs in 2D.
 
+Closeness alone lets the prism follow each stroke where the hand displaced it; the hand
+the data generator models misses a curve's ends by Gaussian noise and spreads that
+along the stroke, so the strokes' ends say where the edges' ends are (`verify.end_gaps`).
+Both refinements therefore also pull each open curve's ends towards the ends of the
+stroke that draws it (`match_ends`), the hand's error model replacing closeness where
+the two disagree (END_WEIGHT).
+
 A sweep is refined alike (`refine_sweep`): its centre on f, radii and offset d move
 together, the profile keeping its fitted shape, until both circles and both profile
 lines lie closest to the strokes, both ways. Under orthographic projection every
@@ -32,12 +39,16 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.spatial import cKDTree
 
-from .common import resample
+from .common import match_ends, open_ends, resample
 
 ROBUST_PX = 2.0         # residuals beyond about this many pixels count linearly, not squared
 EDGE_SAMPLES = 8        # points per prism edge for the edge-to-stroke distances
 STROKE_STEP_PX = 3.0    # spacing of the stroke points
 MAX_EVALUATIONS = 30    # of the residuals; the fit starts close, so few are needed
+# Each end gap's residual is scaled by this times the square root of the stroke points
+# per end, so that the ends outweigh closeness: with 3, held-out level-3 add/sub prisms
+# and sweeps read closer on average than with 0, 0.3, 1 or 10 (docs/NOTES.md, stop 30).
+END_WEIGHT = 3.0
 
 
 def prism_edges(base: np.ndarray, shift: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -72,8 +83,8 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return length, v / np.maximum(length, 1e-12)[..., None]
 
 
-def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray]
-                 ) -> tuple[np.ndarray, float]:
+def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray],
+                 end_weight: float = END_WEIGHT) -> tuple[np.ndarray, float]:
     """Move a prism's base polygon and length together to fit all its strokes.
 
     Args:
@@ -82,6 +93,7 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
         step: (2,) image displacement of 1 mm along the prism's direction (n_f times
             the option's sign), pixels.
         strokes: every stroke of the prism (start, profile, end), pixels.
+        end_weight: the strokes' ends' weight (0: closeness alone).
     Returns:
         (base, d) refined: the polygon in pixels, the length in mm.
     """
@@ -95,6 +107,10 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
     weight = np.sqrt(len(drawn) / (3 * n * EDGE_SAMPLES))
     rows_m = np.arange(len(drawn))
     rows_q = len(drawn) + np.arange(len(t_edge))
+    ends = open_ends(strokes)
+    # each segment end's base vertex, and whether it is shifted by d
+    end_vertex, end_shift = np.stack([ia, ib], axis=1), np.stack([sa, sb], axis=1)
+    end_weight = end_weight * np.sqrt(len(drawn) / max(4 * len(ends), 1))
 
     def evaluate(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         a, b = prism_edges(x[:-1].reshape(n, 2), x[-1] * step)
@@ -121,6 +137,19 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
                 jac[rows, 2 * ia[seg] + c] += wa[:, c]
                 jac[rows, 2 * ib[seg] + c] += wb[:, c]
             jac[rows, -1] = (wa * sa[seg][:, None] + wb * sb[seg][:, None]) @ step
+        if end_weight > 0 and len(ends):
+            r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
+            which = np.where(swapped[:, None], [[1, 0]], [[0, 1]])     # (M, 2): a or b
+            gap = np.stack([a, b], axis=1)[c[:, None], which] - ends[r]  # (M, 2, 2)
+            vertex, shifted = end_vertex[c[:, None], which], end_shift[c[:, None], which]
+            ej = np.zeros((len(r), 2, 2, 2 * n + 1))
+            m = np.arange(len(r))
+            for k in (0, 1):
+                for xy in (0, 1):
+                    ej[m, k, xy, 2 * vertex[:, k] + xy] = 1.0
+                ej[:, k, :, -1] = shifted[:, k, None] * step
+            res = np.concatenate([res, end_weight * gap.ravel()])
+            jac = np.concatenate([jac, end_weight * ej.reshape(-1, 2 * n + 1)])
         return res, jac
 
     x0 = np.concatenate([np.asarray(base, float).ravel(), [d]])
@@ -195,7 +224,8 @@ class SweepImage:
         return np.concatenate(circles + lines), self.origin + np.concatenate(shifts)
 
 
-def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray]) -> np.ndarray:
+def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
+                 end_weight: float = END_WEIGHT) -> np.ndarray:
     """Move a sweep's centre, radii and offset together to fit all its strokes, its
     profile keeping its fitted shape (`SweepImage`): refined with the rest, the profile's
     control points followed the noise of short profile strokes (heldout-l3's 48 sweeps:
@@ -205,6 +235,7 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray]) ->
         image: how its curves move with the parameters.
         x: (5,) the parameters as fitted (`SweepImage`; a = b = 0).
         strokes: every stroke of the sweep (circles and profiles), pixels.
+        end_weight: the profile strokes' ends' weight (0: closeness alone).
     Returns:
         (5,) the refined parameters (radii and d kept positive).
     """
@@ -212,6 +243,10 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray]) ->
     tree = cKDTree(drawn)
     jac_k, const = image.samples()
     weight = np.sqrt(len(drawn) / len(jac_k))
+    ends = open_ends(strokes)
+    first = 2 * CIRCLE_SAMPLES + np.array([0, PROFILE_SAMPLES])  # the profile lines' rows
+    line_ends = np.stack([first, first + PROFILE_SAMPLES - 1], axis=1)
+    end_weight = end_weight * np.sqrt(len(drawn) / max(4 * len(ends), 1))
 
     def evaluate(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         q = jac_k @ p + const                               # (K, 2) curve samples
@@ -222,6 +257,11 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray]) ->
         res = np.concatenate([d1, weight * d2])
         jac = np.concatenate([np.einsum("mc,mcp->mp", u1, jac_k[j]),
                               weight * np.einsum("kc,kcp->kp", u2, jac_k)])
+        if end_weight > 0 and len(ends):
+            r, c, swapped = match_ends(q[line_ends], ends)
+            rows = np.where(swapped[:, None], line_ends[c][:, ::-1], line_ends[c])  # (M, 2)
+            res = np.concatenate([res, end_weight * (q[rows] - ends[r]).ravel()])
+            jac = np.concatenate([jac, end_weight * jac_k[rows].reshape(-1, 5)])
         return res, jac
 
     x0 = np.asarray(x, float)

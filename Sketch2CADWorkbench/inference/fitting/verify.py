@@ -6,6 +6,13 @@ from geometry), the one whose curves (the lines the data generator would draw fo
 lie closer to the strokes, and the strokes to them, is the sketch's meaning. A designer
 may also leave the hidden lines out: then the reading whose seen lines
 (sketch/visible.py) match is the meaning, which tells a hole from the boss on its rim.
+
+Closeness alone favours a reading that follows each stroke where the hand displaced it:
+the hand the data generator models (datagen/strokes.py) misses a curve's two ends by
+Gaussian noise and spreads that linearly along the stroke, so a stroke is its curve
+displaced, and its ends tell where the curve's ends are. The readings of one operator
+are therefore ranked by `reading_score`, closeness plus how far the strokes' ends lie
+from the ends of the curves they draw (`end_gaps`).
 """
 from __future__ import annotations
 
@@ -21,7 +28,13 @@ from ...render.camera import OrthoCamera
 from ...render.maps import ContextMaps
 from ...sketch.curves import operation_curves
 from ...sketch.visible import visible_curves
-from .common import DistanceField, resample, stroke_pixels
+from .common import DistanceField, match_ends, open_ends, resample, stroke_pixels
+
+
+# Readings are ranked by closeness plus this times the rms gap between the strokes' ends
+# and their curves' (`reading_score`): with 1, held-out level-3 add/sub and sweeps read
+# closer on average than with 0.3 or 3 (docs/NOTES.md, stop 30).
+END_WEIGHT = 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,6 +52,11 @@ class DrawnStrokes:
         return np.concatenate([resample(s) for s in self.strokes])
 
     @cached_property
+    def open_ends(self) -> np.ndarray:
+        """(S, 2, 2) the ends of the strokes that are not loops (`open_ends`)."""
+        return open_ends(self.strokes)
+
+    @cached_property
     def field(self) -> DistanceField:
         """Distance to the pixels the strokes pass through."""
         return DistanceField(stroke_pixels(self.strokes, self.shape))
@@ -46,9 +64,11 @@ class DrawnStrokes:
 
 def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
                      strokes: list[np.ndarray] | DrawnStrokes, seen: ContextMaps | None = None,
-                     face: ResolvedFace | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Distances (pixels) from the strokes' samples to op's projected curves, and from
-    the curves' samples to the strokes.
+                     face: ResolvedFace | None = None
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distances (pixels) from the strokes' samples to op's projected curves, from the
+    curves' samples to the strokes, and between the open strokes' ends and the ends of
+    the open curves they draw (`end_gaps`).
 
     Args:
         strokes: the strokes, or their DrawnStrokes when several readings are scored.
@@ -63,11 +83,28 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
     shape = (camera.height, camera.width)
     drawn = strokes if isinstance(strokes, DrawnStrokes) else DrawnStrokes(strokes, shape)
     if not curves:
-        return np.full(len(drawn.samples), np.inf), np.full(1, np.inf)
+        return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     pixels = [camera.project(c.points)[0] for c in curves]
     ideal = np.concatenate([resample(p) for p in pixels])
     return (DistanceField(stroke_pixels(pixels, shape))(drawn.samples),
-            drawn.field(ideal))
+            drawn.field(ideal),
+            end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends))
+
+
+def end_gaps(curves: list[np.ndarray], ends: np.ndarray) -> np.ndarray:
+    """How far (pixels) the open strokes' ends lie from the ends of the open curves they
+    draw, each stroke matched to one curve (`match_ends`).
+
+    Args:
+        curves: the open curves' pixel polylines.
+        ends: (S, 2, 2) the open strokes' first and last points (`open_ends`).
+    Returns:
+        (2M,) the gaps at both ends of the M matched strokes (empty when none match).
+    """
+    heads = np.array([[c[0], c[-1]] for c in curves], float).reshape(-1, 2, 2)
+    rows, cols, swapped = match_ends(heads, ends)
+    meant = np.where(swapped[:, None, None], heads[cols][:, ::-1], heads[cols])
+    return np.linalg.norm(ends[rows] - meant, axis=2).ravel()
 
 
 def reprojection_error(solid: cq.Shape, op: Operation, camera: OrthoCamera,
@@ -77,7 +114,15 @@ def reprojection_error(solid: cq.Shape, op: Operation, camera: OrthoCamera,
     return mean_distance(sketch_distances(solid, op, camera, strokes, seen))
 
 
-def mean_distance(distances: tuple[np.ndarray, np.ndarray]) -> float:
-    """The symmetric mean distance (pixels) of `sketch_distances`' two arrays."""
-    to_sketch, to_strokes = distances
+def mean_distance(distances: tuple[np.ndarray, ...]) -> float:
+    """The symmetric mean distance (pixels) of `sketch_distances`' first two arrays."""
+    to_sketch, to_strokes = distances[:2]
     return 0.5 * (float(to_sketch.mean()) + float(to_strokes.mean()))
+
+
+def reading_score(distances: tuple[np.ndarray, np.ndarray, np.ndarray]) -> float:
+    """How well a reading explains the strokes (pixels, lower is better): the symmetric
+    mean distance plus END_WEIGHT times the rms of the end gaps (`sketch_distances`)."""
+    ends = distances[2]
+    return mean_distance(distances) + (END_WEIGHT * float(np.sqrt(np.mean(ends ** 2)))
+                                       if len(ends) else 0.0)

@@ -7,7 +7,9 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.verify import (
     DrawnStrokes,
+    end_gaps,
     mean_distance,
+    reading_score,
     reprojection_error,
     sketch_distances,
 )
@@ -72,3 +74,29 @@ def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themsel
 
 def test_the_reprojection_error_weighs_both_ways_alike_however_many_samples_each_has():
     assert mean_distance((np.array([1.0, 1.0, 1.0, 5.0]), np.array([4.0]))) == 3.0
+
+
+def test_the_strokes_ends_are_scored_against_the_ends_of_the_curves_they_draw():
+    curves = [np.array([[0.0, 0.0], [5.0, 0.0], [10.0, 0.0]]), np.array([[0.0, 5.0], [0.0, 20.0]])]
+    strokes = [np.array([[0.0, 21.0], [0.0, 6.0]]), np.array([[1.0, 0.0], [5.0, 0.5], [11.0, 1.0]])]
+    gaps = end_gaps(curves, DrawnStrokes(strokes, (40, 40)).open_ends)
+    assert sorted(np.round(gaps, 6)) == sorted(np.round([1.0, 1.0, 1.0, np.sqrt(2)], 6))
+
+
+def test_a_reading_whose_lines_run_past_the_strokes_ends_scores_worse_however_close():
+    # a reading along a displaced stroke lies closer to it (0 px for 2) but runs 200 px
+    # past its end: ranked by closeness plus the end gaps, the one meant comes first
+    meant = (np.full(50, 2.0), np.full(10, 2.0), np.array([2.0, 2.0]))
+    along = (np.zeros(50), np.r_[np.zeros(10), np.full(10, 50.0)], np.array([0.0, 200.0]))
+    assert reading_score(meant) < reading_score(along)
+    assert reading_score((meant[0], meant[1], np.zeros(0))) == mean_distance(meant) == 2.0
+
+
+def test_a_sketch_is_scored_by_its_closeness_both_ways_and_its_end_gaps():
+    box = make_box(Box((40, 30, 20)))
+    d = np.array([0.6, 0.9, -1.2])
+    cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
+    drawn = sweep(4.0, 10.0)
+    strokes = [cam.project(c.points)[0] for c in operation_curves(box, drawn, cam.direction)]
+    to_sketch, to_strokes, ends = sketch_distances(box, drawn, cam, strokes)
+    assert len(ends) == 4 and np.all(ends < 1e-6)  # the two profile lines' ends; circles none
