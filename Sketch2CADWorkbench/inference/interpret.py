@@ -531,19 +531,26 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
 def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
                          options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
-    extrusion's sign is read from the strokes: `options` has nothing for it)."""
+    extrusion's sign is read from the strokes: `options` has nothing for it): d read
+    with the strokes' ends (`fit_extrude`'s END_WEIGHT), then d read by closeness alone
+    when that differs (built if the first is refused: a top pushed down past a hole's
+    rim, say, falls apart)."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
-    try:
-        op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
-                         [s for s, l in zip(strokes, labels) if l == 0])
-    except FitError:
-        # C may call a side edge an offset edge or back. The line search scores the
-        # moved edges' distance to the strokes, which strokes of the other part
-        # rarely mislead, so every stroke may serve both parts.
-        op = fit_extrude(solid, face, cam, strokes, strokes)
-    return [(op, index, labels)]
+    ops = []
+    for ends in ({}, {"end_weight": 0.0}):
+        try:
+            op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
+                             [s for s, l in zip(strokes, labels) if l == 0], **ends)
+        except FitError:
+            # C may call a side edge an offset edge or back. The line search scores the
+            # moved edges' distance to the strokes, which strokes of the other part
+            # rarely mislead, so every stroke may serve both parts.
+            op = fit_extrude(solid, face, cam, strokes, strokes, **ends)
+        if op not in ops:
+            ops.append(op)
+    return [(op, index, labels) for op in ops]
 
 
 def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,

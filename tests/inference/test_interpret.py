@@ -363,9 +363,9 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
 
     fit = interpret_module.fit_extrude
 
-    def fit_extrude(solid, face, camera, offset, sides):  # the side fits, as drawn off it
+    def fit_extrude(solid, face, camera, offset, sides, **ends):  # the side fits, drawn off it
         if np.allclose(face.normalAt().toTuple(), (0, 0, 1)):
-            return fit(solid, face, camera, offset, sides)
+            return fit(solid, face, camera, offset, sides, **ends)
         return Extrude(FaceRef(face.Center().toTuple(), face.normalAt().toTuple()), 5.0)
 
     def distances(solid, op, *args, **kwargs):

@@ -137,7 +137,8 @@ SIDE_SAMPLES = np.linspace(0.15, 0.85, 8)  # along a side edge, away from its no
 
 def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
                 field: DistanceField, candidates: np.ndarray,
-                sides: tuple[np.ndarray, np.ndarray, DistanceField] | None = None
+                sides: tuple[np.ndarray, np.ndarray, DistanceField] | None = None,
+                ends: np.ndarray | None = None, end_weight: float = 0.0
                 ) -> tuple[float, float]:
     """The offset t minimising the mean distance of projected (points + t * direction).
 
@@ -146,26 +147,39 @@ def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
     projected once and shifted in the image by t times the projected direction
     (projection is linear). With `sides` = (corners (V, 3), their directions (V, 3) or
     (3,), field), the segments from each corner to the corner moved by t are scored
-    against that field too, and the two means averaged.
+    against that field too, and the two means averaged. With `ends` too ((S, 2, 2), the
+    open strokes' ends: `open_ends`), `end_weight` times how far the strokes' ends and
+    the corners and moved corners lie from each other (mean nearest distance, both ways)
+    is added: the hand misses a line's ends by noise it spreads along the stroke
+    (`match_ends`), so the ends tell where the moved corners are.
 
     Returns:
-        (best t refined between its neighbours by a parabola, its mean distance in px).
+        (best t refined between its neighbours by a parabola, its mean distance in px,
+        the ends' term left out).
     """
     base, _ = camera.project(points)                                 # (P, 2)
     step2d = _images_of(camera, points, direction)                   # (P or 1, 2) px per t
     pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
     scores = field(pos).mean(axis=1)                                 # (K,)
+    ranked = scores
     if sides is not None:
         corners, corner_direction, side_field = sides
         c2d, _ = camera.project(corners)                             # (V, 2)
         c_step = _images_of(camera, corners, corner_direction)       # (V or 1, 2)
         frac = (candidates[:, None] * SIDE_SAMPLES[None, :])         # (K, S)
         spos = c2d[None, :, None, :] + frac[:, None, :, None] * c_step[None, :, None, :]
-        scores = (scores + side_field(spos).mean(axis=(1, 2))) / 2
-    k = int(np.argmin(scores))
+        ranked = scores = (scores + side_field(spos).mean(axis=(1, 2))) / 2
+        if ends is not None and len(ends) and end_weight > 0:
+            tips = ends.reshape(-1, 2)                                      # (E, 2)
+            moved = c2d[None] + candidates[:, None, None] * c_step[None]     # (K, V, 2)
+            drawn = np.concatenate([np.broadcast_to(c2d, moved.shape), moved], axis=1)
+            gaps = np.linalg.norm(drawn[:, :, None] - tips[None, None], axis=3)  # (K, 2V, E)
+            apart = (gaps.min(axis=2).mean(axis=1) + gaps.min(axis=1).mean(axis=1)) / 2
+            ranked = scores + end_weight * apart
+    k = int(np.argmin(ranked))
     t = float(candidates[k])
     if 0 < k < len(candidates) - 1:
-        a, b, c = scores[k - 1], scores[k], scores[k + 1]
+        a, b, c = ranked[k - 1], ranked[k], ranked[k + 1]
         denom = a - 2 * b + c
         if denom > 1e-12:
             t += 0.5 * (a - c) / denom * float(candidates[k + 1] - candidates[k])
