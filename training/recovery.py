@@ -15,10 +15,11 @@ recovered when that one click would recover it, and `other_option_share` says ho
 often a step offered it. `strict_ceiling` is the most a strict reading can reach: the
 share of samples that are not a subtraction whose boss draws the same lines so that the
 pipeline's +/- rule, given the operation's own outlines, takes the boss (the paper's
-default in that case). `strokes_ceiling` is the most a reading chosen by how closely its
-own sketch reprojects onto the strokes can reach on these samples: the share of samples
-not missed by a reading that lies closer to the strokes than the truth does
-(`verify.reprojection_error`), where the hand drew the reading more than the truth.
+default in that case). `strokes_ceiling` is the most a reading chosen by how well its
+own sketch explains the strokes can reach on these samples: the share of samples not
+missed by a reading that explains them better than the truth does
+(`verify.reading_score`, the score readings are ranked by), where the hand drew the
+reading more than the truth.
 """
 from __future__ import annotations
 
@@ -38,7 +39,11 @@ from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
-from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, reprojection_error
+from Sketch2CADWorkbench.inference.fitting.verify import (
+    mean_distance,
+    reading_score,
+    sketch_distances,
+)
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -115,10 +120,12 @@ def a_boss_draws_it(context: cq.Shape, sample) -> bool:
 
 
 def strokes_favour(context: cq.Shape, reading: Operation, sample) -> bool:
-    """Whether the reading's own sketch lies closer to the sample's strokes than the true
-    operation's (both reprojected in the sample's camera): a miss the strokes favour."""
-    return reprojection_error(context, reading, sample.camera, sample.strokes) < \
-        reprojection_error(context, sample.operation, sample.camera, sample.strokes)
+    """Whether the reading's own sketch explains the sample's strokes better than the
+    true operation's (`verify.reading_score`, both reprojected in the sample's camera):
+    a miss the strokes favour."""
+    def score(op: Operation) -> float:
+        return reading_score(sketch_distances(context, op, sample.camera, sample.strokes))
+    return score(reading) < score(sample.operation)
 
 
 def recovery(data, predictor, limit: int, oracle: bool = False,
