@@ -23,12 +23,18 @@ def sweep(r1: float, d: float) -> Sweep:
     return Sweep(TOP, (2.0, 0.0, 10.0), 5.0, r1, d, ((5.0, d / 3), (r1, 2 * d / 3)), Mode.ADD)
 
 
-def test_the_drawn_sweep_explains_its_strokes_better_than_a_longer_wider_one():
+def drawn_sweep():
+    """A box, a view of it, and a sweep on its top drawn exactly as its own sketch."""
     box = make_box(Box((40, 30, 20)))
     d = np.array([0.6, 0.9, -1.2])
     cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
     drawn = sweep(4.0, 10.0)
-    strokes = [cam.project(c.points)[0] for c in operation_curves(box, drawn, cam.direction)]
+    return box, cam, drawn, [cam.project(c.points)[0]
+                             for c in operation_curves(box, drawn, cam.direction)]
+
+
+def test_the_drawn_sweep_explains_its_strokes_better_than_a_longer_wider_one():
+    box, cam, drawn, strokes = drawn_sweep()
     exact = reprojection_error(box, drawn, cam, strokes)
     assert exact == pytest.approx(0.0, abs=1.0)
     assert reprojection_error(box, sweep(9.0, 16.0), cam, strokes) > exact + 5.0
@@ -93,10 +99,6 @@ def test_a_reading_whose_lines_run_past_the_strokes_ends_scores_worse_however_cl
 
 
 def test_a_sketch_is_scored_by_its_closeness_both_ways_and_its_end_gaps():
-    box = make_box(Box((40, 30, 20)))
-    d = np.array([0.6, 0.9, -1.2])
-    cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
-    drawn = sweep(4.0, 10.0)
-    strokes = [cam.project(c.points)[0] for c in operation_curves(box, drawn, cam.direction)]
+    box, cam, drawn, strokes = drawn_sweep()
     to_sketch, to_strokes, ends = sketch_distances(box, drawn, cam, strokes)
     assert len(ends) == 4 and np.all(ends < 1e-6)  # the two profile lines' ends; circles none
