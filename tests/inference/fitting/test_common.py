@@ -12,7 +12,8 @@ def loop(centre, radius, start_angle, gap=0.2):
 
 def test_a_circle_drawn_once_around_has_no_ends_and_a_line_keeps_both():
     line = np.array([[0.0, 0.0], [10.0, 1.0], [20.0, 0.0]])
-    ends = open_ends([loop((50, 50), 10, 1.0), line])
+    # the level-3 hand leaves a loop's ends apart by half its extent
+    ends = open_ends([loop((50, 50), 10, 1.0), loop((80, 20), 10, 0.0, gap=1.0), line])
     assert ends.shape == (1, 2, 2)
     assert np.allclose(ends[0], [[0.0, 0.0], [20.0, 0.0]])
 
