@@ -59,8 +59,9 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         camera: the context camera; strokes are in its pixels.
         offset_strokes: the strokes classified as the offset curve (C > 0.5).
         profile_strokes: the strokes classified as side edges (C <= 0.5), if any.
-        end_weight: on a planar f, how much the strokes' ends count against the corners
-            and moved corners (`line_search`; 0: closeness alone, as in the paper).
+        end_weight: on a polygonal f, how much the strokes' ends count against the
+            corners and moved corners (`line_search`; 0: closeness alone, as in the
+            paper).
     Raises:
         FitError: no offset strokes, a head-on view of a planar f, or no offset matches
             the strokes.
@@ -91,10 +92,13 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     if profile_strokes and len(corners):
         sides = (corners, corner_direction,
                  DistanceField(stroke_pixels(profile_strokes, (camera.height, camera.width))))
+    # the strokes' ends lie at corners only where f's outline is a polygon (a disk's
+    # outline is one loop, its sides are silhouettes ending nowhere near its seam vertex)
+    polygon = all(e.geomType() == "LINE" for e in face.Edges())
     drawn = offset_strokes + [s for s in profile_strokes or ()
                               if not any(s is o for o in offset_strokes)]
     d, err = line_search(points, direction, camera, field, cands, sides,
-                         open_ends(drawn) if not curved else None, end_weight)
+                         open_ends(drawn) if polygon else None, end_weight)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"extrude: no offset of the face matches the strokes (closest is "
                        f"{err:.1f} px off on average)")

@@ -2,7 +2,7 @@
 """Extrude fitting recovers d from the moved face's outline."""
 import numpy as np
 import pytest
-from fit_sketches import edge_strokes, face_towards
+from fit_sketches import edge_strokes, face_towards, stroke
 
 from Sketch2CADWorkbench.brep.faces import model_scale
 from Sketch2CADWorkbench.inference.fitting.common import FitError
@@ -82,3 +82,23 @@ def test_a_hand_drawn_extrusion_is_read_closer_with_the_strokes_ends(box, camera
     # d off by 0.47 mm on average by closeness alone, 0.37 with the ends (1 px: 0.25 mm;
     # with another seed 0.41 and 0.35)
     assert np.mean(misses[1.0]) < 0.9 * np.mean(misses[0.0])
+
+
+def test_a_round_faces_extrusion_is_read_by_closeness_alone(camera, monkeypatch):
+    # a disk's outline is one loop and its sides are silhouettes: no stroke ends at its
+    # seam vertex, so the strokes' ends say nothing about d there
+    import cadquery as cq
+
+    from Sketch2CADWorkbench.inference.fitting import extrude
+    disk = cq.Solid.makeCylinder(12.0, 10.0)
+    face = face_towards(disk, (0, 0, 1))
+    seen = []
+    search = extrude.line_search
+    monkeypatch.setattr(extrude, "line_search",
+                        lambda *a, **k: seen.append(a[6]) or search(*a, **k))
+    rim = [np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
+           for t in np.linspace(0, 1, 40)]
+    sides = [stroke(camera, (12.0, 0.0, 10.0), (12.0, 0.0, 15.0))]
+    op = fit_extrude(disk, face, camera, [camera.project(np.array(rim))[0]], sides)
+    assert seen == [None]
+    assert op.d == pytest.approx(5.0, abs=0.5)
