@@ -532,9 +532,10 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
                          options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it): d read
-    with the strokes' ends (`fit_extrude`'s END_WEIGHT), then d read by closeness alone
-    when that differs (built if the first is refused: a top pushed down past a hole's
-    rim, say, falls apart)."""
+    with the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness alone
+    when that differs, the one that explains the strokes better (`verify.reading_score`)
+    first, the other built if that one is refused (a top pushed down past a hole's rim,
+    say, falls apart)."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
@@ -550,7 +551,13 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
             op = fit_extrude(solid, face, cam, strokes, strokes, **ends)
         if op not in ops:
             ops.append(op)
-    return [(op, index, labels) for op in ops]
+
+    def score(op: Operation) -> float:
+        try:
+            return reading_score(ctx.sketch_distances(solid, op))
+        except OperationError:
+            return np.inf
+    return [(op, index, labels) for op in sorted(ops, key=score)]
 
 
 def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,

@@ -381,6 +381,25 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
     assert got.op.d == pytest.approx(9.0, abs=0.5)
 
 
+@pytest.mark.parametrize("by_ends, by_closeness", [(12.0, 9.0), (9.0, 12.0)])
+def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_first(
+        renderer, monkeypatch, by_ends, by_closeness):
+    box = make_box(Box((40, 30, 20)))
+    cam = view()
+    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)  # drawn 9 mm out
+    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
+    ctx = oracle.context()
+    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+
+    def fit_extrude(solid, face, camera, offset, sides, end_weight=None):
+        return Extrude(TOP, by_closeness if end_weight == 0.0 else by_ends)
+
+    monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
+    assert [op.d for op, _, _ in fits] == [9.0, 12.0]
+
+
 TOP_SWEEP = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
 
 
