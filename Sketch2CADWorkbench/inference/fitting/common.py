@@ -91,6 +91,12 @@ def match_ends(curve_ends: np.ndarray, stroke_ends: np.ndarray
     return rows, cols, swapped[rows, cols] < same[rows, cols]
 
 
+def end_order(swapped: np.ndarray) -> np.ndarray:
+    """(M, 2) for each matched stroke (`match_ends`), which end of its curve (0 first,
+    1 last) its first and its last point draw."""
+    return np.where(np.asarray(swapped, bool)[:, None], [[1, 0]], [[0, 1]])
+
+
 def stroke_pixels(strokes: list[np.ndarray], shape: tuple[int, int]) -> np.ndarray:
     """A boolean (H, W) map of the pixels the strokes pass through."""
     h, w = shape

@@ -39,7 +39,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.spatial import cKDTree
 
-from .common import match_ends, open_ends, resample
+from .common import end_order, match_ends, open_ends, resample
 
 ROBUST_PX = 2.0         # residuals beyond about this many pixels count linearly, not squared
 EDGE_SAMPLES = 8        # points per prism edge for the edge-to-stroke distances
@@ -139,7 +139,7 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
             jac[rows, -1] = (wa * sa[seg][:, None] + wb * sb[seg][:, None]) @ step
         if end_weight > 0 and len(ends):
             r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
-            which = np.where(swapped[:, None], [[1, 0]], [[0, 1]])     # (M, 2): a or b
+            which = end_order(swapped)                                  # (M, 2): a or b
             gap = np.stack([a, b], axis=1)[c[:, None], which] - ends[r]  # (M, 2, 2)
             vertex, shifted = end_vertex[c[:, None], which], end_shift[c[:, None], which]
             ej = np.zeros((len(r), 2, 2, 2 * n + 1))
@@ -259,7 +259,7 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
                               weight * np.einsum("kc,kcp->kp", u2, jac_k)])
         if end_weight > 0 and len(ends):
             r, c, swapped = match_ends(q[line_ends], ends)
-            rows = np.where(swapped[:, None], line_ends[c][:, ::-1], line_ends[c])  # (M, 2)
+            rows = line_ends[c[:, None], end_order(swapped)]           # (M, 2)
             res = np.concatenate([res, end_weight * (q[rows] - ends[r]).ravel()])
             jac = np.concatenate([jac, end_weight * jac_k[rows].reshape(-1, 5)])
         return res, jac

@@ -28,7 +28,14 @@ from ...render.camera import OrthoCamera
 from ...render.maps import ContextMaps
 from ...sketch.curves import operation_curves
 from ...sketch.visible import visible_curves
-from .common import DistanceField, match_ends, open_ends, resample, stroke_pixels
+from .common import (
+    DistanceField,
+    end_order,
+    match_ends,
+    open_ends,
+    resample,
+    stroke_pixels,
+)
 
 
 # Readings are ranked by closeness plus this times the rms gap between the strokes' ends
@@ -104,7 +111,7 @@ def end_gaps(curves: list[np.ndarray], ends: np.ndarray) -> np.ndarray:
     """
     heads = np.array([[c[0], c[-1]] for c in curves], float).reshape(-1, 2, 2)
     rows, cols, swapped = match_ends(heads, ends)
-    meant = np.where(swapped[:, None, None], heads[cols][:, ::-1], heads[cols])
+    meant = heads[cols[:, None], end_order(swapped)]                   # (M, 2, 2)
     return np.linalg.norm(ends[rows] - meant, axis=2).ravel()
 
 
