@@ -33,7 +33,8 @@ HEAD_ON_COS = 0.995
 MAX_SHRINK = 0.95
 # How much the strokes' ends count against the corners and moved corners in the line
 # search (`line_search`): with 1, held-out extrusions read closer on average than with
-# 0 or 0.3 (test-l1 mean volume IoU 0.957 -> 0.964; docs/NOTES.md, stop 30).
+# 0 or 0.3 (test-l1 mean volume IoU 0.957 -> 0.960 with the final code; docs/NOTES.md,
+# stop 30).
 END_WEIGHT = 1.0
 # Points of a curved f (around, along) among which p_f is chosen: 5 degrees apart.
 REF_GRID = (73, 7)
