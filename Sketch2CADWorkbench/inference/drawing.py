@@ -54,11 +54,12 @@ def corners(strokes: list[np.ndarray], size: int) -> np.ndarray | None:
     best: list = [np.inf, None]
     nodes = 0
 
-    def search(covered: frozenset, chosen: list, cost: float) -> None:
+    def search(covered: frozenset, chosen: list, cost: float, rest: float) -> None:
+        """rest: the lower bound of the ends not yet covered (kept as a running sum:
+        summing it afresh at every node was most of the search's time)."""
         nonlocal nodes
         nodes += 1
-        if nodes > COVER_BUDGET or \
-                cost + sum(least[e] for e in range(m) if e not in covered) >= best[0]:
+        if nodes > COVER_BUDGET or cost + rest >= best[0]:
             return
         free = next((e for e in range(m) if e not in covered), None)
         if free is None:
@@ -66,9 +67,9 @@ def corners(strokes: list[np.ndarray], size: int) -> np.ndarray | None:
             return
         for c, t in triples[free]:
             if covered.isdisjoint(t):
-                search(covered | set(t), chosen + [t], cost + c)
+                search(covered | set(t), chosen + [t], cost + c, rest - sum(least[e] for e in t))
 
-    search(frozenset(), [], 0.0)
+    search(frozenset(), [], 0.0, float(least.sum()))
     if best[1] is None:
         return None
     out = np.empty(m, np.int64)

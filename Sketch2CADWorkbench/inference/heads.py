@@ -30,6 +30,7 @@ and which part of a profile points along n_f, only not about whole strokes.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import itertools
 from dataclasses import asdict, dataclass, fields
@@ -115,6 +116,7 @@ class UNetPass:
     f: torch.Tensor       # (B, 4, I, I) F logits
     c: torch.Tensor       # (B, 4, I, I) C values
     maps: torch.Tensor    # (B, feature_channels, I, I): decoder maps, F, C, pooled inputs
+    #                       (channels-last in memory)
 
 
 def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
@@ -122,41 +124,81 @@ def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
     size = x.shape[-2:]
-    maps = [F.interpolate(d, size=size, mode="bilinear", align_corners=False)
+    maps = [d if d.shape[-2:] == size else
+            F.interpolate(d, size=size, mode="bilinear", align_corners=False)
             for d in decoded[-DECODER_LEVELS:]]
-    return UNetPass(logits, f, c, torch.cat(maps + [f, c, x], 1).contiguous())
+    # channels-last, as the U-Net computes: the tokens read a pixel's channels together
+    # (converting to channels-first cost 0.4 ms a sketch)
+    x = x.contiguous(memory_format=torch.channels_last)
+    return UNetPass(logits, f, c, torch.cat(maps + [f, c, x], 1))
 
 
-def _resample(stroke: np.ndarray, count: int) -> np.ndarray:
-    """`count` points evenly along a polyline's arc length (K, 2)."""
-    p = np.asarray(stroke, np.float64).reshape(-1, 2)
-    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
-    s = np.concatenate([[0.0], np.cumsum(seg)])
-    if len(p) < 2 or s[-1] <= 0:
-        return np.repeat(p[:1], count, 0)
-    t = np.linspace(0.0, s[-1], count)
-    return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], 1)
+@dataclass
+class _Polylines:
+    """Several polylines concatenated, for one vectorised pass over all of a sketch's
+    strokes (a loop over strokes cost 1 ms a sketch): points (N, 2), each polyline's
+    first and last point index, and the arc length from the first point to each point,
+    counting the jump between two polylines as 1 so that each keeps its own range."""
+
+    points: np.ndarray
+    first: np.ndarray
+    last: np.ndarray
+    arc: np.ndarray
+
+    @classmethod
+    def of(cls, strokes: list[np.ndarray], scale: float = 1.0) -> "_Polylines":
+        p = [np.asarray(s, np.float64).reshape(-1, 2) for s in strokes]
+        n = np.array([len(q) for q in p])
+        if (n < 1).any():
+            raise ValueError(f"stroke {int(np.argmin(n))} has no points")
+        points = np.concatenate(p) / scale
+        last = np.cumsum(n) - 1
+        seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        seg[last[:-1]] = 1.0
+        return cls(points, last - n + 1, last, np.concatenate([[0.0], np.cumsum(seg)]))
+
+    def lengths(self) -> np.ndarray:
+        return self.arc[self.last] - self.arc[self.first]
+
+    def resample(self, count: int) -> np.ndarray:
+        """(S, count, 2) points evenly along each polyline's arc length (a polyline of
+        no length: its first point)."""
+        t = self.arc[self.first][:, None] + \
+            np.linspace(0.0, 1.0, count)[None] * self.lengths()[:, None]
+        return np.stack([np.interp(t, self.arc, self.points[:, 0]),
+                         np.interp(t, self.arc, self.points[:, 1])], -1)
 
 
-def stroke_geometry(stroke: np.ndarray, normal_xy: np.ndarray, size: int) -> np.ndarray:
-    """14 numbers that do not depend on the drawing direction: centroid (2), the two
-    ends ordered by x (4), chord direction as (cos 2a, sin 2a) (2), chord and arc length
-    (2), closedness (chord / arc), straightness (largest distance from the chord / arc),
-    |cos| of the angle between the chord and the image of the normal under the stroke
-    (a side line of an extrusion runs along it), and the length of that image."""
-    p = np.asarray(stroke, np.float64).reshape(-1, 2) / size
-    arc = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
-    d = p[-1] - p[0]
-    chord = float(np.linalg.norm(d))
-    u = d / chord if chord > 1e-9 else np.array([1.0, 0.0])
-    angle = np.arctan2(u[1], u[0])
-    off = np.abs((p - p[0]) @ np.array([-u[1], u[0]])).max() if len(p) else 0.0
-    n = float(np.linalg.norm(normal_xy))
-    along = abs(float(u @ normal_xy)) / n if n > 1e-9 else 0.0
-    ends = sorted([tuple(p[0]), tuple(p[-1])])
-    return np.array([*p.mean(0), *ends[0], *ends[1], np.cos(2 * angle), np.sin(2 * angle),
-                     chord, arc, chord / max(arc, 1e-9), off / max(arc, 1e-9), along, n],
-                    np.float32)
+def stroke_geometry(strokes: list[np.ndarray], normal_xy: np.ndarray, size: int
+                    ) -> np.ndarray:
+    """(S, 14) per stroke, numbers that do not depend on the drawing direction: centroid
+    (2), the two ends ordered by x (4), chord direction as (cos 2a, sin 2a) (2), chord
+    and arc length (2), closedness (chord / arc), straightness (largest distance from
+    the chord / arc), |cos| of the angle between the chord and the image of the normal
+    under the stroke (a side line of an extrusion runs along it), and the length of that
+    image (normal_xy: (S, 2), that image per stroke)."""
+    lines = _Polylines.of(strokes, size)
+    p, first, last = lines.points, lines.first, lines.last
+    counts = last - first + 1
+    arc = lines.lengths()
+    d = p[last] - p[first]
+    chord = np.linalg.norm(d, axis=1)
+    u = np.where(chord[:, None] > 1e-9, d / np.maximum(chord, 1e-9)[:, None], [1.0, 0.0])
+    angle = np.arctan2(u[:, 1], u[:, 0])
+    across = np.repeat(np.stack([-u[:, 1], u[:, 0]], 1), counts, 0)
+    off = np.maximum.reduceat(np.abs(((p - np.repeat(p[first], counts, 0)) * across).sum(1)),
+                              first)
+    n = np.linalg.norm(normal_xy, axis=1)
+    along = np.where(n > 1e-9, np.abs((u * normal_xy).sum(1)) / np.maximum(n, 1e-9), 0.0)
+    swap = (p[first, 0] > p[last, 0]) | ((p[first, 0] == p[last, 0]) &
+                                         (p[first, 1] > p[last, 1]))
+    ends = np.where(swap[:, None], np.concatenate([p[last], p[first]], 1),
+                    np.concatenate([p[first], p[last]], 1))
+    centroid = np.add.reduceat(p, first) / counts[:, None]
+    safe = np.maximum(arc, 1e-9)
+    return np.concatenate([centroid, ends, np.stack([
+        np.cos(2 * angle), np.sin(2 * angle), chord, arc, chord / safe, off / safe, along, n],
+        1)], 1).astype(np.float32)
 
 
 def stroke_context(pts: np.ndarray, face_id: np.ndarray, voted: np.ndarray) -> np.ndarray:
@@ -182,6 +224,21 @@ def stroke_context(pts: np.ndarray, face_id: np.ndarray, voted: np.ndarray) -> n
     return np.concatenate([gap, share, (under < 0).mean(1, keepdims=True)], 1)
 
 
+# bit j of a 4-bit vote code: whether operator j's F votes for the pixel
+_BIT_OF_CODE = (np.arange(1 << N_OPS)[:, None] >> np.arange(N_OPS)[None] & 1).astype(np.int64)
+
+
+@functools.lru_cache(maxsize=4)
+def _pixel_grid(size: int, internal: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per full-size pixel (row-major): its x, its y and the internal-size cell it falls
+    in; the same for every sketch, so made once."""
+    ys, xs = np.divmod(np.arange(size * size), size)
+    cell = (ys * internal // size) * internal + xs * internal // size
+    for a in (xs, ys, cell):
+        a.flags.writeable = False
+    return xs, ys, cell
+
+
 def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
            face_id: np.ndarray) -> Tokens:
     """One sketch's tokens.
@@ -193,41 +250,48 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     """
     c, i, _ = maps.shape
     size = face_id.shape[-1]
-    # faces: each map's mean over the face's visible full-size pixels, each pixel read
-    # from the internal-size cell it falls in (a (K, I*I) count matrix times the maps)
-    counts = np.bincount(face_id[face_id >= 0].ravel())  # faster than np.unique here
+    # faces: every per-face sum is one bincount over all full-size pixels, keyed by the
+    # pixel's face token + 1 (0: background or a face not kept), so no pixel selection
+    flat = face_id.ravel()
+    counts = np.bincount(flat + 1)[1:]  # face_id -1 (background) falls in bin 0
     ids = np.nonzero(counts)[0]
     counts = counts[ids]
     keep = np.argsort(-counts, kind="stable")[:MAX_FACES]
     ids, counts = ids[keep], counts[keep].astype(np.float32)
     k = len(ids)
-    slot = np.full(int(face_id.max()) + 2, -1, np.int64)  # face-ID -> token; -1: none
-    slot[ids] = np.arange(k)
-    where = slot[face_id.ravel()]  # face_id -1 reads the last entry, which is -1
-    on = where >= 0
-    ys, xs = np.divmod(np.nonzero(on)[0], size)
-    cell = (ys * i // size) * i + xs * i // size
-    hits = np.bincount(where[on] * i * i + cell, minlength=k * i * i).reshape(k, i * i)
-    mean = torch.from_numpy(hits.astype(np.float32)) @ maps.reshape(c, -1).T / \
+    slot = np.zeros(int(face_id.max()) + 2, np.int64)  # face-ID -> token + 1; 0: none
+    slot[ids] = np.arange(1, k + 1)
+    key = slot[flat]  # face_id -1 reads the last entry, which is 0
+    xs, ys, cell = _pixel_grid(size, i)
+
+    def per_face(index: np.ndarray, bins: int) -> np.ndarray:
+        """(k, bins) counts of the pixels of each face token per index value."""
+        return np.bincount(key * bins + index, minlength=(k + 1) * bins) \
+            .reshape(k + 1, bins)[1:]
+    # each map's mean over the face's pixels, each pixel read from the internal-size cell
+    # it falls in (a (K, I*I) count matrix times the maps)
+    hits = per_face(cell, i * i)
+    mean = torch.from_numpy(hits.astype(np.float32)) @ maps.permute(1, 2, 0).reshape(-1, c) / \
         torch.from_numpy(counts)[:, None]
-    f_logits = maps[c - 5 - 2 * N_OPS:c - 5 - N_OPS][None]              # the U-Net's F
-    votes_map = F.interpolate(f_logits, size=(size, size), mode="bilinear",
-                              align_corners=False)[0].reshape(N_OPS, -1).numpy()[:, on] > 0
-    # per face, in one pass over its pixels (not 8 bincounts): the U-Net's F votes and
-    # the sums of x, y, x^2, y^2
-    pos = torch.from_numpy(np.stack([xs, ys], 1) / size)
-    sums = torch.zeros(k, N_OPS + 4, dtype=torch.float64).index_add_(
-        0, torch.from_numpy(where[on]),
-        torch.cat([torch.from_numpy(votes_map.T.astype(np.float64)), pos, pos ** 2], 1)).numpy()
-    votes = sums[:, :N_OPS]
-    centroid = sums[:, N_OPS:N_OPS + 2] / counts[:, None]
-    spread = np.sqrt(np.clip(sums[:, N_OPS + 2:] / counts[:, None] - centroid ** 2, 0, None))
+    # the U-Net's F votes (F logit > 0 at full size) per operator, as 4 bits per pixel
+    f_logits = maps[c - 5 - 2 * N_OPS:c - 5 - N_OPS][None].contiguous()  # upsampled faster
+    above = F.interpolate(f_logits, size=(size, size), mode="bilinear",
+                          align_corners=False)[0].reshape(N_OPS, -1) > 0
+    bits = (above.to(torch.uint8) << torch.arange(N_OPS, dtype=torch.uint8)[:, None]) \
+        .sum(0).numpy()
+    votes = (per_face(bits, 1 << N_OPS) @ _BIT_OF_CODE).astype(np.float64)
+    # centroid and spread from each face's pixel counts per column and per row
+    coord = np.arange(size) / size
+    along = np.stack([coord, coord ** 2], 1)                             # (size, 2)
+    sx, sy = per_face(xs, size) @ along, per_face(ys, size) @ along      # (k, 2) each
+    centroid = np.stack([sx[:, 0], sy[:, 0]], 1) / counts[:, None]
+    squares = np.stack([sx[:, 1], sy[:, 1]], 1) / counts[:, None]
+    spread = np.sqrt(np.clip(squares - centroid ** 2, 0, None))
     geo = np.concatenate([counts[:, None] / size ** 2, centroid, spread,
                           votes / counts[:, None], votes / np.maximum(votes.sum(0), 1)], 1)
     face = torch.cat([mean, torch.from_numpy(geo.astype(np.float32))], 1)
     # strokes: grid_sample at the points (pixel x -> normalised 2x/S - 1)
-    pts = np.stack([_resample(s, POINTS) for s in strokes]) if strokes else \
-        np.zeros((0, POINTS, 2))
+    pts = _Polylines.of(strokes).resample(POINTS) if strokes else np.zeros((0, POINTS, 2))
     grid = torch.from_numpy((2 * pts / size - 1).astype(np.float32))[None]  # (1, S, P, 2)
     samples = F.grid_sample(maps[None], grid, mode="bilinear", padding_mode="border",
                             align_corners=False)[0]                       # (C, S, P)
@@ -235,8 +299,7 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     # the U-Net's most voted face per operator (-2: none); image y points down, so the
     # normal's image direction is (N_x, -N_y)
     voted = np.where(votes.max(0) > 0, ids[votes.argmax(0)], -2) if k else np.full(N_OPS, -2)
-    geo = np.concatenate([np.stack([stroke_geometry(s, nxy * np.array([1.0, -1.0]), size)
-                                    for s, nxy in zip(strokes, normal)]),
+    geo = np.concatenate([stroke_geometry(strokes, normal * np.array([1.0, -1.0]), size),
                           stroke_context(pts, face_id, voted)], 1) if strokes else \
         np.zeros((0, STROKE_GEOMETRY), np.float32)
     stroke = torch.cat([samples.mean(2).T, samples.amax(2).T, torch.from_numpy(geo)], 1)
@@ -458,12 +521,11 @@ def face_normal_images(face_ids: torch.Tensor, face_id: np.ndarray, normal: np.n
     """(K, 2) each face's mean outward normal seen in the image (x right, y down; its
     length is the sine of the angle between the normal and the view), from the normal
     map N of the inputs, (3, S, S) camera-space normal + 1 (render/maps.py)."""
-    on = face_id >= 0
-    ids = face_id[on].astype(np.int64)
-    count = np.maximum(np.bincount(ids, minlength=int(face_id.max()) + 1), 1)
-    nx = np.bincount(ids, normal[0][on] - 1.0, minlength=len(count)) / count
-    ny = np.bincount(ids, normal[1][on] - 1.0, minlength=len(count)) / count
-    k = face_ids.numpy()
+    key = face_id.ravel().astype(np.int64) + 1  # background (-1) in bin 0
+    count = np.maximum(np.bincount(key), 1)
+    nx = np.bincount(key, normal[0].ravel(), minlength=len(count)) / count - 1.0
+    ny = np.bincount(key, normal[1].ravel(), minlength=len(count)) / count - 1.0
+    k = face_ids.numpy() + 1
     return np.stack([nx[k], -ny[k]], 1)  # image y points down
 
 
@@ -523,9 +585,9 @@ def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.nda
     p = face_probs.numpy()
     value = 0.5 * p / max(p.max(), 1e-12)
     value[chosen] = 1.0
-    lut = np.zeros(int(face_id.max()) + 2, np.float32)
+    lut = np.zeros(int(face_id.max()) + 2, np.float32)  # its last entry (0) for -1
     lut[face_ids.numpy()] = value
-    return np.where(face_id >= 0, lut[np.clip(face_id, -1, None)], 0.0).astype(np.float32)
+    return lut[face_id]
 
 
 # ---------------------------------------------------------------- checkpoints

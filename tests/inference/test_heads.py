@@ -78,14 +78,44 @@ def test_a_face_token_holds_its_area_centroid_and_spread(net):
                                  xs.std() / SIZE, ys.std() / SIZE], atol=1e-6)
 
 
+def test_a_face_token_counts_the_unets_f_votes_on_it(net):
+    face_id, strokes = _scene()
+    x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
+    with torch.no_grad():
+        u = feature_maps(net, x)
+    t = tokens(u.logits[0], u.maps[0], strokes, face_id)
+    votes = net.upsample(u.f)[0].numpy() > 0  # (4, S, S): where each operator's F says f
+    c = feature_channels(net)
+    for fid, token in zip(t.face_ids.tolist(), t.face):
+        on = face_id == fid
+        share = votes[:, on].sum(1) / on.sum()
+        assert np.allclose(token[c + 5:c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
+
+
+def test_a_stroke_token_holds_its_centroid_ends_chord_and_arc():
+    strokes = [np.array([[4.0, 8.0], [4.0, 0.0], [0.0, 0.0]]),  # drawn right to left
+               np.array([[16.0, 16.0]])]                           # a dot
+    geo = stroke_geometry(strokes, np.array([[0.0, 1.0], [0.0, 0.0]]), SIZE)
+    assert geo.shape == (2, 14)
+    px = geo[:, :10] * SIZE  # centroid, ends, (cos 2a, sin 2a), chord, arc; in pixels
+    assert np.allclose(px[0, :2], [8 / 3, 8 / 3])
+    assert np.allclose(px[0, 2:6], [0, 0, 4, 8])  # the ends, smaller x first
+    assert np.allclose(px[0, 8:10], [np.hypot(4, 8), 12])
+    assert np.isclose(geo[0, 10], np.hypot(4, 8) / 12)  # closedness: chord / arc
+    assert np.isclose(geo[0, 11], (8 * 4 / np.hypot(4, 8)) / 12)  # corner off the chord / arc
+    assert np.isclose(geo[0, 12], 8 / np.hypot(4, 8))  # |cos| of the chord to the normal
+    assert np.allclose(px[1, :6], 16) and px[1, 9] == 0
+    assert np.isfinite(geo).all()
+
+
 def test_a_stroke_reads_the_same_drawn_either_way(net):
     face_id, strokes = _scene()
     forward = _tokens(net, strokes, face_id)
     backward = _tokens(net, [s[::-1] for s in strokes], face_id)
     assert torch.allclose(forward.stroke, backward.stroke, atol=1e-5)
-    s = strokes[2]
-    assert np.allclose(stroke_geometry(s, np.array([0.3, 0.4]), SIZE),
-                       stroke_geometry(s[::-1], np.array([0.3, 0.4]), SIZE), atol=1e-6)
+    normal = np.array([[0.3, 0.4]] * len(strokes))
+    assert np.allclose(stroke_geometry(strokes, normal, SIZE),
+                       stroke_geometry([s[::-1] for s in strokes], normal, SIZE), atol=1e-6)
 
 
 def test_a_sketch_without_faces_in_view_still_gives_stroke_tokens(net):
