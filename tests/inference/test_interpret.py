@@ -397,7 +397,27 @@ def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_f
 
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
-    assert [op.d for op, _, _ in fits] == [9.0, 12.0]
+    ds = [op.d for op, _, _ in fits]
+    # the 9 mm reading (or the score's search, next to it) first; the 12 mm one behind
+    assert ds[0] == pytest.approx(9.0, abs=ctx.camera.pixel_size) and ds[-1] == 12.0
+    assert 9.0 in ds
+
+
+def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, monkeypatch):
+    """Both line search readings 1.5 and 1 mm short of the 9 mm drawn: the search by the
+    score readings are ranked by finds the drawn offset, to a quarter pixel or so."""
+    box = make_box(Box((40, 30, 20)))
+    cam = view()
+    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)
+    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
+    ctx = oracle.context()
+    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+    monkeypatch.setattr(interpret_module, "fit_extrude",
+                        lambda *args, end_weight=None: Extrude(TOP, 8.0 if end_weight is None else 7.5))
+    fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
+    assert fits[0][0].d == pytest.approx(9.0, abs=0.5 * ctx.camera.pixel_size)
+    assert {op.d for op, _, _ in fits[1:]} == {7.5, 8.0}
 
 
 TOP_SWEEP = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)), Mode.ADD)
