@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
+from Sketch2CADWorkbench.brep.faces import OperationError, face_at, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -48,6 +48,7 @@ from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.strokes import rasterize
 from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.labels import BEVEL_L
 
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
@@ -136,6 +137,29 @@ def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(rend
     wrong_face = Oracle(box, replace(op, face=TOP), pts, labels, cam, renderer)
     got = interpret(box, [cam.project(p)[0] for p in pts], cam, wrong_face, renderer,
                     InterpretOptions(regularize=False))
+    assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
+
+
+def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_says(renderer):
+    """l runs along f's edges: a stroke drawn 10 px too high lies over the top face, whose
+    reading (0.983 of the volume meant) once replaced f's."""
+    box = make_box(Box((40, 30, 20)))
+    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
+    k = 0.5523
+    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
+           (20.0, -15.0, 4.0))
+    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    strokes = [cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
+               for p, label in zip(pts, labels)]
+    ctx = to_context(box, strokes, cam, renderer)
+    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels) if label == BEVEL_L]
+    assert face_at(box, interpret_module.face_under_stroke(drawn_l, ctx.maps.face_id)) \
+        .normalAt().toTuple() == pytest.approx((0, 0, 1))
+    got = interpret(box, strokes, cam, Oracle(box, op, pts, labels, cam, renderer), renderer,
+                    InterpretOptions(regularize=False))
+    assert got.operations[0].face.normal == pytest.approx((0, -1, 0))
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
