@@ -437,8 +437,10 @@ def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, mon
     ctx = oracle.context()
     top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
     index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
-    monkeypatch.setattr(interpret_module, "fit_extrude",
-                        lambda *args, end_weight=None: Extrude(TOP, 8.0 if end_weight is None else 7.5))
+    def fit_extrude(*args, end_weight=None):
+        return Extrude(TOP, 8.0 if end_weight is None else 7.5)  # by the ends, by closeness
+
+    monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
     assert fits[0][0].d == pytest.approx(9.0, abs=0.5 * ctx.camera.pixel_size)
     assert {op.d for op, _, _ in fits[1:]} == {7.5, 8.0}
