@@ -437,6 +437,7 @@ def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, mon
     ctx = oracle.context()
     top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
     index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+
     def fit_extrude(*args, end_weight=None):
         return Extrude(TOP, 8.0 if end_weight is None else 7.5)  # by the ends, by closeness
 
