@@ -732,15 +732,15 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
         raise first
     _, got, face_index, labels = best
     # l refined against every stroke is a reading beside l fitted to its own stroke, the
-    # one that explains the strokes better first (a refined l may be refused by OCCT)
+    # one that explains the strokes better first (a refined l may be refused by OCCT); a
+    # refined l whose sketch cannot be drawn is dropped (the fitted one's was drawn above)
     scored = []
     for op in (got.refined(strokes), got.operation):
         try:
             scored.append((reading_score(ctx.sketch_distances(solid, op)), op))
         except OperationError:
             continue
-    return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])] or \
-        [(got.operation, face_index, labels)]
+    return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])]
 
 
 _FIT_ON_FACE = per_operator({OperatorType.EXTRUDE: _fit_extrude_on_face,

@@ -125,13 +125,17 @@ def test_an_extrusion_survives_a_curve_map_that_calls_side_edges_offset_edges(re
     assert fitted.d == pytest.approx(9.0, abs=0.5)
 
 
-def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(renderer):
-    box = make_box(Box((40, 30, 20)))
+def front_bevel():
+    """A box and a round of radius 6 at its front face's top right corner."""
     front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
     k = 0.5523  # quarter-circle Bezier handle
     arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
            (20.0, -15.0, 4.0))
-    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    return make_box(Box((40, 30, 20))), Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+
+
+def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(renderer):
+    box, op = front_bevel()
     cam = view()
     pts, labels = sketch(box, op, cam)
     wrong_face = Oracle(box, replace(op, face=TOP), pts, labels, cam, renderer)
@@ -143,12 +147,7 @@ def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(rend
 def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_says(renderer):
     """l runs along f's edges: a stroke drawn 10 px too high lies over the top face, whose
     reading (0.983 of the volume meant) once replaced f's."""
-    box = make_box(Box((40, 30, 20)))
-    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
-    k = 0.5523
-    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
-           (20.0, -15.0, 4.0))
-    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    box, op = front_bevel()
     cam = view()
     pts, labels = sketch(box, op, cam)
     strokes = [cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
@@ -520,12 +519,7 @@ def test_interpret_command_rejects_a_broken_session(tmp_path):
 
 
 def test_a_bevel_is_found_when_the_curve_map_takes_the_offset_profile_for_the_profile(renderer):
-    box = make_box(Box((40, 30, 20)))
-    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
-    k = 0.5523
-    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
-           (20.0, -15.0, 4.0))
-    op = Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
+    box, op = front_bevel()
     cam = view()
     pts, labels = sketch(box, op, cam)
     swapped = Oracle(box, op, pts, [1 - label for label in labels], cam, renderer)

@@ -22,14 +22,15 @@ EDGE_TOL = 0.08
 
 
 def _corner_for(ends: np.ndarray, edges, camera: OrthoCamera, scale: float
-                ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray], tuple]:
+                ) -> tuple[np.ndarray, tuple[float, float], tuple]:
     """The corner c of f whose two edges best hold the stroke's two ends, in the image.
 
     For every vertex shared by two straight edges of f, each stroke end (pixels; (2, 2),
     first and last) is put on the nearer of the two edges' images (the other end on the
     other edge); the corner with the smallest total distance in pixels wins. Returns c,
-    the ends carried onto the edges in 3D and the two edges ((first, last) points), the
-    first stroke end's first.
+    where on its edge each end lies (0 at the edge's first point, 1 at its last: the same
+    in the image and in 3D, projection being affine) and the two edges ((first, last)
+    points), the first stroke end's first.
     """
     best = None
     for i, (a0, a1) in enumerate(edges):
@@ -43,9 +44,7 @@ def _corner_for(ends: np.ndarray, edges, camera: OrthoCamera, scale: float
                         ta, da = _on_segment(ends[0], *camera.project(np.stack(first))[0])
                         tb, db = _on_segment(ends[1], *camera.project(np.stack(second))[0])
                         if best is None or da + db < best[0]:
-                            on = (first[0] + ta * (first[1] - first[0]),
-                                  second[0] + tb * (second[1] - second[0]))
-                            best = (da + db, p, on, (first, second))
+                            best = (da + db, p, (ta, tb), (first, second))
     if best is None:
         raise FitError("bevel: the face has no corner between two straight edges")
     if best[0] > 2 * EDGE_TOL * float(np.hypot(camera.width, camera.height)):
@@ -128,18 +127,16 @@ def bevel_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     except ValueError as e:
         raise FitError(f"bevel: {e}") from None
     stroke = np.asarray(profile_stroke, float).reshape(-1, 2)
-    corner, (qa, qb), edges = _corner_for(stroke[[0, -1]], line_edges(face), camera, scale)
+    corner, at, edges = _corner_for(stroke[[0, -1]], line_edges(face), camera, scale)
     opposite = crease_end(solid, corner, frame.normal, 1e-6 * scale)
     if opposite is None:
         raise FitError("bevel: the corner has no edge running into the solid along the face "
                        "normal, so there is no crease to round")
-    ctrl2 = fit_bezier(frame.to_2d(pts), frame.to_2d(qa)[0], frame.to_2d(qb)[0])
+    (a0, a1), (b0, b1) = (frame.to_2d(np.stack(e)) for e in edges)
+    ctrl2 = fit_bezier(frame.to_2d(pts), a0 + at[0] * (a1 - a0), b0 + at[1] * (b1 - b0))
     ctrl2 = _inside_wedge(ctrl2, frame.to_2d(corner)[0])
     op = Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),
                tuple(tuple(map(float, p)) for p in frame.to_3d(ctrl2)))
-    (a0, a1), (b0, b1) = (frame.to_2d(np.stack(e)) for e in edges)
-    at = [float((q - e0) @ (e1 - e0) / ((e1 - e0) @ (e1 - e0)))
-          for q, e0, e1 in ((ctrl2[0], a0, a1), (ctrl2[3], b0, b1))]
     origin = camera.project(frame.origin[None])[0][0]
     image = BevelImage(origin, np.stack([camera.image_of(frame.u), camera.image_of(frame.v)], 1),
                        np.stack([a0, a1]), np.stack([b0, b1]),
