@@ -135,12 +135,13 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
         with torch.inference_mode():
             u = feature_maps(p.model, torch.from_numpy(x)[None])
             lap("features")
-            t = tokens(u.logits[0], u.maps[0], s.strokes, s.face_id)
+            t = tokens(u.logits[0], u.sketch(0), s.strokes, s.face_id)
             lap("tokens")
             _, roles, faces = p.head(*collate([t]))
             lap("head")
             op = int(probs.argmax())
-            c = choose(roles[0], faces[0], op, s.strokes, t.face_ids, s.face_id, x[2:5])
+            c = choose(roles[0], faces[0], op, s.strokes, t.normal_image.numpy(),
+                       s.face_id.shape[-1])
             paint_curve(s.strokes, c.roles, s.face_id.shape[-1])
             paint_face(faces[0, :, op].softmax(0), t.face_ids, s.face_id, c.face)
             lap("decode + paint")

@@ -66,23 +66,23 @@ class Scores:
 
 def batch_tokens(u: UNetPass, meta: list[dict], face_id: np.ndarray) -> list[Tokens]:
     """The head's tokens of a batch's samples from the U-Net's pass over them."""
-    return [tokens(u.logits[j], u.maps[j], [np.asarray(s, float) for s in m["strokes"]],
+    return [tokens(u.logits[j], u.sketch(j), [np.asarray(s, float) for s in m["strokes"]],
                    face_id[j]) for j, m in enumerate(meta)]
 
 
-def _head_reading(head: StructureHead, u: UNetPass, x: np.ndarray, meta: list[dict],
-                  face_id: np.ndarray, op: torch.Tensor
+def _head_reading(head: StructureHead, u: UNetPass, meta: list[dict], face_id: np.ndarray,
+                  op: torch.Tensor
                   ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """The head's class logits (B, 4) and its choices under the true operator painted
-    into F and C (B, S, S), as the fitting reads them; x: the inputs (B, 5, S, S)."""
+    into F and C (B, S, S), as the fitting reads them."""
     toks = batch_tokens(u, meta, face_id)
     logits, roles, faces = head(*collate(toks))
     pf, pc = [], []
     for j, t in enumerate(toks):
         o = int(op[j])
         strokes = [np.asarray(s, float) for s in meta[j]["strokes"]]
-        c = choose(roles[j, :len(strokes)], faces[j], o, strokes, t.face_ids, face_id[j],
-                   x[j, 2:5])
+        c = choose(roles[j, :len(strokes)], faces[j], o, strokes, t.normal_image.numpy(),
+                   face_id.shape[-1])
         pc.append(paint_curve(strokes, c.roles, face_id.shape[-1]))
         pf.append(paint_face(faces[j, :len(t.face_ids), o].softmax(0), t.face_ids, face_id[j],
                              c.face))
@@ -121,8 +121,7 @@ def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
                     u = feature_maps(model, torch.from_numpy(x))
                     probs, f, c = model.full_size(u.logits, u.f, u.c)
                     if head is not None:
-                        logits, pf, pc = _head_reading(head, u, x, meta[sl], a["face_id"][sl],
-                                                       op)
+                        logits, pf, pc = _head_reading(head, u, meta[sl], a["face_id"][sl], op)
                         out.head.add(op, logits.argmax(1), noise, *face_overlap(pf, face),
                                      *curve_hits(pc, curve, mask, op))
                 fo, co = f[rows, op], c[rows, op]       # the true operator's maps (B, S, S)

@@ -38,38 +38,44 @@ def corners(strokes: list[np.ndarray], size: int) -> np.ndarray | None:
     m, reach = len(ends), CORNER_REACH * size
     if m % 3:
         return None
-    d = np.linalg.norm(ends[:, None] - ends[None], axis=-1)
-    triples: list[list[tuple[float, tuple[int, int, int]]]] = [[] for _ in range(m)]
+    d = np.linalg.norm(ends[:, None] - ends[None], axis=-1).tolist()  # floats read faster
+    # per end, the triples holding it, cheapest first, each as (cost, its ends' bitmask,
+    # its ends): the search keeps the covered ends as one int (frozensets of ends were
+    # most of its time)
+    triples: list[list[tuple[float, int, tuple[int, int, int]]]] = [[] for _ in range(m)]
     for a in range(m):
-        near = [b for b in range(a + 1, m) if d[a, b] <= reach and b // 2 != a // 2]
+        near = [b for b in range(a + 1, m) if d[a][b] <= reach and b // 2 != a // 2]
         for b, c in itertools.combinations(near, 2):
-            if c // 2 != b // 2 and d[b, c] <= reach:
-                cost = d[a, b] ** 2 + d[a, c] ** 2 + d[b, c] ** 2
+            if c // 2 != b // 2 and d[b][c] <= reach:
+                entry = (d[a][b] ** 2 + d[a][c] ** 2 + d[b][c] ** 2,
+                         1 << a | 1 << b | 1 << c, (a, b, c))
                 for e in (a, b, c):
-                    triples[e].append((cost, (a, b, c)))
+                    triples[e].append(entry)
     for t in triples:
         t.sort()
     # a lower bound on what covering an end adds: a third of its cheapest triple
-    least = np.array([t[0][0] / 3 if t else np.inf for t in triples])
+    least = [t[0][0] / 3 if t else np.inf for t in triples]
+    bound = [[least[a] + least[b] + least[c] for _, _, (a, b, c) in t] for t in triples]
     best: list = [np.inf, None]
     nodes = 0
+    everything = (1 << m) - 1
 
-    def search(covered: frozenset, chosen: list, cost: float, rest: float) -> None:
+    def search(covered: int, chosen: list, cost: float, rest: float) -> None:
         """rest: the lower bound of the ends not yet covered (kept as a running sum:
         summing it afresh at every node was most of the search's time)."""
         nonlocal nodes
         nodes += 1
         if nodes > COVER_BUDGET or cost + rest >= best[0]:
             return
-        free = next((e for e in range(m) if e not in covered), None)
-        if free is None:
+        if covered == everything:
             best[:] = [cost, list(chosen)]
             return
-        for c, t in triples[free]:
-            if covered.isdisjoint(t):
-                search(covered | set(t), chosen + [t], cost + c, rest - sum(least[e] for e in t))
+        free = (~covered & (covered + 1)).bit_length() - 1  # the lowest end not covered
+        for (c, mask, t), low in zip(triples[free], bound[free]):
+            if not covered & mask:
+                search(covered | mask, chosen + [t], cost + c, rest - low)
 
-    search(frozenset(), [], 0.0, float(least.sum()))
+    search(0, [], 0.0, float(sum(least)))
     if best[1] is None:
         return None
     out = np.empty(m, np.int64)

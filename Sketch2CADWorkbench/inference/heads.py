@@ -36,6 +36,7 @@ import itertools
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+import cv2
 import numpy as np
 import torch
 import torch.nn as nn
@@ -96,7 +97,9 @@ class Tokens:
     FACE_GEOMETRY) float32; face_ids: (K,) int64, the face-ID of each face token;
     cls: (N_OPS + CLASS_EXTRA,) float32, the U-Net's class logits, the token counts
     and which operators' drawings have this many strokes (`count_fits`);
-    on_face: (S, K) float32, the share of each stroke's points on each face token.
+    on_face: (S, K) float32, the share of each stroke's points on each face token;
+    normal_image: (K, 2) float32, each face's mean outward normal seen in the image (x
+    right, y down; its length is the sine of the angle between the normal and the view).
     """
 
     stroke: torch.Tensor
@@ -104,6 +107,7 @@ class Tokens:
     face_ids: torch.Tensor
     cls: torch.Tensor
     on_face: torch.Tensor
+    normal_image: torch.Tensor
 
 
 # ---------------------------------------------------------------- features
@@ -115,22 +119,84 @@ class UNetPass:
     logits: torch.Tensor  # (B, 4) class logits
     f: torch.Tensor       # (B, 4, I, I) F logits
     c: torch.Tensor       # (B, 4, I, I) C values
-    maps: torch.Tensor    # (B, feature_channels, I, I): decoder maps, F, C, pooled inputs
-    #                       (channels-last in memory)
+    maps: list[torch.Tensor]  # (B, C_m, r_m, r_m) each at its own size r_m, channels-last:
+    #                           the decoder maps (coarsest first), F and C, pooled inputs
+
+    def sketch(self, j: int) -> list[torch.Tensor]:
+        """The maps of the batch's j-th sketch, as `tokens` takes them."""
+        return [m[j] for m in self.maps]
 
 
 def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
-    """The U-Net's outputs and the maps the tokens pool, from full-size inputs."""
+    """The U-Net's outputs and the maps the tokens pool, from full-size inputs. The
+    tokens read each map as if upsampled to I (bilinear), without upsampling it: that
+    and the concatenation to one tensor were 0.9 ms of a sketch's 10."""
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
-    size = x.shape[-2:]
-    maps = [d if d.shape[-2:] == size else
-            F.interpolate(d, size=size, mode="bilinear", align_corners=False)
-            for d in decoded[-DECODER_LEVELS:]]
-    # channels-last, as the U-Net computes: the tokens read a pixel's channels together
-    # (converting to channels-first cost 0.4 ms a sketch)
-    x = x.contiguous(memory_format=torch.channels_last)
-    return UNetPass(logits, f, c, torch.cat(maps + [f, c, x], 1))
+    out = torch.cat([f, c], 1)  # a view's copy: the heads' output, channels-last
+    return UNetPass(logits, f, c, decoded[-DECODER_LEVELS:] +
+                    [out, x.contiguous(memory_format=torch.channels_last)])
+
+
+@functools.lru_cache(maxsize=8)
+def _adjoint_taps(factor: int) -> torch.Tensor:
+    """(f, 2) what each of the 2f fine pixels around a coarse pixel takes from it in
+    bilinear upsampling by f along one axis (align_corners=False), 1 - |offset|: the
+    first f pixels in column 0, the next f in column 1."""
+    taps = 1 - ((torch.arange(2 * factor) - factor // 2 + 0.5) / factor - 0.5).abs()
+    return taps.reshape(2, factor).T.contiguous()
+
+
+def _upsampling_adjoint(h: torch.Tensor, factor: int) -> torch.Tensor:
+    """(..., r) the adjoint of bilinear upsampling by f along the last axis, applied to
+    (..., f r): each coarse pixel gathers its 2f fine pixels by the upsampling's taps,
+    in blocks of f (a strided convolution, without one: conv2d took 4x as long). Taps
+    past the border fold back onto the border pixels, which the upsampling clamps to."""
+    pad = 3 * factor // 2  # fine pixels for the coarse pixels -1 and r past each border
+    halves = F.pad(h, (pad, pad)).unflatten(-1, (-1, factor)) @ _adjoint_taps(factor)
+    ext = halves[..., :-1, 0] + halves[..., 1:, 1]                     # (..., r + 2)
+    ext[..., 1] += ext[..., 0]                                         # (..., r + 2)
+    ext[..., -2] += ext[..., -1]
+    return ext[..., 1:-1]
+
+
+def _face_sums(hits: torch.Tensor, part: torch.Tensor) -> torch.Tensor:
+    """(K, C) sums over each face of a map upsampled to I (F.interpolate, bilinear):
+    hits (K, I, I) the face's full-size pixels per internal cell; part (C, r, r). The
+    sum of the upsampled map U p is that of p weighted by U's adjoint of the hits."""
+    c, r, i = part.shape[0], part.shape[-1], hits.shape[-1]
+    if r != i:
+        hits = _upsampling_adjoint(_upsampling_adjoint(hits, i // r).transpose(1, 2), i // r) \
+            .transpose(1, 2)
+    return hits.reshape(len(hits), r * r) @ part.permute(1, 2, 0).reshape(r * r, c)
+
+
+def _fine_neighbours(pts: np.ndarray, size: int, internal: int
+                     ) -> tuple[torch.Tensor, torch.Tensor]:
+    """Bilinear sampling at pixel points (N, 2) of the full-size maps on an I x I map,
+    clamped to the border (F.grid_sample, align_corners=False, padding "border"): the
+    centres of each point's 4 pixels of that map as a grid (1, N, 4, 2) and their
+    weights (N, 4)."""
+    t = np.clip(pts * internal / size - 0.5, 0, internal - 1)           # (N, 2) x, y
+    lo = np.floor(t)
+    hi = np.minimum(lo + 1, internal - 1)
+    frac = t - lo
+    corners = np.stack([np.stack([lo[:, 0], lo[:, 1]], 1), np.stack([hi[:, 0], lo[:, 1]], 1),
+                        np.stack([lo[:, 0], hi[:, 1]], 1), np.stack([hi[:, 0], hi[:, 1]], 1)], 1)
+    wx, wy = frac[:, 0], frac[:, 1]
+    weights = np.stack([(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy, wx * wy], 1)
+    grid = (2 * corners + 1) / internal - 1
+    return (torch.from_numpy(grid.astype(np.float32))[None],
+            torch.from_numpy(weights.astype(np.float32)))
+
+
+def _sample(part: torch.Tensor, grid: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
+    """(N, C) a map (C, r, r) upsampled to I and sampled at the points `_fine_neighbours`
+    gave: the upsampled map's value at a pixel centre of I is the map's bilinear sample
+    there (the same clamping at the border), so no map of size I is made."""
+    at = F.grid_sample(part[None], grid, mode="bilinear", padding_mode="border",
+                       align_corners=False)[0]                            # (C, N, 4)
+    return (at * weights).sum(-1).T
 
 
 @dataclass
@@ -239,16 +305,17 @@ def _pixel_grid(size: int, internal: int) -> tuple[np.ndarray, np.ndarray, np.nd
     return xs, ys, cell
 
 
-def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
+def tokens(logits: torch.Tensor, maps: list[torch.Tensor], strokes: list[np.ndarray],
            face_id: np.ndarray) -> Tokens:
     """One sketch's tokens.
 
     Args:
-        logits: (4,) the U-Net's class logits; maps: (C, I, I) `feature_maps` of it.
+        logits: (4,) the U-Net's class logits; maps: `UNetPass.sketch` of it, each map
+        (C_m, r_m, r_m), read as upsampled to the internal size I of the last.
         strokes: pixel polylines (K, 2) in the full-size maps' pixels.
         face_id: (S, S) int face index per pixel (-1 background).
     """
-    c, i, _ = maps.shape
+    i = maps[-1].shape[-1]
     size = face_id.shape[-1]
     # faces: every per-face sum is one bincount over all full-size pixels, keyed by the
     # pixel's face token + 1 (0: background or a face not kept), so no pixel selection
@@ -270,16 +337,17 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
             .reshape(k + 1, bins)[1:]
     # each map's mean over the face's pixels, each pixel read from the internal-size cell
     # it falls in (a (K, I*I) count matrix times the maps)
-    hits = per_face(cell, i * i)
-    mean = torch.from_numpy(hits.astype(np.float32)) @ maps.permute(1, 2, 0).reshape(-1, c) / \
-        torch.from_numpy(counts)[:, None]
-    # the U-Net's F votes (F logit > 0 at full size) per operator, as 4 bits per pixel
-    f_logits = maps[c - 5 - 2 * N_OPS:c - 5 - N_OPS][None].contiguous()  # upsampled faster
-    above = F.interpolate(f_logits, size=(size, size), mode="bilinear",
-                          align_corners=False)[0].reshape(N_OPS, -1) > 0
-    bits = (above.to(torch.uint8) << torch.arange(N_OPS, dtype=torch.uint8)[:, None]) \
-        .sum(0).numpy()
-    votes = (per_face(bits, 1 << N_OPS) @ _BIT_OF_CODE).astype(np.float64)
+    hits = torch.from_numpy(per_face(cell, i * i).astype(np.float32)).reshape(k, i, i)
+    mean = torch.cat([_face_sums(hits, m) for m in maps], 1) / torch.from_numpy(counts)[:, None]
+    c = mean.shape[1]
+    # the U-Net's F votes (F logit > 0 at full size) per operator, as 4 bits per pixel;
+    # OpenCV upsamples the channels-last maps as F.interpolate does (bilinear, half-pixel
+    # centres) in a tenth of its time, and the four 0/1 bytes of a pixel, read as one
+    # little-endian uint32, become its 4-bit code in the top byte of one product
+    f_hwc = np.ascontiguousarray(maps[-2][:N_OPS].permute(1, 2, 0).numpy())
+    above = cv2.resize(f_hwc, (size, size), interpolation=cv2.INTER_LINEAR) > 0
+    bits = (above.view("<u4").ravel() * np.uint32(0x01020408)) >> np.uint32(24)
+    votes = (per_face(bits.astype(np.int64), 1 << N_OPS) @ _BIT_OF_CODE).astype(np.float64)
     # centroid and spread from each face's pixel counts per column and per row
     coord = np.arange(size) / size
     along = np.stack([coord, coord ** 2], 1)                             # (size, 2)
@@ -290,24 +358,27 @@ def tokens(logits: torch.Tensor, maps: torch.Tensor, strokes: list[np.ndarray],
     geo = np.concatenate([counts[:, None] / size ** 2, centroid, spread,
                           votes / counts[:, None], votes / np.maximum(votes.sum(0), 1)], 1)
     face = torch.cat([mean, torch.from_numpy(geo.astype(np.float32))], 1)
-    # strokes: grid_sample at the points (pixel x -> normalised 2x/S - 1)
+    # the faces' normals from the pooled N (the last 3 maps; stored as normal + 1); image
+    # y points down
+    normal_image = (mean[:, c - 3:c - 1] - 1.0) * torch.tensor([1.0, -1.0])
+    # strokes: the maps at POINTS points along each
     pts = _Polylines.of(strokes).resample(POINTS) if strokes else np.zeros((0, POINTS, 2))
-    grid = torch.from_numpy((2 * pts / size - 1).astype(np.float32))[None]  # (1, S, P, 2)
-    samples = F.grid_sample(maps[None], grid, mode="bilinear", padding_mode="border",
-                            align_corners=False)[0]                       # (C, S, P)
-    normal = samples[-3:-1].mean(2).T.numpy()                             # (S, 2) N_x, N_y
+    grid, weights = _fine_neighbours(pts.reshape(-1, 2), size, i)
+    samples = torch.cat([_sample(m, grid, weights) for m in maps], 1) \
+        .reshape(len(pts), POINTS, c)                                     # (S, P, C)
+    normal = samples[..., -3:-1].mean(1).numpy()                          # (S, 2) N_x, N_y
     # the U-Net's most voted face per operator (-2: none); image y points down, so the
     # normal's image direction is (N_x, -N_y)
     voted = np.where(votes.max(0) > 0, ids[votes.argmax(0)], -2) if k else np.full(N_OPS, -2)
     geo = np.concatenate([stroke_geometry(strokes, normal * np.array([1.0, -1.0]), size),
                           stroke_context(pts, face_id, voted)], 1) if strokes else \
         np.zeros((0, STROKE_GEOMETRY), np.float32)
-    stroke = torch.cat([samples.mean(2).T, samples.amax(2).T, torch.from_numpy(geo)], 1)
+    stroke = torch.cat([samples.mean(1), samples.amax(1), torch.from_numpy(geo)], 1)
 
     cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16,
                                            *count_fits(len(strokes))])])
     return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
-                  cls.float(), stroke_on_faces(pts, face_id, ids))
+                  cls.float(), stroke_on_faces(pts, face_id, ids), normal_image.float())
 
 
 def stroke_on_faces(pts: np.ndarray, face_id: np.ndarray, ids: np.ndarray) -> torch.Tensor:
@@ -516,22 +587,8 @@ def _start_end_labellings(op: int, strokes: list[np.ndarray], size: int) -> list
     return []
 
 
-def face_normal_images(face_ids: torch.Tensor, face_id: np.ndarray, normal: np.ndarray
-                       ) -> np.ndarray:
-    """(K, 2) each face's mean outward normal seen in the image (x right, y down; its
-    length is the sine of the angle between the normal and the view), from the normal
-    map N of the inputs, (3, S, S) camera-space normal + 1 (render/maps.py)."""
-    key = face_id.ravel().astype(np.int64) + 1  # background (-1) in bin 0
-    count = np.maximum(np.bincount(key), 1)
-    nx = np.bincount(key, normal[0].ravel(), minlength=len(count)) / count - 1.0
-    ny = np.bincount(key, normal[1].ravel(), minlength=len(count)) / count - 1.0
-    k = face_ids.numpy() + 1
-    return np.stack([nx[k], -ny[k]], 1)  # image y points down
-
-
 def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
-           strokes: list[np.ndarray], face_ids: torch.Tensor, face_id: np.ndarray,
-           normal: np.ndarray) -> Choice:
+           strokes: list[np.ndarray], normal_image: np.ndarray, size: int) -> Choice:
     """The stroke roles and the base face, read together where the drawing ties them.
 
     Start and end are ordered along n_f (sketch/curves.py: a hole's end outline is the
@@ -544,13 +601,13 @@ def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
 
     Args:
         role_logits: (S, 10) and face_logits: (K, 4), the head's outputs for one sketch;
-        strokes: its S polylines (pixels); face_ids: (K,) the face tokens' face-IDs;
-        face_id: (S, S) face-ID map; normal: (3, S, S) the inputs' normal map N.
+        strokes: its S polylines (pixels); normal_image: (K, 2) each face token's
+        normal seen in the image (Tokens.normal_image); size: the maps' side (pixels).
     """
     probs = role_probabilities(role_logits, op)
-    face_lp = face_logits[:len(face_ids), op].log_softmax(0).numpy()
+    face_lp = face_logits[:len(normal_image), op].log_softmax(0).numpy()
     alone = Choice(decode_roles(probs, op), int(face_lp.argmax()) if len(face_lp) else -1)
-    labellings = _start_end_labellings(op, strokes, face_id.shape[-1])
+    labellings = _start_end_labellings(op, strokes, size)
     if not labellings or not len(face_lp):
         return alone
     labels = np.stack(labellings)                                           # (L, S)
@@ -558,7 +615,7 @@ def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
     score = role_lp[np.arange(len(strokes))[None], labels].sum(1)[:, None] + face_lp[None]
     mids = np.stack([np.asarray(s, float).reshape(-1, 2).mean(0) for s in strokes])
     shift = np.stack([mids[lab == END].mean(0) - mids[lab == START].mean(0) for lab in labels])
-    n_img = face_normal_images(face_ids, face_id, normal)                   # (K, 2)
+    n_img = np.asarray(normal_image, np.float64)                            # (K, 2)
     agree = (shift @ n_img.T > 0) | (np.linalg.norm(n_img, axis=1) < MIN_SIN)[None]
     score = np.where(agree, score, -np.inf)                                 # (L, K)
     if not np.isfinite(score).any():
@@ -651,10 +708,9 @@ class StructuredPredictor(NetworkPredictor):
             if self.threads:
                 torch.set_num_threads(self.threads)
             x = torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32))[None]
-            with torch.inference_mode():
-                self.model.eval()
+            with torch.inference_mode():  # the model is in eval mode since __init__
                 u = feature_maps(self.model, x)
-                t = tokens(u.logits[0], u.maps[0], self._strokes, self._face_id)
+                t = tokens(u.logits[0], u.sketch(0), self._strokes, self._face_id)
                 cls, roles, faces = self.head(*collate([t]))
             self._head_out = (inputs, t, cls[0].softmax(0).numpy(), roles[0], faces[0])
         return self._head_out
@@ -686,8 +742,8 @@ class StructuredPredictor(NetworkPredictor):
         if out is None:
             return super().segment(inputs, op_type)
         k = CLASSES.index(op_type)
-        c = choose(out[3], out[4], k, self._strokes, out[1].face_ids, self._face_id,
-                   np.asarray(inputs)[2:5])
+        c = choose(out[3], out[4], k, self._strokes, out[1].normal_image.numpy(),
+                   self._face_id.shape[-1])
         return (paint_face(out[4][:, k].softmax(0), out[1].face_ids, self._face_id, c.face),
                 paint_curve(self._strokes, c.roles, self._face_id.shape[-1]))
 

@@ -55,7 +55,7 @@ class NetworkPredictor:
     """
 
     def __init__(self, model: Sketch2CADNet, threads: int | None = 2):
-        self.model = model.eval()
+        self.model = model.fused()  # an inference copy: batch norms folded, eval mode
         self.threads = threads
         self._inputs: np.ndarray | None = None  # held, so identity means the same sketch
         self._out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None

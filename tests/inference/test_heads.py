@@ -4,11 +4,13 @@ the predictor the interpret pipeline can call, and the head's checkpoints."""
 import numpy as np
 import pytest
 import torch
+import torch.nn.functional as F
 
 from datagen.strokes import stroke_maps
 from drawing_fixtures import prism_drawing
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.inference.heads import (
+    POINTS,
     ROLES,
     STROKE_GEOMETRY,
     HeadConfig,
@@ -28,8 +30,9 @@ from Sketch2CADWorkbench.inference.heads import (
     save_head,
     stroke_geometry,
     tokens,
+    _Polylines,
 )
-from Sketch2CADWorkbench.inference.models import Sketch2CADNet, save_checkpoint
+from Sketch2CADWorkbench.inference.models import ModelConfig, Sketch2CADNet, save_checkpoint
 from Sketch2CADWorkbench.sketch.labels import BEVEL_L, CLASSES, END, PROFILE, START
 
 SIZE = 32
@@ -55,7 +58,7 @@ def _tokens(net, strokes, face_id):
     x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
     with torch.no_grad():
         u = feature_maps(net, x)
-    return tokens(u.logits[0], u.maps[0], strokes, face_id)
+    return tokens(u.logits[0], u.sketch(0), strokes, face_id)
 
 
 def test_one_token_per_stroke_and_per_visible_face(net):
@@ -83,13 +86,57 @@ def test_a_face_token_counts_the_unets_f_votes_on_it(net):
     x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(1))
     with torch.no_grad():
         u = feature_maps(net, x)
-    t = tokens(u.logits[0], u.maps[0], strokes, face_id)
+    t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
     votes = net.upsample(u.f)[0].numpy() > 0  # (4, S, S): where each operator's F says f
     c = feature_channels(net)
     for fid, token in zip(t.face_ids.tolist(), t.face):
         on = face_id == fid
         share = votes[:, on].sum(1) / on.sum()
         assert np.allclose(token[c + 5:c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
+
+
+def test_a_face_token_holds_its_normal_as_seen_in_the_image(net):
+    # face 3 tilts its normal to the right and up the image, face 7 left and down
+    face_id, strokes = _scene()
+    x = torch.ones(1, 5, SIZE, SIZE)
+    x[0, 2][torch.from_numpy(face_id == 3)], x[0, 3][torch.from_numpy(face_id == 3)] = 1.5, 1.3
+    x[0, 2][torch.from_numpy(face_id == 7)], x[0, 3][torch.from_numpy(face_id == 7)] = 0.6, 0.8
+    with torch.no_grad():
+        u = feature_maps(net, x)
+    t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
+    seen = dict(zip(t.face_ids.tolist(), t.normal_image.numpy()))
+    assert np.allclose(seen[3], [0.5, -0.3], atol=0.02)  # camera y up is image y down
+    assert np.allclose(seen[7], [-0.4, 0.2], atol=0.02)
+
+
+def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
+    # the tokens never upsample the coarser decoder maps (factors 4, 2 and 1 here): they
+    # must read what pooling F.interpolate's upsampled maps would
+    torch.manual_seed(4)
+    net = Sketch2CADNet(ModelConfig(image_size=SIZE, internal_size=SIZE // 2,
+                                    widths=(4, 6, 8, 8), classifier_hidden=8)).eval()
+    face_id, strokes = _scene()
+    face_id[face_id < 0] = 9  # a face along the border, where the upsampling clamps
+    x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(5))
+    with torch.no_grad():
+        u = feature_maps(net, x)
+        t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
+        i = SIZE // 2
+        assert sorted({m.shape[-1] for m in u.maps}) == [i // 4, i // 2, i]
+        up = torch.cat([F.interpolate(m, size=(i, i), mode="bilinear", align_corners=False)
+                        for m in u.maps], 1)[0]                                  # (C, I, I)
+        c = up.shape[0]
+        ys, xs = np.divmod(np.arange(SIZE * SIZE), SIZE)
+        cells = up[:, ys * i // SIZE, xs * i // SIZE]  # each full-size pixel's cell
+        for fid, token in zip(t.face_ids.tolist(), t.face):
+            on = torch.from_numpy(face_id.ravel() == fid)
+            assert torch.allclose(token[:c], cells[:, on].mean(1), atol=1e-5)
+        pts = _Polylines.of(strokes).resample(POINTS)
+        grid = torch.from_numpy((2 * pts / SIZE - 1).astype(np.float32))[None]
+        at = F.grid_sample(up[None], grid, mode="bilinear", padding_mode="border",
+                           align_corners=False)[0]                               # (C, S, P)
+        assert torch.allclose(t.stroke[:, :c], at.mean(2).T, atol=1e-5)
+        assert torch.allclose(t.stroke[:, c:2 * c], at.amax(2).T, atol=1e-5)
 
 
 def test_a_stroke_token_holds_its_centroid_ends_chord_and_arc():
@@ -290,15 +337,10 @@ def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, 
         load_head(tmp_path / "junk.pt")
 
 
-def _two_faces(size: int = 256) -> tuple[np.ndarray, np.ndarray]:
-    """A face-ID map of faces 3 (left) and 7 (right) and a normal map N (camera-space
-    normal + 1) in which face 3's normal points up the image and face 7's down."""
-    face_id = np.full((size, size), 3, np.int16)
-    face_id[:, size // 2:] = 7
-    normal = np.ones((3, size, size), np.float32)
-    normal[1][face_id == 3], normal[1][face_id == 7] = 1.8, 0.2   # camera y up / down
-    normal[2] += 0.6
-    return face_id, normal
+def _two_normals() -> np.ndarray:
+    """Normal images (Tokens.normal_image) of two face tokens, faces 3 and 7: face 3's
+    normal points up the image and face 7's down, both seen at a slant."""
+    return np.array([[0.0, -0.8], [0.0, 0.8]])
 
 
 def _logits(probs: list[list[float]], op: int) -> torch.Tensor:
@@ -318,19 +360,15 @@ def test_a_prism_is_read_as_its_drawing_allows():
              else [0.1, 0.1, 0.8] for t in truth]
     s, p = truth.index(START), truth.index(PROFILE)
     probs[s], probs[p] = [0.3, 0.6, 0.1], [0.6, 0.3, 0.1]
-    face_id, normal = _two_faces()
     faces = torch.tensor([[0.0] * 4, [0.0] * 4])
     assert decode_roles(role_probabilities(_logits(probs, addsub), addsub), addsub) != truth
-    c = choose(_logits(probs, addsub), faces, addsub, strokes, torch.tensor([3, 7]), face_id,
-               normal)
+    c = choose(_logits(probs, addsub), faces, addsub, strokes, _two_normals(), 256)
     assert c.roles == truth and c.face == 0  # face 3, whose normal points to the end
 
 
 def test_the_end_outline_lies_from_the_start_along_the_chosen_faces_normal():
     # the head is a little surer of face 7, whose normal points away from where the
     # strokes it reads as the end outline lie: the pair of face 3 and those roles wins
-    face_id, normal = _two_faces()
-    ids = torch.tensor([3, 7])
     sweep = CLASSES.index(OperatorType.SWEEP)
     t = np.linspace(0, 2 * np.pi, 40)
     ring = np.stack([30 * np.cos(t), 10 * np.sin(t)], 1)
@@ -338,11 +376,11 @@ def test_the_end_outline_lies_from_the_start_along_the_chosen_faces_normal():
                np.array([[158.0, 180.0], [158.0, 100.0]]), ring + (128, 100)]
     sure = [[0.9, 0.05, 0.05], [0.05, 0.9, 0.05], [0.05, 0.9, 0.05], [0.05, 0.05, 0.9]]
     faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.5]])
-    c = choose(_logits(sure, sweep), faces, sweep, strokes, ids, face_id, normal)
+    c = choose(_logits(sure, sweep), faces, sweep, strokes, _two_normals(), 256)
     assert c.roles == [START, PROFILE, PROFILE, END] and c.face == 0
     # and where the head is sure of face 7 but not of which circle starts, the face
     # says: the circle up the image (along face 7's normal, down) is the start
     unsure = [[0.45, 0.1, 0.45], sure[1], sure[2], [0.45, 0.1, 0.45]]
     faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 5.0]])
-    c = choose(_logits(unsure, sweep), faces, sweep, strokes, ids, face_id, normal)
+    c = choose(_logits(unsure, sweep), faces, sweep, strokes, _two_normals(), 256)
     assert c.roles == [END, PROFILE, PROFILE, START] and c.face == 1

@@ -93,6 +93,26 @@ def test_a_checkpoint_rebuilds_an_identical_model_from_the_file_alone(tiny_confi
         assert torch.equal(a, b)
 
 
+def test_the_inference_copy_folds_batch_norm_and_answers_as_the_model(tiny_config):
+    torch.manual_seed(1)
+    model = Sketch2CADNet(tiny_config)
+    with torch.no_grad():  # batch norms that are not the identity
+        for m in model.modules():
+            if isinstance(m, torch.nn.BatchNorm2d):
+                m.weight.uniform_(0.5, 2.0)
+                m.bias.uniform_(-0.5, 0.5)
+    model.train()
+    for _ in range(3):
+        model(model.pool(_batch(tiny_config)[0]))  # moves the running statistics
+    model.eval()
+    fused = model.fused()
+    assert not any(isinstance(m, torch.nn.BatchNorm2d) for m in fused.modules())
+    assert any(isinstance(m, torch.nn.BatchNorm2d) for m in model.modules())  # untouched
+    x = _batch(tiny_config, seed=5)[0]
+    for a, b in zip(model.predict(x), fused.predict(x)):
+        assert torch.allclose(a, b, atol=1e-4)
+
+
 def test_loading_something_else_than_a_checkpoint_fails_clearly(tmp_path):
     torch.save({"weights": 1}, tmp_path / "other.pt")
     with pytest.raises(ValueError, match="not a sketch2cad-net checkpoint"):
