@@ -10,7 +10,7 @@ from __future__ import annotations
 import cadquery as cq
 import cv2
 import numpy as np
-from scipy.optimize import linear_sum_assignment
+from scipy.optimize import linear_sum_assignment, lsq_linear
 
 from ...brep.geometry import arc_lengths, bezier, resample_every
 from ...render.camera import OrthoCamera
@@ -221,11 +221,14 @@ def edge_samples(face: cq.Face, spacing: float) -> np.ndarray:
 
 
 def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,
-               iterations: int = 4) -> np.ndarray:
+               iterations: int = 4, corner: np.ndarray | None = None,
+               span: float = 1.0) -> np.ndarray:
     """A cubic Bezier from `start` to `end` fitting `points` (K, D) in least squares.
 
     The inner control points are solved linearly for chord-length parameters, which
-    are then re-estimated by projecting the points onto the curve a few times.
+    are then re-estimated by projecting the points onto the curve a few times. With a
+    `corner` c (2D), each inner control point is kept in the parallelogram
+    c + s (start - c) + t (end - c), s and t in [0, span] (a bounded least squares).
 
     Returns:
         (4, D) control points.
@@ -238,7 +241,14 @@ def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,
         b1, b2 = 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2
         rhs = p - np.outer((1 - t) ** 3, start) - np.outer(t ** 3, end)
         a = np.stack([b1, b2], axis=1)
-        sol, *_ = np.linalg.lstsq(a, rhs, rcond=None)
+        if corner is None:
+            sol, *_ = np.linalg.lstsq(a, rhs, rcond=None)
+        else:  # unknowns (s1, t1, s2, t2); each point's residual is linear in them
+            axes = np.stack([start - corner, end - corner])                  # (2, D)
+            basis = (a[:, :, None, None] * axes[None, None]).reshape(len(p), 4, -1)
+            st = lsq_linear(basis.transpose(0, 2, 1).reshape(-1, 4),
+                            (rhs - (b1 + b2)[:, None] * corner).ravel(), bounds=(0.0, span)).x
+            sol = corner + st.reshape(2, 2) @ axes
         ctrl = np.stack([start, sol[0], sol[1], end])
         dense_t = np.linspace(0, 1, 201)
         dense = bezier(ctrl, dense_t)

@@ -40,6 +40,21 @@ def test_bevel_profile_inside_the_face_is_refused(box, camera):
                   curve_stroke(camera, bezier(inner, np.linspace(0, 1, 30))))
 
 
+def test_a_profile_that_swings_past_its_ends_is_kept_within_its_corner(box, camera):
+    # drawn out past both its ends into the face: no round, chamfer or cove does that, and
+    # the bevel would cut away most of the face; its control points stay in the
+    # parallelogram that c and l's ends span
+    swing = np.array([[-14.0, FRONT_Y, TOP_Z], [-4.0, FRONT_Y, -6.0], [-12.0, FRONT_Y, -8.0],
+                      [-20.0, FRONT_Y, 4.0]])
+    op = fit_bevel(box, face_towards(box, (0, -1, 0)), camera,
+                   curve_stroke(camera, bezier(swing, np.linspace(0, 1, 40))))
+    ctrl, c = np.array(op.profile)[:, [0, 2]], np.array(op.corner)[[0, 2]]
+    axes = np.stack([ctrl[0] - c, ctrl[3] - c], 1)
+    st = np.linalg.solve(axes, (ctrl - c).T)
+    assert st.min() > -1e-9 and st[:, 1:3].max() < 1  # and off the ends, where OCCT fails
+    assert apply_operation(box, op).isValid()
+
+
 def _curve_distance(profile: np.ndarray, truth: np.ndarray) -> float:
     """Mean distance (mm) between two Bezier curves' points, both ways."""
     a, b = (bezier(np.asarray(c, float), np.linspace(0, 1, 200)) for c in (profile, truth))

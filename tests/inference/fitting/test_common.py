@@ -2,7 +2,8 @@
 """Stroke helpers every fit uses: which strokes are loops, which curve a stroke draws."""
 import numpy as np
 
-from Sketch2CADWorkbench.inference.fitting.common import match_ends, open_ends
+from Sketch2CADWorkbench.brep.geometry import bezier
+from Sketch2CADWorkbench.inference.fitting.common import fit_bezier, match_ends, open_ends
 
 
 def loop(centre, radius, start_angle, gap=0.2):
@@ -33,3 +34,21 @@ def test_strokes_beyond_the_curves_are_left_unmatched():
     rows, cols, _ = match_ends(curves, strokes)
     assert list(rows) == [1] and list(cols) == [0]
     assert len(match_ends(curves, np.zeros((0, 2, 2)))[0]) == 0
+
+
+def test_a_curve_fitted_within_a_corner_keeps_its_polygon_there_and_misses_nothing_inside():
+    corner, start, end = np.array([0.0, 0.0]), np.array([10.0, 0.0]), np.array([0.0, 8.0])
+    t = np.linspace(0, 1, 50)
+    # a fillet inside the corner's parallelogram: the bounded fit finds it as the free one
+    fillet = np.array([start, [4.0, 0.0], [0.0, 3.0], end])
+    bounded = fit_bezier(bezier(fillet, t), start, end, corner=corner, span=0.9)
+    dense = bezier(bounded, np.linspace(0, 1, 400))
+    gap = np.linalg.norm(bezier(fillet, t)[:, None] - dense[None], axis=-1).min(1)
+    assert gap.max() < 0.1  # mm, on a 10 x 8 mm corner
+    # a curve swinging out past both ends: its inner control points stay in the corner
+    swing = np.array([start, [18.0, 12.0], [9.0, 16.0], end])
+    ctrl = fit_bezier(bezier(swing, t), start, end, corner=corner, span=0.9)
+    st = np.linalg.solve(np.stack([start - corner, end - corner], 1), (ctrl[1:3] - corner).T)
+    assert st.min() >= -1e-9 and st.max() <= 0.9 + 1e-9
+    assert np.abs(st - np.clip(np.linalg.solve(np.stack([start, end], 1),
+                                               (swing[1:3] - corner).T), 0, 0.9)).max() < 0.3
