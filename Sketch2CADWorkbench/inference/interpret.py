@@ -448,7 +448,9 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     (`candidate_faces`): of the readings that build and change the model, one on a face
     the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
     then the one whose sketch reprojects best (`verify.reading_score`). A reading that
-    changes nothing (a hole cut into the air above a lower face) is never the step.
+    changes nothing (a hole cut into the air above a lower face) is never the step; when
+    the best one builds nothing, its other Boolean (`_with_the_other_boolean`) competes
+    with the others by the same ranking.
 
     A face or a reading whose own sketch cannot be drawn for its score (an outline that
     leaves a curved face: OperationError) is passed over like one that does not fit.
@@ -483,8 +485,13 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
                     _builds_a_change(solid, reading, ctx):
                 return reading
     readings.sort(key=lambda r: (r.hidden, r.score))
-    for reading in readings + _with_the_other_boolean(solid, op_type, readings, curve, ctx,
-                                                       options, hidden):
+    if readings and not _builds_a_change(solid, readings[0], ctx):
+        # the best reading's other Boolean draws its lines too (paper Fig. 5b): it competes
+        # by its score with the rest, before a reading that explains the strokes worse
+        readings = sorted(readings + _with_the_other_boolean(
+            solid, op_type, readings, curve, ctx, options, hidden),
+            key=lambda r: (r.hidden, r.score))
+    for reading in readings:
         if _builds_a_change(solid, reading, ctx):
             return reading
     if readings:
@@ -503,7 +510,7 @@ def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Readi
 def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: list[Reading],
                             curve: np.ndarray, ctx: Context, options: InterpretOptions,
                             hidden: set[int]) -> list[Reading]:
-    """When no reading of a primitive builds a change, the best one fitted again with the
+    """When the best reading of a primitive builds no change, it fitted again with the
     other Boolean on its face (the designer chose none), the closest first: a boss read
     as the hole its lines also draw (paper Fig. 5b) may cut the model in two, or cut
     only air, where the boss builds."""
@@ -518,6 +525,7 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
     except (FitError, OperationError):
         return []
     # a primitive's fits were scored by `_scored_readings`, which drops any that cannot be
+    # drawn: no OperationError to guard against here
     readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.score)
     for reading in readings:
         reading.flip_refused = True

@@ -744,3 +744,39 @@ def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
     with pytest.raises(InterpretError, match="falls apart"):
         interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
                   renderer, InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+
+
+@pytest.mark.parametrize("decoy", ["post in view", "boss out of view"])
+def test_the_other_boolean_of_a_reading_that_builds_nothing_outranks_a_worse_one_that_builds(
+        renderer, monkeypatch, decoy):
+    # heldout-l1c sample 1078: the best reading (a hole) built nothing, and a reading 80 px
+    # off the strokes on another face, which built, was taken before the boss its lines
+    # also draw was tried. Here: the bar's boss read as a hole (the +/- rule made to say
+    # subtract: it cuts the bar in two) beside a post far from the strokes, as if read on
+    # the bar's end face, or a boss on that face whose sketch lies wholly outside the view
+    # (it stopped the whole sweep's reading: no pixels to measure the strokes against)
+    bar = make_box(Box((60, 8, 4)))
+    top = FaceRef((0.0, 0.0, 2.0), (0.0, 0.0, 1.0))
+    boss = Sweep(top, (0.0, 0.0, 2.0), 6.0, 6.0, 12.0, ((6.0, 4.0), (6.0, 8.0)))
+    d = np.array([1.0, 0.05, -1.2])
+    cam = OrthoCamera((0.0, 0.0, 6.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 40.0, 800, 600)
+    pts, labels = sketch(bar, boss, cam)
+    rule = sweep_fitting.choose_option
+    monkeypatch.setattr(sweep_fitting, "choose_option",
+                        lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a))
+    end = FaceRef((30.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    faces = bar.Faces()
+    top_i, end_i = (next(i for i, f in enumerate(faces)
+                         if f.isSame(resolve_face(bar, ref).face)) for ref in (top, end))
+    far = Sweep(top, (22.0, 0.0, 2.0), 1.5, 1.5, 3.0, ((1.5, 1.0), (1.5, 2.0))) \
+        if decoy == "post in view" else \
+        Sweep(end, (30.0, 0.0, 0.0), 1.5, 1.5, 40.0, ((1.5, 13.0), (1.5, 27.0)))
+    fit_on_face = interpret_module._fit_on_face
+    monkeypatch.setattr(interpret_module, "candidate_faces", lambda *a: [top_i, end_i])
+    monkeypatch.setattr(interpret_module, "_fit_on_face", lambda solid, op_type, index, *a: (
+        [(far, end_i, labels)] if index == end_i else fit_on_face(solid, op_type, index, *a)))
+    got = interpret(bar, [cam.project(p)[0] for p in pts], cam,
+                    Oracle(bar, boss, pts, labels, cam, renderer), renderer,
+                    InterpretOptions(regularize=False))
+    assert got.operations[0].mode is Mode.ADD and got.operations[0].face == top
+    assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97

@@ -81,8 +81,9 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
     Args:
         strokes: the strokes, or their DrawnStrokes when several readings are scored.
         seen: maps of the model after op, rendered with `camera`: only the parts of op's
-            curves that view sees count (every curve when None). When it sees none, the
-            strokes are infinitely far from them.
+            curves that view sees count (every curve when None). When it sees none, or
+            the curves lie wholly outside the image, the strokes are infinitely far from
+            them.
         face: op.face resolved on `solid`, when the caller holds it (`operation_curves`).
     """
     curves = operation_curves(solid, op, camera.direction, face)
@@ -93,8 +94,11 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
     if not curves:
         return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     pixels = [camera.project(c.points)[0] for c in curves]
+    target = stroke_pixels(pixels, shape)
+    if not target.any():
+        return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     ideal = np.concatenate([resample(p) for p in pixels])
-    return (DistanceField(stroke_pixels(pixels, shape))(drawn.samples),
+    return (DistanceField(target)(drawn.samples),
             drawn.field(ideal),
             end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends))
 
