@@ -133,7 +133,7 @@ def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
     and the concatenation to one tensor were 0.9 ms of a sketch's 10."""
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
-    out = torch.cat([f, c], 1)  # a view's copy: the heads' output, channels-last
+    out = torch.cat([f, c], 1)  # F and C as the one 1x1 conv output they came from
     return UNetPass(logits, f, c, decoded[-DECODER_LEVELS:] +
                     [out, x.contiguous(memory_format=torch.channels_last)])
 
