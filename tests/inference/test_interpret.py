@@ -719,22 +719,29 @@ def test_a_slot_seen_nearly_along_its_length_with_subtract_chosen_is_the_slot(re
     assert abs(got.solid.Volume() - truth.Volume()) < 0.05 * cut
 
 
-def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
-        renderer, monkeypatch):
-    # test-l1 (seed 10001) sample 174: a boss read as the hole its lines also draw (paper
-    # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
-    # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
-    # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
+def _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch):
+    """A boss r 6 on a bar 8 mm wide, its sketch, and the +/- rule made to say subtract
+    (a hole that size cuts the bar in two): bar, top face, boss, camera, strokes, labels."""
     bar = make_box(Box((60, 8, 4)))
     top = FaceRef((0.0, 0.0, 2.0), (0.0, 0.0, 1.0))
     boss = Sweep(top, (0.0, 0.0, 2.0), 6.0, 6.0, 12.0, ((6.0, 4.0), (6.0, 8.0)))
     d = np.array([1.0, 0.05, -1.2])
     cam = OrthoCamera((0.0, 0.0, 6.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 40.0, 800, 600)
     pts, labels = sketch(bar, boss, cam)
-    strokes = [cam.project(p)[0] for p in pts]
     rule = sweep_fitting.choose_option
     monkeypatch.setattr(sweep_fitting, "choose_option",
                         lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a))
+    return bar, top, boss, cam, pts, labels
+
+
+def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
+        renderer, monkeypatch):
+    # test-l1 (seed 10001) sample 174: a boss read as the hole its lines also draw (paper
+    # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
+    # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
+    # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
+    bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
+    strokes = [cam.project(p)[0] for p in pts]
     got = interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
                     renderer, InterpretOptions(regularize=False))
     assert got.op_type is OperatorType.SWEEP and got.operations[0].mode is Mode.ADD
@@ -755,15 +762,7 @@ def test_the_other_boolean_of_a_reading_that_builds_nothing_outranks_a_worse_one
     # subtract: it cuts the bar in two) beside a post far from the strokes, as if read on
     # the bar's end face, or a boss on that face whose sketch lies wholly outside the view
     # (it stopped the whole sweep's reading: no pixels to measure the strokes against)
-    bar = make_box(Box((60, 8, 4)))
-    top = FaceRef((0.0, 0.0, 2.0), (0.0, 0.0, 1.0))
-    boss = Sweep(top, (0.0, 0.0, 2.0), 6.0, 6.0, 12.0, ((6.0, 4.0), (6.0, 8.0)))
-    d = np.array([1.0, 0.05, -1.2])
-    cam = OrthoCamera((0.0, 0.0, 6.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 40.0, 800, 600)
-    pts, labels = sketch(bar, boss, cam)
-    rule = sweep_fitting.choose_option
-    monkeypatch.setattr(sweep_fitting, "choose_option",
-                        lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a))
+    bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     end = FaceRef((30.0, 0.0, 0.0), (1.0, 0.0, 0.0))
     faces = bar.Faces()
     top_i, end_i = (next(i for i, f in enumerate(faces)

@@ -91,11 +91,9 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
         curves = visible_curves(curves, camera, seen)
     shape = (camera.height, camera.width)
     drawn = strokes if isinstance(strokes, DrawnStrokes) else DrawnStrokes(strokes, shape)
-    if not curves:
-        return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     pixels = [camera.project(c.points)[0] for c in curves]
     target = stroke_pixels(pixels, shape)
-    if not target.any():
+    if not target.any():  # no curve seen, or every one outside the image
         return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     ideal = np.concatenate([resample(p) for p in pixels])
     return (DistanceField(target)(drawn.samples),
