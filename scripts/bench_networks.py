@@ -102,12 +102,10 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
     stages: the U-Net's feature maps, the tokens, the head, the decoding and painting."""
     from datagen.dataset import Dataset
     from Sketch2CADWorkbench.inference.heads import (
-        choose,
         collate,
         feature_maps,
         load_structured_predictor,
-        paint_curve,
-        paint_face,
+        painted,
         tokens,
     )
     from Sketch2CADWorkbench.inference.weights import HEAD_NAME
@@ -140,10 +138,7 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
             _, roles, faces = p.head(*collate([t]))
             lap("head")
             op = int(probs.argmax())
-            c = choose(roles[0], faces[0], op, s.strokes, t.normal_image.numpy(),
-                       s.face_id.shape[-1])
-            paint_curve(s.strokes, c.roles, s.face_id.shape[-1])
-            paint_face(faces[0, :, op].softmax(0), t.face_ids, s.face_id, c.face)
+            painted(roles[0], faces[0], op, s.strokes, t, s.face_id)
             lap("decode + paint")
     return {name: 1e3 * statistics.median(v) for name, v in times.items()}
 

@@ -21,12 +21,10 @@ from Sketch2CADWorkbench.inference.heads import (
     StructureHead,
     Tokens,
     UNetPass,
-    choose,
     collate,
     feature_maps,
     load_head,
-    paint_curve,
-    paint_face,
+    painted,
     tokens,
 )
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
@@ -81,11 +79,9 @@ def _head_reading(head: StructureHead, u: UNetPass, meta: list[dict], face_id: n
     for j, t in enumerate(toks):
         o = int(op[j])
         strokes = [np.asarray(s, float) for s in meta[j]["strokes"]]
-        c = choose(roles[j, :len(strokes)], faces[j], o, strokes, t.normal_image.numpy(),
-                   face_id.shape[-1])
-        pc.append(paint_curve(strokes, c.roles, face_id.shape[-1]))
-        pf.append(paint_face(faces[j, :len(t.face_ids), o].softmax(0), t.face_ids, face_id[j],
-                             c.face))
+        f, c = painted(roles[j, :len(strokes)], faces[j], o, strokes, t, face_id[j])
+        pf.append(f)
+        pc.append(c)
     return logits, torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
 
 

@@ -647,6 +647,21 @@ def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.nda
     return lut[face_id]
 
 
+def painted(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
+            strokes: list[np.ndarray], t: Tokens, face_id: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The head's reading of one sketch under operator op (`choose`) painted into the F
+    and C maps the fitting and the paper's metrics read (`paint_face`, `paint_curve`).
+
+    Args:
+        role_logits: (S, 10), face_logits: (K', 4) the head's outputs (K' >= K: padded);
+        strokes: the S polylines; t: the sketch's tokens; face_id: (H, W) face-ID map.
+    """
+    c = choose(role_logits, face_logits, op, strokes, t.normal_image.numpy(), face_id.shape[-1])
+    return (paint_face(face_logits[:len(t.face_ids), op].softmax(0), t.face_ids, face_id, c.face),
+            paint_curve(strokes, c.roles, face_id.shape[-1]))
+
+
 # ---------------------------------------------------------------- checkpoints
 def save_head(path: str | Path, head: StructureHead, **extra) -> None:
     """The head's weights and config (plus `extra`), written atomically."""
@@ -742,10 +757,7 @@ class StructuredPredictor(NetworkPredictor):
         if out is None:
             return super().segment(inputs, op_type)
         k = CLASSES.index(op_type)
-        c = choose(out[3], out[4], k, self._strokes, out[1].normal_image.numpy(),
-                   self._face_id.shape[-1])
-        return (paint_face(out[4][:, k].softmax(0), out[1].face_ids, self._face_id, c.face),
-                paint_curve(self._strokes, c.roles, self._face_id.shape[-1]))
+        return painted(out[3], out[4], k, self._strokes, out[1], self._face_id)
 
 
 def load_structured_predictor(head_path: str | Path, weights: str | Path | None = None

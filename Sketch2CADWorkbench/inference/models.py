@@ -149,10 +149,13 @@ class Sketch2CADNet(nn.Module):
         convolution before it (its running statistics are constants there): the same
         outputs within float rounding, 0.45 ms a sketch less of the U-Net's 4.5."""
         out = copy.deepcopy(self).eval()
-        for block in list(out.encoder) + list(out.decoder):
-            for conv, norm in ((0, 1), (3, 4)):
-                block[conv] = fuse_conv_bn_eval(block[conv], block[norm])
-                block[norm] = nn.Identity()
+        for block in out.modules():
+            if isinstance(block, nn.Sequential):
+                for i in range(len(block) - 1):
+                    if isinstance(block[i], nn.Conv2d) and isinstance(block[i + 1],
+                                                                      nn.BatchNorm2d):
+                        block[i] = fuse_conv_bn_eval(block[i], block[i + 1])
+                        block[i + 1] = nn.Identity()
         return out.to(memory_format=torch.channels_last)
 
     # ------------------------------------------------------------ passes
