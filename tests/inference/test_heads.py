@@ -33,7 +33,7 @@ from Sketch2CADWorkbench.inference.heads import (
     _Polylines,
 )
 from Sketch2CADWorkbench.inference.models import ModelConfig, Sketch2CADNet, save_checkpoint
-from Sketch2CADWorkbench.sketch.labels import BEVEL_L, CLASSES, END, PROFILE, START
+from Sketch2CADWorkbench.sketch.labels import BEVEL_L, BEVEL_L_PRIME, CLASSES, END, PROFILE, START
 
 SIZE = 32
 
@@ -384,3 +384,20 @@ def test_the_end_outline_lies_from_the_start_along_the_chosen_faces_normal():
     faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 5.0]])
     c = choose(_logits(unsure, sweep), faces, sweep, strokes, _two_normals(), 256)
     assert c.roles == [END, PROFILE, PROFILE, START] and c.face == 1
+
+
+def test_a_bevels_copy_lies_from_its_profile_along_the_crease_down_the_chosen_faces_normal():
+    # l' is l moved along the crease, -n_f. The head is surer of face 1 with the lower
+    # stroke as l; from there the upper stroke lies 45 degrees off -n_1's image (face 1's
+    # normal points down-left), which a crease cannot do: face 0 (normal up the image)
+    # with the upper stroke as l is read instead
+    bevel = CLASSES.index(OperatorType.BEVEL)
+    arc = np.stack([np.linspace(100.0, 140.0, 20), 90.0 + 0.02 * (np.linspace(-20, 20, 20) ** 2)], 1)
+    strokes = [arc, arc + (0.0, 80.0)]                   # l on top, l' 80 px below it
+    normals = np.array([[0.0, -0.8], [-0.57, 0.57]])
+    lower_as_l = [[0.6, 0.4], [0.3, 0.7]]               # (l', l) probabilities per stroke
+    faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
+    alone = choose(_logits(lower_as_l, bevel), faces, bevel, strokes, np.zeros((2, 2)), 256)
+    assert alone.roles == [BEVEL_L_PRIME, BEVEL_L] and alone.face == 1   # head-on: no tie
+    c = choose(_logits(lower_as_l, bevel), faces, bevel, strokes, normals, 256)
+    assert c.roles == [BEVEL_L, BEVEL_L_PRIME] and c.face == 0
