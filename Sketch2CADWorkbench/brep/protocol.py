@@ -94,6 +94,12 @@ class Mode(Enum):
         """Direction of the primitive along the face normal: inwards only for SUBTRACT."""
         return -1.0 if self is Mode.SUBTRACT else 1.0
 
+    @property
+    def flipped(self) -> "Mode | None":
+        """The other option of an addition or subtraction; None for intersect and
+        replace, which have none."""
+        return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(self)
+
 
 class ProtocolError(FieldError):
     """A protocol file or value is malformed; the message names the field and value."""

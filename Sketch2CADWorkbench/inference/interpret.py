@@ -515,10 +515,10 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
     as the hole its lines also draw (paper Fig. 5b) may cut the model in two, or cut
     only air, where the boss builds."""
     if options.option is not None or op_type not in TAKE_A_BOOLEAN or not refused or \
-            refused[0].op.mode not in (Mode.ADD, Mode.SUBTRACT):
+            refused[0].op.mode.flipped is None:
         return []
     best = refused[0]
-    other = Mode.SUBTRACT if best.op.mode is Mode.ADD else Mode.ADD
+    other = best.op.mode.flipped
     try:
         fits = _fit_on_face(solid, op_type, best.index, curve, ctx,
                             replace(options, option=other))
@@ -765,7 +765,7 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
         return None
     if not other_option_fits(face_at(solid, base_face), camera, op):
         return None
-    return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(op.mode)
+    return op.mode.flipped
 
 
 def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None,

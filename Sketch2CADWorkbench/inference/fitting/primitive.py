@@ -74,10 +74,12 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
     Start and end are ordered along n_f, so for an addition the start outline is on f
     and for a subtraction the end outline is. When both could be (the ambiguous case of
     the paper's Fig. 5b), + is the default. An outline "lies on f" when 90% of its
-    back-projected samples (and its centre) do; failing that for both (a primitive
-    overhanging f's edge), the one more on f decides if a quarter of it is; failing
-    that too (a plate wider than the column top it stands on), the outline whose region
-    covers more of f, if that covers at least half of it. A sample within
+    back-projected samples (and its centre) do; failing that for both (a plate wider
+    than the column top it stands on), the outline whose region covers more of f, if
+    that covers at least half of it; failing that too (a primitive overhanging f's
+    edge), the one more on f if a quarter of it is. Covering comes first: a plate's far
+    outline, back-projected past its rim, can land a quarter on f while the plate's own
+    base covers all of f (examples/sessions/hammer.json, step 5). A sample within
     ON_FACE_TOL_PX of f is on it. `forced` (the user's choice) wins, when its base
     outline meets f by one of these tests.
 
@@ -97,11 +99,11 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
         return Mode.ADD
     if on[1] >= ON_FACE_FRACTION:
         return Mode.SUBTRACT
-    if max(on) >= MOSTLY_FRACTION:
-        return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
     covered = [covered_share(face, frame, camera, o, tol) for o in outlines]
     if max(covered) >= COVER_FRACTION:
         return Mode.ADD if covered[0] >= covered[1] else Mode.SUBTRACT
+    if max(on) >= MOSTLY_FRACTION:
+        return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
     raise FitError("neither the start nor the end outline meets the base face, so the "
                    "sketch matches no addition or subtraction")
 
