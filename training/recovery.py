@@ -12,10 +12,11 @@ A boss on f and a hole into f can draw the same lines (paper, Fig. 5b); the pipe
 then takes the addition and names the other Boolean (`Interpretation.other_option`),
 which the designer picks in one click. `recovery_rate_with_flip` counts a sample as
 recovered when that one click would recover it, and `other_option_share` says how
-often a step offered it. `strict_ceiling` is the most a strict reading can reach: the
-share of samples that are not a subtraction whose boss draws the same lines so that the
-pipeline's +/- rule, given the operation's own outlines, takes the boss (the paper's
-default in that case). `strokes_ceiling` is the most a reading chosen by how well its
+often a step offered it. `strict_ceiling` is the most a strict reading by the +/- rule
+can reach: the share of samples whose other Boolean does not draw the same lines so that
+the pipeline's +/- rule, given the operation's own outlines, takes it (a hole read as the
+boss on its rim, the paper's default; a boss overhanging f read as the hole its far
+outline rims). Other cues (a reading that builds nothing) can beat it. `strokes_ceiling` is the most a reading chosen by how well its
 own sketch explains the strokes can reach on these samples: the share of samples not
 missed by a reading that explains them better than the truth does
 (`verify.reading_score`, the score readings are ranked by), where the hand drew the
@@ -100,12 +101,15 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
                        other_option(context, op, index, ctx.camera, options), None)
 
 
-def a_boss_draws_it(context: cq.Shape, sample) -> bool:
-    """Whether the sample is a subtraction (prism or sweep) that the pipeline's +/- rule
-    (`choose_option`, on the operation's own outlines as perfect strokes) reads as the
-    boss drawing the same lines (paper, Fig. 5b): no strict reading can recover it."""
+def the_other_boolean_draws_it(context: cq.Shape, sample) -> bool:
+    """Whether the sample is an addition or subtraction (prism or sweep) that the
+    pipeline's +/- rule (`choose_option`, on the operation's own outlines as perfect
+    strokes) reads as the other Boolean drawing the same lines (paper, Fig. 5b): a hole
+    whose boss stands on its rim (the rule's default is the boss), or a boss overhanging
+    f whose far outline lies on f (the hole with that rim). No strict reading by the rule
+    recovers it."""
     op = sample.operation
-    if op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP) or op.mode is not Mode.SUBTRACT:
+    if op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP) or op.mode.flipped is None:
         return False
     cam = sample.camera
     curves = operation_curves(context, op, np.asarray(cam.direction, float))
@@ -114,7 +118,7 @@ def a_boss_draws_it(context: cq.Shape, sample) -> bool:
     face = resolve_face(context, op.face).face
     try:
         return choose_option(face, face_frame(face, cam, np.concatenate([start, end])), cam,
-                             start, end, None) is Mode.ADD
+                             start, end, None) is op.mode.flipped
     except FitError:
         return False
 
@@ -178,7 +182,7 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                     key = str(e).split(":")[0][:60]
                     reasons[key] = reasons.get(key, 0) + 1
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
-                beyond.setdefault(s.op_type.value, []).append(a_boss_draws_it(context, s))
+                beyond.setdefault(s.op_type.value, []).append(the_other_boolean_draws_it(context, s))
                 favoured.setdefault(s.op_type.value, []).append(nearer)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
                 ious.setdefault(s.op_type.value, []).append(iou)
