@@ -595,15 +595,14 @@ OUTLINE_SHIFT_COS = {OperatorType.ADDSUB: 0.0, OperatorType.SWEEP: 0.0, Operator
 def _outline_labellings(op: int, strokes: list[np.ndarray], size: int) -> list[np.ndarray]:
     """The labellings a drawing of op with two outlines allows: a prism's from how its
     strokes meet (drawing.py), a sweep's any 1 / 2 / 1 split of its 4 strokes, a bevel's
-    any one stroke as l."""
+    either of its 2 strokes as l (`count_fits`)."""
     kind = CLASSES[op]
     if kind is OperatorType.ADDSUB:
         return prism_labellings(strokes, size)
     if kind is OperatorType.SWEEP and len(strokes) == 4:
         return [np.array(p) for p in sorted(set(itertools.permutations((0, 1, 1, 2))))]
-    if kind is OperatorType.BEVEL and len(strokes) >= 2:
-        return [np.where(np.arange(len(strokes)) == j, BEVEL_L, BEVEL_L_PRIME)
-                for j in range(len(strokes))]
+    if kind is OperatorType.BEVEL and len(strokes) == 2:
+        return [np.array([BEVEL_L, BEVEL_L_PRIME]), np.array([BEVEL_L_PRIME, BEVEL_L])]
     return []
 
 
