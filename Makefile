@@ -20,9 +20,9 @@ test: setup
 # Not part of demo or test: the shipped weights from scratch (data, 90 min of
 # training on 2 CPU cores, evaluation, model card), then the structured head on the
 # U-Net's frozen features, trained on planar samples and samples on curved faces (#16;
-# the curved set ~15 min on one core; tokens once, ~18 min; the head ~20 min; the
-# ablation without context ~3 min), both scored beside the U-Net and end to end (model
-# card).
+# the planar set ~13 min and the curved set ~6 min on 2 cores; tokens once, ~6 min; the
+# head ~16 min; the ablation without context ~2 min), both scored beside the U-Net and
+# end to end (model card).
 # Each step resumes where it stopped.
 weights: setup
 	.bin/sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix
@@ -34,7 +34,7 @@ weights: setup
 	    .bin/sketch2cad eval --data data/test-l$$n --weights runs/main \
 	        --json runs/eval-l$$n.json --report docs/eval-l$$n.png --recovery 400 \
 	        --fitting-recovery || exit 1; done
-	.bin/sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix
+	.bin/sketch2cad datagen --out data/head-train --count 27648 --seed 1 --noise-level mix
 	.bin/sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 \
 	    --noise-level mix
 	.bin/sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 \
