@@ -16,11 +16,11 @@ often a step offered it. `strict_ceiling` is the most a strict reading by the +/
 can reach: the share of samples whose other Boolean does not draw the same lines so that
 the pipeline's +/- rule, given the operation's own outlines, takes it (a hole read as the
 boss on its rim, the paper's default; a boss overhanging f read as the hole its far
-outline rims). Other cues (a reading that builds nothing) can beat it. `strokes_ceiling` is the most a reading chosen by how well its
-own sketch explains the strokes can reach on these samples: the share of samples not
-missed by a reading that explains them better than the truth does
-(`verify.reading_score`, the score readings are ranked by), where the hand drew the
-reading more than the truth.
+outline rims). Other cues (a reading that builds nothing) can beat it.
+`strokes_ceiling` is the most a reading chosen by how well its own sketch explains the
+strokes can reach on these samples: the share of samples not missed by a reading that
+explains them better than the truth does (`verify.reading_score`, the score readings are
+ranked by), where the hand drew the reading more than the truth.
 """
 from __future__ import annotations
 
@@ -182,7 +182,8 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                     key = str(e).split(":")[0][:60]
                     reasons[key] = reasons.get(key, 0) + 1
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
-                beyond.setdefault(s.op_type.value, []).append(the_other_boolean_draws_it(context, s))
+                beyond.setdefault(s.op_type.value, []).append(
+                    the_other_boolean_draws_it(context, s))
                 favoured.setdefault(s.op_type.value, []).append(nearer)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
                 ious.setdefault(s.op_type.value, []).append(iou)

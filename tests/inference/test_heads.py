@@ -392,7 +392,8 @@ def test_a_bevels_copy_lies_from_its_profile_along_the_crease_down_the_chosen_fa
     # normal points down-left), which a crease cannot do: face 0 (normal up the image)
     # with the upper stroke as l is read instead
     bevel = CLASSES.index(OperatorType.BEVEL)
-    arc = np.stack([np.linspace(100.0, 140.0, 20), 90.0 + 0.02 * (np.linspace(-20, 20, 20) ** 2)], 1)
+    x = np.linspace(-20.0, 20.0, 20)
+    arc = np.stack([120.0 + x, 90.0 + 0.02 * x ** 2], 1)
     strokes = [arc, arc + (0.0, 80.0)]                   # l on top, l' 80 px below it
     normals = np.array([[0.0, -0.8], [-0.57, 0.57]])
     lower_as_l = [[0.6, 0.4], [0.3, 0.7]]               # (l', l) probabilities per stroke
