@@ -96,7 +96,7 @@ HEADS_HEADING = "## Structured heads (ablation; not shipped)"
 GUARD_HEADING = "## Regression guard"
 SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
 HEAD_COMMANDS = [
-    "sketch2cad datagen --out data/head-train --count 9216 --seed 1 --noise-level mix",
+    "sketch2cad datagen --out data/head-train --count 27648 --seed 1 --noise-level mix",
     "sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 --noise-level mix",
     "sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 "
     "--noise-level 1",
