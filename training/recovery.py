@@ -48,6 +48,7 @@ from Sketch2CADWorkbench.inference.fitting.verify import (
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
+    TAKE_A_BOOLEAN,
     InterpretOptions,
     fit_operation,
     interpret,
@@ -109,7 +110,7 @@ def the_other_boolean_draws_it(context: cq.Shape, sample) -> bool:
     f whose far outline lies on f (the hole with that rim). No strict reading by the rule
     recovers it."""
     op = sample.operation
-    if op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP) or op.mode.flipped is None:
+    if op.type not in TAKE_A_BOOLEAN or op.mode.flipped is None:
         return False
     cam = sample.camera
     curves = operation_curves(context, op, np.asarray(cam.direction, float))

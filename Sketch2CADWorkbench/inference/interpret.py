@@ -761,7 +761,7 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
                  options: InterpretOptions) -> Mode | None:
     """The flipped Boolean when it reads the strokes as well as the one chosen (only
     when the designer did not choose one): see `Interpretation.other_option`."""
-    if options.option is not None or op.type not in (OperatorType.ADDSUB, OperatorType.SWEEP):
+    if options.option is not None or op.type not in TAKE_A_BOOLEAN:
         return None
     if not other_option_fits(face_at(solid, base_face), camera, op):
         return None
