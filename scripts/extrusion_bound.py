@@ -1,0 +1,64 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The most any reading of an extrusion's strokes can recover (training/extrusion_bound.py).
+
+    .bin/python scripts/extrusion_bound.py data/heldout-l1c [MORE ...] [--limit N]
+        [--json OUT.json]
+
+For each set's extrusions on planar faces: an oracle that knows f and which tip was drawn
+from which corner estimates d by least squares (the generator's end-point noise is
+Gaussian); with the generator's prior on d, the decision most likely to pass the
+recovery test (volume IoU >= 0.95) and its posterior probability of passing. Prints the
+oracle's rate, the best decision's rate and the expected rate, which bounds what any
+reading of these strokes can expect (compare `sketch2cad eval --recovery`'s extrude
+rate). Sets of one noise level pool into one line.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from training.extrusion_bound import bound_of_set  # noqa: E402
+
+
+def pooled(rows: list[dict]) -> dict:
+    """Sets' figures weighted by their sample counts."""
+    n = sum(r["n"] for r in rows)
+    return {"n": n, **{k: sum(r[k] * r["n"] for r in rows) / n for k in
+                       ("oracle_ml_rate", "best_decision_rate", "expected_bound")}}
+
+
+def line(name: str, r: dict) -> str:
+    return (f"{name}: {r['n']} extrusions; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
+            f"best decision {100 * r['best_decision_rate']:.1f}%, expected (the bound) "
+            f"{100 * r['expected_bound']:.1f}%")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("data", nargs="+", help="generated sets (sketch2cad datagen --out)")
+    ap.add_argument("--limit", type=int, default=None, help="samples read per set")
+    ap.add_argument("--json", type=Path, default=None, help="write the figures here")
+    a = ap.parse_args(argv)
+    rows = {}
+    for d in a.data:
+        if not Path(d).is_dir():
+            ap.error(f"{d}: no such generated set")
+        rows[d] = bound_of_set(d, a.limit)
+        if rows[d]["n"] == 0:
+            print(f"{d}: no extrusion on a planar face")
+            continue
+        print(line(d, rows[d]), flush=True)
+    counted = [r for r in rows.values() if r["n"]]
+    if len(counted) > 1:
+        rows["pooled"] = pooled(counted)
+        print(line("pooled", rows["pooled"]))
+    if a.json:
+        a.json.write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
