@@ -78,7 +78,7 @@ from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
-from .fitting.extrude import fit_extrude
+from .fitting.extrude import fit_extrude, fit_extrude_by_ends
 from .fitting.primitive import base_centre, other_option_fits
 from .fitting.regularize import Snap, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
@@ -549,14 +549,21 @@ def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.n
 def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
                          options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
-    extrusion's sign is read from the strokes: `options` has nothing for it): d read
-    with the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness alone
-    when that differs, the one that explains the strokes better (`verify.reading_score`)
-    first, the other built if that one is refused (a top pushed down past a hole's rim,
-    say, falls apart)."""
+    extrusion's sign is read from the strokes: `options` has nothing for it). On a
+    polygon, d read from the strokes' ends (`fit_extrude_by_ends`, the likeliest d under
+    the hand's noise). Elsewhere, or when no stroke pairs with the polygon's lines, the
+    paper's line search: d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and
+    d read by closeness alone when that differs, the one that explains the strokes
+    better (`verify.reading_score`) first, the other built if that one is refused (a top
+    pushed down past a hole's rim, say, falls apart)."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
+    by_ends = fit_extrude_by_ends(solid, face, cam,
+                                  [s for s, l in zip(strokes, labels) if l == 1],
+                                  [s for s, l in zip(strokes, labels) if l == 0])
+    if by_ends is not None:
+        return [(by_ends, index, labels)]
     ops = []
     for ends in ({}, {"end_weight": 0.0}):
         try:

@@ -404,6 +404,28 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
     assert got.op.d == pytest.approx(9.0, abs=0.5)
 
 
+def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeypatch):
+    box = make_box(Box((40, 30, 20)))
+    cam = view()
+    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)
+    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
+    ctx = oracle.context()
+    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+
+    def fit_extrude(*args, **kwargs):
+        raise AssertionError("the line search is for faces the ends cannot read")
+
+    monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
+    assert [op.d for op, _, _ in fits] == [pytest.approx(9.0, abs=1e-3)]
+
+
+def no_polygon_reading(monkeypatch):
+    """The line search's path, as on a disk or where no stroke pairs with f's lines."""
+    monkeypatch.setattr(interpret_module, "fit_extrude_by_ends", lambda *args: None)
+
+
 @pytest.mark.parametrize("by_ends, by_closeness", [(12.0, 9.0), (9.0, 12.0)])
 def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_first(
         renderer, monkeypatch, by_ends, by_closeness):
@@ -419,6 +441,7 @@ def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_f
         return Extrude(TOP, by_closeness if end_weight == 0.0 else by_ends)
 
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    no_polygon_reading(monkeypatch)
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
     ds = [op.d for op, _, _ in fits]
     # the 9 mm reading (or the score's search, next to it) first; the 12 mm one behind
@@ -441,6 +464,7 @@ def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, mon
         return Extrude(TOP, 8.0 if end_weight is None else 7.5)  # by the ends, by closeness
 
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    no_polygon_reading(monkeypatch)
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
     assert fits[0][0].d == pytest.approx(9.0, abs=0.5 * ctx.camera.pixel_size)
     assert {op.d for op, _, _ in fits[1:]} == {7.5, 8.0}
