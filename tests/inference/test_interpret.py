@@ -258,6 +258,19 @@ def top_extrusion(renderer):
     return box, op, Oracle(box, op, pts, labels, cam, renderer).context()
 
 
+def top_extrusion_on_its_face(renderer):
+    """`top_extrusion`'s box and context with F, the top's face index and C (the
+    oracle's segmentation), as `_fit_extrude_on_face` takes them."""
+    box = make_box(Box((40, 30, 20)))
+    op = Extrude(TOP, 9.0)
+    cam = view()
+    pts, labels = sketch(box, op, cam)
+    oracle = Oracle(box, op, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    return box, ctx, top, int(np.bincount(ctx.maps.face_id[top > 0]).argmax()), curve
+
+
 def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
     box, op, ctx = top_extrusion(renderer)
     calls = []
@@ -373,13 +386,7 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
 
 def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
         renderer, monkeypatch):
-    box = make_box(Box((40, 30, 20)))
-    op = Extrude(TOP, 9.0)
-    cam = view()
-    pts, labels = sketch(box, op, cam)
-    oracle = Oracle(box, op, pts, labels, cam, renderer)
-    ctx = oracle.context()
-    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
+    box, ctx, top, _, curve = top_extrusion_on_its_face(renderer)
     ids = ctx.maps.face_id
     side = ids == int(np.bincount(ids[(ids >= 0) & (top == 0)]).argmax())
     face_prob = np.where(side, 0.9, 0.45 * top).astype(np.float32)  # the side ranked first
@@ -397,6 +404,7 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
         return sketch_distances(solid, op, *args, **kwargs)
 
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
+    no_polygon_reading(monkeypatch)
     monkeypatch.setattr(interpret_module, "sketch_distances", distances)
     got = interpret_module.read_operation(box, OperatorType.EXTRUDE, face_prob, curve, ctx,
                                           InterpretOptions())
@@ -405,13 +413,7 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
 
 
 def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeypatch):
-    box = make_box(Box((40, 30, 20)))
-    cam = view()
-    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)
-    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
-    ctx = oracle.context()
-    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
-    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+    box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
     def fit_extrude(*args, **kwargs):
         raise AssertionError("the line search is for faces the ends cannot read")
@@ -429,13 +431,7 @@ def no_polygon_reading(monkeypatch):
 @pytest.mark.parametrize("by_ends, by_closeness", [(12.0, 9.0), (9.0, 12.0)])
 def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_first(
         renderer, monkeypatch, by_ends, by_closeness):
-    box = make_box(Box((40, 30, 20)))
-    cam = view()
-    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)  # drawn 9 mm out
-    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
-    ctx = oracle.context()
-    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
-    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+    box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
     def fit_extrude(solid, face, camera, offset, sides, end_weight=None):
         return Extrude(TOP, by_closeness if end_weight == 0.0 else by_ends)
@@ -452,13 +448,7 @@ def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_f
 def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, monkeypatch):
     """Both line search readings 1.5 and 1 mm short of the 9 mm drawn: the search by the
     score readings are ranked by finds the drawn offset, to a quarter pixel or so."""
-    box = make_box(Box((40, 30, 20)))
-    cam = view()
-    pts, labels = sketch(box, Extrude(TOP, 9.0), cam)
-    oracle = Oracle(box, Extrude(TOP, 9.0), pts, labels, cam, renderer)
-    ctx = oracle.context()
-    top, curve = oracle.segment(ctx.inputs, OperatorType.EXTRUDE)
-    index = int(np.bincount(ctx.maps.face_id[top > 0]).argmax())
+    box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
     def fit_extrude(*args, end_weight=None):
         return Extrude(TOP, 8.0 if end_weight is None else 7.5)  # by the ends, by closeness

@@ -1,20 +1,15 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/extrusion_bound.py: one line per set, a pooled line over several, and a clear
 refusal of a folder that is not a generated set."""
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "extrusion_bound.py"
-
 
 @pytest.fixture
-def script(monkeypatch):
-    spec = importlib.util.spec_from_file_location("extrusion_bound_script", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+def script(monkeypatch, load_script):
+    module = load_script("extrusion_bound")
     figures = {"a": (10, 0.9, 0.9, 0.95), "b": (30, 0.5, 0.6, 0.7), "none": (0, None, None, None)}
 
     def bound_of_set(data, limit):

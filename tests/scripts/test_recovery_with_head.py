@@ -1,21 +1,15 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/recovery_with_head.py: the U-Net and head rows run apart and print together,
 the U-Net row with the U-Net alone even where a head lies beside it."""
-import importlib.util
 import json
 import sys
-from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "recovery_with_head.py"
-
 
 @pytest.fixture
-def script(monkeypatch):
-    spec = importlib.util.spec_from_file_location("recovery_with_head", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+def script(monkeypatch, load_script):
+    module = load_script("recovery_with_head")
     seen = []
 
     def plain(weights, structured=True):
