@@ -551,24 +551,26 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it). On a
     polygon, d read from the strokes' ends (`fit_extrude_by_ends`, the likeliest d under
-    the hand's noise). Elsewhere, or when no stroke pairs with the polygon's lines, the
-    paper's line search: d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and
+    the hand's noise), refused where the line search's would be (the moved outline
+    MAX_MISMATCH_PX from the strokes). Elsewhere, or when no stroke pairs with the
+    polygon's lines, or that reading is refused, the paper's line search: d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and
     d read by closeness alone when that differs, the one that explains the strokes
     better (`verify.reading_score`) first, the other built if that one is refused (a top
     pushed down past a hole's rim, say, falls apart)."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
-    by_ends = fit_extrude_by_ends(solid, face, cam,
-                                  [s for s, l in zip(strokes, labels) if l == 1],
-                                  [s for s, l in zip(strokes, labels) if l == 0])
+    offset, sides = ([s for s, l in zip(strokes, labels) if l == part] for part in (1, 0))
+    by_ends = fit_extrude_by_ends(solid, face, cam, offset, sides)
     if by_ends is not None:
-        return [(by_ends, index, labels)]
+        try:  # refused as the line search's reading would be: the outline too far off
+            return [(fit_extrude(solid, face, cam, offset, sides, at=by_ends.d), index, labels)]
+        except FitError:
+            pass
     ops = []
     for ends in ({}, {"end_weight": 0.0}):
         try:
-            op = fit_extrude(solid, face, cam, [s for s, l in zip(strokes, labels) if l == 1],
-                             [s for s, l in zip(strokes, labels) if l == 0], **ends)
+            op = fit_extrude(solid, face, cam, offset, sides, **ends)
         except FitError:
             # C may call a side edge an offset edge or back. The line search scores the
             # moved edges' distance to the strokes, which strokes of the other part

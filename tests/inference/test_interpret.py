@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError, face_at, resolve_face
+from Sketch2CADWorkbench.brep.faces import OperationError, face_at, face_ref_of, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -415,12 +415,25 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
 def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeypatch):
     box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
-    def fit_extrude(*args, **kwargs):
-        raise AssertionError("the line search is for faces the ends cannot read")
+    checked = []
+    fit = interpret_module.fit_extrude
+
+    def fit_extrude(*args, at=None, **kwargs):  # only the ends' d checked, no search
+        assert at is not None, "the line search is for faces the ends cannot read"
+        checked.append(at)
+        return fit(*args, at=at, **kwargs)
 
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
-    assert [op.d for op, _, _ in fits] == [pytest.approx(9.0, abs=1e-3)]
+    assert [op.d for op, _, _ in fits] == [pytest.approx(9.0, abs=1e-3)] == checked
+
+
+def test_an_extrusion_read_by_its_ends_far_from_the_outline_is_refused(renderer, monkeypatch):
+    box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
+    monkeypatch.setattr(interpret_module, "fit_extrude_by_ends",
+                        lambda solid, face, *args: Extrude(face_ref_of(face), 30.0))
+    fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
+    assert fits[0][0].d == pytest.approx(9.0, abs=0.5)  # the line search's reading
 
 
 def no_polygon_reading(monkeypatch):

@@ -47,7 +47,7 @@ REF_GRID = (73, 7)
 def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
                 offset_strokes: list[np.ndarray],
                 profile_strokes: list[np.ndarray] | None = None,
-                end_weight: float = END_WEIGHT) -> Extrude:
+                end_weight: float = END_WEIGHT, at: float | None = None) -> Extrude:
     """Find d such that the edges of f moved by d * n_f match the offset-curve strokes.
 
     The paper matches the moved edges to the offset curve only; when side-edge strokes
@@ -67,6 +67,7 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         end_weight: on a polygonal f, how much the strokes' ends count against the
             corners and moved corners (`line_search`; 0: closeness alone, as in the
             paper).
+        at: d found otherwise (`fit_extrude_by_ends`): only its mismatch is checked.
     Raises:
         FitError: no offset strokes, a head-on view of a planar f, or no offset matches
             the strokes.
@@ -92,7 +93,7 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
                       > -MAX_SHRINK * _smallest_radius(surface, points)]
     else:
         direction = corner_direction = FaceFrame.of(face).normal
-    cands = cands[np.abs(cands) > 1e-9]  # d = 0 is no operation
+    cands = cands[np.abs(cands) > 1e-9] if at is None else np.array([at])  # d = 0: no op
     sides = None
     if profile_strokes and len(corners):
         sides = (corners, corner_direction,
