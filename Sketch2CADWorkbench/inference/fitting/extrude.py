@@ -145,11 +145,14 @@ def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     capped at TIP_CAP_PX); at the best d the pairing is fixed and d solved in closed form,
     twice more with the pairing renewed. Beyond the paper's line search, which matches
     the moved outline to the strokes' pixels: at noise level 3 that reads d within the
-    0.95 test for 69% of held-out extrusions, this for 76% (docs/NOTES.md, stop 34).
+    0.95 test for 69% of held-out extrusions, this for 76% (heldout-l3c; docs/NOTES.md,
+    stop 34).
 
     Returns:
         The Extrude on a planar f whose outline is a polygon, or None (a curved f, a
-        disk, no offset stroke, a view along f, or no stroke within the cap).
+        disk, no offset stroke, a view along f, or no stroke within the cap). An outline
+        with arcs is left to the line search too: read so, heldout-l3c's extrusions fell
+        (75.9 -> 75.3%; docs/NOTES.md, stop 34).
     """
     if is_curved(face) or not offset_strokes or \
             not all(e.geomType() == "LINE" for e in face.Edges()):
