@@ -5,11 +5,14 @@ Each operation of a protocol is "sketched" the way the training data is: its ske
 curves, seen from an informative view (20-80 degrees off the base face's normal, the
 relevant curve at least 80% visible), drawn as freehand strokes with level-1 noise.
 The strokes are stored in a whole-model 800 x 600 view, as a designer's screen would
-show them. The ground-truth protocol is kept beside the session for comparison.
+show them. The ground-truth protocol is kept beside the session for comparison. Each
+step is read with regularization on and its designer's grid (`designer_grid`), as a
+designer sketching it would have the workbench set.
 
     .bin/python scripts/make_sessions.py camera mixer hammer
     .bin/python scripts/make_sessions.py bolt lamp pipe   # (nut: no informative view for step 3)
 """
+import re
 import sys
 from pathlib import Path
 
@@ -29,8 +32,19 @@ from Sketch2CADWorkbench.sketch.curves import operation_curves
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def designer_grid(protocol_text: str) -> float:
+    """The length grid (mm) a protocol was designed on: 0.5 where any of its values is a
+    half millimetre, else 1 (values on neither, such as a profile's control points at
+    thirds, say nothing of it)."""
+    values = [float(v) for v in re.findall(r"-?\d+\.?\d*", protocol_text)]
+    halves = [v for v in values if abs(2 * v - round(2 * v)) < 1e-9]
+    return 0.5 if any(abs(v - round(v)) > 1e-9 for v in halves) else 1.0
+
+
 def make(name: str, seed: int = 0) -> Session:
-    protocol = load(ROOT / "examples" / "protocols" / f"{name}.json")
+    path = ROOT / "examples" / "protocols" / f"{name}.json"
+    protocol = load(path)
+    grid = designer_grid(path.read_text())
     solids = replay(protocol)
     rng = np.random.default_rng(seed)
     renderer = MapRenderer()
@@ -58,7 +72,8 @@ def make(name: str, seed: int = 0) -> Session:
         # (paper Fig. 5b): the designer drawing a hole picks subtract (or clicks the flip).
         option = (op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT,
                                                            Mode.SUBTRACT) else None)
-        steps.append(SketchStep(view, moved, InterpretOptions(option=option, regularize=False)))
+        steps.append(SketchStep(view, moved, InterpretOptions(option=option, regularize=True,
+                                                              snap_step=grid)))
     return Session(protocol.base, steps)
 
 
