@@ -37,6 +37,7 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import FaceFrame, OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Extrude, OperatorType
+from Sketch2CADWorkbench.inference.fitting.extrude import offset_from_ends
 from Sketch2CADWorkbench.sketch.labels import EXTRUDE_PROFILE
 from training.recovery import RECOVERY_IOU
 
@@ -112,7 +113,7 @@ def extrusion_bound(sample: Sample) -> ExtrusionBound | None:
     if not len(tips) or step_px @ step_px == 0:
         return None
     sigma = noise_sigma(sample.noise_level, cam.width, cam.height)
-    d_ml = float(((tips - owners) @ step_px).sum() / (len(tips) * (step_px @ step_px)))
+    d_ml = offset_from_ends(tips, owners, step_px)
     sd = float(sigma / np.sqrt(len(tips) * (step_px @ step_px)))
 
     lo, hi = (v * DIAG for v in EXTRUDE_D)

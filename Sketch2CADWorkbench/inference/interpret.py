@@ -553,10 +553,11 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
     polygon, d read from the strokes' ends (`fit_extrude_by_ends`, the likeliest d under
     the hand's noise), refused where the line search's would be (the moved outline
     MAX_MISMATCH_PX from the strokes). Elsewhere, or when no stroke pairs with the
-    polygon's lines, or that reading is refused, the paper's line search: d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and
-    d read by closeness alone when that differs, the one that explains the strokes
-    better (`verify.reading_score`) first, the other built if that one is refused (a top
-    pushed down past a hole's rim, say, falls apart)."""
+    polygon's lines, or that reading is refused, the paper's line search: d read with
+    the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness alone when
+    that differs, the one that explains the strokes better (`verify.reading_score`)
+    first, the other built if that one is refused (a top pushed down past a hole's rim,
+    say, falls apart)."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])

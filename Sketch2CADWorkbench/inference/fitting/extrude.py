@@ -5,6 +5,7 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
+from ...brep.corners import line_edges
 from ...brep.faces import CurvedSurface, FaceFrame, face_ref_at, face_ref_of, is_curved, model_scale
 from ...brep.protocol import Extrude, FaceRef
 from ...render.camera import OrthoCamera
@@ -130,6 +131,12 @@ def _facing_ref(face: cq.Face, camera: OrthoCamera) -> FaceRef:
     return face_ref_at(face, grid[int(np.argmin(facing))])
 
 
+def offset_from_ends(tips: np.ndarray, corners_px: np.ndarray, step: np.ndarray) -> float:
+    """The least-squares d (mm) of tips (k, 2) drawn at moved corners c_i + d * step,
+    given their corners' images (k, 2) and the image of n_f (2,; px per mm)."""
+    return float(((tips - corners_px) @ step).sum() / (len(tips) * (step @ step)))
+
+
 def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
                         offset_strokes: list[np.ndarray], profile_strokes: list[np.ndarray]
                         ) -> Extrude | None:
@@ -161,9 +168,9 @@ def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     step = camera.image_of(FaceFrame.of(face).normal)
     if step @ step < 1e-12:
         return None
-    at = {tuple(np.round(c, 6)): i for i, c in enumerate(corners)}
-    edges = np.array([(at[tuple(np.round(e.startPoint().toTuple(), 6))],
-                       at[tuple(np.round(e.endPoint().toTuple(), 6))]) for e in face.Edges()])
+    index_of = {tuple(np.round(c, 6)): i for i, c in enumerate(corners)}
+    edges = np.array([(index_of[tuple(np.round(a, 6))], index_of[tuple(np.round(b, 6))])
+                      for a, b in line_edges(face)])
     c2d = camera.project(corners)[0]
     sides = np.array([(q[0], q[-1]) for q in profile_strokes], float).reshape(-1, 2, 2)
     outline = np.array([(q[0], q[-1]) for q in offset_strokes], float).reshape(-1, 2, 2)
@@ -199,14 +206,11 @@ def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
                 tips.append(sides[k, 1] if p < v else sides[k, 0])
                 owners.append(p % v)
             else:
-                a, b = outline[k - len(sides)]
-                first, second = (edges[p], edges[p][::-1]) if p < e else \
-                    (edges[p - e][::-1], edges[p - e])
-                tips += [a, b]
-                owners += [first[0], first[1]]
+                tips += list(outline[k - len(sides)])  # its two ends, along the edge or back
+                owners += list(edges[p] if p < e else edges[p - e][::-1])
         if not tips:
             return None
-        d = float(((np.array(tips) - c2d[owners]) @ step).sum() / (len(tips) * (step @ step)))
+        d = offset_from_ends(np.array(tips), c2d[owners], step)
     if abs(d) < 1e-6 * model_scale(solid):
         return None
     return Extrude(face_ref_of(face), d)
