@@ -20,7 +20,7 @@ from .common import (
 )
 from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
 from .primitive import choose_option
-from .refine import refine_prism
+from .refine import prism_from_ends, refine_prism
 from .surface import back_project, face_frame, face_ref, option_frame
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
@@ -62,16 +62,21 @@ class PrismFit:
 
     def refined(self) -> AddSubPrism:
         """The operation with its base polygon and length refined together against all
-        the strokes; as fitted when f is curved (the refinement fits straight sides) or
-        when the refined polygon is degenerate or d turned negative."""
+        the strokes (`refine_prism`), then read from the strokes' ends from there
+        (`prism_from_ends`: the likeliest prism under the hand's noise); the refined one
+        when that one is degenerate, and as fitted when f is curved (both fit straight
+        sides) or when neither is sound (a polygon that crosses itself or has a side
+        under MIN_SIDE_PX, or d turned negative)."""
         if is_curved(self.face):
             return self.operation
-        base, d = refine_prism(self.base, self.operation.d, self.step, self.strokes)
-        if d <= 0 or not is_simple(base) or _shortest_side(base) < MIN_SIDE_PX:
-            return self.operation
-        base3d = back_project(self.camera, self.face, self.frame, base)
-        return AddSubPrism(self.operation.face, tuple(tuple(map(float, p)) for p in base3d),
-                           float(d), self.operation.mode)
+        refined = refine_prism(self.base, self.operation.d, self.step, self.strokes)
+        for base, d in (prism_from_ends(*refined, self.step, self.strokes), refined):
+            if d > 0 and is_simple(base) and _shortest_side(base) >= MIN_SIDE_PX:
+                base3d = back_project(self.camera, self.face, self.frame, base)
+                return AddSubPrism(self.operation.face,
+                                   tuple(tuple(map(float, p)) for p in base3d), float(d),
+                                   self.operation.mode)
+        return self.operation
 
 
 def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
