@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""How close a sketch session's strokes let a reading end (training/session_oracle.py).
+
+Each step read by an oracle that knows the protocol's structure and which stroke draws
+which curve, its numbers by least squares on the strokes; one line per step (volume IoU
+alone on the true model before it, as read and as the step's choices snap it), then the
+final IoU of the oracle's protocol. Beside `sketch2cad interpret SESSION --compare
+PROTOCOL [--each-step]`, it tells a reading's shortfall from what the strokes hold.
+
+    .bin/python scripts/session_oracle.py examples/sessions/mixer.json examples/protocols/mixer.json
+    .bin/python scripts/session_oracle.py --examples [--json out.json]   # all six
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+from tqdm import tqdm
+
+from Sketch2CADWorkbench.brep.protocol import ProtocolError, describe, load
+from Sketch2CADWorkbench.inference.session import load_session
+from training.session_oracle import session_oracle
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe")
+
+
+def _pairs(args) -> list[tuple[Path, Path]]:
+    if args.examples:
+        return [(ROOT / "examples" / "sessions" / f"{n}.json",
+                 ROOT / "examples" / "protocols" / f"{n}.json") for n in EXAMPLES]
+    if len(args.files) != 2:
+        sys.exit("session_oracle: give a session and its protocol, or --examples")
+    return [(Path(args.files[0]), Path(args.files[1]))]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("files", nargs="*", metavar="SESSION PROTOCOL")
+    parser.add_argument("--examples", action="store_true",
+                        help="the six example sessions with their protocols")
+    parser.add_argument("--json", help="write the figures here")
+    args = parser.parse_args(argv)
+    report = {}
+    for session_path, protocol_path in _pairs(args):
+        try:
+            session, protocol = load_session(session_path), load(protocol_path)
+        except (OSError, ProtocolError) as e:
+            sys.exit(f"session_oracle: {e}")
+        name = session_path.stem
+        with tqdm(total=len(session.steps), desc=name, leave=False) as bar:
+            try:
+                got = session_oracle(session, protocol, on_step=lambda _: bar.update())
+            except ValueError as e:
+                sys.exit(f"session_oracle: {session_path}: {e}")
+        print(f"{name}: oracle's final volume IoU {got.final_iou:.3f}, "
+              f"snapped as the steps choose {got.regularized_iou:.3f}")
+        for k, s in enumerate(got.steps, 1):
+            print(f"  step {k}: alone {s.iou:.3f}, snapped {s.snapped_iou:.3f}; ends and loops "
+                  f"miss it by {s.rms_px:.2f} px rms (the truth by {s.truth_rms_px:.2f}), "
+                  f"{s.strokes} strokes: {describe(s.snapped)}")
+        report[name] = {"final_iou": got.final_iou, "regularized_iou": got.regularized_iou,
+                        "steps": [{k: v for k, v in dataclasses.asdict(s).items()
+                                   if k not in ("reading", "snapped")} for s in got.steps]}
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

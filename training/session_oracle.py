@@ -1,0 +1,268 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""How much of a sketch session its strokes tell: each step read by an oracle.
+
+A session (examples/sessions/) comes with the protocol it means. For each step the oracle
+knows the truth's structure: the operator, the base face, the Boolean, how many corners,
+and which stroke draws which of its curves (`sketch.curves.operation_curves`, paired with
+the strokes at the truth). It reads only the numbers from the strokes, by least squares
+on what the generator's hand leaves of them (`datagen.strokes.perturb`): an open stroke's
+two ends miss its curve's ends by independent Gaussians and the rest of it follows them,
+so its ends are all it tells; a loop (a circle's stroke) starts anywhere and is lopsided,
+so it counts by closeness, its samples' distances to the curve, weighed as one open
+stroke's two ends. Started from the truth, the fit is the likeliest reading under that
+hand when the strokes pin every number down, which a reading that has to find the
+structure first cannot beat on average.
+
+Each step is read on the true model before it; the readings together make the oracle's
+protocol, replayed as an edited protocol is (a step's face followed where an earlier
+one moved it). Its volume IoU with the truth says how close this session's strokes let
+a reading end; the same with every reading snapped as the step's choices ask
+(`regularize_operation`) says what the regularizer's priors add to them.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import cadquery as cq
+import numpy as np
+from scipy.optimize import linear_sum_assignment, least_squares
+
+from Sketch2CADWorkbench.brep.compare import volume_iou
+from Sketch2CADWorkbench.brep.faces import FaceFrame, OperationError, is_curved, resolve_face
+from Sketch2CADWorkbench.brep.operators import apply_operation, replay
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Extrude,
+    Operation,
+    Protocol,
+    Sweep,
+)
+from Sketch2CADWorkbench.inference.fitting.common import match_ends, open_ends
+from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
+from Sketch2CADWorkbench.inference.session import Session, SketchStep
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+
+LOOP_SAMPLES = 24     # a loop's samples compared with its curve
+FAILED_PX = 1e3       # the residual of numbers that build no curves
+
+
+@dataclass(frozen=True)
+class OracleStep:
+    """One step read by the oracle.
+
+    Attributes:
+        reading: the oracle's operation, on the true model before the step.
+        iou: its volume IoU with the truth's result, on that model.
+        snapped, snapped_iou: the reading as the step's choices regularize it (the
+            reading itself when they do not), and its volume IoU so.
+        rms_px, truth_rms_px: the rms residual (view pixels) of the reading and of the
+            truth: the hand's miss as the strokes show it.
+        strokes: the strokes paired with a curve (the rest draw none).
+    """
+
+    reading: Operation
+    iou: float
+    snapped: Operation
+    snapped_iou: float
+    rms_px: float
+    truth_rms_px: float
+    strokes: int
+
+
+@dataclass(frozen=True)
+class SessionOracle:
+    """A session read by the oracle: its steps, and the final volume IoU with the truth of
+    the oracle's protocol as read and as snapped by each step's choices."""
+
+    steps: tuple[OracleStep, ...]
+    final_iou: float
+    regularized_iou: float
+
+
+def _numbers(solid: cq.Shape, op: Operation):
+    """The numbers the strokes tell of `op` (mm, in f's frame) and the operation they
+    make. The structure stays the truth's: f, the Boolean, the polygon's corner count,
+    a bevel's crease (its profile's ends slide along f's edges from c)."""
+    rf = resolve_face(solid, op.face)
+    frame = FaceFrame.tangent(rf.face, op.face) if is_curved(rf.face) else FaceFrame.of(rf.face)
+    if isinstance(op, Extrude):
+        return np.array([op.d]), lambda x: replace(op, d=float(x[0]))
+    if isinstance(op, AddSubPrism):
+        poly = frame.to_2d(np.array(op.polygon, float))
+
+        def prism(x):
+            return replace(op, polygon=tuple(map(tuple, frame.to_3d(x[:-1].reshape(-1, 2)))),
+                           d=float(x[-1]))
+        return np.r_[poly.ravel(), op.d], prism
+    if isinstance(op, Sweep):
+        centre = frame.to_2d(np.array(op.center, float))[0]
+
+        def sweep(x):
+            return replace(op, center=tuple(frame.to_3d(x[:2])[0]), r0=float(x[2]),
+                           r1=float(x[3]), d=float(x[4]),
+                           profile=tuple(map(tuple, x[5:].reshape(2, 2))))
+        return np.r_[centre, op.r0, op.r1, op.d, np.ravel(op.profile)], sweep
+    if isinstance(op, Bevel):
+        c, prof = np.array(op.corner, float), np.array(op.profile, float)
+        ends = [prof[i] - c for i in (0, 3)]
+        units = [e / np.linalg.norm(e) for e in ends]
+
+        def bevel(x):
+            inner = frame.to_3d(x[2:].reshape(2, 2))
+            pts = [c + x[0] * units[0], *inner, c + x[1] * units[1]]
+            return replace(op, profile=tuple(map(tuple, pts)))
+        return np.r_[[np.linalg.norm(e) for e in ends], frame.to_2d(prof[1:3]).ravel()], bevel
+    raise TypeError(f"no oracle for {type(op).__name__}")
+
+
+def _segment_distances(points: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """Each point's distance (K,) to a closed polyline (M, 2)."""
+    a, b = loop, np.roll(loop, -1, axis=0)
+    ab = b - a
+    t = np.clip(np.einsum("kmj,mj->km", points[:, None] - a[None], ab)
+                / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
+    near = a[None] + t[..., None] * ab[None]
+    return np.linalg.norm(points[:, None] - near, axis=2).min(axis=1)
+
+
+def _loop_samples(stroke: np.ndarray) -> np.ndarray:
+    s = np.asarray(stroke, float)
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(s, axis=0), axis=1))]
+    at = np.linspace(0.0, arc[-1], LOOP_SAMPLES, endpoint=False)
+    return np.stack([np.interp(at, arc, s[:, k]) for k in (0, 1)], axis=1)
+
+
+class _Pairing:
+    """Which stroke draws which curve of the truth, and which way round."""
+
+    def __init__(self, curves, strokes: list[np.ndarray], camera: OrthoCamera):
+        ends = open_ends(strokes)
+        self.open_strokes = [i for i, s in enumerate(strokes)
+                             if any(np.array_equal(s[0], e[0]) and np.array_equal(s[-1], e[1])
+                                    for e in ends)]
+        loops = [i for i in range(len(strokes)) if i not in self.open_strokes]
+        self.open_curves = [k for k, c in enumerate(curves) if not c.closed]
+        closed = [k for k, c in enumerate(curves) if c.closed]
+        rows, cols, self.swapped = match_ends(
+            self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
+        self.open = [(self.open_strokes[r], self.open_curves[c]) for r, c in zip(rows, cols)]
+        self.loop_points = [_loop_samples(strokes[i]) for i in loops]
+        cost = np.zeros((len(loops), len(closed)))
+        for r, p in enumerate(self.loop_points):
+            for c, k in enumerate(closed):
+                cost[r, c] = _segment_distances(p, camera.project(curves[k].points)[0]).mean()
+        rows, cols = linear_sum_assignment(cost) if cost.size else ((), ())
+        self.loops = [(int(r), closed[c]) for r, c in zip(rows, cols)]
+        self.stroke_ends = np.array([[strokes[i][0], strokes[i][-1]] for i, _ in self.open],
+                                    float).reshape(-1, 2, 2)
+        self.stroke_ends = np.where(np.asarray(self.swapped, bool)[:, None, None],
+                                    self.stroke_ends[:, ::-1], self.stroke_ends)
+        self.count = len(self.open) + len(self.loops)
+
+    def _curve_ends(self, curves, camera: OrthoCamera) -> np.ndarray:
+        return np.array([camera.project(curves[k].points[[0, -1]])[0]
+                         for k in self.open_curves], float).reshape(-1, 2, 2)
+
+    def residuals(self, curves, camera: OrthoCamera) -> np.ndarray:
+        """Open strokes' end gaps and loops' weighed distances (view pixels)."""
+        ends = np.array([camera.project(curves[k].points[[0, -1]])[0] for _, k in self.open],
+                        float).reshape(-1, 2, 2)
+        out = [(ends - self.stroke_ends).ravel()]
+        weight = np.sqrt(4.0 / LOOP_SAMPLES)
+        for r, k in self.loops:
+            out.append(weight * _segment_distances(self.loop_points[r],
+                                                   camera.project(curves[k].points)[0]))
+        return np.concatenate(out)
+
+
+def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> OracleStep:
+    """The oracle's reading of one step (module docstring), and that reading regularized
+    as the step's choices ask.
+
+    Args:
+        solid: the true model before the step.
+        truth: the operation the step's strokes mean.
+        step: the strokes, in pixels of the view (camera) they were drawn in, and the
+            step's choices.
+    Raises:
+        ValueError: no stroke pairs with a curve of the truth.
+    """
+    camera = step.camera
+    direction = np.asarray(camera.direction, float)
+    pairing = _Pairing(operation_curves(solid, truth, direction), step.strokes, camera)
+    if not pairing.count:
+        raise ValueError("no stroke of the step draws a curve of its operation")
+    x0, build = _numbers(solid, truth)
+    truth_res = pairing.residuals(operation_curves(solid, truth, direction), camera)
+
+    def residuals(x):
+        try:
+            return pairing.residuals(operation_curves(solid, build(x), direction), camera)
+        except (OperationError, ValueError):  # numbers that make no operation
+            return np.full(len(truth_res), FAILED_PX)
+
+    fit = least_squares(residuals, x0, x_scale=np.maximum(np.abs(x0), 1.0))
+    reading = build(fit.x)
+    c = step.choices
+    snapped = reading
+    if c.regularize:
+        face = resolve_face(solid, reading.face).face
+        snapped = regularize_operation(solid, reading, face, camera, c.snap_step,
+                                       c.snap_px, c.skip_snaps).operation
+    truth_solid = apply_operation(solid, truth)
+    return OracleStep(reading, _iou(solid, reading, truth_solid), snapped,
+                      _iou(solid, snapped, truth_solid), _rms(fit.fun), _rms(truth_res),
+                      pairing.count)
+
+
+def _rms(r: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(r ** 2)))
+
+
+def _iou(solid: cq.Shape, op: Operation, truth_solid: cq.Shape) -> float:
+    """The volume IoU of `op` applied to `solid` with the truth's result; 0 when it does
+    not build."""
+    try:
+        return volume_iou(apply_operation(solid, op), truth_solid)
+    except OperationError:
+        return 0.0
+
+
+def session_oracle(session: Session, protocol: Protocol,
+                   on_step: Callable[[int], None] | None = None) -> SessionOracle:
+    """Every step of `session` read by the oracle against `protocol` (one operation per
+    step), and the final volume IoUs of its protocol, as read and regularized.
+
+    Args:
+        on_step: called with each step's number once it is read (progress).
+    Raises:
+        ValueError: the session and the protocol differ in their number of steps.
+    """
+    if len(session.steps) != len(protocol.operations):
+        raise ValueError(f"the session has {len(session.steps)} steps and the protocol "
+                         f"{len(protocol.operations)} operations: one per step is needed")
+    truths = replay(protocol)
+    steps = []
+    for k, (step, truth) in enumerate(zip(session.steps, protocol.operations)):
+        steps.append(oracle_reading(truths[k], truth, step))
+        if on_step:
+            on_step(k + 1)
+    final = truths[-1]
+    return SessionOracle(
+        tuple(steps), volume_iou(_built(protocol, [s.reading for s in steps]), final),
+        volume_iou(_built(protocol, [s.snapped for s in steps]), final))
+
+
+def _built(protocol: Protocol, operations: list[Operation]) -> cq.Shape:
+    """The protocol's box with the operations applied in turn, each on the solid the
+    ones before built; one that no longer builds there (its face gone) is left out."""
+    solid = replay(replace(protocol, operations=[]))[-1]
+    for op in operations:
+        try:
+            solid = apply_operation(solid, op)
+        except OperationError:
+            pass
+    return solid
