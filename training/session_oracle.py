@@ -17,7 +17,8 @@ Each step is read on the true model before it; the readings together make the or
 protocol, replayed as an edited protocol is (a step's face followed where an earlier
 one moved it). Its volume IoU with the truth says how close this session's strokes let
 a reading end; the same with every reading snapped as the step's choices ask
-(`regularize_operation`) says what the regularizer's priors add to them.
+(`interpret.snap_or_keep`, interpret's own snapping) says what the regularizer's priors
+add to them.
 """
 from __future__ import annotations
 
@@ -40,7 +41,8 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference.fitting.common import match_ends, open_ends
-from Sketch2CADWorkbench.inference.fitting.regularize import regularize_operation
+from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, sketch_distances
+from Sketch2CADWorkbench.inference.interpret import snap_or_keep
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -144,8 +146,10 @@ class _Pairing:
                              if any(np.array_equal(s[0], e[0]) and np.array_equal(s[-1], e[1])
                                     for e in ends)]
         loops = [i for i in range(len(strokes)) if i not in self.open_strokes]
-        self.open_curves = [k for k, c in enumerate(curves) if not c.closed]
-        closed = [k for k, c in enumerate(curves) if c.closed]
+        # an extruded disk's rim is a polyline back to its start, not a `closed` curve
+        loop = [c.closed or np.allclose(c.points[0], c.points[-1]) for c in curves]
+        self.open_curves = [k for k in range(len(curves)) if not loop[k]]
+        closed = [k for k in range(len(curves)) if loop[k]]
         rows, cols, self.swapped = match_ends(
             self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
         self.open = [(self.open_strokes[r], self.open_curves[c]) for r, c in zip(rows, cols)]
@@ -208,10 +212,10 @@ def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> Oracl
     reading = build(fit.x)
     c = step.choices
     snapped = reading
-    if c.regularize:
-        face = resolve_face(solid, reading.face).face
-        snapped = regularize_operation(solid, reading, face, camera, c.snap_step,
-                                       c.snap_px, c.skip_snaps).operation
+    if c.regularize:  # as interpret snaps: its tolerance grows with the hand's misfit
+        misfit = mean_distance(sketch_distances(solid, reading, camera, step.strokes))
+        snapped = snap_or_keep(solid, reading, resolve_face(solid, reading.face).face,
+                               misfit, camera, camera, c)[0]
     truth_solid = apply_operation(solid, truth)
     return OracleStep(reading, _iou(solid, reading, truth_solid), snapped,
                       _iou(solid, snapped, truth_solid), _rms(fit.fun), _rms(truth_res),

@@ -5,7 +5,7 @@ import pytest
 from session_fixtures import BASE, BOSS, POST, TOP, sketched_step
 
 from Sketch2CADWorkbench.brep.operators import replay
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Extrude, Protocol
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Extrude, FaceRef, Protocol
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import Session
 from training.session_oracle import oracle_reading, session_oracle
@@ -56,3 +56,12 @@ def test_a_session_ends_where_the_readings_together_build_it():
     assert got.final_iou < 0.99                # the post drawn 4 mm taller
     with pytest.raises(ValueError, match="2 steps and the protocol 1 operations"):
         session_oracle(drawn, Protocol(BASE, [POST]))
+
+
+def test_an_extruded_rim_drawn_as_a_loop_counts_with_the_strokes():
+    boss_top = FaceRef((-2.0, 1.0, 30.0), (0.0, 0.0, 1.0))
+    protocol = Protocol(BASE, [POST, BOSS, Extrude(boss_top, 3.0)])
+    got = oracle_reading(replay(protocol)[2], protocol.operations[2],
+                         sketched_step(protocol, 2, drawn_as=Extrude(boss_top, 5.0)))
+    assert got.strokes == 1                # the rim: a polyline back to its start
+    assert got.reading.d == pytest.approx(5.0, abs=1e-3)
