@@ -100,6 +100,31 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return length, v / np.maximum(length, 1e-12)[..., None]
 
 
+def _matched_end_rows(x: np.ndarray, step: np.ndarray, ends: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """The open strokes' ends matched to the ends of the prism's edges at x (its base
+    vertices, pixels, then d; `match_ends`), and what those edge ends are in x: linear,
+    so rows @ x gives them, two ends of x and y per matched stroke.
+
+    Returns:
+        (r, rows): the matched strokes (indices into `ends`), rows (4 M, 2 N + 1).
+    """
+    n = (len(x) - 1) // 2
+    a, b = prism_edges(x[:-1].reshape(n, 2), x[-1] * step)
+    r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
+    which = end_order(swapped)                                          # (M, 2): a or b
+    ia, ib, sa, sb = _layout(n)
+    vertex = np.stack([ia, ib], axis=1)[c[:, None], which]              # base vertex
+    shifted = np.stack([sa, sb], axis=1)[c[:, None], which]             # moved by d?
+    rows = np.zeros((len(r), 2, 2, 2 * n + 1))
+    m = np.arange(len(r))
+    for k in (0, 1):
+        for xy in (0, 1):
+            rows[m, k, xy, 2 * vertex[:, k] + xy] = 1.0
+        rows[:, k, :, -1] = shifted[:, k, None] * step
+    return r, rows.reshape(-1, 2 * n + 1)
+
+
 def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray],
                  end_weight: float = END_WEIGHT) -> tuple[np.ndarray, float]:
     """Move a prism's base polygon and length together to fit all its strokes.
@@ -125,8 +150,6 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
     rows_m = np.arange(len(drawn))
     rows_q = len(drawn) + np.arange(len(t_edge))
     ends = open_ends(strokes)
-    # each segment end's base vertex, and whether it is shifted by d
-    end_vertex, end_shift = np.stack([ia, ib], axis=1), np.stack([sa, sb], axis=1)
     end_weight = end_weight * np.sqrt(len(drawn) / max(4 * len(ends), 1))
 
     def evaluate(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -155,18 +178,9 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
                 jac[rows, 2 * ib[seg] + c] += wb[:, c]
             jac[rows, -1] = (wa * sa[seg][:, None] + wb * sb[seg][:, None]) @ step
         if end_weight > 0 and len(ends):
-            r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
-            which = end_order(swapped)                                  # (M, 2): a or b
-            gap = np.stack([a, b], axis=1)[c[:, None], which] - ends[r]  # (M, 2, 2)
-            vertex, shifted = end_vertex[c[:, None], which], end_shift[c[:, None], which]
-            ej = np.zeros((len(r), 2, 2, 2 * n + 1))
-            m = np.arange(len(r))
-            for k in (0, 1):
-                for xy in (0, 1):
-                    ej[m, k, xy, 2 * vertex[:, k] + xy] = 1.0
-                ej[:, k, :, -1] = shifted[:, k, None] * step
-            res = np.concatenate([res, end_weight * gap.ravel()])
-            jac = np.concatenate([jac, end_weight * ej.reshape(-1, 2 * n + 1)])
+            r, rows = _matched_end_rows(x, step, ends)
+            res = np.concatenate([res, end_weight * (rows @ x - ends[r].ravel())])
+            jac = np.concatenate([jac, end_weight * rows])
         return res, jac
 
     x0 = np.concatenate([np.asarray(base, float).ravel(), [d]])
@@ -372,7 +386,6 @@ def refine_bevel(image: BevelImage, x: np.ndarray, strokes: list[np.ndarray],
                           bounds=(low, high), x_scale=scale)
 
 
-
 def prism_from_ends(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray],
                     rounds: int = 3) -> tuple[np.ndarray, float]:
     """A prism's base polygon and length read from its open strokes' ends alone.
@@ -395,21 +408,10 @@ def prism_from_ends(base: np.ndarray, d: float, step: np.ndarray, strokes: list[
     x = np.concatenate([np.asarray(base, float).ravel(), [d]])
     if not len(ends):
         return base, d
-    ia, ib, sa, sb = _layout(n)
-    end_vertex, end_shift = np.stack([ia, ib], axis=1), np.stack([sa, sb], axis=1)
     # a faint pull to where it stands, for vertices (or d) no end sees
     hold = HOLD_WEIGHT * np.diag(np.r_[np.ones(2 * n), np.linalg.norm(step)])
     for _ in range(rounds):
-        a, b = prism_edges(x[:-1].reshape(n, 2), x[-1] * step)
-        r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
-        which = end_order(swapped)                                     # (M, 2): a or b
-        vertex, shifted = end_vertex[c[:, None], which], end_shift[c[:, None], which]
-        rows = np.zeros((len(r), 2, 2, 2 * n + 1))
-        m = np.arange(len(r))
-        for k in (0, 1):
-            for xy in (0, 1):
-                rows[m, k, xy, 2 * vertex[:, k] + xy] = 1.0
-            rows[:, k, :, -1] = shifted[:, k, None] * step
-        system = np.concatenate([rows.reshape(-1, 2 * n + 1), hold])
-        x = np.linalg.lstsq(system, np.concatenate([ends[r].ravel(), hold @ x]), rcond=None)[0]
+        r, rows = _matched_end_rows(x, step, ends)
+        x = np.linalg.lstsq(np.concatenate([rows, hold]),
+                            np.concatenate([ends[r].ravel(), hold @ x]), rcond=None)[0]
     return x[:-1].reshape(n, 2), float(x[-1])
