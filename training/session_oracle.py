@@ -40,7 +40,13 @@ from Sketch2CADWorkbench.brep.protocol import (
     Protocol,
     Sweep,
 )
-from Sketch2CADWorkbench.inference.fitting.common import match_ends, open_ends
+from Sketch2CADWorkbench.inference.fitting.common import (
+    is_loop,
+    loop_distances,
+    loop_samples,
+    match_ends,
+    open_ends,
+)
 from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, sketch_distances
 from Sketch2CADWorkbench.inference.interpret import snap_or_keep
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
@@ -120,32 +126,13 @@ def _numbers(solid: cq.Shape, op: Operation):
     raise TypeError(f"no oracle for {type(op).__name__}")
 
 
-def _segment_distances(points: np.ndarray, loop: np.ndarray) -> np.ndarray:
-    """Each point's distance (K,) to a closed polyline (M, 2)."""
-    a, b = loop, np.roll(loop, -1, axis=0)
-    ab = b - a
-    t = np.clip(np.einsum("kmj,mj->km", points[:, None] - a[None], ab)
-                / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
-    near = a[None] + t[..., None] * ab[None]
-    return np.linalg.norm(points[:, None] - near, axis=2).min(axis=1)
-
-
-def _loop_samples(stroke: np.ndarray) -> np.ndarray:
-    s = np.asarray(stroke, float)
-    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(s, axis=0), axis=1))]
-    at = np.linspace(0.0, arc[-1], LOOP_SAMPLES, endpoint=False)
-    return np.stack([np.interp(at, arc, s[:, k]) for k in (0, 1)], axis=1)
-
-
 class _Pairing:
     """Which stroke draws which curve of the truth, and which way round."""
 
     def __init__(self, curves, strokes: list[np.ndarray], camera: OrthoCamera):
         ends = open_ends(strokes)
-        self.open_strokes = [i for i, s in enumerate(strokes)
-                             if any(np.array_equal(s[0], e[0]) and np.array_equal(s[-1], e[1])
-                                    for e in ends)]
-        loops = [i for i in range(len(strokes)) if i not in self.open_strokes]
+        self.open_strokes = [i for i, s in enumerate(strokes) if not is_loop(s)]
+        loops = [i for i in range(len(strokes)) if is_loop(strokes[i])]
         # an extruded disk's rim is a polyline back to its start, not a `closed` curve
         loop = [c.closed or np.allclose(c.points[0], c.points[-1]) for c in curves]
         self.open_curves = [k for k in range(len(curves)) if not loop[k]]
@@ -153,11 +140,11 @@ class _Pairing:
         rows, cols, self.swapped = match_ends(
             self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
         self.open = [(self.open_strokes[r], self.open_curves[c]) for r, c in zip(rows, cols)]
-        self.loop_points = [_loop_samples(strokes[i]) for i in loops]
+        self.loop_points = [loop_samples(strokes[i], LOOP_SAMPLES) for i in loops]
         cost = np.zeros((len(loops), len(closed)))
         for r, p in enumerate(self.loop_points):
             for c, k in enumerate(closed):
-                cost[r, c] = _segment_distances(p, camera.project(curves[k].points)[0]).mean()
+                cost[r, c] = loop_distances(p, camera.project(curves[k].points)[0]).mean()
         rows, cols = linear_sum_assignment(cost) if cost.size else ((), ())
         self.loops = [(int(r), closed[c]) for r, c in zip(rows, cols)]
         self.stroke_ends = np.array([[strokes[i][0], strokes[i][-1]] for i, _ in self.open],
@@ -177,8 +164,8 @@ class _Pairing:
         out = [(ends - self.stroke_ends).ravel()]
         weight = np.sqrt(4.0 / LOOP_SAMPLES)
         for r, k in self.loops:
-            out.append(weight * _segment_distances(self.loop_points[r],
-                                                   camera.project(curves[k].points)[0]))
+            out.append(weight * loop_distances(self.loop_points[r],
+                                               camera.project(curves[k].points)[0]))
         return np.concatenate(out)
 
 

@@ -550,10 +550,11 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
                          options: InterpretOptions) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it). On a
-    polygon, d read from the strokes' ends (`fit_extrude_by_ends`, the likeliest d under
-    the hand's noise), refused where the line search's would be (the moved outline
-    MAX_MISMATCH_PX from the strokes). Elsewhere, or when no stroke pairs with the
-    polygon's lines, or that reading is refused, the paper's line search: d read with
+    polygon, d read from the strokes' ends, on a cylinder's or cone's side from the ends
+    of its lines and its rims' loops (`fit_extrude_by_ends`, the likeliest d under the
+    hand's noise), refused where the line search's would be (the moved outline
+    MAX_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
+    no stroke pairs with a curve, or that reading is refused, the paper's line search: d read with
     the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness alone when
     that differs, the one that explains the strokes better (`verify.reading_score`)
     first, the other built if that one is refused (a top pushed down past a hole's rim,
@@ -564,10 +565,13 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
     offset, sides = ([s for s, l in zip(strokes, labels) if l == part] for part in (1, 0))
     by_ends = fit_extrude_by_ends(solid, face, cam, offset, sides)
     if by_ends is not None:
-        try:  # refused as the line search's reading would be: the outline too far off
-            return [(fit_extrude(solid, face, cam, offset, sides, at=by_ends.d), index, labels)]
-        except FitError:
-            pass
+        # refused as the line search's reading would be: the outline too far off, by C's
+        # parts or, as the line search falls back below, with every stroke serving both
+        for parts in ((offset, sides), (strokes, strokes)):
+            try:
+                return [(fit_extrude(solid, face, cam, *parts, at=by_ends.d), index, labels)]
+            except FitError:
+                pass
     ops = []
     for ends in ({}, {"end_weight": 0.0}):
         try:

@@ -61,12 +61,36 @@ def classify_strokes(strokes: list[np.ndarray], curve: np.ndarray,
     return labels
 
 
+def is_loop(stroke: np.ndarray) -> bool:
+    """Whether a stroke is a loop (a circle's), not a line or an arc with two ends: its
+    length is over LOOP_ARC times its extent."""
+    s = np.asarray(stroke, float)
+    return len(s) <= 1 or bool(np.linalg.norm(np.diff(s, axis=0), axis=1).sum()
+                               > LOOP_ARC * np.ptp(s, axis=0).max())
+
+
 def open_ends(strokes: list[np.ndarray]) -> np.ndarray:
-    """(S, 2, 2) the first and last points of the strokes that are not loops (LOOP_ARC)."""
-    ends = [(s[0], s[-1]) for s in map(np.asarray, strokes)
-            if len(s) > 1 and np.linalg.norm(np.diff(s, axis=0), axis=1).sum()
-            <= LOOP_ARC * np.ptp(s, axis=0).max()]
+    """(S, 2, 2) the first and last points of the strokes that are not loops (`is_loop`)."""
+    ends = [(s[0], s[-1]) for s in map(np.asarray, strokes) if not is_loop(s)]
     return np.array(ends, float).reshape(-1, 2, 2)
+
+
+def loop_samples(stroke: np.ndarray, count: int = 24) -> np.ndarray:
+    """`count` points (count, 2) evenly along a loop stroke by arc length."""
+    s = np.asarray(stroke, float)
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(s, axis=0), axis=1))]
+    at = np.linspace(0.0, arc[-1], count, endpoint=False)
+    return np.stack([np.interp(at, arc, s[:, k]) for k in (0, 1)], axis=1)
+
+
+def loop_distances(points: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """Each point's distance (K,) to a closed polyline (M, 2)."""
+    a, b = loop, np.roll(loop, -1, axis=0)
+    ab = b - a
+    t = np.clip(np.einsum("kmj,mj->km", points[:, None] - a[None], ab)
+                / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
+    near = a[None] + t[..., None] * ab[None]
+    return np.linalg.norm(points[:, None] - near, axis=2).min(axis=1)
 
 
 def match_ends(curve_ends: np.ndarray, stroke_ends: np.ndarray

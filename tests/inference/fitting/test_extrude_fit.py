@@ -151,3 +151,29 @@ def test_a_round_face_is_left_to_the_line_search(camera):
     rim = [np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
            for t in np.linspace(0, 1, 40)]
     assert fit_extrude_by_ends(disk, face, camera, [camera.project(np.array(rim))[0]], []) is None
+
+
+def _tube_side():
+    import cadquery as cq
+    tube = cq.Solid.makeCylinder(11.0, 60.0)
+    return tube, next(f for f in tube.Faces() if f.geomType() == "CYLINDER")
+
+
+@pytest.mark.parametrize("d", [1.0, -2.5])
+def test_a_tubes_radial_offset_is_read_from_its_rims_and_the_ends_of_its_lines(camera, d):
+    # the pipe session's step 2: its rims are loops, read by closeness; the seam and the
+    # side edges at its corners by their ends
+    from Sketch2CADWorkbench.brep.protocol import Extrude
+    from Sketch2CADWorkbench.sketch.curves import operation_curves
+    from Sketch2CADWorkbench.inference.fitting.extrude import _facing_ref
+    tube, side = _tube_side()
+    truth = Extrude(_facing_ref(side, camera), d)
+    curves = operation_curves(tube, truth, camera.direction)
+    strokes = [camera.project(c.points)[0] for c in curves]
+    rims = [s for s in strokes if np.allclose(s[0], s[-1])]
+    lines = [s for s in strokes if not np.allclose(s[0], s[-1])]
+    assert len(rims) == 2                           # drawn as loops, back to their start
+    op = fit_extrude_by_ends(tube, side, camera, rims, lines)
+    assert op.d == pytest.approx(d, abs=0.02)
+    assert op.face.surface is not None              # named on the side, where it faces us
+    assert fit_extrude_by_ends(tube, side, camera, [], []) is None
