@@ -90,7 +90,8 @@ class SessionOracle:
     regularized_iou: float
 
 
-def _numbers(solid: cq.Shape, op: Operation):
+def _numbers(solid: cq.Shape, op: Operation
+             ) -> tuple[np.ndarray, Callable[[np.ndarray], Operation]]:
     """The numbers the strokes tell of `op` (mm, in f's frame) and the operation they
     make. The structure stays the truth's: f, the Boolean, the polygon's corner count,
     a bevel's crease (its profile's ends slide along f's edges from c)."""
@@ -131,15 +132,15 @@ class _Pairing:
 
     def __init__(self, curves, strokes: list[np.ndarray], camera: OrthoCamera):
         ends = open_ends(strokes)
-        self.open_strokes = [i for i, s in enumerate(strokes) if not is_loop(s)]
-        loops = [i for i in range(len(strokes)) if is_loop(strokes[i])]
+        opened = [i for i, s in enumerate(strokes) if not is_loop(s)]
+        loops = [i for i, s in enumerate(strokes) if is_loop(s)]
         # an extruded disk's rim is a polyline back to its start, not a `closed` curve
         loop = [c.closed or np.allclose(c.points[0], c.points[-1]) for c in curves]
         self.open_curves = [k for k in range(len(curves)) if not loop[k]]
         closed = [k for k in range(len(curves)) if loop[k]]
         rows, cols, self.swapped = match_ends(
             self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
-        self.open = [(self.open_strokes[r], self.open_curves[c]) for r, c in zip(rows, cols)]
+        self.open = [(opened[r], self.open_curves[c]) for r, c in zip(rows, cols)]
         self.loop_points = [loop_samples(strokes[i], LOOP_SAMPLES) for i in loops]
         cost = np.zeros((len(loops), len(closed)))
         for r, p in enumerate(self.loop_points):
