@@ -41,6 +41,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference.fitting.common import (
+    LOOP_WEIGHT,
     is_loop,
     loop_distances,
     loop_samples,
@@ -53,7 +54,6 @@ from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 
-LOOP_SAMPLES = 24     # a loop's samples compared with its curve
 FAILED_PX = 1e3       # the residual of numbers that build no curves
 
 
@@ -141,7 +141,7 @@ class _Pairing:
         rows, cols, self.swapped = match_ends(
             self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
         self.open = [(opened[r], self.open_curves[c]) for r, c in zip(rows, cols)]
-        self.loop_points = [loop_samples(strokes[i], LOOP_SAMPLES) for i in loops]
+        self.loop_points = [loop_samples(strokes[i]) for i in loops]
         cost = np.zeros((len(loops), len(closed)))
         for r, p in enumerate(self.loop_points):
             for c, k in enumerate(closed):
@@ -163,7 +163,7 @@ class _Pairing:
         ends = np.array([camera.project(curves[k].points[[0, -1]])[0] for _, k in self.open],
                         float).reshape(-1, 2, 2)
         out = [(ends - self.stroke_ends).ravel()]
-        weight = np.sqrt(4.0 / LOOP_SAMPLES)
+        weight = np.sqrt(LOOP_WEIGHT)
         for r, k in self.loops:
             out.append(weight * loop_distances(self.loop_points[r],
                                                camera.project(curves[k].points)[0]))

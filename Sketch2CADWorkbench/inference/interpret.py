@@ -554,9 +554,9 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
     of its lines and its rims' loops (`fit_extrude_by_ends`, the likeliest d under the
     hand's noise), refused where the line search's would be (the moved outline
     MAX_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
-    no stroke pairs with a curve, or that reading is refused, the paper's line search: d read with
-    the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness alone when
-    that differs, the one that explains the strokes better (`verify.reading_score`)
+    no stroke pairs with a curve, or that reading is refused, the paper's line search:
+    d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness
+    alone when that differs, the one that explains the strokes better (`reading_score`)
     first, the other built if that one is refused (a top pushed down past a hole's rim,
     say, falls apart)."""
     face = face_at(solid, index)

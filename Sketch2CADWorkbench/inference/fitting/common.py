@@ -21,6 +21,11 @@ from ...render.camera import OrthoCamera
 # level-3 hand leaves a circle's ends apart by 30-50% of its extent, and such a gap rule
 # (0.3) took a circle for an open stroke in 23 of heldout-l3's 48 sweeps, this one in 3.
 LOOP_ARC = 2.0
+# A loop stroke is read by the distances of this many samples of it to its curve, their
+# squares weighed by LOOP_WEIGHT: together they count as one open stroke's two ends (four
+# squared residuals), for a loop starts anywhere and is lopsided, so its ends tell nothing.
+LOOP_SAMPLES = 24
+LOOP_WEIGHT = 4.0 / LOOP_SAMPLES
 
 
 class FitError(ValueError):
@@ -75,7 +80,7 @@ def open_ends(strokes: list[np.ndarray]) -> np.ndarray:
     return np.array(ends, float).reshape(-1, 2, 2)
 
 
-def loop_samples(stroke: np.ndarray, count: int = 24) -> np.ndarray:
+def loop_samples(stroke: np.ndarray, count: int = LOOP_SAMPLES) -> np.ndarray:
     """`count` points (count, 2) evenly along a loop stroke by arc length."""
     s = np.asarray(stroke, float)
     arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(s, axis=0), axis=1))]

@@ -12,6 +12,7 @@ from ...brep.protocol import Extrude, FaceRef
 from ...render.camera import OrthoCamera
 from .common import (
     DistanceField,
+    LOOP_WEIGHT,
     FitError,
     edge_samples,
     end_order,
@@ -182,7 +183,6 @@ def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         line_at = at.reshape(-1, 2, 2)
         line_by = by.reshape(-1, 2, 2) * np.array(moves)[..., None]
     rim_images = [image(p) for p in rims]
-    weight = 4.0 / len(loops[0]) if loops else 0.0
 
     def cost(d: float) -> float:
         total = 0.0
@@ -194,7 +194,7 @@ def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
             dist = np.array([[(loop_distances(q, at + d * by) ** 2).sum() for at, by in rim_images]
                              for q in loops])
             r, c = linear_sum_assignment(dist)
-            total += weight * float(dist[r, c].sum())
+            total += LOOP_WEIGHT * float(dist[r, c].sum())
         return total
 
     edge_points = np.concatenate(rims + [np.array(opened, float).reshape(-1, 3)])

@@ -21,7 +21,7 @@ the two disagree (END_WEIGHT). From the refined prism, `prism_from_ends` then re
 from the ends alone (closeness, robust loss and all left behind): under that hand the
 ends are all a straight stroke tells, and their least squares is the likeliest prism.
 Held-out add/sub prisms read so, with the refined one kept only where that one is
-degenerate: level 3 (heldout-l3c, 610) 77.9 -> 80.3% recovered, mean volume IoU .963 ->
+degenerate: level 3 (heldout-l3c, 610) 77.9 -> 80.2% recovered, mean volume IoU .963 ->
 .965; level 1 (heldout-l1c, 617) 86.7% as before, mean .9775 -> .9783 (docs/NOTES.md,
 stop 35).
 
