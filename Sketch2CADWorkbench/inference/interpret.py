@@ -710,6 +710,11 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
             scored.append((reading_score(before[id(got)]), got.operation, roles))
         if after is not None:
             scored.append((reading_score(after), op, roles))
+        if isinstance(got, SweepFit) and not far and not got.straight and not got.curved:
+            line = got.refined(straight=True)
+            straight = distances(line)
+            if straight is not None:
+                scored.append((reading_score(straight), line, roles))
     if not scored:
         raise errors[0]
     return sorted(scored, key=lambda f: f[0])

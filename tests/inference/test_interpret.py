@@ -25,6 +25,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Mode,
     OperatorType,
     Sweep,
+    straight_profile,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
 from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
@@ -487,16 +488,20 @@ def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
         fitted.append(got.operation)
         return got
 
-    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=refined_d))
+    # the straight reading far off (d 30), after both
+    monkeypatch.setattr(SweepFit, "refined", lambda got, straight=False: replace(
+        got.operation, d=30.0 if straight else refined_d))
     fits = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index, curve, ctx,
                                           InterpretOptions())
-    assert [op in fitted for op, _, _ in fits] == [not refined_first, refined_first]
-    assert {op.d for op, _, _ in fits} == {refined_d, fitted[0].d}
+    assert [op in fitted for op, _, _ in fits[:2]] == [not refined_first, refined_first]
+    assert {op.d for op, _, _ in fits[:2]} == {refined_d, fitted[0].d}
+    assert fits[2][0].d == 30.0
 
 
 def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, monkeypatch):
     box, _, ctx, _, face_prob, curve = drawn_on_top(renderer, TOP_SWEEP)
-    monkeypatch.setattr(SweepFit, "refined", lambda got: replace(got.operation, d=9.0))
+    monkeypatch.setattr(SweepFit, "refined",
+                        lambda got, straight=False: replace(got.operation, d=9.0))
     build = interpret_module.apply_operation
 
     def apply_operation(solid, op, face=None):  # OCCT refuses the refined profile
@@ -509,6 +514,34 @@ def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, mon
                                           InterpretOptions())
     assert got.op.d != 9.0 and got.op.d == pytest.approx(9.0, abs=0.5)
     assert got.result is not None
+
+
+def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
+    # pipe session step 1: a profile stroke's wobble, fitted as a bulge that the joint
+    # refinement keeps, made the cylinder's radii and length up for it
+    cylinder = Sweep(TOP, (4.0, -2.0, 10.0), 5.0, 5.0, 9.0, straight_profile(5.0, 5.0, 9.0),
+                     Mode.ADD)
+    box = make_box(Box((40, 30, 20)))
+    cam = view()
+    pts, labels = sketch(box, cylinder, cam)
+    side = np.asarray(pts[labels.index(1)], float)
+    out = side - (4.0, -2.0, 0.0)
+    out[:, 2] = 0.0
+    out /= np.linalg.norm(out, axis=1, keepdims=True)
+    wobble = np.sin(2 * np.pi * np.linspace(0.0, 1.0, len(side)))  # 1 mm out, then in
+    pts[labels.index(1)] = side + wobble[:, None] * out
+    oracle = Oracle(box, cylinder, pts, labels, cam, renderer)
+    ctx = oracle.context()
+    face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
+    index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
+    fits = interpret_module._fit_by_roles(sweep_fit, OperatorType.SWEEP, box, index, curve,
+                                          ctx, InterpretOptions())
+    first = fits[0][0]
+    assert np.array(first.profile) == pytest.approx(
+        np.array(straight_profile(first.r0, first.r1, first.d)), abs=1e-6)
+    assert (first.r0, first.r1, first.d) == pytest.approx((5.0, 5.0, 9.0), abs=0.02)
+    # the bulged readings stay readings
+    assert any(abs(op.profile[0][0] - op.r0) > 0.5 for op, _, _ in fits[1:])
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):

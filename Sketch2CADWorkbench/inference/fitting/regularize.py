@@ -137,6 +137,11 @@ FORESHORTEN_FLOOR = 0.5
 # A sweep profile whose inner control points stay within this share of d from the
 # straight line between its ends is straight (rectified to a cone or cylinder).
 STRAIGHT_TOL = 0.08
+# A target point (fixing both coordinates) is taken over a target line when it lies at
+# most this many view pixels farther from the feature: a point much farther than a line
+# is a coincidence the strokes do not draw (a block overhanging a column by 3 mm put its
+# corner on the column's corner, when it was drawn centred on the column's centre line).
+POINT_OVER_LINE_PX = SNAP_PX
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
 # A free direction slides onto the grid only along a grid direction within 60 degrees of
@@ -229,7 +234,8 @@ class _Snapper:
 
     def position(self, anchors: np.ndarray, targets: SnapTargets) -> np.ndarray:
         """The translation (2D) that puts one of the anchors on the closest target point
-        within the tolerance; failing that, on up to two non-parallel target lines; and,
+        within the tolerance, unless a target line lies much closer (POINT_OVER_LINE_PX);
+        failing that, on up to two non-parallel target lines; and,
         with a grid step, the anchors' offsets from the face's centre along its edges
         that no target fixed onto multiples of the step."""
         if "position" in self.skip:
@@ -240,10 +246,6 @@ class _Snapper:
                 px = self.px2(p - a)
                 if px <= self.tol and (best is None or px < best[0]):
                     best = (px, p - a, name)
-        if best is not None:
-            if np.linalg.norm(best[1]) > 1e-9:
-                self.record("position", best[2], anchors[0], anchors[0] + best[1])
-            return best[1]
         found = []
         for p, d, name in targets.lines:
             for a in anchors:
@@ -252,6 +254,10 @@ class _Snapper:
                 if px <= self.tol:
                     found.append((px, off, p, d, name, a))
         found.sort(key=lambda f: f[0])
+        if best is not None and (not found or best[0] <= found[0][0] + POINT_OVER_LINE_PX):
+            if np.linalg.norm(best[1]) > 1e-9:
+                self.record("position", best[2], anchors[0], anchors[0] + best[1])
+            return best[1]
         move, names, free = np.zeros(2), [], list(targets.axes)
         if found:
             _, move, _, d1, name, _ = found[0]
@@ -264,6 +270,9 @@ class _Snapper:
                 if self.px2(shift) <= self.tol:
                     move, names, free = move + shift, names + [name2], []
                     break
+            # two lines meeting on a target point (a face's centre lines) name that point
+            names = next(([name] for p, name in targets.points if not free and np.min(
+                np.linalg.norm(anchors + move - p, axis=1)) < 1e-6), names)
         if self.step > 0 and free:
             moved = False
             for d in free:  # slide along d until an anchor's offset is on the grid

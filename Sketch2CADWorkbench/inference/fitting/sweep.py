@@ -2,7 +2,7 @@
 """Sweep regression: circles from ellipses, offset, profile plane and Bezier (paper, Sec. 4.2)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cadquery as cq
 import cv2
@@ -114,17 +114,25 @@ class SweepFit:
     strokes: list[np.ndarray]   # every stroke of the sweep (circles and profiles)
     curved: bool                # f is curved: the base circle follows the surface
 
-    def refined(self) -> Sweep:
+    @property
+    def straight(self) -> bool:
+        """Whether the profile was fitted straight (no profile stroke bent it)."""
+        return not np.any(self.image.bulge)
+
+    def refined(self, straight: bool = False) -> Sweep:
         """The operation with its centre (in f's plane), radii and offset refined together
-        against all the strokes, its profile keeping its shape (`refine.SweepImage`); as
-        fitted on a curved f (the refinement draws the base circle flat)."""
+        against all the strokes, its profile keeping its shape (`refine.SweepImage`), or
+        made straight first (`straight`: a cone or cylinder whose radii and offset the
+        strokes fix without a bulge the fit drew from the noise of its profile strokes);
+        as fitted on a curved f (the refinement draws the base circle flat)."""
         op = self.operation
         if self.curved:
             return op
-        a, b, r0, r1, d = refine_sweep(self.image, np.array([0.0, 0.0, op.r0, op.r1, op.d]),
+        image = replace(self.image, bulge=np.zeros((2, 2))) if straight else self.image
+        a, b, r0, r1, d = refine_sweep(image, np.array([0.0, 0.0, op.r0, op.r1, op.d]),
                                        self.strokes)
         c0 = np.asarray(op.center, float) + a * self.side + b * self.other
-        mid = np.array(straight_profile(r0, r1, d)) + self.image.bulge
+        mid = np.array(straight_profile(r0, r1, d)) + image.bulge
         return _sweep(op.face, c0, r0, r1, d, mid, op.mode)
 
 

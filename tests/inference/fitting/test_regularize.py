@@ -118,6 +118,28 @@ def test_a_nearly_concentric_hole_snaps_to_an_earlier_sweeps_axis(big, view):
     assert apply_operation(solid, got.operation).isValid()
 
 
+def test_a_side_drawn_on_a_face_edge_stays_there_rather_than_jump_to_a_farther_axis(big, view):
+    # mixer session step 2: a block drawn flush with its face's edge was moved 3 mm along
+    # it, its corner onto the face's corner, a target point within the hand's tolerance
+    # but many pixels farther than the edge the strokes lie on
+    bottom = face_towards(big, (0, 0, -1))
+    boss = Sweep(face_ref_of(bottom), (-186.0, 40.0, -TOP), 5.0, 5.0, 20.0,
+                 straight_profile(5.0, 5.0, 20.0), Mode.ADD)
+    solid = apply_operation(big, boss)
+    top = face_towards(solid, (0, 0, 1))
+    block = AddSubPrism(face_ref_of(top), square((-189.8, 43.0), 20.0), 10.0, Mode.ADD)
+    near = OrthoCamera(view.center, view.direction, view.up, view.scale / 2, 800, 600)
+    got = regularize_operation(solid, block, top, near, tol_px=20.0)
+    assert [(s.key, s.target) for s in got.snaps if s.key == "position"] == [
+        ("position", "a face edge")]
+    assert np.array(got.operation.polygon)[:, :2] == pytest.approx(
+        np.array(square((-190.0, 43.0), 20.0))[:, :2])
+    # drawn about as close to the axis as to any line, it is put on the axis
+    centred = replace(block, polygon=square((-186.5, 40.5), 20.0))
+    got = regularize_operation(solid, centred, top, near, tol_px=20.0)
+    assert np.mean(got.operation.polygon, axis=0)[:2] == pytest.approx((-186.0, 40.0))
+
+
 def test_lengths_round_to_the_grid_step(big, view):
     face = face_towards(big, (0, 0, 1))
     pad = Extrude(face_ref_of(face), 12.3)
