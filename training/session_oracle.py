@@ -49,9 +49,10 @@ from Sketch2CADWorkbench.inference.fitting.common import (
     open_ends,
 )
 from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, sketch_distances
-from Sketch2CADWorkbench.inference.interpret import snap_or_keep
+from Sketch2CADWorkbench.inference.interpret import snap_or_keep, strokes_fit
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 FAILED_PX = 1e3       # the residual of numbers that build no curves
@@ -200,10 +201,17 @@ def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> Oracl
     reading = build(fit.x)
     c = step.choices
     snapped = reading
-    if c.regularize:  # as interpret snaps: its tolerance grows with the hand's misfit
-        misfit = mean_distance(sketch_distances(solid, reading, camera, step.strokes))
+    if c.regularize:  # as interpret snaps, in pixels of the context camera it frames
+        context = context_camera(camera, np.concatenate(step.strokes))
+        strokes = [context.project(camera.unproject(np.asarray(s, float)))[0]
+                   for s in step.strokes]
+
+        def distances(op: Operation) -> tuple[np.ndarray, ...]:
+            return sketch_distances(solid, op, context, strokes)
+
         snapped = snap_or_keep(solid, reading, resolve_face(solid, reading.face).face,
-                               misfit, camera, camera, c)[0]
+                               mean_distance(distances(reading)), context, camera, c,
+                               strokes_fit(distances))[0]
     truth_solid = apply_operation(solid, truth)
     return OracleStep(reading, _iou(solid, reading, truth_solid), snapped,
                       _iou(solid, snapped, truth_solid), _rms(fit.fun), _rms(truth_res),

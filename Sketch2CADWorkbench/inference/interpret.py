@@ -374,8 +374,23 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
     return reading.result is not None
 
 
+def strokes_fit(distances: Callable[[Operation], tuple[np.ndarray, ...]]
+                ) -> Callable[[Operation], bool]:
+    """Whether the strokes fit an operation clearly (GOOD_FIT_PX), given its
+    `sketch_distances` to them in pixels of a context camera: what snapping asks of a
+    feature moved onto a target beyond the hand's tolerance (`regularize_operation`'s
+    `fits`). An operation whose sketch cannot be drawn does not fit."""
+    def fits(op: Operation) -> bool:
+        try:
+            return mean_distance(distances(op)) <= GOOD_FIT_PX
+        except OperationError:
+            return False
+    return fits
+
+
 def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float,
-                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions
+                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions,
+                 fits: Callable[[Operation], bool] | None = None
                  ) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
     """A fitted operation regularized within the hand's tolerance (`hand_tolerance` of
     its misfit, in pixels of the `context` camera it was fitted in) and built: the
@@ -385,7 +400,7 @@ def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float
     reading that builds."""
     tol = hand_tolerance(options.snap_px, misfit_px, context, view)
     reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
-                               options.skip_snaps)
+                               options.skip_snaps, fits)
     if not reg.snaps:
         return op, (), None, ""
     try:
@@ -399,8 +414,9 @@ def _snapped(solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera,
     """`snap_or_keep` for a reading, its result the reading's own when it is kept (the
     rebuild goes to ctx.build_s)."""
     start = time.perf_counter()
+    fits = strokes_fit(lambda moved: ctx.sketch_distances(solid, moved))
     op, snaps, result, why = snap_or_keep(solid, reading.op, face_at(solid, reading.index),
-                                          reading.error, ctx.camera, view, options)
+                                          reading.error, ctx.camera, view, options, fits)
     ctx.build_s += time.perf_counter() - start
     return op, snaps, reading.result if result is None else result, why
 

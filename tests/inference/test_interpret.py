@@ -544,6 +544,25 @@ def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
     assert any(abs(op.profile[0][0] - op.r0) > 0.5 for op, _, _ in fits[1:])
 
 
+def test_snapping_asks_whether_the_strokes_still_fit_a_feature_moved(renderer, monkeypatch):
+    op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
+    box, _, ctx, _, face_prob, curve = drawn_on_top(renderer, op)
+    reading = interpret_module.read_operation(box, OperatorType.ADDSUB, face_prob, curve, ctx,
+                                              InterpretOptions())
+    asked = []
+
+    def regularize(solid, op, face, view, step, tol, skip, fits):
+        asked.append(fits)
+        return Regularized(op, ())
+
+    monkeypatch.setattr(interpret_module, "regularize_operation", regularize)
+    interpret_module._snapped(box, reading, ctx, view(), InterpretOptions())
+    (fits,) = asked
+    assert fits(reading.op)
+    moved = replace(reading.op, polygon=tuple((x - 4, y, z) for x, y, z in reading.op.polygon))
+    assert not fits(moved)
+
+
 def test_mirror_option_adds_the_reflected_prism(renderer):
     box = make_box(Box((40, 30, 20)))
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
@@ -663,7 +682,7 @@ def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
     snapped = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
     assert snapped.snaps and not snapped.unsnapped
 
-    def off_the_face(solid, fitted, face, view, step, tol, skip):  # a snap OCCT refuses
+    def off_the_face(solid, fitted, face, view, step, tol, skip, fits):  # OCCT refuses it
         lifted = tuple((x, y, z + 5.0) for x, y, z in fitted.polygon)
         return Regularized(replace(fitted, polygon=lifted), snapped.snaps)
     monkeypatch.setattr(interpret_module, "regularize_operation", off_the_face)

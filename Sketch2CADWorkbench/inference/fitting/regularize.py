@@ -19,6 +19,7 @@ grid step. Every snap applied is returned as a `Snap`, and any of them can be le
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import cadquery as cq
@@ -142,6 +143,12 @@ STRAIGHT_TOL = 0.08
 # is a coincidence the strokes do not draw (a block overhanging a column by 3 mm put its
 # corner on the column's corner, when it was drawn centred on the column's centre line).
 POINT_OVER_LINE_PX = SNAP_PX
+# A target point beyond the tolerance, up to FIT_REACH times as far, is still taken when
+# the strokes fit the feature put there (the caller's `fits`: a clear fit): a hand that
+# draws a whole outline a few pixels off, seen at a grazing angle, misses by more than its
+# lines' wobble says (pipe session step 3: a bore 8 mm off its tube's axis). The nearest
+# FIT_TRIES such moves are tried.
+FIT_REACH, FIT_TRIES = 3.0, 3
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
 # A free direction slides onto the grid only along a grid direction within 60 degrees of
@@ -192,8 +199,9 @@ class _Snapper:
     """Pixel lengths in the view, and the snaps applied so far."""
 
     def __init__(self, frame: FaceFrame, view: OrthoCamera, tol_px: float, step: float,
-                 skip: frozenset[str]):
+                 skip: frozenset[str], fits: Callable[[Operation], bool] | None = None):
         self.frame, self.view, self.tol, self.step, self.skip = frame, view, tol_px, step, skip
+        self.fits = fits
         self.snaps: list[Snap] = []
 
     def px(self, vec3: np.ndarray) -> float:
@@ -232,7 +240,8 @@ class _Snapper:
         self.record(key, best[2], value, new)
         return new
 
-    def position(self, anchors: np.ndarray, targets: SnapTargets) -> np.ndarray:
+    def position(self, anchors: np.ndarray, targets: SnapTargets,
+                 moved: Callable[[np.ndarray], Operation] | None = None) -> np.ndarray:
         """The translation (2D) that puts one of the anchors on the closest target point
         within the tolerance, unless a target line lies much closer (POINT_OVER_LINE_PX);
         failing that, on up to two non-parallel target lines; and,
@@ -254,6 +263,8 @@ class _Snapper:
                 if px <= self.tol:
                     found.append((px, off, p, d, name, a))
         found.sort(key=lambda f: f[0])
+        if best is None and not found and moved is not None and self.fits is not None:
+            best = self._fitting_point(anchors, targets, moved)
         if best is not None and (not found or best[0] <= found[0][0] + POINT_OVER_LINE_PX):
             if np.linalg.norm(best[1]) > 1e-9:
                 self.record("position", best[2], anchors[0], anchors[0] + best[1])
@@ -289,6 +300,25 @@ class _Snapper:
         if names and np.linalg.norm(move) > 1e-9:
             self.record("position", " and ".join(names), anchors[0], anchors[0] + move)
         return move
+
+    def _fitting_point(self, anchors: np.ndarray, targets: SnapTargets,
+                       moved: Callable[[np.ndarray], Operation]
+                       ) -> tuple[float, np.ndarray, str] | None:
+        """The nearest target point beyond the tolerance (within FIT_REACH times it) that
+        the strokes fit the feature moved onto (`fits` of `moved(move)`), if any."""
+        far = sorted((self.px2(p - a), tuple(p - a), name) for p, name in targets.points
+                     for a in anchors if self.tol < self.px2(p - a) <= FIT_REACH * self.tol)
+        tried: list[np.ndarray] = []
+        for px, move, name in far:
+            move = np.array(move)
+            if any(np.linalg.norm(move - t) < 1e-6 for t in tried):
+                continue
+            if len(tried) == FIT_TRIES:
+                break
+            tried.append(move)
+            if self.fits(moved(move)):
+                return px, move, f"{name}, where the strokes still fit"
+        return None
 
 
 def _is_rectangle(poly: np.ndarray) -> bool:
@@ -341,7 +371,12 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
     if _is_rectangle(poly):
         poly = _snap_rectangle_sides(poly, s, targets.sizes)
     mids = (poly + np.roll(poly, -1, axis=0)) / 2
-    poly = poly + s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets)
+
+    def moved(move: np.ndarray) -> AddSubPrism:
+        return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly + move)))
+
+    poly = poly + s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets,
+                             moved)
     d = s.length("d", op.d, frame.normal, targets.sizes)
     return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly)), d=d)
 
@@ -387,7 +422,8 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
         s.record("radii", "each other (a cylinder)", (r0, r1), (r, r))
         op = op.retuned(r, r)
     c = frame.to_2d(np.array(op.center, float))[0]
-    c = c + s.position(c[None], targets)
+    c = c + s.position(c[None], targets,
+                       lambda move: replace(op, center=tuple(map(float, frame.to_3d(c + move)[0]))))
     if op.r0 == op.r1:
         r = s.length("r0", op.r0, radial, targets.radii)
         op = op.retuned(r, r)
@@ -420,7 +456,8 @@ def hand_tolerance(snap_px: float, misfit_px: float, context: OrthoCamera,
 
 def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: OrthoCamera,
                          step: float = 0.0, tol_px: float = SNAP_PX,
-                         skip: frozenset[str] = frozenset()) -> Regularized:
+                         skip: frozenset[str] = frozenset(),
+                         fits: Callable[[Operation], bool] | None = None) -> Regularized:
     """Rectify a fitted operation and snap it to what its strokes are close to.
 
     Args:
@@ -431,10 +468,12 @@ def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: Or
         step: the grid step for lengths, mm (0: no grid).
         tol_px: the snapping tolerance, view pixels.
         skip: SNAP_KINDS keys not to apply (a snap the designer undid).
+        fits: whether the strokes still fit an operation (a clear fit): a target point
+            beyond the tolerance is taken when they fit the feature put there (FIT_REACH).
     Returns:
         The operation and the snaps applied, in order. Bevels are returned unchanged.
     """
     frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
-    s = _Snapper(frame, view, tol_px, step, frozenset(skip))
+    s = _Snapper(frame, view, tol_px, step, frozenset(skip), fits)
     op = _REGULARIZE[op.type](op, s, snap_targets(solid, face, frame))
     return Regularized(op, tuple(s.snaps))

@@ -20,6 +20,7 @@ from Sketch2CADWorkbench.brep.protocol import (
 )
 from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.regularize import (
+    FIT_REACH,
     HAND_SNAP,
     SNAP_PX,
     hand_tolerance,
@@ -101,6 +102,40 @@ def test_a_hand_that_misses_its_lines_by_more_snaps_from_farther(big, view):
     assert sloppy == pytest.approx(1.1 * off_px)
     got = regularize_operation(big, op, face, near, tol_px=sloppy)
     assert [(s.key, s.target) for s in got.snaps] == [("position", "the face's centre")]
+
+
+def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big, view):
+    # pipe session step 3: a bore drawn a dozen pixels off its tube's axis at a grazing
+    # view, its lines wobbling by only a few
+    bottom = face_towards(big, (0, 0, -1))
+    axis = (-150.0, 40.0)
+    boss = Sweep(face_ref_of(bottom), (*axis, -TOP), 5.0, 5.0, 20.0,
+                 straight_profile(5.0, 5.0, 20.0), Mode.ADD)
+    solid = apply_operation(big, boss)
+    top = face_towards(solid, (0, 0, 1))
+    post = Sweep(face_ref_of(top), (axis[0] + 2.4, axis[1] - 1.8, TOP), 1.0, 1.0, 10.0,
+                 straight_profile(1.0, 1.0, 10.0), Mode.ADD)
+    near = OrthoCamera(view.center, view.direction, view.up, view.scale / 8, 800, 600)
+    off_px = float(np.linalg.norm(near.image_of(np.array([2.4, -1.8, 0.0]))))
+    asked = []
+
+    def fits(moved):
+        asked.append(moved.center)
+        return True
+
+    got = regularize_operation(solid, post, top, near, tol_px=off_px / 2, fits=fits)
+    assert asked == [pytest.approx((*axis, TOP), abs=1e-9)]  # asked of the post moved
+    assert got.operation.center == pytest.approx((*axis, TOP), abs=1e-9)
+    assert [(s.key, s.target) for s in got.snaps] == [
+        ("position", "the axis of an earlier round feature, where the strokes still fit")]
+    # strokes that do not fit it there keep it where drawn
+    assert regularize_operation(solid, post, top, near, tol_px=off_px / 2,
+                                fits=lambda moved: False).snaps == ()
+    # past FIT_REACH times the tolerance, the strokes are not asked
+    asked.clear()
+    far = regularize_operation(solid, post, top, near, tol_px=off_px / (FIT_REACH + 0.5),
+                               fits=fits)
+    assert far.snaps == () and asked == []
 
 
 def test_a_nearly_concentric_hole_snaps_to_an_earlier_sweeps_axis(big, view):
