@@ -9,7 +9,10 @@ Snapping (`regularize_operation`) goes past the paper's "key points within 10% o
 face diameter", which moved a designed off-centre feature on a big face: a fitted value
 snaps only to a target that lies within `snap_px` pixels of it in the view the strokes
 were drawn in, where the hand's error lives, or within HAND_SNAP times as far as the
-strokes miss the reading's own lines, when that is farther (`hand_tolerance`). Targets:
+strokes miss the reading's own lines, when that is farther (`hand_tolerance`); a target
+point up to FIT_REACH times farther is taken when the strokes still fit the feature put
+there (the caller's `fits`), and a point wins over a line only when about as close
+(POINT_OVER_LINE_PX). Targets:
 the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
 cone's side: its rims and the middle of its height); earlier features'
 circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
