@@ -397,7 +397,8 @@ def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float
     operation, its snaps, its result and "". When nothing snaps, or the snapped operation
     does not build (a snapped sweep OCCT calls invalid): `op` itself, no snaps, None (the
     caller holds its result) and why not, if it did not build. Snapping never costs a
-    reading that builds."""
+    reading that builds. `fits` (`strokes_fit`) lets a target beyond the tolerance be
+    taken where the strokes still fit the operation moved there."""
     tol = hand_tolerance(options.snap_px, misfit_px, context, view)
     reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
                                options.skip_snaps, fits)

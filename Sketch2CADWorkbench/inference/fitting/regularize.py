@@ -143,8 +143,8 @@ FORESHORTEN_FLOOR = 0.5
 STRAIGHT_TOL = 0.08
 # A target point (fixing both coordinates) is taken over a target line when it lies at
 # most this many view pixels farther from the feature: a point much farther than a line
-# is a coincidence the strokes do not draw (a block overhanging a column by 3 mm put its
-# corner on the column's corner, when it was drawn centred on the column's centre line).
+# is a coincidence the strokes do not draw (mixer session step 2: a block drawn along the
+# column's side, 0.5 px from it, jumped 2.85 mm onto the column's corner, 11.5 px away).
 POINT_OVER_LINE_PX = SNAP_PX
 # A target point beyond the tolerance, up to FIT_REACH times as far, is still taken when
 # the strokes fit the feature put there (the caller's `fits`: a clear fit): a hand that
@@ -309,11 +309,15 @@ class _Snapper:
                        ) -> tuple[float, np.ndarray, str] | None:
         """The nearest target point beyond the tolerance (within FIT_REACH times it) that
         the strokes fit the feature moved onto (`fits` of `moved(move)`), if any."""
-        far = sorted((self.px2(p - a), tuple(p - a), name) for p, name in targets.points
-                     for a in anchors if self.tol < self.px2(p - a) <= FIT_REACH * self.tol)
+        far = []
+        for p, name in targets.points:
+            for a in anchors:
+                px = self.px2(p - a)
+                if self.tol < px <= FIT_REACH * self.tol:
+                    far.append((px, name, p - a))
+        far.sort(key=lambda f: f[0])
         tried: list[np.ndarray] = []
-        for px, move, name in far:
-            move = np.array(move)
+        for px, name, move in far:
             if any(np.linalg.norm(move - t) < 1e-6 for t in tried):
                 continue
             if len(tried) == FIT_TRIES:
