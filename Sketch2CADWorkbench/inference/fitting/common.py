@@ -12,7 +12,7 @@ import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment, lsq_linear
 
-from ...brep.geometry import arc_lengths, bezier, resample_every
+from ...brep.geometry import arc_lengths, bezier, resample_every, resample_polyline
 from ...render.camera import OrthoCamera
 
 
@@ -70,8 +70,7 @@ def is_loop(stroke: np.ndarray) -> bool:
     """Whether a stroke is a loop (a circle's), not a line or an arc with two ends: its
     length is over LOOP_ARC times its extent."""
     s = np.asarray(stroke, float)
-    return len(s) <= 1 or bool(np.linalg.norm(np.diff(s, axis=0), axis=1).sum()
-                               > LOOP_ARC * np.ptp(s, axis=0).max())
+    return len(s) <= 1 or bool(arc_lengths(s)[-1] > LOOP_ARC * np.ptp(s, axis=0).max())
 
 
 def open_ends(strokes: list[np.ndarray]) -> np.ndarray:
@@ -81,11 +80,9 @@ def open_ends(strokes: list[np.ndarray]) -> np.ndarray:
 
 
 def loop_samples(stroke: np.ndarray, count: int = LOOP_SAMPLES) -> np.ndarray:
-    """`count` points (count, 2) evenly along a loop stroke by arc length."""
-    s = np.asarray(stroke, float)
-    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(s, axis=0), axis=1))]
-    at = np.linspace(0.0, arc[-1], count, endpoint=False)
-    return np.stack([np.interp(at, arc, s[:, k]) for k in (0, 1)], axis=1)
+    """`count` points (count, 2) evenly along a loop stroke by arc length (its last
+    point, near its first, left out)."""
+    return resample_polyline(stroke, count + 1)[:-1]
 
 
 def loop_distances(points: np.ndarray, loop: np.ndarray) -> np.ndarray:

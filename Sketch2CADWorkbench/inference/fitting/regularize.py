@@ -382,10 +382,8 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
     def moved(move: np.ndarray) -> AddSubPrism:
         return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly + move)))
 
-    poly = poly + s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets,
-                             moved)
-    d = s.length("d", op.d, frame.normal, targets.sizes)
-    return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly)), d=d)
+    move = s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets, moved)
+    return replace(moved(move), d=s.length("d", op.d, frame.normal, targets.sizes))
 
 
 def best_line(op: Sweep) -> tuple[float, float]:
