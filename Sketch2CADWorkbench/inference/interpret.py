@@ -80,7 +80,7 @@ from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
 from .fitting.primitive import base_centre, other_option_fits
-from .fitting.regularize import Snap, hand_tolerance, regularize_operation
+from .fitting.regularize import Snap, StrokeFit, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
@@ -374,34 +374,33 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
     return reading.result is not None
 
 
-def strokes_fit(distances: Callable[[Operation], tuple[np.ndarray, ...]]
-                ) -> Callable[[Operation], bool]:
-    """Whether the strokes fit an operation clearly (GOOD_FIT_PX), given its
-    `sketch_distances` to them in pixels of a context camera: what snapping asks of a
-    feature moved onto a target beyond the hand's tolerance (`regularize_operation`'s
-    `fits`). An operation whose sketch cannot be drawn does not fit."""
-    def fits(op: Operation) -> bool:
+def strokes_fit(distances: Callable[[Operation], tuple[np.ndarray, ...]]) -> StrokeFit:
+    """How well the strokes fit operations that snapping moves (`regularize_operation`'s
+    `strokes`), given their `sketch_distances` in pixels of a context camera: the mean
+    distance, a clear fit within GOOD_FIT_PX. An operation whose sketch cannot be drawn
+    lies infinitely far."""
+    def distance(op: Operation) -> float:
         try:
-            return mean_distance(distances(op)) <= GOOD_FIT_PX
+            return mean_distance(distances(op))
         except OperationError:
-            return False
-    return fits
+            return float("inf")
+    return StrokeFit(distance, GOOD_FIT_PX)
 
 
 def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float,
                  context: OrthoCamera, view: OrthoCamera, options: InterpretOptions,
-                 fits: Callable[[Operation], bool] | None = None
+                 strokes: StrokeFit | None = None
                  ) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
     """A fitted operation regularized within the hand's tolerance (`hand_tolerance` of
     its misfit, in pixels of the `context` camera it was fitted in) and built: the
     operation, its snaps, its result and "". When nothing snaps, or the snapped operation
     does not build (a snapped sweep OCCT calls invalid): `op` itself, no snaps, None (the
     caller holds its result) and why not, if it did not build. Snapping never costs a
-    reading that builds. `fits` (`strokes_fit`) lets a target beyond the tolerance be
-    taken where the strokes still fit the operation moved there."""
+    reading that builds. `strokes` (`strokes_fit`) lets a target beyond the tolerance,
+    or a round length, be taken where the strokes still fit the operation moved there."""
     tol = hand_tolerance(options.snap_px, misfit_px, context, view)
     reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
-                               options.skip_snaps, fits)
+                               options.skip_snaps, strokes)
     if not reg.snaps:
         return op, (), None, ""
     try:
@@ -415,9 +414,9 @@ def _snapped(solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera,
     """`snap_or_keep` for a reading, its result the reading's own when it is kept (the
     rebuild goes to ctx.build_s)."""
     start = time.perf_counter()
-    fits = strokes_fit(lambda moved: ctx.sketch_distances(solid, moved))
+    strokes = strokes_fit(lambda moved: ctx.sketch_distances(solid, moved))
     op, snaps, result, why = snap_or_keep(solid, reading.op, face_at(solid, reading.index),
-                                          reading.error, ctx.camera, view, options, fits)
+                                          reading.error, ctx.camera, view, options, strokes)
     ctx.build_s += time.perf_counter() - start
     return op, snaps, reading.result if result is None else result, why
 
@@ -727,7 +726,7 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
             scored.append((reading_score(before[id(got)]), got.operation, roles))
         if after is not None:
             scored.append((reading_score(after), op, roles))
-        if isinstance(got, SweepFit) and not far and not got.straight and not got.curved:
+        if isinstance(got, SweepFit) and not far and not got.straight:
             line = got.refined(straight=True)
             straight = distances(line)
             if straight is not None:

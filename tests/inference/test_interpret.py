@@ -551,16 +551,17 @@ def test_snapping_asks_whether_the_strokes_still_fit_a_feature_moved(renderer, m
                                               InterpretOptions())
     asked = []
 
-    def regularize(solid, op, face, view, step, tol, skip, fits):
-        asked.append(fits)
+    def regularize(solid, op, face, view, step, tol, skip, strokes):
+        asked.append(strokes)
         return Regularized(op, ())
 
     monkeypatch.setattr(interpret_module, "regularize_operation", regularize)
     interpret_module._snapped(box, reading, ctx, view(), InterpretOptions())
-    (fits,) = asked
-    assert fits(reading.op)
+    (strokes,) = asked
+    assert strokes.fits(reading.op)
     moved = replace(reading.op, polygon=tuple((x - 4, y, z) for x, y, z in reading.op.polygon))
-    assert not fits(moved)
+    assert not strokes.fits(moved)
+    assert strokes.distance(moved) > strokes.distance(reading.op)
 
 
 def test_mirror_option_adds_the_reflected_prism(renderer):

@@ -11,8 +11,9 @@ snaps only to a target that lies within `snap_px` pixels of it in the view the s
 were drawn in, where the hand's error lives, or within HAND_SNAP times as far as the
 strokes miss the reading's own lines, when that is farther (`hand_tolerance`); a target
 point up to FIT_REACH times farther is taken when the strokes still fit the feature put
-there (the caller's `fits`), and a point wins over a line only when about as close
-(POINT_OVER_LINE_PX). Targets:
+there (the caller's `StrokeFit`), and a point wins over a line only when about as close
+(POINT_OVER_LINE_PX); a long length on the grid moves, as far, onto a round number (a
+multiple of ROUND_STEPS) the strokes fit about as well. Targets:
 the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
 cone's side: its rims and the middle of its height); earlier features'
 circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
@@ -147,11 +148,22 @@ STRAIGHT_TOL = 0.08
 # column's side, 0.5 px from it, jumped 2.85 mm onto the column's corner, 11.5 px away).
 POINT_OVER_LINE_PX = SNAP_PX
 # A target point beyond the tolerance, up to FIT_REACH times as far, is still taken when
-# the strokes fit the feature put there (the caller's `fits`: a clear fit): a hand that
+# the strokes fit the feature put there (the caller's `StrokeFit`: a clear fit): a hand that
 # draws a whole outline a few pixels off, seen at a grazing angle, misses by more than its
 # lines' wobble says (pipe session step 3: a bore 8 mm off its tube's axis). The nearest
 # FIT_TRIES such moves are tried.
 FIT_REACH, FIT_TRIES = 3.0, 3
+# Designers size long features in round numbers (a 70 mm tube, a 90 mm handle), and a hand
+# misjudges where a long outline ends by more than its lines wobble (pipe session: a tube
+# read 68.3 for 70, whose low top then misplaces the later steps; hammer: a handle read 92
+# for 90). A length on the grid at least ROUND_MIN round steps long (40 mm for 5, 80 for
+# 10: about an eighth of it) moves onto the nearest multiple of the step, coarser first,
+# within FIT_REACH times the tolerance, where the strokes clearly fit it (the caller's
+# StrokeFit) and lie at most ROUND_PX (pixels of the fitting camera) farther from its
+# sketch on average than from the grid value's. Shorter lengths keep the grid: from 20 mm
+# on, 5 mm steps cost held-out sweeps whose regular lengths are any whole mm; and a sloppy
+# hand's strokes, which fit neither clearly, do not choose (docs/NOTES.md, stop 37).
+ROUND_STEPS, ROUND_MIN, ROUND_PX = (10.0, 5.0), 8, 0.3
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
 # A free direction slides onto the grid only along a grid direction within 60 degrees of
@@ -191,6 +203,22 @@ class Snap:
 
 
 @dataclass(frozen=True)
+class StrokeFit:
+    """How well the strokes fit an operation that snapping moved, as the caller measures.
+
+    `distance(op)`: the strokes' mean distance from op's sketch, in pixels of the camera
+    the reading was fitted in (inf where op cannot be drawn); within `good_px` they fit it
+    clearly.
+    """
+
+    distance: Callable[[Operation], float]
+    good_px: float
+
+    def fits(self, op: Operation) -> bool:
+        return self.distance(op) <= self.good_px
+
+
+@dataclass(frozen=True)
 class Regularized:
     """A fitted operation after snapping and rectification, and the snaps applied."""
 
@@ -202,9 +230,9 @@ class _Snapper:
     """Pixel lengths in the view, and the snaps applied so far."""
 
     def __init__(self, frame: FaceFrame, view: OrthoCamera, tol_px: float, step: float,
-                 skip: frozenset[str], fits: Callable[[Operation], bool] | None = None):
+                 skip: frozenset[str], strokes: StrokeFit | None = None):
         self.frame, self.view, self.tol, self.step, self.skip = frame, view, tol_px, step, skip
-        self.fits = fits
+        self.strokes = strokes
         self.snaps: list[Snap] = []
 
     def px(self, vec3: np.ndarray) -> float:
@@ -221,11 +249,13 @@ class _Snapper:
                                tuple(map(float, np.atleast_1d(after)))))
 
     def length(self, key: str, value: float, direction: np.ndarray,
-               sizes: list[tuple[float, str]]) -> float:
+               sizes: list[tuple[float, str]],
+               rebuilt: Callable[[float], Operation] | None = None) -> float:
         """`value` (mm, its sign kept) snapped to the closest earlier size within the
         tolerance, seen as a change along `direction` (3D unit), or else rounded to the
         grid step: the designer chose that resolution, so it applies at any zoom (never
-        to 0: a length is at least one step)."""
+        to 0: a length is at least one step); a grid value then moves onto a round
+        number where the strokes fit `rebuilt(length)` about as well (`_round`)."""
         if key in self.skip:
             return value
         mag = abs(value)
@@ -237,11 +267,36 @@ class _Snapper:
             if size > 0 and self.px(abs(size - mag) * direction) <= self.tol \
                     and (best is None or abs(size - mag) < best[0]):
                 best = (abs(size - mag), size, name)
+        if best is not None and best[2].endswith("grid") and rebuilt is not None:
+            best = self._round(mag, best, direction, rebuilt, float(np.sign(value) or 1.0))
         if best is None or abs(best[1] - mag) <= 1e-9 * max(mag, 1.0):
             return value
         new = float(np.sign(value) * best[1]) if value else best[1]
         self.record(key, best[2], value, new)
         return new
+
+    def _round(self, mag: float, grid: tuple[float, float, str], direction: np.ndarray,
+               rebuilt: Callable[[float], Operation], sign: float
+               ) -> tuple[float, float, str]:
+        """The multiple of a round step (ROUND_STEPS, coarsest first, each a multiple of
+        the grid step) nearest `mag`, when it is at least ROUND_MIN steps, lies within
+        FIT_REACH times the tolerance of `mag`, and the strokes fit `rebuilt` at it
+        clearly and within ROUND_PX of as well as at the `grid` value; else `grid`."""
+        if self.strokes is None:
+            return grid
+        at_grid = None
+        for q in ROUND_STEPS:
+            value = q * round(mag / q)
+            if abs(q / self.step - round(q / self.step)) > 1e-9 or value < ROUND_MIN * q \
+                    or abs(value - grid[1]) < 1e-9 \
+                    or self.px(abs(value - mag) * direction) > FIT_REACH * self.tol:
+                continue
+            if at_grid is None:
+                at_grid = self.strokes.distance(rebuilt(sign * grid[1]))
+            at = self.strokes.distance(rebuilt(sign * value))
+            if at <= min(self.strokes.good_px, at_grid + ROUND_PX):
+                return abs(value - mag), value, f"a round {q:g} mm, where the strokes fit as well"
+        return grid
 
     def position(self, anchors: np.ndarray, targets: SnapTargets,
                  moved: Callable[[np.ndarray], Operation] | None = None) -> np.ndarray:
@@ -266,7 +321,7 @@ class _Snapper:
                 if px <= self.tol:
                     found.append((px, off, p, d, name, a))
         found.sort(key=lambda f: f[0])
-        if best is None and not found and moved is not None and self.fits is not None:
+        if best is None and not found and moved is not None and self.strokes is not None:
             best = self._fitting_point(anchors, targets, moved)
         if best is not None and (not found or best[0] <= found[0][0] + POINT_OVER_LINE_PX):
             if np.linalg.norm(best[1]) > 1e-9:
@@ -308,7 +363,7 @@ class _Snapper:
                        moved: Callable[[np.ndarray], Operation]
                        ) -> tuple[float, np.ndarray, str] | None:
         """The nearest target point beyond the tolerance (within FIT_REACH times it) that
-        the strokes fit the feature moved onto (`fits` of `moved(move)`), if any."""
+        the strokes fit the feature moved onto (`moved(move)`), if any."""
         far = []
         for p, name in targets.points:
             for a in anchors:
@@ -323,7 +378,7 @@ class _Snapper:
             if len(tried) == FIT_TRIES:
                 break
             tried.append(move)
-            if self.fits(moved(move)):
+            if self.strokes.fits(moved(move)):
                 return px, move, f"{name}, where the strokes still fit"
         return None
 
@@ -353,7 +408,8 @@ def _snap_rectangle_sides(poly: np.ndarray, s: _Snapper, sizes) -> np.ndarray:
 
 def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extrude:
     """d snaps to an earlier size or the grid."""
-    return replace(op, d=s.length("d", op.d, s.frame.normal, targets.sizes))
+    return replace(op, d=s.length("d", op.d, s.frame.normal, targets.sizes,
+                                  lambda d: replace(op, d=d)))
 
 
 def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
@@ -383,7 +439,9 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
         return replace(op, polygon=tuple(tuple(map(float, p)) for p in frame.to_3d(poly + move)))
 
     move = s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets, moved)
-    return replace(moved(move), d=s.length("d", op.d, frame.normal, targets.sizes))
+    op = moved(move)
+    return replace(op, d=s.length("d", op.d, frame.normal, targets.sizes,
+                                  lambda d: replace(op, d=d)))
 
 
 def best_line(op: Sweep) -> tuple[float, float]:
@@ -429,14 +487,15 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
     c = frame.to_2d(np.array(op.center, float))[0]
     c = c + s.position(c[None], targets,
                        lambda move: replace(op, center=tuple(map(float, frame.to_3d(c + move)[0]))))
+    op = replace(op, center=tuple(map(float, frame.to_3d(c)[0])))
     if op.r0 == op.r1:
-        r = s.length("r0", op.r0, radial, targets.radii)
+        r = s.length("r0", op.r0, radial, targets.radii, lambda r: op.retuned(r, r))
         op = op.retuned(r, r)
     else:
-        op = op.retuned(s.length("r0", op.r0, radial, targets.radii),
-                        s.length("r1", op.r1, radial, targets.radii))
-    op = op.retuned(d=s.length("d", op.d, n, targets.sizes))
-    return replace(op, center=tuple(map(float, frame.to_3d(c)[0])))
+        r0 = s.length("r0", op.r0, radial, targets.radii, lambda r: op.retuned(r0=r))
+        op = op.retuned(r0, s.length("r1", op.r1, radial, targets.radii,
+                                     lambda r: op.retuned(r0, r)))
+    return op.retuned(d=s.length("d", op.d, n, targets.sizes, lambda d: op.retuned(d=d)))
 
 
 _REGULARIZE = per_operator({OperatorType.EXTRUDE: _regularize_extrude,
@@ -462,7 +521,7 @@ def hand_tolerance(snap_px: float, misfit_px: float, context: OrthoCamera,
 def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: OrthoCamera,
                          step: float = 0.0, tol_px: float = SNAP_PX,
                          skip: frozenset[str] = frozenset(),
-                         fits: Callable[[Operation], bool] | None = None) -> Regularized:
+                         strokes: StrokeFit | None = None) -> Regularized:
     """Rectify a fitted operation and snap it to what its strokes are close to.
 
     Args:
@@ -473,12 +532,13 @@ def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: Or
         step: the grid step for lengths, mm (0: no grid).
         tol_px: the snapping tolerance, view pixels.
         skip: SNAP_KINDS keys not to apply (a snap the designer undid).
-        fits: whether the strokes still fit an operation (a clear fit): a target point
-            beyond the tolerance is taken when they fit the feature put there (FIT_REACH).
+        strokes: how well the strokes fit an operation snapping moved: a target point
+            beyond the tolerance is taken when they fit the feature put there (FIT_REACH),
+            a round length when they fit it about as well (ROUND_PX).
     Returns:
         The operation and the snaps applied, in order. Bevels are returned unchanged.
     """
     frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
-    s = _Snapper(frame, view, tol_px, step, frozenset(skip), fits)
+    s = _Snapper(frame, view, tol_px, step, frozenset(skip), strokes)
     op = _REGULARIZE[op.type](op, s, snap_targets(solid, face, frame))
     return Regularized(op, tuple(s.snaps))

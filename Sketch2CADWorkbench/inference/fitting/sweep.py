@@ -124,10 +124,11 @@ class SweepFit:
         against all the strokes, its profile keeping its shape (`refine.SweepImage`), or
         made straight first (`straight`: a cone or cylinder whose radii and offset the
         strokes fix without a bulge the fit drew from the noise of its profile strokes);
-        as fitted on a curved f (the refinement draws the base circle flat)."""
+        as fitted on a curved f (the refinement draws the base circle flat), made straight
+        there without refining."""
         op = self.operation
         if self.curved:
-            return op
+            return replace(op, profile=straight_profile(op.r0, op.r1, op.d)) if straight else op
         image = replace(self.image, bulge=np.zeros((2, 2))) if straight else self.image
         a, b, r0, r1, d = refine_sweep(image, np.array([0.0, 0.0, op.r0, op.r1, op.d]),
                                        self.strokes)

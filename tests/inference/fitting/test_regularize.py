@@ -22,7 +22,9 @@ from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.regularize import (
     FIT_REACH,
     HAND_SNAP,
+    ROUND_PX,
     SNAP_PX,
+    StrokeFit,
     hand_tolerance,
     regularize_operation,
 )
@@ -119,22 +121,23 @@ def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big,
     off_px = float(np.linalg.norm(near.image_of(np.array([2.4, -1.8, 0.0]))))
     asked = []
 
-    def fits(moved):
+    def distance(moved):
         asked.append(moved.center)
-        return True
+        return 1.0
 
-    got = regularize_operation(solid, post, top, near, tol_px=off_px / 2, fits=fits)
+    got = regularize_operation(solid, post, top, near, tol_px=off_px / 2,
+                               strokes=StrokeFit(distance, 3.0))
     assert asked == [pytest.approx((*axis, TOP), abs=1e-9)]  # asked of the post moved
     assert got.operation.center == pytest.approx((*axis, TOP), abs=1e-9)
     assert [(s.key, s.target) for s in got.snaps] == [
         ("position", "the axis of an earlier round feature, where the strokes still fit")]
     # strokes that do not fit it there keep it where drawn
     assert regularize_operation(solid, post, top, near, tol_px=off_px / 2,
-                                fits=lambda moved: False).snaps == ()
+                                strokes=StrokeFit(lambda moved: 3.5, 3.0)).snaps == ()
     # past FIT_REACH times the tolerance, the strokes are not asked
     asked.clear()
     far = regularize_operation(solid, post, top, near, tol_px=off_px / (FIT_REACH + 0.5),
-                               fits=fits)
+                               strokes=StrokeFit(distance, 3.0))
     assert far.snaps == () and asked == []
 
 
@@ -196,6 +199,64 @@ def test_the_grid_is_the_designers_resolution_at_any_zoom(big, view):
     near = Extrude(face_ref_of(face), 99.2)
     got = regularize_operation(big, near, face, view, step=7.0)  # grid value 98
     assert got.operation.d == 100.0 and "earlier length" in got.snaps[0].target
+
+
+def tube(face, d):
+    return Sweep(face_ref_of(face), (0.0, 0.0, TOP), 11.0, 11.0, d,
+                 straight_profile(11.0, 11.0, d), Mode.ADD)
+
+
+def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(big, view):
+    # pipe session step 1: a 70 mm tube read 68.3 long, its end drawn short by more than
+    # its lines wobble (70 is ROUND_MIN 5 mm steps and more, not ROUND_MIN 10 mm steps)
+    top = face_towards(big, (0, 0, 1))
+    asked = []
+
+    def strokes(px_per_mm):
+        def distance(op):
+            asked.append(op.d)
+            return 1.0 + px_per_mm * abs(op.d - 68.3)
+        return StrokeFit(distance, 3.0)
+
+    got = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
+                               strokes=strokes(0.1))
+    assert got.operation.d == pytest.approx(70.0)
+    assert got.snaps[-1].describe() == \
+        "length snapped to a round 5 mm, where the strokes fit as well: (68.3) -> (70) mm"
+    assert asked == pytest.approx([68.5, 70.0])  # the grid value and the round one
+    # from ROUND_MIN 10 mm steps on, the coarser step first (hammer: a 90 mm handle)
+    handle = regularize_operation(big, tube(top, 91.7), top, view, step=0.5, tol_px=20.0,
+                                  strokes=StrokeFit(lambda op: 1.0, 3.0))
+    assert handle.operation.d == pytest.approx(90.0)
+    assert "a round 10 mm" in handle.snaps[-1].target
+    # strokes that lie more than ROUND_PX farther from the round length keep the grid's
+    steep = 2 * ROUND_PX / 1.5
+    kept = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
+                                strokes=strokes(steep))
+    assert kept.operation.d == pytest.approx(68.5)
+    # so do strokes that fit neither clearly (a sloppy hand's do not choose)
+    sloppy = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
+                                  strokes=StrokeFit(lambda op: 3.5, 3.0))
+    assert sloppy.operation.d == pytest.approx(68.5)
+    # beyond FIT_REACH times the tolerance the strokes are not asked
+    asked.clear()
+    off_px = float(np.linalg.norm(view.image_of(np.array([0.0, 0.0, 1.7]))))
+    far = regularize_operation(big, tube(top, 68.3), top, view, step=0.5,
+                               tol_px=off_px / (FIT_REACH + 0.5), strokes=strokes(0.1))
+    assert far.operation.d == pytest.approx(68.5) and asked == []
+
+
+def test_a_short_length_keeps_the_grid_however_well_a_round_one_fits(big, view):
+    # a 4 mm cap is not a near miss of 5, nor a 31.7 mm one of 30: round steps apply from
+    # ROUND_MIN steps long
+    top = face_towards(big, (0, 0, 1))
+    for d, grid in ((4.2, 4.0), (31.7, 31.5)):
+        got = regularize_operation(big, Extrude(face_ref_of(top), d), top, view, step=0.5,
+                                   tol_px=20.0, strokes=StrokeFit(lambda op: 1.0, 3.0))
+        assert got.operation.d == pytest.approx(grid)
+    # nor any length with the grid off: round numbers are multiples of the designer's grid
+    assert regularize_operation(big, tube(top, 68.3), top, view, tol_px=20.0,
+                                strokes=StrokeFit(lambda op: 1.0, 3.0)).operation.d == 68.3
 
 
 def test_a_side_snaps_to_an_earlier_features_size(big, view):

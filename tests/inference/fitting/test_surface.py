@@ -21,7 +21,7 @@ from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.extrude import fit_extrude
 from Sketch2CADWorkbench.inference.fitting.surface import surface_hits
-from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
+from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep, sweep_fit
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import EXTRUDE_OFFSET, EXTRUDE_PROFILE
@@ -127,6 +127,21 @@ def test_a_radial_peg_sketched_on_a_cylinders_side_is_recovered(post, view):
     assert op.face.surface is CYL
     assert np.array(op.center) == pytest.approx(SIDE.point, abs=0.5)
     assert (op.r0, op.r1, op.d) == pytest.approx((4.0, 4.0, 10.0), abs=0.5)
+
+
+def test_a_radial_peg_read_with_a_bulge_has_a_straight_reading_too(post, view):
+    # pipe session step 4: a peg's straight sides read as a profile bulging 3 mm out; the
+    # caller scores the straight reading beside it
+    truth = Sweep(SIDE, SIDE.point, 4.0, 3.0, 10.0, ((6.5, 3.0), (6.0, 7.0)))
+    strokes, labels = sketch(post, truth, view)
+    got = sweep_fit(post, side_face(post), view, strokes, labels, option=Mode.ADD)
+    assert not got.straight and got.refined() == got.operation
+    line = got.refined(straight=True)
+    fitted = got.operation
+    assert (line.center, line.r0, line.r1, line.d) == (fitted.center, fitted.r0, fitted.r1,
+                                                       fitted.d)
+    assert np.array(line.profile) == pytest.approx(np.array(straight(line.r0, line.r1, line.d)))
+    assert apply_operation(post, line).isValid()
 
 
 def test_a_peg_drawn_wider_than_the_post_is_refused_saying_why(post, view):
