@@ -259,16 +259,17 @@ class _Snapper:
         if key in self.skip:
             return value
         mag = abs(value)
-        best = None
+        grid = None
         if self.step > 0:
-            grid = max(self.step, round(mag / self.step) * self.step)
-            best = (abs(grid - mag), grid, f"the {self.step:g} mm grid")
+            on_grid = max(self.step, round(mag / self.step) * self.step)
+            grid = (abs(on_grid - mag), on_grid, f"the {self.step:g} mm grid")
+        best = grid
         for size, name in sizes:
             if size > 0 and self.px(abs(size - mag) * direction) <= self.tol \
                     and (best is None or abs(size - mag) < best[0]):
                 best = (abs(size - mag), size, name)
-        if best is not None and best[2].endswith("grid") and rebuilt is not None:
-            best = self._round(mag, best, direction, rebuilt, float(np.sign(value) or 1.0))
+        if grid is not None and best is grid and rebuilt is not None:
+            best = self._round(mag, grid, direction, rebuilt, float(np.sign(value) or 1.0))
         if best is None or abs(best[1] - mag) <= 1e-9 * max(mag, 1.0):
             return value
         new = float(np.sign(value) * best[1]) if value else best[1]
