@@ -156,13 +156,14 @@ FIT_REACH, FIT_TRIES = 3.0, 3
 # Designers size long features in round numbers (a 70 mm tube, a 90 mm handle), and a hand
 # misjudges where a long outline ends by more than its lines wobble (pipe session: a tube
 # read 68.3 for 70, whose low top then misplaces the later steps; hammer: a handle read 92
-# for 90). A length on the grid at least ROUND_MIN round steps long (40 mm for 5, 80 for
-# 10: about an eighth of it) moves onto the nearest multiple of the step, coarser first,
-# within FIT_REACH times the tolerance, where the strokes clearly fit it (the caller's
-# StrokeFit) and lie at most ROUND_PX (pixels of the fitting camera) farther from its
-# sketch on average than from the grid value's. Shorter lengths keep the grid: from 20 mm
-# on, 5 mm steps cost held-out sweeps whose regular lengths are any whole mm; and a sloppy
-# hand's strokes, which fit neither clearly, do not choose (docs/NOTES.md, stop 37).
+# for 90). A length read at least ROUND_MIN round steps long (40 mm for 5, 80 for 10: a
+# step is at most an eighth of it) moves from the grid onto the nearest multiple of the
+# step, coarser first, within FIT_REACH times the tolerance, where the strokes clearly fit
+# it (the caller's StrokeFit) and lie at most ROUND_PX (pixels of the fitting camera)
+# farther from its sketch on average than from the grid value's. Shorter lengths keep the
+# grid: from 20 mm on, 5 mm steps cost held-out sweeps whose regular lengths are any whole
+# mm; and a sloppy hand's strokes, which fit neither clearly, do not choose (docs/NOTES.md,
+# stop 37).
 ROUND_STEPS, ROUND_MIN, ROUND_PX = (10.0, 5.0), 8, 0.3
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
@@ -280,15 +281,16 @@ class _Snapper:
                rebuilt: Callable[[float], Operation], sign: float
                ) -> tuple[float, float, str]:
         """The multiple of a round step (ROUND_STEPS, coarsest first, each a multiple of
-        the grid step) nearest `mag`, when it is at least ROUND_MIN steps, lies within
-        FIT_REACH times the tolerance of `mag`, and the strokes fit `rebuilt` at it
-        clearly and within ROUND_PX of as well as at the `grid` value; else `grid`."""
+        the grid step) nearest `mag`, when `mag` is at least ROUND_MIN steps long, the
+        multiple lies within FIT_REACH times the tolerance of it, and the strokes fit
+        `rebuilt` there clearly and within ROUND_PX of as well as at the `grid` value;
+        else `grid`."""
         if self.strokes is None:
             return grid
         at_grid = None
         for q in ROUND_STEPS:
             value = q * round(mag / q)
-            if abs(q / self.step - round(q / self.step)) > 1e-9 or value < ROUND_MIN * q \
+            if abs(q / self.step - round(q / self.step)) > 1e-9 or mag < ROUND_MIN * q \
                     or abs(value - grid[1]) < 1e-9 \
                     or self.px(abs(value - mag) * direction) > FIT_REACH * self.tol:
                 continue

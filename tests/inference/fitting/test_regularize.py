@@ -247,10 +247,10 @@ def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(bi
 
 
 def test_a_short_length_keeps_the_grid_however_well_a_round_one_fits(big, view):
-    # a 4 mm cap is not a near miss of 5, nor a 31.7 mm one of 30: round steps apply from
-    # ROUND_MIN steps long
+    # a 4 mm cap is not a near miss of 5, nor a 31.7 mm one of 30, nor 38.4 of 40: round
+    # steps apply to lengths read ROUND_MIN steps long
     top = face_towards(big, (0, 0, 1))
-    for d, grid in ((4.2, 4.0), (31.7, 31.5)):
+    for d, grid in ((4.2, 4.0), (31.7, 31.5), (38.4, 38.5)):
         got = regularize_operation(big, Extrude(face_ref_of(top), d), top, view, step=0.5,
                                    tol_px=20.0, strokes=StrokeFit(lambda op: 1.0, 3.0))
         assert got.operation.d == pytest.approx(grid)
