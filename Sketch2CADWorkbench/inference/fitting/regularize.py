@@ -12,8 +12,8 @@ were drawn in, where the hand's error lives, or within HAND_SNAP times as far as
 strokes miss the reading's own lines, when that is farther (`hand_tolerance`); a target
 point up to FIT_REACH times farther is taken when the strokes still fit the feature put
 there (the caller's `StrokeFit`), and a point wins over a line only when about as close
-(POINT_OVER_LINE_PX); a long length on the grid moves, as far, onto a round number (a
-multiple of ROUND_STEPS) the strokes fit about as well. Targets:
+(POINT_OVER_LINE_PX); a long d or radius on the grid moves, as far, onto a round number
+(a multiple of ROUND_STEPS) the strokes fit about as well. Targets:
 the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
 cone's side: its rims and the middle of its height); earlier features'
 circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
