@@ -40,11 +40,7 @@ from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
-from Sketch2CADWorkbench.inference.fitting.verify import (
-    mean_distance,
-    reading_score,
-    sketch_distances,
-)
+from Sketch2CADWorkbench.inference.fitting.verify import reading_score, sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
@@ -54,7 +50,6 @@ from Sketch2CADWorkbench.inference.interpret import (
     interpret,
     other_option,
     snap_or_keep,
-    strokes_fit,
 )
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -96,10 +91,9 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
     result = None
     if options.regularize:  # as interpret() does after fitting
-        op, _, result, _ = snap_or_keep(
-            context, op, context.Faces()[index], mean_distance(ctx.sketch_distances(context, op)),
-            ctx.camera, sample.camera, options,
-            strokes_fit(lambda moved: ctx.sketch_distances(context, moved)))
+        op, _, result, _ = snap_or_keep(context, op, context.Faces()[index],
+                                        lambda moved: ctx.sketch_distances(context, moved),
+                                        ctx.camera, sample.camera, options)
     return StepReading(op, apply_operation(context, op) if result is None else result,
                        other_option(context, op, index, ctx.camera, options), None)
 

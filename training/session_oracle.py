@@ -48,8 +48,8 @@ from Sketch2CADWorkbench.inference.fitting.common import (
     match_ends,
     open_ends,
 )
-from Sketch2CADWorkbench.inference.fitting.verify import mean_distance, sketch_distances
-from Sketch2CADWorkbench.inference.interpret import snap_or_keep, strokes_fit
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
+from Sketch2CADWorkbench.inference.interpret import snap_or_keep
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
@@ -210,8 +210,7 @@ def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> Oracl
             return sketch_distances(solid, op, context, strokes)
 
         snapped = snap_or_keep(solid, reading, resolve_face(solid, reading.face).face,
-                               mean_distance(distances(reading)), context, camera, c,
-                               strokes_fit(distances))[0]
+                               distances, context, camera, c)[0]
     truth_solid = apply_operation(solid, truth)
     return OracleStep(reading, _iou(solid, reading, truth_solid), snapped,
                       _iou(solid, snapped, truth_solid), _rms(fit.fun), _rms(truth_res),

@@ -374,33 +374,30 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
     return reading.result is not None
 
 
-def strokes_fit(distances: Callable[[Operation], tuple[np.ndarray, ...]]) -> StrokeFit:
-    """How well the strokes fit operations that snapping moves (`regularize_operation`'s
-    `strokes`), given their `sketch_distances` in pixels of a context camera: the mean
-    distance, a clear fit within GOOD_FIT_PX. An operation whose sketch cannot be drawn
-    lies infinitely far."""
-    def distance(op: Operation) -> float:
-        try:
-            return mean_distance(distances(op))
-        except OperationError:
-            return float("inf")
-    return StrokeFit(distance, GOOD_FIT_PX)
-
-
-def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face, misfit_px: float,
-                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions,
-                 strokes: StrokeFit | None = None
+def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face,
+                 distances: Callable[[Operation], tuple[np.ndarray, ...]],
+                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions
                  ) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
     """A fitted operation regularized within the hand's tolerance (`hand_tolerance` of
-    its misfit, in pixels of the `context` camera it was fitted in) and built: the
-    operation, its snaps, its result and "". When nothing snaps, or the snapped operation
-    does not build (a snapped sweep OCCT calls invalid): `op` itself, no snaps, None (the
-    caller holds its result) and why not, if it did not build. Snapping never costs a
-    reading that builds. `strokes` (`strokes_fit`) lets a target beyond the tolerance,
-    or a round length, be taken where the strokes still fit the operation moved there."""
-    tol = hand_tolerance(options.snap_px, misfit_px, context, view)
+    its misfit) and built: the operation, its snaps, its result and "". When nothing
+    snaps, or the snapped operation does not build (a snapped sweep OCCT calls invalid):
+    `op` itself, no snaps, None (the caller holds its result) and why not, if it did not
+    build. Snapping never costs a reading that builds.
+
+    `distances(op)`: an operation's `sketch_distances` to the strokes in pixels of the
+    `context` camera it was fitted in. Their mean is op's misfit, and snapping asks it of
+    the operations it moves (`StrokeFit`, a clear fit within GOOD_FIT_PX; one whose sketch
+    cannot be drawn lies infinitely far): a target beyond the tolerance, or a round
+    length, is taken where the strokes still fit the operation moved there."""
+    def distance(moved: Operation) -> float:
+        try:
+            return mean_distance(distances(moved))
+        except OperationError:
+            return float("inf")
+
+    tol = hand_tolerance(options.snap_px, mean_distance(distances(op)), context, view)
     reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
-                               options.skip_snaps, strokes)
+                               options.skip_snaps, StrokeFit(distance, GOOD_FIT_PX))
     if not reg.snaps:
         return op, (), None, ""
     try:
@@ -414,9 +411,9 @@ def _snapped(solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera,
     """`snap_or_keep` for a reading, its result the reading's own when it is kept (the
     rebuild goes to ctx.build_s)."""
     start = time.perf_counter()
-    strokes = strokes_fit(lambda moved: ctx.sketch_distances(solid, moved))
     op, snaps, result, why = snap_or_keep(solid, reading.op, face_at(solid, reading.index),
-                                          reading.error, ctx.camera, view, options, strokes)
+                                          lambda moved: ctx.sketch_distances(solid, moved),
+                                          ctx.camera, view, options)
     ctx.build_s += time.perf_counter() - start
     return op, snaps, reading.result if result is None else result, why
 

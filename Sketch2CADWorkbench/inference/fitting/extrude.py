@@ -11,8 +11,8 @@ from ...brep.faces import CurvedSurface, FaceFrame, face_ref_at, face_ref_of, is
 from ...brep.protocol import Extrude, FaceRef
 from ...render.camera import OrthoCamera
 from .common import (
-    DistanceField,
     LOOP_WEIGHT,
+    DistanceField,
     FitError,
     edge_samples,
     end_order,
