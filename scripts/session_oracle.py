@@ -56,13 +56,18 @@ def main(argv: list[str] | None = None) -> int:
                 got = session_oracle(session, protocol, on_step=lambda _: bar.update())
             except ValueError as e:
                 sys.exit(f"session_oracle: {session_path}: {e}")
+        weakest, bound = got.weakest
         print(f"{name}: oracle's final volume IoU {got.final_iou:.3f}, "
-              f"snapped as the steps choose {got.regularized_iou:.3f}")
+              f"snapped as the steps choose {got.regularized_iou:.3f}; with every other "
+              f"step exact, step {weakest} alone ends it at {bound:.3f} at best")
         for k, s in enumerate(got.steps, 1):
-            print(f"  step {k}: alone {s.iou:.3f}, snapped {s.snapped_iou:.3f}; ends and loops "
-                  f"miss it by {s.rms_px:.2f} px rms (the truth by {s.truth_rms_px:.2f}), "
-                  f"{s.strokes} strokes: {describe(s.snapped)}")
+            print(f"  step {k}: alone {s.iou:.3f}, snapped {s.snapped_iou:.3f} (the session "
+                  f"{s.session_iou:.3f} / {s.snapped_session_iou:.3f}); ends and loops miss "
+                  f"it by {s.rms_px:.2f} px rms "
+                  f"(the truth by {s.truth_rms_px:.2f}), {s.strokes} strokes: "
+                  f"{describe(s.snapped)}")
         report[name] = {"final_iou": got.final_iou, "regularized_iou": got.regularized_iou,
+                        "weakest_step": weakest, "weakest_session_iou": bound,
                         "steps": [{k: v for k, v in dataclasses.asdict(s).items()
                                    if k not in ("reading", "snapped")} for s in got.steps]}
     if args.json:

@@ -18,7 +18,9 @@ protocol, replayed as an edited protocol is (a step's face followed where an ear
 one moved it). Its volume IoU with the truth says how close this session's strokes let
 a reading end; the same with every reading snapped as the step's choices ask
 (`interpret.snap_or_keep`, interpret's own snapping) says what the regularizer's priors
-add to them.
+add to them. Each step's reading is also put alone into the true protocol: where the
+session then ends says how far that step's strokes let any reading of the session go,
+and the weakest step bounds it (`SessionOracle.weakest`).
 """
 from __future__ import annotations
 
@@ -70,6 +72,9 @@ class OracleStep:
         rms_px, truth_rms_px: the rms residual (view pixels) of the reading and of the
             truth: the hand's miss as the strokes show it.
         strokes: the strokes paired with a curve (the rest draw none).
+        session_iou, snapped_session_iou: the final volume IoU of the protocol with
+            this step as read (as snapped) and every other step exact: how far this
+            step's strokes alone let the session end, wherever the others' end.
     """
 
     reading: Operation
@@ -79,6 +84,8 @@ class OracleStep:
     rms_px: float
     truth_rms_px: float
     strokes: int
+    session_iou: float = 1.0
+    snapped_session_iou: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -89,6 +96,16 @@ class SessionOracle:
     steps: tuple[OracleStep, ...]
     final_iou: float
     regularized_iou: float
+
+    @property
+    def weakest(self) -> tuple[int, float]:
+        """The step (from 1) whose better reading (as read or snapped) alone, every other
+        step exact, ends the session lowest, and that final volume IoU: a reading that
+        ends the session above it has to read that step better than the likeliest
+        numbers of its strokes, and than the regularizer's priors make of them."""
+        best = [max(s.session_iou, s.snapped_session_iou) for s in self.steps]
+        k = int(np.argmin(best))
+        return k + 1, best[k]
 
 
 def _numbers(solid: cq.Shape, op: Operation
@@ -249,7 +266,13 @@ def session_oracle(session: Session, protocol: Protocol,
         steps.append(oracle_reading(truths[k], truth, step))
         if on_step:
             on_step(k + 1)
-    final = truths[-1]
+    final, exact = truths[-1], list(protocol.operations)
+
+    def alone(k: int, op: Operation) -> float:
+        return volume_iou(_built(protocol, exact[:k] + [op] + exact[k + 1:]), final)
+
+    steps = [replace(s, session_iou=alone(k, s.reading),
+                     snapped_session_iou=alone(k, s.snapped)) for k, s in enumerate(steps)]
     return SessionOracle(
         tuple(steps), volume_iou(_built(protocol, [s.reading for s in steps]), final),
         volume_iou(_built(protocol, [s.snapped for s in steps]), final))

@@ -28,6 +28,10 @@ def test_each_step_and_the_end_are_printed_and_written(load_script, files, tmp_p
     figures = json.loads(out.read_text())["post"]
     assert len(figures["steps"]) == 2 and 0.5 < figures["final_iou"] < 1.0
     assert figures["steps"][0]["strokes"] == 12
+    k = figures["weakest_step"]
+    assert f"step {k} alone ends it at {figures['weakest_session_iou']:.3f} at best" in text
+    assert figures["weakest_session_iou"] == max(figures["steps"][k - 1]["session_iou"],
+                                                 figures["steps"][k - 1]["snapped_session_iou"])
 
 
 def test_a_missing_file_and_a_protocol_of_another_length_are_named(load_script, files,

@@ -58,6 +58,19 @@ def test_a_session_ends_where_the_readings_together_build_it():
         session_oracle(drawn, Protocol(BASE, [POST]))
 
 
+def test_the_step_whose_strokes_bound_the_session_is_named_with_where_it_ends_it():
+    protocol = Protocol(BASE, [POST, BOSS])
+    taller = Protocol(BASE, [AddSubPrism(POST.face, POST.polygon, 16.0), BOSS])
+    got = session_oracle(Session(BASE, [sketched_step(taller, 0), sketched_step(protocol, 1)]),
+                         protocol)
+    first, second = got.steps
+    assert second.session_iou == pytest.approx(1.0, abs=1e-6)    # drawn exactly
+    assert first.session_iou < 0.99 and first.snapped_session_iou == first.session_iou
+    assert got.weakest == (1, pytest.approx(first.session_iou))
+    # the boss alone was exact, so the post alone ends the session where both do
+    assert first.session_iou == pytest.approx(got.final_iou, abs=1e-6)
+
+
 def test_an_extruded_rim_drawn_as_a_loop_counts_with_the_strokes():
     boss_top = FaceRef((-2.0, 1.0, 30.0), (0.0, 0.0, 1.0))
     protocol = Protocol(BASE, [POST, BOSS, Extrude(boss_top, 3.0)])
