@@ -33,7 +33,12 @@ from scipy.optimize import linear_sum_assignment, least_squares
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import FaceFrame, OperationError, is_curved, resolve_face
-from Sketch2CADWorkbench.brep.operators import apply_operation, replay
+from Sketch2CADWorkbench.brep.operators import (
+    apply_operation,
+    apply_what_builds,
+    make_box,
+    replay,
+)
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -279,12 +284,5 @@ def session_oracle(session: Session, protocol: Protocol,
 
 
 def _built(protocol: Protocol, operations: list[Operation]) -> cq.Shape:
-    """The protocol's box with the operations applied in turn, each on the solid the
-    ones before built; one that no longer builds there (its face gone) is left out."""
-    solid = replay(replace(protocol, operations=[]))[-1]
-    for op in operations:
-        try:
-            solid = apply_operation(solid, op)
-        except OperationError:
-            pass
-    return solid
+    """The protocol's box with the operations applied in turn (`apply_what_builds`)."""
+    return apply_what_builds(make_box(protocol.base), operations)

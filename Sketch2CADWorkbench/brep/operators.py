@@ -588,3 +588,16 @@ def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None
 def build(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> cq.Solid:
     """The final solid of a protocol (on_step: as for `replay`)."""
     return replay(protocol, on_step)[-1]
+
+
+def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
+    """`solid` with the operations applied in turn, each on the solid the ones before
+    built (its face followed where an earlier one moved it); one that no longer builds
+    there (its face gone) is left out. For measuring where a protocol with some steps
+    changed ends, not for building one: `replay` names a step that fails."""
+    for op in operations:
+        try:
+            solid = apply_operation(solid, op)
+        except OperationError:
+            pass
+    return solid

@@ -5,7 +5,8 @@ fitting, into a protocol and a solid.
 `sketch2cad interpret SESSION.json [--protocol P.json] [--step S.step] [--png S.png]`;
 `--compare P.json` prints each step's volume IoU with the protocol the sketches mean, and
 with `--each-step` reads every step on that protocol's model, one step's miss not carried
-into the next.
+into the next, and says where the session would end with that step so read and every
+other step exact.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from pathlib import Path
 
 from ..brep.compare import volume_iou
 from ..brep.files import check_outputs
-from ..brep.operators import make_box, replay
+from ..brep.operators import apply_what_builds, make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
 from ..inference.fitting.regularize import SNAP_PX
 from ..inference.interpret import InterpretError, interpret
@@ -36,7 +37,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--each-step", action="store_true",
                    help="with --compare, read every step on the compared protocol's model "
                         "before it, not on the model the earlier readings built, and print "
-                        "that step's volume IoU alone (where a session loses, step by step)")
+                        "that step's volume IoU alone (where a session loses, step by step), "
+                        "and the final one with every other step exact")
     p.add_argument("--regularize", choices=("session", "on", "off"), default="session",
                    help="snapping and rectification: as each step's choices say (default), "
                         "or on or off for every step")
@@ -69,7 +71,8 @@ def run(args: argparse.Namespace) -> int:
         return 2
     try:
         session = load_session(args.session)
-        reference = _reference(args.compare, len(session.steps)) if args.compare else None
+        meant, reference = _reference(args.compare, len(session.steps)) if args.compare \
+            else (None, None)
         predictor = load_predictor(args.weights)
     except (ProtocolError, FileNotFoundError, ValueError) as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
@@ -113,8 +116,13 @@ def run(args: argparse.Namespace) -> int:
             solid = got.solid
         if reference:
             alone = " (this step alone)" if args.each_step else ""
-            print(f"         volume IoU with {args.compare.name} after step {i}{alone}: "
-                  f"{volume_iou(solid, reference[i]):.3f}")
+            line = (f"         volume IoU with {args.compare.name} after step {i}{alone}: "
+                    f"{volume_iou(solid, reference[i]):.3f}")
+            if args.each_step and solid is not reference[i - 1]:  # read, not skipped
+                ends = apply_what_builds(solid, list(meant.operations[i:]))
+                line += f"; the session so, every other step exact: " \
+                        f"{volume_iou(ends, reference[-1]):.3f}"
+            print(line)
     print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
           f"volume {solid.Volume():.1f} mm^3")
     try:
@@ -126,10 +134,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _reference(path: Path, steps: int) -> list:
-    """The reference protocol's solids (base, then after each operation), one per step."""
-    solids = replay(load(path))
+def _reference(path: Path, steps: int) -> tuple[Protocol, list]:
+    """The reference protocol and its solids (base, then after each operation), one
+    operation per step."""
+    meant = load(path)
+    solids = replay(meant)
     if len(solids) != steps + 1:
         raise ProtocolError(f"{path}: {len(solids) - 1} operations for {steps} sketched "
                             "steps; --compare needs one operation per step")
-    return solids
+    return meant, solids

@@ -9,6 +9,7 @@ from Sketch2CADWorkbench.brep.exchange import to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import (
     apply_operation,
+    apply_what_builds,
     boolean,
     make_box,
     operation_result,
@@ -206,6 +207,20 @@ def test_face_reference_follows_an_edited_earlier_step():
     tall = replay(Protocol(Box((LX, LY, LZ + 6)), ops))[-1]
     assert tall.Volume() == pytest.approx(LX * LY * (LZ + 6) + 800.0, rel=REL)
     assert tall.BoundingBox().zmax == pytest.approx((LZ + 6) / 2 + 8.0)
+
+
+def test_applying_what_builds_leaves_out_a_step_whose_face_is_gone(box):
+    # each step on the solid the ones before built: the post's top, raised; a step whose
+    # face no longer exists (here never did) is left out, the rest still built
+    post = AddSubPrism(TOP, square(5, LZ / 2), 8.0, Mode.ADD)
+    raised = Extrude(FaceRef((0.0, 0.0, LZ / 2 + 8.0), (0.0, 0.0, 1.0)), 2.0)
+    got = apply_what_builds(box, [post, raised])
+    assert got.Volume() == pytest.approx(BOX_VOLUME + 800.0 + 200.0, rel=REL)
+    gone = Extrude(FaceRef((0.0, 0.0, 100.0), (0.0, 0.0, 1.0)), 2.0)   # no face there
+    with pytest.raises(OperationError):
+        apply_operation(box, gone)
+    assert apply_what_builds(box, [gone, post]).Volume() == \
+        pytest.approx(BOX_VOLUME + 800.0, rel=REL)
 
 
 def test_replay_is_deterministic(examples_dir):

@@ -2,6 +2,7 @@
 """`sketch2cad interpret` never writes over the session it reads (the user's sketches), and
 replays each step with the choices saved in it."""
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -60,14 +61,21 @@ def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
     (tmp_path / "p.json").write_text(json.dumps(protocol))
     base = [*CLI, "interpret", str(tmp_path / "s.json"), "--compare", str(tmp_path / "p.json"),
             "--keep-going", "--regularize", "off"]
-    ious = {}
+    ious, ends = {}, {}
     for extra in ([], ["--each-step"]):
         out = subprocess.run(base + extra, capture_output=True, text=True, timeout=600)
         assert out.returncode == 0, out.stderr
-        ious[bool(extra)] = [float(line.rsplit(" ", 1)[1]) for line in out.stdout.splitlines()
-                             if "volume IoU" in line]
-        assert ("(this step alone)" in out.stdout) == bool(extra)
+        lines = [re.search(r"after step \d( \(this step alone\))?: ([0-9.]+)(; the session "
+                           r"so, every other step exact: ([0-9.]+))?$", line)
+                 for line in out.stdout.splitlines() if "volume IoU" in line]
+        assert all(lines) and all(bool(m[1]) == bool(extra) for m in lines)
+        ious[bool(extra)] = [float(m[2]) for m in lines]
+        ends[bool(extra)] = [m[4] and float(m[4]) for m in lines]
     assert ious[True][1] > 0.95 > ious[False][1]
+    # where the session ends with a step so read: none for the step not read, and for
+    # the last step where that step alone ends
+    assert ends[False] == [None, None] and ends[True][0] is None
+    assert ends[True][1] == ious[True][1]
     out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json"), "--each-step"],
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 2 and "--each-step needs --compare" in out.stderr
