@@ -305,6 +305,24 @@ def test_noisy_near_rectangle_is_regularized_to_an_exact_rectangle(box, camera):
     assert p.mean(axis=0) == pytest.approx((0, 0), abs=1e-9)
 
 
+@pytest.mark.parametrize("short,long,square", [(19.0, 21.0, True), (16.0, 22.0, False)])
+def test_a_rectangle_becomes_a_square_only_when_its_sides_differ_by_at_most_a_fifth(
+        box, camera, short, long, square):
+    # the paper's "differences of side lengths within 20% of the average": 19 x 21 differ
+    # by 2 (20% of 20 is 4), 16 x 22 by 6 (20% of 19 is 3.8), though each side of that one
+    # lies within 20% of their mean (3 of 19)
+    rect = np.array([[-long / 2, -short / 2, TOP_Z], [long / 2, -short / 2, TOP_Z],
+                     [long / 2, short / 2, TOP_Z], [-long / 2, short / 2, TOP_Z]])
+    strokes, labels = prism_sketch(camera, rect, 5.0, +1)
+    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
+                     camera)
+    p = np.array(op.polygon)[:, :2]
+    sides = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+    assert (np.ptp(sides) < 1e-6) == square
+    if not square:
+        assert sorted(sides)[::2] == pytest.approx([short, long], abs=0.3)
+
+
 def test_hexagon_is_regularized_to_a_regular_hexagon(box, camera):
     ang = np.radians([0, 62, 118, 181, 238, 301])
     rad = np.array([5.0, 5.4, 4.8, 5.2, 4.9, 5.1])
