@@ -19,8 +19,9 @@ one moved it). Its volume IoU with the truth says how close this session's strok
 a reading end; the same with every reading snapped as the step's choices ask
 (`interpret.snap_or_keep`, interpret's own snapping) says what the regularizer's priors
 add to them. Each step's reading is also put alone into the true protocol: where the
-session then ends says how far that step's strokes let any reading of the session go,
-and the weakest step bounds it (`SessionOracle.weakest`).
+session then ends says how far that step's strokes let a reading of the session go, and
+the weakest step bounds it (`SessionOracle.weakest`); generously, since the numbers a
+step's strokes do not tell (a sweep's inner profile points) stay the truth's.
 """
 from __future__ import annotations
 
@@ -79,7 +80,8 @@ class OracleStep:
         strokes: the strokes paired with a curve (the rest draw none).
         session_iou, snapped_session_iou: the final volume IoU of the protocol with
             this step as read (as snapped) and every other step exact: how far this
-            step's strokes alone let the session end, wherever the others' end.
+            step's strokes alone let the session end, wherever the others' end (None
+            for a step read alone, outside `session_oracle`).
     """
 
     reading: Operation
@@ -89,8 +91,8 @@ class OracleStep:
     rms_px: float
     truth_rms_px: float
     strokes: int
-    session_iou: float = 1.0
-    snapped_session_iou: float = 1.0
+    session_iou: float | None = None
+    snapped_session_iou: float | None = None
 
 
 @dataclass(frozen=True)
