@@ -276,7 +276,7 @@ def session_oracle(session: Session, protocol: Protocol,
     final, exact = truths[-1], list(protocol.operations)
 
     def alone(k: int, op: Operation) -> float:
-        return volume_iou(_built(protocol, exact[:k] + [op] + exact[k + 1:]), final)
+        return volume_iou(apply_what_builds(truths[k], [op] + exact[k + 1:]), final)
 
     steps = [replace(s, session_iou=alone(k, s.reading),
                      snapped_session_iou=alone(k, s.snapped)) for k, s in enumerate(steps)]

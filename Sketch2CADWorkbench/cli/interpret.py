@@ -94,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             got = interpret(solid, step.strokes, step.camera, predictor, renderer, choices)
         except InterpretError as e:
+            got = None
             failed += 1
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)
             if not args.keep_going:
@@ -118,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
             alone = " (this step alone)" if args.each_step else ""
             line = (f"         volume IoU with {args.compare.name} after step {i}{alone}: "
                     f"{volume_iou(solid, reference[i]):.3f}")
-            if args.each_step and solid is not reference[i - 1]:  # read, not skipped
+            if args.each_step and got is not None:
                 ends = apply_what_builds(solid, list(meant.operations[i:]))
                 line += f"; the session so, every other step exact: " \
                         f"{volume_iou(ends, reference[-1]):.3f}"
