@@ -11,13 +11,18 @@
 def _sketch2cad_bootstrap():
     import os
     import sys
-    here = next(p for p in sys.path
-                if os.path.basename(os.path.normpath(p)) == "Sketch2CADWorkbench"
-                and os.path.isfile(os.path.join(p, "Init.py")))
+
+    here = next(
+        p
+        for p in sys.path
+        if os.path.basename(os.path.normpath(p)) == "Sketch2CADWorkbench"
+        and os.path.isfile(os.path.join(p, "Init.py"))
+    )
     root = os.path.dirname(os.path.normpath(here))
     if root not in sys.path:
         sys.path.insert(0, root)
     from Sketch2CADWorkbench.freecad_layer import env
+
     env.bootstrap()
 
 

@@ -13,20 +13,25 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
     """Sketch over the model; each sketch becomes an editable parametric feature."""
 
     MenuText = "Sketch2CAD"
-    ToolTip = ("Sequential CAD modeling by sketching in context (extrude, bevel, add/subtract "
-               "prism, sweep)")
+    ToolTip = (
+        "Sequential CAD modeling by sketching in context (extrude, bevel, add/subtract "
+        "prism, sweep)"
+    )
 
     def __init__(self):
         from Sketch2CADWorkbench.freecad_layer.icons import icon_path
+
         self.__class__.Icon = icon_path("Sketch2CAD")
 
     def Initialize(self):
         import FreeCADGui
 
         from Sketch2CADWorkbench.freecad_layer import dependencies, install_dialog, preferences
+
         preferences.add_page()
-        FreeCADGui.addCommand(install_dialog.COMMAND,
-                              install_dialog.InstallDependencies(self.installed_later))
+        FreeCADGui.addCommand(
+            install_dialog.COMMAND, install_dialog.InstallDependencies(self.installed_later)
+        )
         missing = dependencies.missing()
         if missing and not install_dialog.offer(missing):
             self.appendMenu("Sketch2CAD", [install_dialog.COMMAND])
@@ -38,6 +43,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
         from PySide import QtCore
 
         from Sketch2CADWorkbench.freecad_layer import networks
+
         if getattr(self, "complete", False):
             # once FreeCAD has finished switching: the thread would slow the switch down
             QtCore.QTimer.singleShot(0, networks.load_in_background)
@@ -47,6 +53,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
         import FreeCADGui
 
         from Sketch2CADWorkbench.commands import COMMANDS, MENU, TOOLBAR
+
         for name, command in COMMANDS.items():
             if name not in FreeCADGui.listCommands():
                 FreeCADGui.addCommand(name, command)
@@ -59,6 +66,7 @@ class Sketch2CADWorkbench(Workbench):  # noqa: F821 (FreeCAD provides Workbench)
     def installed_later(self):
         """After the Install command succeeded: the full workbench, shown at once."""
         import FreeCADGui
+
         self.add_commands()
         FreeCADGui.activateWorkbench("NoneWorkbench")  # toolbars are rebuilt on activation
         FreeCADGui.activateWorkbench("Sketch2CADWorkbench")

@@ -13,6 +13,7 @@ CPUs for this run; with one (`ray start --head` on one machine, `ray start
 
 Ray is the optional extra `sketch2cad[cluster]`; only this module imports it.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -27,7 +28,7 @@ from .parallel import SINGLE_THREAD_ENV, DatagenSettings, make_shard
 
 RETRIES = 3  # runs of a shard's task after its worker died
 # The local cluster's shared-memory object store: the tasks return shard numbers only.
-OBJECT_STORE_BYTES = 100 * 1024 ** 2
+OBJECT_STORE_BYTES = 100 * 1024**2
 
 
 def require_ray():
@@ -35,9 +36,11 @@ def require_ray():
     try:
         import ray
     except ImportError:
-        raise RuntimeError("--ray needs Ray, the optional extra 'cluster' (`make setup`, or "
-                           "`SKETCH2CAD_EXTRAS=cluster freecadcmd scripts/"
-                           "install_dependencies.py`: README)") from None
+        raise RuntimeError(
+            "--ray needs Ray, the optional extra 'cluster' (`make setup`, or "
+            "`SKETCH2CAD_EXTRAS=cluster freecadcmd scripts/"
+            "install_dependencies.py`: README)"
+        ) from None
     return ray
 
 
@@ -50,9 +53,14 @@ def ray_cluster(address: str, workers: int):
     # (the same folders on every node)
     env = dict(SINGLE_THREAD_ENV, PYTHONPATH=os.environ.get("PYTHONPATH", ""))
     if address == "local":
-        ray.init(address="local", num_cpus=workers, include_dashboard=False,
-                 object_store_memory=OBJECT_STORE_BYTES, logging_level=logging.WARNING,
-                 runtime_env={"env_vars": env})
+        ray.init(
+            address="local",
+            num_cpus=workers,
+            include_dashboard=False,
+            object_store_memory=OBJECT_STORE_BYTES,
+            logging_level=logging.WARNING,
+            runtime_env={"env_vars": env},
+        )
     else:
         ray.init(address=address, logging_level=logging.WARNING, runtime_env={"env_vars": env})
     try:
@@ -61,27 +69,40 @@ def ray_cluster(address: str, workers: int):
         ray.shutdown()
 
 
-def run_on_ray(settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
-               done: Callable[[int], None]) -> list[str]:
+def run_on_ray(
+    settings: DatagenSettings, counts: dict[int, int], bar: tqdm, done: Callable[[int], None]
+) -> list[str]:
     """Make the shards `counts` (shard -> samples) as Ray tasks on the cluster
     settings.ray names; call done(k) as each is written and advance the bar. Returns one
     line per shard that failed (empty: all written)."""
     start = time.perf_counter()
     with ray_cluster(settings.ray, settings.workers) as ray:
         cpus = int(ray.cluster_resources().get("CPU", 0))
-        bar.write(f"datagen: {len(counts)} shard task(s) on Ray, {cpus} CPU(s), up in "
-                  f"{time.perf_counter() - start:.0f} s")
+        bar.write(
+            f"datagen: {len(counts)} shard task(s) on Ray, {cpus} CPU(s), up in "
+            f"{time.perf_counter() - start:.0f} s"
+        )
         return make_shards(ray, settings, counts, bar, done)
 
 
-def make_shards(ray, settings: DatagenSettings, counts: dict[int, int], bar: tqdm,
-                done: Callable[[int], None]) -> list[str]:
+def make_shards(
+    ray, settings: DatagenSettings, counts: dict[int, int], bar: tqdm, done: Callable[[int], None]
+) -> list[str]:
     """`run_on_ray`'s work on a cluster `ray` is connected to."""
     task = ray.remote(num_cpus=1, max_retries=RETRIES)(make_shard)
-    pending = {task.remote(str(settings.out.resolve()), settings.seed,
-                           settings.noise_level, settings.hidden_lines, k, n,
-                           settings.shard_size, settings.regular_share): k
-               for k, n in sorted(counts.items())}
+    pending = {
+        task.remote(
+            str(settings.out.resolve()),
+            settings.seed,
+            settings.noise_level,
+            settings.hidden_lines,
+            k,
+            n,
+            settings.shard_size,
+            settings.regular_share,
+        ): k
+        for k, n in sorted(counts.items())
+    }
     failed = []
     while pending:
         ready, _ = ray.wait(list(pending), num_returns=1)

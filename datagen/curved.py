@@ -18,6 +18,7 @@ one worker, a noise level or the levels taking turns ("mix"): held-out sets to m
 operators on curved faces, and the curved part of the head's training data
 (`sketch2cad datagen --curved ...`).
 """
+
 from __future__ import annotations
 
 import sys
@@ -36,6 +37,8 @@ from Sketch2CADWorkbench.brep.faces import (
     model_scale,
     points_on_face,
 )
+from Sketch2CADWorkbench.brep.geometry import plane_basis
+from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Extrude,
@@ -46,8 +49,6 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
     straight_profile,
 )
-from Sketch2CADWorkbench.brep.geometry import plane_basis
-from Sketch2CADWorkbench.brep.operators import REACH_MARGIN_REL, operation_result
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 from .dataset import write_shard
@@ -72,7 +73,7 @@ from .sequences import MIN_VOLUME_CHANGE, Drawn, Sequence, Stage, sample_operati
 # The last operation's type on a curved face: prisms and sweeps as 4:2 (the paper's
 # shares of the two), and extrusions of the side 1.
 CURVED_WEIGHTS = {OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2, OperatorType.EXTRUDE: 1}
-ACROSS = (0.25, 0.6)   # a primitive's half-width across the axis / the side's radius
+ACROSS = (0.25, 0.6)  # a primitive's half-width across the axis / the side's radius
 TRIES = 40
 # Sides of the polygon, circumscribing a sweep's circle c0, whose corners bound how far
 # below the tangent plane the surface lies under c0.
@@ -93,8 +94,9 @@ class CurvedFace:
 
     def resolved(self) -> ResolvedFace:
         """f as the operators resolve `ref` on the solid it was drawn on."""
-        return ResolvedFace(self.face, self.normal, 0.0, self.surface,
-                            np.asarray(self.ref.point, float))
+        return ResolvedFace(
+            self.face, self.normal, 0.0, self.surface, np.asarray(self.ref.point, float)
+        )
 
 
 def _point_on(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndarray | None:
@@ -110,8 +112,9 @@ def _point_on(face: cq.Face, rng: np.random.Generator, margin: float) -> np.ndar
     return np.array(p.Coord())
 
 
-def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
-                     ) -> tuple[Operation, CurvedFace] | None:
+def sample_on_curved(
+    rng: np.random.Generator, face: cq.Face, kind: OperatorType
+) -> tuple[Operation, CurvedFace] | None:
     """An operation of `kind` on the curved face at a random point of it."""
     p = _point_on(face, rng, 0.3)
     if p is None:
@@ -142,13 +145,21 @@ def sample_on_curved(rng: np.random.Generator, face: cq.Face, kind: OperatorType
         return AddSubPrism(f.ref, tuple(tuple(map(float, v)) for v in poly), float(d), mode), f
     r0 = half
     ring = np.linspace(0, 2 * np.pi, 16, endpoint=False)
-    if not _on_face(f, centre + r0 * (np.outer(np.cos(ring), across)
-                                      + np.outer(np.sin(ring), along))):
+    if not _on_face(
+        f, centre + r0 * (np.outer(np.cos(ring), across) + np.outer(np.sin(ring), along))
+    ):
         return None
     r1 = r0 if rng.random() < 0.6 else r0 * rng.uniform(0.5, 1.4)
     d = min(d, rng.uniform(*SWEEP_D) * DIAG) if mode is Mode.ADD else d
-    return Sweep(f.ref, tuple(map(float, centre)), float(r0), float(r1), float(d),
-                 straight_profile(r0, r1, d), mode), f
+    return Sweep(
+        f.ref,
+        tuple(map(float, centre)),
+        float(r0),
+        float(r1),
+        float(d),
+        straight_profile(r0, r1, d),
+        mode,
+    ), f
 
 
 def _on_face(f: CurvedFace, outline: np.ndarray) -> bool:
@@ -188,9 +199,10 @@ def change_bound_on_curved(op: Operation, f: CurvedFace, scale: float) -> float:
         u, v = plane_basis(f.normal)
         ring = np.linspace(0, 2 * np.pi, RING_SIDES, endpoint=False)
         reach = op.r0 / np.cos(np.pi / RING_SIDES)  # the circumscribed polygon's corners
-        corners = np.asarray(op.center) + reach * (np.outer(np.cos(ring), u)
-                                                   + np.outer(np.sin(ring), v))
-        area = np.pi * op.r0 ** 2
+        corners = np.asarray(op.center) + reach * (
+            np.outer(np.cos(ring), u) + np.outer(np.sin(ring), v)
+        )
+        area = np.pi * op.r0**2
     below = REACH_MARGIN_REL * scale
     if op.mode is Mode.ADD:
         t = surface.crossings(corners, f.normal, scale)
@@ -213,8 +225,9 @@ def curved_context(rng: np.random.Generator) -> tuple[Sequence, list[cq.Face]]:
     while True:
         seq = sample_sequence(rng, int(rng.integers(0, 3)))
         for _ in range(TRIES):
-            drawn = sample_operation(rng, seq.stages[-1], OperatorType.SWEEP,
-                                     keep=_straight_addition)
+            drawn = sample_operation(
+                rng, seq.stages[-1], OperatorType.SWEEP, keep=_straight_addition
+            )
             if drawn is None:
                 break
             protocol = seq.protocol.append(drawn.op)
@@ -230,8 +243,9 @@ def draw_kind(rng: np.random.Generator) -> OperatorType:
     return kinds[rng.choice(len(kinds), p=w / w.sum())]
 
 
-def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRenderer,
-                  size: int = IMAGE_SIZE) -> Sample:
+def curved_sample(
+    rng: np.random.Generator, noise_level: int, renderer: MapRenderer, size: int = IMAGE_SIZE
+) -> Sample:
     """One sample whose last operation stands on a cylinder's or cone's side."""
     kind = draw_kind(rng)
     while True:
@@ -251,8 +265,7 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
             result = Stage(out.solid, out.volume)
             if abs(result.volume - stage.volume) < least:
                 continue
-            sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer,
-                                 size)
+            sample = view_sample(rng, context, Drawn(op, f, result), noise_level, renderer, size)
             if sample is not None:
                 return sample
 
@@ -260,8 +273,9 @@ def curved_sample(rng: np.random.Generator, noise_level: int, renderer: MapRende
 def curved_settings(out: Path, count: int, seed: int, noise: str) -> DatagenSettings:
     """The settings of a curved set: one worker, shards of SHARD_SIZE (one shard of
     `count` when that is fewer)."""
-    return DatagenSettings(Path(out), count, seed, noise, workers=1,
-                           shard_size=min(count, SHARD_SIZE))
+    return DatagenSettings(
+        Path(out), count, seed, noise, workers=1, shard_size=min(count, SHARD_SIZE)
+    )
 
 
 def write_curved_set(out: Path, count: int, seed: int, noise: str) -> int:
@@ -277,15 +291,20 @@ def write_curved_set(out: Path, count: int, seed: int, noise: str) -> int:
         return 2
     out, size, complete = settings.out, settings.shard_size, folder.complete
     renderer = MapRenderer()
-    with tqdm(total=count, initial=sum(min(size, count - k * size) for k in complete),
-              desc="curved samples", unit="sample") as bar:
+    with tqdm(
+        total=count,
+        initial=sum(min(size, count - k * size) for k in complete),
+        desc="curved samples",
+        unit="sample",
+    ) as bar:
         for k in range(len(manifest_of(settings, [])["shards"])):
             if k in complete:
                 continue
             samples = []
             for i in range(k * size, min((k + 1) * size, count)):
-                samples.append(curved_sample(sample_rng(seed, i), noise_of_block(noise, i),
-                                             renderer))
+                samples.append(
+                    curved_sample(sample_rng(seed, i), noise_of_block(noise, i), renderer)
+                )
                 bar.update()
             write_shard(out, k, samples)
             folder.done(k)

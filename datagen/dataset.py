@@ -24,6 +24,7 @@ A shard is written to a temporary name and renamed, the .npz first and the .json
 so an existing .json marks a complete shard and an interrupted run leaves none half
 written.
 """
+
 from __future__ import annotations
 
 import json
@@ -48,11 +49,19 @@ from .sample import Sample
 
 FORMAT = "sketch2cad-dataset"
 VERSION = 2
-ARRAYS = {"sketch": "uint8", "stroke_mask": "uint8", "face_label": "uint8",
-          "curve_label": "uint8", "depth": "float16", "normal": "float16",
-          "face_id": "int16", "op_type": "uint8", "noise_level": "uint8"}
+ARRAYS = {
+    "sketch": "uint8",
+    "stroke_mask": "uint8",
+    "face_label": "uint8",
+    "curve_label": "uint8",
+    "depth": "float16",
+    "normal": "float16",
+    "face_id": "int16",
+    "op_type": "uint8",
+    "noise_level": "uint8",
+}
 COMPRESS_LEVEL = 3  # zlib level of the shards: speed over size (docs/NOTES.md)
-CACHED_SHARDS = 2   # decoded shards kept by a reader (a shard is ~100 MB decoded)
+CACHED_SHARDS = 2  # decoded shards kept by a reader (a shard is ~100 MB decoded)
 
 
 def shard_name(k: int) -> str:
@@ -71,15 +80,23 @@ class Record:
 def pack(s: Sample) -> Record:
     """A sample in storage form (about 0.8 MB instead of 2.4 MB in memory)."""
     arrays = {
-        "sketch": s.sketch > 0, "stroke_mask": s.stroke_mask > 0,
-        "face_label": s.face_label > 0, "curve_label": s.curve_label,
-        "depth": s.depth, "normal": s.normal, "face_id": s.face_id,
-        "op_type": CLASSES.index(s.op_type), "noise_level": s.noise_level,
+        "sketch": s.sketch > 0,
+        "stroke_mask": s.stroke_mask > 0,
+        "face_label": s.face_label > 0,
+        "curve_label": s.curve_label,
+        "depth": s.depth,
+        "normal": s.normal,
+        "face_id": s.face_id,
+        "op_type": CLASSES.index(s.op_type),
+        "noise_level": s.noise_level,
     }
-    meta = {"context": protocol_to_dict(s.context), "operation": s.operation.to_dict(),
-            "camera": s.camera.to_dict(),
-            "strokes": [np.round(st, 3).tolist() for st in s.strokes],
-            "stroke_parts": [int(p) for p in s.stroke_parts]}
+    meta = {
+        "context": protocol_to_dict(s.context),
+        "operation": s.operation.to_dict(),
+        "camera": s.camera.to_dict(),
+        "strokes": [np.round(st, 3).tolist() for st in s.strokes],
+        "stroke_parts": [int(p) for p in s.stroke_parts],
+    }
     return Record({k: np.asarray(v).astype(ARRAYS[k]) for k, v in arrays.items()}, meta)
 
 
@@ -108,8 +125,9 @@ def write_shard(folder: Path, k: int, records: list[Record | Sample]) -> None:
 
 def shard_complete(folder: Path, k: int) -> bool:
     folder = Path(folder)
-    return (folder / f"{shard_name(k)}.json").exists() and \
-        (folder / f"{shard_name(k)}.npz").exists()
+    return (folder / f"{shard_name(k)}.json").exists() and (
+        folder / f"{shard_name(k)}.npz"
+    ).exists()
 
 
 @dataclass
@@ -141,16 +159,26 @@ def _normal(a: np.ndarray) -> np.ndarray:
 
 def decode_inputs(a: dict[str, np.ndarray], sl=slice(None)) -> np.ndarray:
     """Stored maps -> (N, 5, H, W) float32 network inputs S, D, N."""
-    return np.concatenate([a["sketch"][sl][:, None].astype(np.float32),
-                           _depth(a["depth"][sl])[:, None], _normal(a["normal"][sl])], axis=1)
+    return np.concatenate(
+        [
+            a["sketch"][sl][:, None].astype(np.float32),
+            _depth(a["depth"][sl])[:, None],
+            _normal(a["normal"][sl]),
+        ],
+        axis=1,
+    )
 
 
 def decode_batch(a: dict[str, np.ndarray], sl=slice(None)) -> Batch:
     """Stored arrays (of a shard, or a slice of one) -> a Batch."""
-    return Batch(decode_inputs(a, sl), a["face_label"][sl].astype(np.float32),
-                 a["curve_label"][sl].astype(np.float32),
-                 a["stroke_mask"][sl].astype(np.float32),
-                 a["op_type"][sl].astype(np.int64), a["noise_level"][sl].astype(np.int64))
+    return Batch(
+        decode_inputs(a, sl),
+        a["face_label"][sl].astype(np.float32),
+        a["curve_label"][sl].astype(np.float32),
+        a["stroke_mask"][sl].astype(np.float32),
+        a["op_type"][sl].astype(np.int64),
+        a["noise_level"][sl].astype(np.int64),
+    )
 
 
 class Dataset:
@@ -170,11 +198,14 @@ class Dataset:
         if self.manifest.get("format") != FORMAT:
             raise ValueError(f"{path}: not a {FORMAT} manifest")
         if self.manifest.get("version", 1) > VERSION:
-            raise ValueError(f"{path}: data set version {self.manifest['version']} is newer "
-                             f"than this reader ({VERSION})")
+            raise ValueError(
+                f"{path}: data set version {self.manifest['version']} is newer "
+                f"than this reader ({VERSION})"
+            )
         self.shard_size = int(self.manifest["shard_size"])
-        self.shards = [k for k in range(len(self.manifest["shards"]))
-                       if shard_complete(self.folder, k)]
+        self.shards = [
+            k for k in range(len(self.manifest["shards"])) if shard_complete(self.folder, k)
+        ]
         self._starts = np.cumsum([0] + [self.shard_count(k) for k in self.shards])
         self._arrays: OrderedDict[int, dict[str, np.ndarray]] = OrderedDict()
         self._meta: OrderedDict[int, list[dict]] = OrderedDict()
@@ -189,15 +220,18 @@ class Dataset:
     # ------------------------------------------------------------ shards
     def shard_arrays(self, k: int) -> dict[str, np.ndarray]:
         """The arrays of shard k, as stored (the last CACHED_SHARDS read are kept)."""
+
         def load():
             with np.load(self.folder / f"{shard_name(k)}.npz") as z:
                 return {name: z[name] for name in z.files}
+
         return _cached(self._arrays, k, load)
 
     def shard_meta(self, k: int) -> list[dict]:
         """The per-sample JSON metadata of shard k (the last CACHED_SHARDS are kept)."""
-        return _cached(self._meta, k, lambda: json.loads(
-            (self.folder / f"{shard_name(k)}.json").read_text()))
+        return _cached(
+            self._meta, k, lambda: json.loads((self.folder / f"{shard_name(k)}.json").read_text())
+        )
 
     def batch(self, k: int) -> Batch:
         """Shard k as network-ready arrays."""
@@ -235,9 +269,14 @@ class Dataset:
         curve_label, stroke_mask (H, W) float32, op_type and noise_level (ints)."""
         k, j = self.locate(i)
         b = decode_batch(self.shard_arrays(k), slice(j, j + 1))
-        return {"inputs": b.inputs[0], "face_label": b.face_label[0],
-                "curve_label": b.curve_label[0], "stroke_mask": b.stroke_mask[0],
-                "op_type": int(b.op_type[0]), "noise_level": int(b.noise_level[0])}
+        return {
+            "inputs": b.inputs[0],
+            "face_label": b.face_label[0],
+            "curve_label": b.curve_label[0],
+            "stroke_mask": b.stroke_mask[0],
+            "op_type": int(b.op_type[0]),
+            "noise_level": int(b.noise_level[0]),
+        }
 
     def sample(self, i: int) -> Sample:
         """Sample i with everything, ground truth included."""
@@ -259,13 +298,18 @@ def _cached(cache: OrderedDict, k: int, load):
 
 def _sample(a: dict[str, np.ndarray], i: int, m: dict) -> Sample:
     return Sample(
-        op_type=CLASSES[int(a["op_type"][i])], sketch=a["sketch"][i].astype(np.float32),
-        depth=_depth(a["depth"][i]), normal=_normal(a["normal"][i]),
+        op_type=CLASSES[int(a["op_type"][i])],
+        sketch=a["sketch"][i].astype(np.float32),
+        depth=_depth(a["depth"][i]),
+        normal=_normal(a["normal"][i]),
         face_id=a["face_id"][i].astype(np.int32),
         face_label=a["face_label"][i].astype(np.float32),
         curve_label=a["curve_label"][i].astype(np.float32),
         stroke_mask=a["stroke_mask"][i].astype(np.float32),
-        context=protocol_from_dict(m["context"]), operation=operation_from_dict(m["operation"]),
+        context=protocol_from_dict(m["context"]),
+        operation=operation_from_dict(m["operation"]),
         camera=OrthoCamera.from_dict(m["camera"]),
         strokes=[np.array(s, dtype=float).reshape(-1, 2) for s in m["strokes"]],
-        stroke_parts=[int(p) for p in m["stroke_parts"]], noise_level=int(a["noise_level"][i]))
+        stroke_parts=[int(p) for p in m["stroke_parts"]],
+        noise_level=int(a["noise_level"][i]),
+    )

@@ -14,6 +14,7 @@ its own generator, and the blocks' context lengths take turns through 0 to 3
 operations, so the distribution of sequence lengths and last operations is the
 paper's, with a quarter as many distinct contexts.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -40,9 +41,9 @@ from .views import (
 
 IMAGE_SIZE = 256
 PER_CONTEXT = 4
-MAX_LENGTH = 4     # operations in a sequence, the last one included
-VIEW_TRIES = 8     # views of one operation before drawing another operation
-OP_TRIES = 10      # operations on one context before drawing another context
+MAX_LENGTH = 4  # operations in a sequence, the last one included
+VIEW_TRIES = 8  # views of one operation before drawing another operation
+OP_TRIES = 10  # operations on one context before drawing another context
 # Chordal tolerance of a context's mesh, relative to the model's diagonal: about half a
 # pixel for a sketch a tenth of the model's size, so one mesh serves every view.
 MESH_REL_TOLERANCE = 5e-4
@@ -73,8 +74,12 @@ def sample_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence([seed, stream, index]))
 
 
-def generate_sample(rng: np.random.Generator, noise_level: int,
-                    renderer: MapRenderer | None = None, size: int = IMAGE_SIZE) -> Sample:
+def generate_sample(
+    rng: np.random.Generator,
+    noise_level: int,
+    renderer: MapRenderer | None = None,
+    size: int = IMAGE_SIZE,
+) -> Sample:
     """One sample on a context of its own (sequence length 1 to 4, uniformly).
 
     Args:
@@ -86,13 +91,18 @@ def generate_sample(rng: np.random.Generator, noise_level: int,
     """
     renderer = renderer or MapRenderer()
     length = int(rng.integers(1, MAX_LENGTH + 1))
-    return sample_on(Context(sample_sequence(rng, length - 1)), rng, noise_level, renderer,
-                     size)
+    return sample_on(Context(sample_sequence(rng, length - 1)), rng, noise_level, renderer, size)
 
 
-def generate_block(seed: int, block: int, noise_level: int, renderer: MapRenderer,
-                   size: int = IMAGE_SIZE, hidden_lines: bool = True,
-                   regular_share: float = 0.0) -> list[Sample]:
+def generate_block(
+    seed: int,
+    block: int,
+    noise_level: int,
+    renderer: MapRenderer,
+    size: int = IMAGE_SIZE,
+    hidden_lines: bool = True,
+    regular_share: float = 0.0,
+) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
     They share one context of block % MAX_LENGTH operations, drawn from the block's own
@@ -101,17 +111,35 @@ def generate_block(seed: int, block: int, noise_level: int, renderer: MapRendere
     operation, of the context and last, is regular (datagen/regular.py) with
     probability `regular_share`, decided by the generator that draws it.
     """
-    context = Context(sample_sequence(sample_rng(seed, block, stream=1), block % MAX_LENGTH,
-                                      regular_share=regular_share))
-    return [sample_on(context, sample_rng(seed, i), noise_level, renderer, size,
-                      hidden_lines=hidden_lines, regular_share=regular_share)
-            for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)]
+    context = Context(
+        sample_sequence(
+            sample_rng(seed, block, stream=1), block % MAX_LENGTH, regular_share=regular_share
+        )
+    )
+    return [
+        sample_on(
+            context,
+            sample_rng(seed, i),
+            noise_level,
+            renderer,
+            size,
+            hidden_lines=hidden_lines,
+            regular_share=regular_share,
+        )
+        for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)
+    ]
 
 
-def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
-              renderer: MapRenderer, size: int = IMAGE_SIZE,
-              kind: OperatorType | None = None, hidden_lines: bool = True,
-              regular_share: float = 0.0) -> Sample:
+def sample_on(
+    context: Context,
+    rng: np.random.Generator,
+    noise_level: int,
+    renderer: MapRenderer,
+    size: int = IMAGE_SIZE,
+    kind: OperatorType | None = None,
+    hidden_lines: bool = True,
+    regular_share: float = 0.0,
+) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
     on `context`; every operation drawn is regular with probability `regular_share`.
 
@@ -122,11 +150,13 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
     kind = kind or draw_type(rng)
     tries = 0
     while True:
-        drawn = sample_operation(rng, context.stage, kind, regular_share) \
-            if tries < OP_TRIES else None
+        drawn = (
+            sample_operation(rng, context.stage, kind, regular_share) if tries < OP_TRIES else None
+        )
         if drawn is None:
-            context = Context(sample_sequence(rng, len(context.protocol.operations),
-                                              regular_share=regular_share))
+            context = Context(
+                sample_sequence(rng, len(context.protocol.operations), regular_share=regular_share)
+            )
             tries = 0
             continue
         sample = view_sample(rng, context, drawn, noise_level, renderer, size, hidden_lines)
@@ -135,9 +165,15 @@ def sample_on(context: Context, rng: np.random.Generator, noise_level: int,
         tries += 1
 
 
-def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_level: int,
-                renderer: MapRenderer, size: int = IMAGE_SIZE,
-                hidden_lines: bool = True) -> Sample | None:
+def view_sample(
+    rng: np.random.Generator,
+    context: Context,
+    drawn: Drawn,
+    noise_level: int,
+    renderer: MapRenderer,
+    size: int = IMAGE_SIZE,
+    hidden_lines: bool = True,
+) -> Sample | None:
     """The sample of the operation drawn on `context` from a random informative view, or
     None when VIEW_TRIES views all hide too much of the relevant curve or of the base
     face (datagen/views.py says which curve, and against which solid).
@@ -153,12 +189,18 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
         direction = view_direction(rng, rf.normal)
         up = up_vector(rng, direction)
         curves = operation_curves(solid, op, direction, rf)
-        camera = frame_curves(np.concatenate([c.points for c in curves]), direction, up,
-                              rng.uniform(*SCALE_RANGE), size)
+        camera = frame_curves(
+            np.concatenate([c.points for c in curves]),
+            direction,
+            up,
+            rng.uniform(*SCALE_RANGE),
+            size,
+        )
         if OCCLUDED_BY[op.type] == "result":
             if result_mesh is None:
-                result_mesh = tessellate(result.solid,
-                                         MESH_REL_TOLERANCE * model_scale(result.solid))
+                result_mesh = tessellate(
+                    result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)
+                )
             if not is_informative(curves, camera, renderer.render(result_mesh, camera)):
                 continue
             maps = renderer.render(context.mesh, camera)
@@ -170,15 +212,26 @@ def view_sample(rng: np.random.Generator, context: Context, drawn: Drawn, noise_
             continue
         if not hidden_lines:
             if result_mesh is None:
-                result_mesh = tessellate(result.solid,
-                                         MESH_REL_TOLERANCE * model_scale(result.solid))
+                result_mesh = tessellate(
+                    result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)
+                )
             curves = visible_curves(curves, camera, renderer.render(result_mesh, camera))
         strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
         ink = stroke_maps(strokes, labels, size, size)
         return Sample(
-            op_type=op.type, sketch=ink.sketch, depth=maps.depth, normal=maps.normal,
-            face_id=maps.face_id, face_label=(maps.face_id == face).astype(np.float32),
-            curve_label=ink.curve_label, stroke_mask=ink.stroke_mask,
-            context=context.protocol, operation=op, camera=camera, strokes=strokes,
-            stroke_parts=labels, noise_level=noise_level)
+            op_type=op.type,
+            sketch=ink.sketch,
+            depth=maps.depth,
+            normal=maps.normal,
+            face_id=maps.face_id,
+            face_label=(maps.face_id == face).astype(np.float32),
+            curve_label=ink.curve_label,
+            stroke_mask=ink.stroke_mask,
+            context=context.protocol,
+            operation=op,
+            camera=camera,
+            strokes=strokes,
+            stroke_parts=labels,
+            noise_level=noise_level,
+        )
     return None

@@ -11,6 +11,7 @@ face's own size (the square root of its area), so small faces get small primitiv
 A sampler returns None when the face offers nothing to build on (no room for a centre,
 no bevel corner); the caller then draws another face.
 """
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -34,12 +35,12 @@ from Sketch2CADWorkbench.brep.protocol import (
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
 
-EXTRUDE_D = (0.03, 0.4)        # |d| / DIAG, either sign
-PRISM_RADIUS = (0.08, 0.35)    # polygon circumradius / face size
-PRISM_D = (0.04, 0.35)         # d / DIAG
-SWEEP_RADIUS = (0.06, 0.3)     # r0 / face size
-SWEEP_D = (0.04, 0.35)         # d / DIAG
-BEVEL_SPAN = (0.1, 0.5)        # where l meets each edge, as a share of that edge from c
+EXTRUDE_D = (0.03, 0.4)  # |d| / DIAG, either sign
+PRISM_RADIUS = (0.08, 0.35)  # polygon circumradius / face size
+PRISM_D = (0.04, 0.35)  # d / DIAG
+SWEEP_RADIUS = (0.06, 0.3)  # r0 / face size
+SWEEP_D = (0.04, 0.35)  # d / DIAG
+BEVEL_SPAN = (0.1, 0.5)  # where l meets each edge, as a share of that edge from c
 CENTRE_TRIES = 30
 
 
@@ -83,8 +84,7 @@ def plane_frame(n: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np
     return np.cos(t) * a + np.sin(t) * b, -np.sin(t) * a + np.cos(t) * b
 
 
-def random_centre(f: PlanarFace, rng: np.random.Generator, margin: float
-                  ) -> np.ndarray | None:
+def random_centre(f: PlanarFace, rng: np.random.Generator, margin: float) -> np.ndarray | None:
     """A uniformly random point of a planar face at least `margin` mm from its edges
     (None if CENTRE_TRIES draws find none)."""
     u0, u1, v0, v1 = f.face.uvBounds()
@@ -97,14 +97,15 @@ def random_centre(f: PlanarFace, rng: np.random.Generator, margin: float
 
 # ----------------------------------------------------------------- extrude
 
-def sample_extrude(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                   ) -> Operation | None:
+
+def sample_extrude(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """Move f out (d > 0) or in (d < 0) by a random offset."""
     d = rng.uniform(*EXTRUDE_D) * DIAG * rng.choice([-1.0, 1.0])
     return Extrude(f.ref, float(d))
 
 
 # ----------------------------------------------------------------- add/subtract
+
 
 def random_polygon(rng: np.random.Generator, k: int, radius: float) -> np.ndarray:
     """A regular-ish k-gon (k, 2) around the origin, never self-intersecting.
@@ -126,8 +127,7 @@ def random_polygon(rng: np.random.Generator, k: int, radius: float) -> np.ndarra
     return pts
 
 
-def sample_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                 ) -> Operation | None:
+def sample_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """A right prism on a 3- to 6-gon centred randomly inside f, added or subtracted."""
     r = rng.uniform(*PRISM_RADIUS) * face_size(f.face)
     c = random_centre(f, rng, 0.3 * r)
@@ -137,14 +137,15 @@ def sample_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     q = random_polygon(rng, int(rng.integers(3, 7)), r)
     poly = c + q[:, :1] * u + q[:, 1:] * v
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
-    return AddSubPrism(f.ref, tuple(tuple(map(float, p)) for p in poly),
-                       float(rng.uniform(*PRISM_D) * DIAG), mode)
+    return AddSubPrism(
+        f.ref, tuple(tuple(map(float, p)) for p in poly), float(rng.uniform(*PRISM_D) * DIAG), mode
+    )
 
 
 # ----------------------------------------------------------------- sweep
 
-def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                 ) -> Operation | None:
+
+def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """A body of revolution on a circle centred randomly inside f, added or subtracted.
 
     40% cylinders (straight profile, equal radii), 20% cones, 40% curved profiles whose
@@ -165,11 +166,19 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
         on_line = r0 + (r1 - r0) * h / d
         inner = tuple((float(b * rng.uniform(0.5, 1.6)), float(hh)) for b, hh in zip(on_line, h))
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
-    return Sweep(f.ref, tuple(map(float, c)), float(r0), float(r1), float(d),
-                 tuple((float(a), float(b)) for a, b in inner), mode)
+    return Sweep(
+        f.ref,
+        tuple(map(float, c)),
+        float(r0),
+        float(r1),
+        float(d),
+        tuple((float(a), float(b)) for a, b in inner),
+        mode,
+    )
 
 
 # ----------------------------------------------------------------- bevel
+
 
 def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
     """The four control points (4, 3) of a random profile l around corner c.
@@ -197,26 +206,35 @@ def bevel_profile(rng: np.random.Generator, corner: BevelCorner) -> np.ndarray:
     return np.stack([pa, inner[0], inner[1], pb])
 
 
-def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                 ) -> Operation | None:
+def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """Round or chamfer a random convex corner of f along its crease."""
     corners = bevel_corners(solid, f.face, f.normal, 1e-6 * DIAG)
     if not corners:
         return None
     corner = corners[int(rng.integers(len(corners)))]
     ctrl = bevel_profile(rng, corner)
-    return Bevel(f.ref, tuple(map(float, corner.c)),
-                 tuple(map(float, corner.opposite)),
-                 tuple(tuple(map(float, p)) for p in ctrl))
+    return Bevel(
+        f.ref,
+        tuple(map(float, corner.c)),
+        tuple(map(float, corner.opposite)),
+        tuple(tuple(map(float, p)) for p in ctrl),
+    )
 
 
 # The sampler of each operator: (generator, solid, face f) -> operation or None.
-SAMPLERS = per_operator({OperatorType.EXTRUDE: sample_extrude, OperatorType.BEVEL: sample_bevel,
-                         OperatorType.ADDSUB: sample_prism, OperatorType.SWEEP: sample_sweep},
-                        "datagen.operations.SAMPLERS")
+SAMPLERS = per_operator(
+    {
+        OperatorType.EXTRUDE: sample_extrude,
+        OperatorType.BEVEL: sample_bevel,
+        OperatorType.ADDSUB: sample_prism,
+        OperatorType.SWEEP: sample_sweep,
+    },
+    "datagen.operations.SAMPLERS",
+)
 
 
 # ----------------------------------------------------------------- size bound
+
 
 def _area(points: np.ndarray, n: np.ndarray) -> float:
     """Area (mm^2) of a planar polygon (K, 3) with normal n."""
@@ -244,9 +262,14 @@ def _bevel_volume(op: Bevel, f: PlanarFace) -> float:
 
 # The volume (mm^3) of the primitive each operator adds or removes, from its face f.
 PRIMITIVE_VOLUMES = per_operator(
-    {OperatorType.EXTRUDE: _extrude_volume, OperatorType.BEVEL: _bevel_volume,
-     OperatorType.ADDSUB: _prism_volume, OperatorType.SWEEP: _sweep_volume},
-    "datagen.operations.PRIMITIVE_VOLUMES")
+    {
+        OperatorType.EXTRUDE: _extrude_volume,
+        OperatorType.BEVEL: _bevel_volume,
+        OperatorType.ADDSUB: _prism_volume,
+        OperatorType.SWEEP: _sweep_volume,
+    },
+    "datagen.operations.PRIMITIVE_VOLUMES",
+)
 
 
 def change_bound(op: Operation, f: PlanarFace) -> float:

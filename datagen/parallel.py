@@ -10,6 +10,7 @@ out of memory) is replaced once without losing work (`made_in_pool`). With `--ra
 shard is one task of a Ray cluster instead (cluster.py), made by `make_shard` from
 (seed, shard index) alone: the same bytes.
 """
+
 from __future__ import annotations
 
 import collections
@@ -53,33 +54,34 @@ HIDDEN_CHOICES = ["draw", "omit", "mix"]
 # Each worker runs on one thread: the workers already fill the cores, and threads of
 # OpenBLAS (spinning while they wait) and of Mesa's software rasteriser would only
 # compete with the other workers (docs/NOTES.md).
-SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
-                     "LP_NUM_THREADS": "1"}
+SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "LP_NUM_THREADS": "1"}
 
 
 @dataclass
 class DatagenSettings:
     """What `generate_dataset` makes (the `sketch2cad datagen` options)."""
+
     out: Path
     count: int
     seed: int = 0
-    noise_level: str = "1"        # one of NOISE_CHOICES
-    hidden_lines: str = "draw"    # one of HIDDEN_CHOICES
+    noise_level: str = "1"  # one of NOISE_CHOICES
+    hidden_lines: str = "draw"  # one of HIDDEN_CHOICES
     workers: int = 2
     shard_size: int = SHARD_SIZE  # a multiple of PER_CONTEXT
-    preview: Path | None = None   # also write a contact sheet of the first samples
-    ray: str | None = None        # a Ray cluster's address ("local": start one of
-                                  # `workers` CPUs here); None: a process pool
-    regular_share: float = 0.0    # share of operations drawn regular (datagen/regular.py)
+    preview: Path | None = None  # also write a contact sheet of the first samples
+    ray: str | None = None  # a Ray cluster's address ("local": start one of
+    # `workers` CPUs here); None: a process pool
+    regular_share: float = 0.0  # share of operations drawn regular (datagen/regular.py)
 
 
 @dataclass(frozen=True)
 class BlockJob:
     """One block of samples to make (`make_block`): which, and how they are drawn."""
+
     seed: int
     block: int
-    noise: str                  # one of NOISE_CHOICES
-    hidden: str                 # one of HIDDEN_CHOICES
+    noise: str  # one of NOISE_CHOICES
+    hidden: str  # one of HIDDEN_CHOICES
     regular_share: float = 0.0
 
 
@@ -97,21 +99,39 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
     """The manifest; "complete" lists the shards written so far (all, once finished)."""
     n_shards = (settings.count + settings.shard_size - 1) // settings.shard_size
     levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
-    return {"format": FORMAT, "version": VERSION, "count": settings.count, "seed": settings.seed,
-            "noise": settings.noise_level, "noise_levels": levels,
-            "hidden_lines": settings.hidden_lines, "regular_share": settings.regular_share,
-            "image_size": IMAGE_SIZE,
-            "shard_size": settings.shard_size, "per_context": PER_CONTEXT, "arrays": ARRAYS,
-            "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)],
-            "complete": sorted(complete)}
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "count": settings.count,
+        "seed": settings.seed,
+        "noise": settings.noise_level,
+        "noise_levels": levels,
+        "hidden_lines": settings.hidden_lines,
+        "regular_share": settings.regular_share,
+        "image_size": IMAGE_SIZE,
+        "shard_size": settings.shard_size,
+        "per_context": PER_CONTEXT,
+        "arrays": ARRAYS,
+        "shards": [f"{shard_name(k)}.npz" for k in range(n_shards)],
+        "complete": sorted(complete),
+    }
 
 
-def shard_jobs(seed: int, noise: str, hidden: str, k: int, count: int, shard_size: int,
-               regular_share: float = 0.0) -> list[BlockJob]:
+def shard_jobs(
+    seed: int,
+    noise: str,
+    hidden: str,
+    k: int,
+    count: int,
+    shard_size: int,
+    regular_share: float = 0.0,
+) -> list[BlockJob]:
     """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
     first = k * shard_size // PER_CONTEXT
-    return [BlockJob(seed, b, noise, hidden, regular_share)
-            for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)]
+    return [
+        BlockJob(seed, b, noise, hidden, regular_share)
+        for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)
+    ]
 
 
 # The worker's renderer: one offscreen window per process, made once.
@@ -128,19 +148,36 @@ def make_block(job: BlockJob) -> list[Record]:
     if _RENDERER is None:
         _init_worker()
     b = job.block
-    return [pack(s) for s in generate_block(job.seed, b, noise_of_block(job.noise, b),
-                                            _RENDERER,
-                                            hidden_lines=hidden_lines_of_block(job.hidden, b),
-                                            regular_share=job.regular_share)]
+    return [
+        pack(s)
+        for s in generate_block(
+            job.seed,
+            b,
+            noise_of_block(job.noise, b),
+            _RENDERER,
+            hidden_lines=hidden_lines_of_block(job.hidden, b),
+            regular_share=job.regular_share,
+        )
+    ]
 
 
-def make_shard(out: str, seed: int, noise: str, hidden: str, k: int, count: int,
-               shard_size: int, regular_share: float = 0.0) -> int:
+def make_shard(
+    out: str,
+    seed: int,
+    noise: str,
+    hidden: str,
+    k: int,
+    count: int,
+    shard_size: int,
+    regular_share: float = 0.0,
+) -> int:
     """Make and write shard k of data set `seed` (count samples; the unit of work of a
     cluster); returns k. The same bytes as the process pool writes."""
-    records = [r for job in shard_jobs(seed, noise, hidden, k, count, shard_size,
-                                       regular_share)
-               for r in make_block(job)]
+    records = [
+        r
+        for job in shard_jobs(seed, noise, hidden, k, count, shard_size, regular_share)
+        for r in make_block(job)
+    ]
     write_shard(Path(out), k, records[:count])
     return k
 
@@ -193,7 +230,8 @@ def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Ite
         try:
             with single_threaded_children():  # the first jobs queued spawn all workers
                 queued = collections.deque(
-                    pool.submit(make, job) for job in jobs[yielded:yielded + LOOK_AHEAD * workers])
+                    pool.submit(make, job) for job in jobs[yielded : yielded + LOOK_AHEAD * workers]
+                )
             while queued:
                 result = queued.popleft().result()
                 following = yielded + len(queued) + 1
@@ -204,10 +242,12 @@ def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Ite
             return
         except BrokenProcessPool:
             if attempt == 2:
-                raise WorkerDied(f"a worker process died twice, the second time while job "
-                                 f"{yielded + 1} of {len(jobs)} was awaited (killed, out "
-                                 f"of memory, or crashed in VTK/OCCT: --workers 1 shows "
-                                 f"the crash)") from None
+                raise WorkerDied(
+                    f"a worker process died twice, the second time while job "
+                    f"{yielded + 1} of {len(jobs)} was awaited (killed, out "
+                    f"of memory, or crashed in VTK/OCCT: --workers 1 shows "
+                    f"the crash)"
+                ) from None
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
 
@@ -227,8 +267,10 @@ class SetFolder:
         if k is not None:
             self.complete.append(k)
         with atomic_path(self.settings.out / "manifest.json") as tmp:
-            tmp.write_text(json.dumps({**manifest_of(self.settings, self.complete),
-                                       **self.extra}, indent=1) + "\n")
+            tmp.write_text(
+                json.dumps({**manifest_of(self.settings, self.complete), **self.extra}, indent=1)
+                + "\n"
+            )
 
 
 def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> SetFolder | str:
@@ -241,13 +283,22 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
     mpath = out / "manifest.json"
     if mpath.exists():
         old = json.loads(mpath.read_text())
-        keys = ("version", "count", "seed", "noise", "shard_size", "hidden_lines",
-                "regular_share") + tuple(extra)
+        keys = (
+            "version",
+            "count",
+            "seed",
+            "noise",
+            "shard_size",
+            "hidden_lines",
+            "regular_share",
+        ) + tuple(extra)
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
-        old.setdefault("regular_share", 0.0)    # ... and before regular samples
+        old.setdefault("regular_share", 0.0)  # ... and before regular samples
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
-            return (f"{out} holds a different data set ({'/'.join(keys)} "
-                    f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out")
+            return (
+                f"{out} holds a different data set ({'/'.join(keys)} "
+                f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out"
+            )
     complete = [k for k in range(len(manifest["shards"])) if shard_complete(out, k)]
     return SetFolder(settings, extra, complete)
 
@@ -270,6 +321,7 @@ def generate_dataset(settings: DatagenSettings) -> int:
         return _error(f"--regular-share must be between 0 and 1, got {settings.regular_share}")
     if settings.ray is not None:
         from .cluster import require_ray  # Ray is an optional extra
+
         try:
             require_ray()
         except RuntimeError as e:
@@ -285,44 +337,71 @@ def generate_dataset(settings: DatagenSettings) -> int:
     done(None)
     made = sum(counts.values())
     start = time.perf_counter()
-    with tqdm(total=settings.count, initial=settings.count - made, unit="sample", desc="datagen",
-              smoothing=0.05) as bar:
+    with tqdm(
+        total=settings.count,
+        initial=settings.count - made,
+        unit="sample",
+        desc="datagen",
+        smoothing=0.05,
+    ) as bar:
         if settings.ray is not None:
             from .cluster import run_on_ray
+
             try:
                 failed = run_on_ray(settings, counts, bar, done)
             except ConnectionError as e:  # no cluster at that address
                 return _error(f"--ray {settings.ray}: {e}")
             if failed:
-                return _error(f"{len(failed)} shard(s) failed, the rest are written: "
-                              + "; ".join(failed))
+                return _error(
+                    f"{len(failed)} shard(s) failed, the rest are written: " + "; ".join(failed)
+                )
         else:
-            jobs = [job for k in todo
-                    for job in shard_jobs(settings.seed, settings.noise_level,
-                                          settings.hidden_lines, k, counts[k], size,
-                                          settings.regular_share)]
+            jobs = [
+                job
+                for k in todo
+                for job in shard_jobs(
+                    settings.seed,
+                    settings.noise_level,
+                    settings.hidden_lines,
+                    k,
+                    counts[k],
+                    size,
+                    settings.regular_share,
+                )
+            ]
             if settings.workers == 1:
                 _collect(map(make_block, jobs), todo, counts, out, bar, done)
             else:
                 try:
-                    _collect(made_in_pool(make_block, jobs, settings.workers), todo, counts,
-                             out, bar, done)
+                    _collect(
+                        made_in_pool(make_block, jobs, settings.workers),
+                        todo,
+                        counts,
+                        out,
+                        bar,
+                        done,
+                    )
                 except WorkerDied as e:
-                    return _error(f"{e}; the {len(complete)} shard(s) written are kept, and "
-                                  f"the same command makes the rest")
+                    return _error(
+                        f"{e}; the {len(complete)} shard(s) written are kept, and "
+                        f"the same command makes the rest"
+                    )
     secs = time.perf_counter() - start
     if made:
         where = "on Ray" if settings.ray is not None else f"with {settings.workers} worker(s)"
-        print(f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s {where}; "
-              f"{settings.count} in {out}")
+        print(
+            f"datagen: {made} samples in {secs:.0f} s = {made / secs:.2f} samples/s {where}; "
+            f"{settings.count} in {out}"
+        )
     if settings.preview:
         write_preview(Dataset(out), settings.preview)
         print(f"datagen: preview written to {settings.preview}")
     return 0
 
 
-def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tqdm,
-             done=lambda k: None) -> None:
+def _collect(
+    blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tqdm, done=lambda k: None
+) -> None:
     """Gather blocks (in job order) into the shards `todo`, write each when full and
     call done(k)."""
     if not todo:  # a finished set run again: nothing to make
@@ -330,7 +409,7 @@ def _collect(blocks, todo: list[int], counts: dict[int, int], out: Path, bar: tq
     shards = iter(todo)
     k, records = next(shards), []
     for block in blocks:
-        kept = block[:counts[k] - len(records)]  # the last shard may end inside a block
+        kept = block[: counts[k] - len(records)]  # the last shard may end inside a block
         records += kept
         bar.update(len(kept))
         if len(records) == counts[k]:

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Pictures of samples for a person to check: the sketch over the shaded context, with
 the labels in colour."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -14,7 +15,7 @@ from .sample import Sample
 
 # Curve labels 0 / 1 / 2: extrude profile / offset, bevel l' / l, start / profile / end.
 LABEL_COLOURS = {0: (225, 50, 30), 1: (20, 150, 40), 2: (160, 40, 210)}
-FACE_TINT = (70, 140, 255)   # the base face f (F~)
+FACE_TINT = (70, 140, 255)  # the base face f (F~)
 LIGHT = np.array([0.35, 0.5, 0.8]) / np.linalg.norm([0.35, 0.5, 0.8])  # camera space
 
 
@@ -35,8 +36,10 @@ def overlay(sample: Sample) -> np.ndarray:
 
 
 def caption(sample: Sample) -> str:
-    return (f"{sample.op_type.value} len {len(sample.context.operations) + 1} "
-            f"noise {sample.noise_level}")
+    return (
+        f"{sample.op_type.value} len {len(sample.context.operations) + 1} "
+        f"noise {sample.noise_level}"
+    )
 
 
 def write_preview(ds: Dataset, path: str | Path, count: int = 24, cols: int = 6) -> None:
@@ -46,5 +49,6 @@ def write_preview(ds: Dataset, path: str | Path, count: int = 24, cols: int = 6)
     samples = [ds.sample(i) for i in range(min(count, len(ds)))]
     if not samples:
         raise ValueError(f"{ds.folder}: no complete shard to preview")
-    write_png(contact_sheet([overlay(s) for s in samples], cols,
-                            [caption(s) for s in samples]), path)
+    write_png(
+        contact_sheet([overlay(s) for s in samples], cols, [caption(s) for s in samples]), path
+    )

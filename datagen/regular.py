@@ -22,6 +22,7 @@ The samplers have the signature of operations.SAMPLERS and return None when f of
 regular placement; the caller's checks (the Boolean builds, the volume changes enough)
 apply as to any operation.
 """
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -59,16 +60,16 @@ from .operations import (
     face_size,
 )
 
-GRID = 1.0          # mm: the step regular lengths and offsets are multiples of; the
-                    # held-out measure snaps with `--snap-step 1` (docs/NOTES.md)
-SAME_SIZE = 0.2     # share of lengths taken equal to an earlier one, where one fits
-CONCENTRIC = 0.5    # share of centres on an earlier round feature's axis, where one is
-ON_CENTRE = 0.5     # of the other centres: f's centre; the rest on a centre line
-RECTANGLE = 0.5     # share of prism outlines that are rectangles (else regular k-gons)
-CYLINDER = 0.6      # share of regular sweeps with equal radii (else cones)
-CHAMFER = 0.4       # share of regular bevels that are straight (else rounds)
-ROUND_K = 0.55      # a round's inner control points 0.55 of the way to c: near a
-                    # circular arc on a right angle (operations.bevel_profile)
+GRID = 1.0  # mm: the step regular lengths and offsets are multiples of; the
+# held-out measure snaps with `--snap-step 1` (docs/NOTES.md)
+SAME_SIZE = 0.2  # share of lengths taken equal to an earlier one, where one fits
+CONCENTRIC = 0.5  # share of centres on an earlier round feature's axis, where one is
+ON_CENTRE = 0.5  # of the other centres: f's centre; the rest on a centre line
+RECTANGLE = 0.5  # share of prism outlines that are rectangles (else regular k-gons)
+CYLINDER = 0.6  # share of regular sweeps with equal radii (else cones)
+CHAMFER = 0.4  # share of regular bevels that are straight (else rounds)
+ROUND_K = 0.55  # a round's inner control points 0.55 of the way to c: near a
+# circular arc on a right angle (operations.bevel_profile)
 
 
 def on_grid(length: float) -> float:
@@ -76,8 +77,9 @@ def on_grid(length: float) -> float:
     return max(GRID, round(length / GRID) * GRID)
 
 
-def regular_length(rng: np.random.Generator, lo: float, hi: float,
-                   earlier: list[tuple[float, str]]) -> float:
+def regular_length(
+    rng: np.random.Generator, lo: float, hi: float, earlier: list[tuple[float, str]]
+) -> float:
     """A length in [lo, hi] mm: one of the `earlier` sizes in that range (a share
     SAME_SIZE of the time, when there is one), else a uniform draw rounded to the GRID."""
     fits = [s for s, _ in earlier if lo <= s <= hi]
@@ -86,8 +88,9 @@ def regular_length(rng: np.random.Generator, lo: float, hi: float,
     return on_grid(rng.uniform(lo, hi))
 
 
-def regular_centre(rng: np.random.Generator, f: PlanarFace, frame: FaceFrame,
-                   targets: SnapTargets, margin: float) -> np.ndarray | None:
+def regular_centre(
+    rng: np.random.Generator, f: PlanarFace, frame: FaceFrame, targets: SnapTargets, margin: float
+) -> np.ndarray | None:
     """A centre (2D, f's frame) where a designer puts a feature: on an earlier round
     feature's axis, on f's centre, or on one of f's centre lines at a whole number of
     GRID steps from it; at least `margin` mm inside f (None when the drawn place is not).
@@ -98,8 +101,7 @@ def regular_centre(rng: np.random.Generator, f: PlanarFace, frame: FaceFrame,
     elif rng.random() < ON_CENTRE:
         c = targets.origin
     else:
-        lines = [d for _, d, name in targets.lines if name == CENTRE_LINE] \
-            or list(targets.axes)
+        lines = [d for _, d, name in targets.lines if name == CENTRE_LINE] or list(targets.axes)
         d = lines[int(rng.integers(len(lines)))]
         t = GRID * round(rng.uniform(-0.35, 0.35) * face_size(f.face) / GRID)
         c = targets.origin + t * d
@@ -133,16 +135,15 @@ def regular_polygon(rng: np.random.Generator, r: float, targets: SnapTargets) ->
 
 # ----------------------------------------------------------------- samplers
 
-def regular_extrude(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                    ) -> Operation | None:
+
+def regular_extrude(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """f moved out or in by a regular length."""
     _, targets = _setting(f, solid)
     d = regular_length(rng, EXTRUDE_D[0] * DIAG, EXTRUDE_D[1] * DIAG, targets.sizes)
     return Extrude(f.ref, float(d * rng.choice([-1.0, 1.0])))
 
 
-def regular_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                  ) -> Operation | None:
+def regular_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """A rectangle or regular polygon aligned with f's edges, placed regularly, of a
     regular depth, added or subtracted."""
     frame, targets = _setting(f, solid)
@@ -156,8 +157,7 @@ def regular_prism(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     return AddSubPrism(f.ref, tuple(tuple(map(float, p)) for p in poly), float(d), mode)
 
 
-def regular_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                  ) -> Operation | None:
+def regular_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """A cylinder or cone of regular radii and length, placed regularly, added or
     subtracted."""
     frame, targets = _setting(f, solid)
@@ -167,16 +167,21 @@ def regular_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
     c = regular_centre(rng, f, frame, targets, 0.2 * r0)
     if c is None:
         return None
-    r1 = r0 if rng.random() < CYLINDER else regular_length(rng, 0.4 * r0, 1.6 * r0,
-                                                            targets.radii)
+    r1 = r0 if rng.random() < CYLINDER else regular_length(rng, 0.4 * r0, 1.6 * r0, targets.radii)
     d = regular_length(rng, SWEEP_D[0] * DIAG, SWEEP_D[1] * DIAG, targets.sizes)
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
-    return Sweep(f.ref, tuple(map(float, frame.to_3d(c)[0])), float(r0), float(r1),
-                 float(d), straight_profile(r0, r1, d), mode)
+    return Sweep(
+        f.ref,
+        tuple(map(float, frame.to_3d(c)[0])),
+        float(r0),
+        float(r1),
+        float(d),
+        straight_profile(r0, r1, d),
+        mode,
+    )
 
 
-def regular_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
-                  ) -> Operation | None:
+def regular_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """A chamfer or round of a convex corner of f, cutting both edges by the same
     GRID-multiple distance."""
     corners = bevel_corners(solid, f.face, f.normal, 1e-6 * DIAG)
@@ -192,12 +197,21 @@ def regular_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace
         inner = (pa + (pb - pa) / 3, pa + 2 * (pb - pa) / 3)
     else:
         inner = (pa + ROUND_K * (corner.c - pa), pb + ROUND_K * (corner.c - pb))
-    return Bevel(f.ref, tuple(map(float, corner.c)), tuple(map(float, corner.opposite)),
-                 tuple(tuple(map(float, p)) for p in (pa, *inner, pb)))
+    return Bevel(
+        f.ref,
+        tuple(map(float, corner.c)),
+        tuple(map(float, corner.opposite)),
+        tuple(tuple(map(float, p)) for p in (pa, *inner, pb)),
+    )
 
 
 # The regular sampler of each operator, as operations.SAMPLERS.
 REGULAR_SAMPLERS = per_operator(
-    {OperatorType.EXTRUDE: regular_extrude, OperatorType.BEVEL: regular_bevel,
-     OperatorType.ADDSUB: regular_prism, OperatorType.SWEEP: regular_sweep},
-    "datagen.regular.REGULAR_SAMPLERS")
+    {
+        OperatorType.EXTRUDE: regular_extrude,
+        OperatorType.BEVEL: regular_bevel,
+        OperatorType.ADDSUB: regular_prism,
+        OperatorType.SWEEP: regular_sweep,
+    },
+    "datagen.regular.REGULAR_SAMPLERS",
+)

@@ -5,6 +5,7 @@ This is the contract between data generation, training, evaluation and the
 interpret pipeline. Maps are H x W (256 x 256 by default) in the camera's pixel
 convention (see render/camera.py).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

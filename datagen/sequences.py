@@ -18,6 +18,7 @@ per operation from that generator, before its face): its parameters are then set
 designer sets them (datagen/regular.py). P = 0 draws nothing for it, so the data is
 the same as without the option.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -33,13 +34,14 @@ from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Prot
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 from .regular import REGULAR_SAMPLERS
 
-LAST_OP_WEIGHTS = per_operator({OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1,
-                                OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
-                               "datagen.sequences.LAST_OP_WEIGHTS")
+LAST_OP_WEIGHTS = per_operator(
+    {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
+    "datagen.sequences.LAST_OP_WEIGHTS",
+)
 EARLIER_OP_WEIGHTS = {t: 1 for t in OperatorType}
 BOX_SIDES = (0.35, 1.0)  # side lengths before scaling to the diagonal: aspect up to ~3
 MIN_VOLUME_CHANGE = 0.01  # of the solid's volume: smaller changes are degenerate
-MIN_FACE_AREA = 1e-3 * DIAG ** 2  # smaller faces are slivers no one sketches on
+MIN_FACE_AREA = 1e-3 * DIAG**2  # smaller faces are slivers no one sketches on
 TRIES = 25  # operation draws before giving up on a solid
 
 
@@ -62,8 +64,11 @@ class Stage:
         """Planar faces of at least MIN_FACE_AREA (found on first use: a last
         operation's result never needs them)."""
         if self._faces is None:
-            self._faces = [PlanarFace(f, n) for f, n, _ in planar_faces(self.solid)
-                           if f.Area() >= MIN_FACE_AREA]
+            self._faces = [
+                PlanarFace(f, n)
+                for f, n, _ in planar_faces(self.solid)
+                if f.Area() >= MIN_FACE_AREA
+            ]
         return self._faces
 
 
@@ -87,8 +92,9 @@ def random_box(rng: np.random.Generator) -> Box:
     return Box(tuple(float(round(x, 3)) for x in s))
 
 
-def draw_type(rng: np.random.Generator,
-              weights: dict[OperatorType, int] = LAST_OP_WEIGHTS) -> OperatorType:
+def draw_type(
+    rng: np.random.Generator, weights: dict[OperatorType, int] = LAST_OP_WEIGHTS
+) -> OperatorType:
     """An operator type with the given relative frequencies (1:1:4:2 by default)."""
     types = list(weights)
     w = np.array([weights[t] for t in types], float)
@@ -112,9 +118,13 @@ def is_regular(rng: np.random.Generator, regular_share: float) -> bool:
     return regular_share > 0 and bool(rng.random() < regular_share)
 
 
-def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
-                     regular_share: float = 0.0,
-                     keep: Callable[[Operation], bool] | None = None) -> Drawn | None:
+def sample_operation(
+    rng: np.random.Generator,
+    stage: Stage,
+    kind: OperatorType,
+    regular_share: float = 0.0,
+    keep: Callable[[Operation], bool] | None = None,
+) -> Drawn | None:
     """An operation of type `kind` on a random planar face that builds and changes the
     volume by at least MIN_VOLUME_CHANGE; None when TRIES draws all fail (this solid
     admits no such operation). It is regular (datagen/regular.py) with probability
@@ -140,8 +150,12 @@ def sample_operation(rng: np.random.Generator, stage: Stage, kind: OperatorType,
     return None
 
 
-def sample_sequence(rng: np.random.Generator, length: int,
-                    last: OperatorType | None = None, regular_share: float = 0.0) -> Sequence:
+def sample_sequence(
+    rng: np.random.Generator,
+    length: int,
+    last: OperatorType | None = None,
+    regular_share: float = 0.0,
+) -> Sequence:
     """A protocol of `length` (0 to 4) operations on a random box.
 
     The last operation has type `last`, or one drawn 1:1:4:2 when None; it is drawn

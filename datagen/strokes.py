@@ -13,6 +13,7 @@ point's 2D displacement is 1.4%, 2.8% or 4.1% of the image diagonal for levels 1
 and 3 (5.1, 10.1 and 14.8 pixels on 256 x 256), i.e. a Gaussian of that size divided
 by sqrt(2) along each axis. Level 1 is the paper's training setting.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -25,8 +26,8 @@ from Sketch2CADWorkbench.render.strokes import rasterize
 from Sketch2CADWorkbench.sketch.curves import Curve
 
 NOISE_FRACTION = {1: 0.014, 2: 0.028, 3: 0.041}
-STEP_PX = 2.0          # spacing of a stroke's points
-WOBBLE = 0.15          # wobble amplitude across the stroke, in endpoint sigmas
+STEP_PX = 2.0  # spacing of a stroke's points
+WOBBLE = 0.15  # wobble amplitude across the stroke, in endpoint sigmas
 LOOP_DISTORTION = 0.35  # amplitude of a loop's periodic distortion, in endpoint sigmas
 
 
@@ -62,8 +63,9 @@ def _smooth(p: np.ndarray, passes: int = 2) -> np.ndarray:
     return p
 
 
-def perturb(points: np.ndarray, rng: np.random.Generator, sigma: float,
-            closed: bool = False) -> np.ndarray:
+def perturb(
+    points: np.ndarray, rng: np.random.Generator, sigma: float, closed: bool = False
+) -> np.ndarray:
     """A freehand version (K', 2) of a projected curve (K, 2), endpoint noise `sigma` px.
 
     Args:
@@ -88,8 +90,10 @@ def perturb(points: np.ndarray, rng: np.random.Generator, sigma: float,
         amp = rng.normal(0, LOOP_DISTORTION * sigma / np.sqrt(2), (2, 2))
         phase = rng.uniform(0, 2 * np.pi, (2, 2))
         ang = 2 * np.pi * t * k[None]
-        disp += np.stack([(amp[0] * np.cos(ang + phase[0])).sum(1),
-                          (amp[1] * np.cos(ang + phase[1])).sum(1)], axis=1)
+        disp += np.stack(
+            [(amp[0] * np.cos(ang + phase[0])).sum(1), (amp[1] * np.cos(ang + phase[1])).sum(1)],
+            axis=1,
+        )
     else:
         chord = p[-1] - p[0]
         across = np.array([-chord[1], chord[0]]) / max(np.linalg.norm(chord), 1e-9)
@@ -98,8 +102,9 @@ def perturb(points: np.ndarray, rng: np.random.Generator, sigma: float,
     return _smooth(p + disp)
 
 
-def sketch_strokes(curves: list[Curve], camera: OrthoCamera, rng: np.random.Generator,
-                   noise_level: int) -> tuple[list[np.ndarray], list[int]]:
+def sketch_strokes(
+    curves: list[Curve], camera: OrthoCamera, rng: np.random.Generator, noise_level: int
+) -> tuple[list[np.ndarray], list[int]]:
     """Freehand strokes (pixels) of the curves seen by `camera`, with their labels, in a
     random drawing order (designers draw in any order; it decides which label wins
     where strokes cross)."""
@@ -111,9 +116,11 @@ def sketch_strokes(curves: list[Curve], camera: OrthoCamera, rng: np.random.Gene
     return [strokes[i] for i in order], [int(curves[i].label) for i in order]
 
 
-def stroke_maps(strokes: list[np.ndarray], labels: list[int], width: int, height: int
-                ) -> StrokeMaps:
+def stroke_maps(
+    strokes: list[np.ndarray], labels: list[int], width: int, height: int
+) -> StrokeMaps:
     """S, M~ and C~ of the strokes (1-pixel, 8-connected lines)."""
     sketch = rasterize(strokes, width, height)
-    return StrokeMaps(sketch, sketch.copy(),
-                      rasterize(strokes, width, height, [float(v) for v in labels]))
+    return StrokeMaps(
+        sketch, sketch.copy(), rasterize(strokes, width, height, [float(v) for v in labels])
+    )

@@ -28,6 +28,7 @@ pixels of the context maps: an extrusion's offset curve can be in full view whil
 hidden in the context (a pad growing out from under an overhang), and such a sample
 would ask the network to find a face it cannot see.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,14 +45,20 @@ from Sketch2CADWorkbench.sketch.visible import DEPTH_SLACK_PX
 ANGLE_RANGE_DEG = (20.0, 80.0)
 SCALE_RANGE = (1.6, 2.4)
 MAX_OCCLUSION = 0.2
-ROLL_SD_DEG = 8.0       # the usual small tilt of the up vector about the view direction
-FREE_ROLL_SHARE = 0.1   # views with any roll at all
+ROLL_SD_DEG = 8.0  # the usual small tilt of the up vector about the view direction
+FREE_ROLL_SHARE = 0.1  # views with any roll at all
 OCCLUSION_SAMPLES = 200  # points along the relevant curve for the occlusion test
-MIN_FACE_PIXELS = 100   # of the base face in the context maps (0.15% of 256 x 256)
+MIN_FACE_PIXELS = 100  # of the base face in the context maps (0.15% of 256 x 256)
 # Which solid the occlusion filter tests each operator's relevant curve against (above).
-OCCLUDED_BY = per_operator({OperatorType.EXTRUDE: "result", OperatorType.BEVEL: "context",
-                            OperatorType.ADDSUB: "context", OperatorType.SWEEP: "context"},
-                           "datagen.views.OCCLUDED_BY")
+OCCLUDED_BY = per_operator(
+    {
+        OperatorType.EXTRUDE: "result",
+        OperatorType.BEVEL: "context",
+        OperatorType.ADDSUB: "context",
+        OperatorType.SWEEP: "context",
+    },
+    "datagen.views.OCCLUDED_BY",
+)
 
 
 def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
@@ -80,8 +87,9 @@ def up_vector(rng: np.random.Generator, direction: np.ndarray) -> np.ndarray:
     return np.cos(roll) * up + np.sin(roll) * np.cross(d, up)
 
 
-def frame_curves(points: np.ndarray, direction: np.ndarray, up: np.ndarray, factor: float,
-                 size: int = 256) -> OrthoCamera:
+def frame_curves(
+    points: np.ndarray, direction: np.ndarray, up: np.ndarray, factor: float, size: int = 256
+) -> OrthoCamera:
     """A square size x size view along `direction` centred on the points, `factor` times
     their projected extent (as the interpretation frames the context of a sketch).
 
@@ -93,16 +101,20 @@ def frame_curves(points: np.ndarray, direction: np.ndarray, up: np.ndarray, fact
         size: image side in pixels.
     """
     centre = np.asarray(points, float).mean(axis=0)
-    probe = OrthoCamera(tuple(map(float, centre)), tuple(map(float, direction)),
-                        tuple(map(float, up)), float(np.ptp(points, axis=0).max() + 1e-6),
-                        size, size)
+    probe = OrthoCamera(
+        tuple(map(float, centre)),
+        tuple(map(float, direction)),
+        tuple(map(float, up)),
+        float(np.ptp(points, axis=0).max() + 1e-6),
+        size,
+        size,
+    )
     return context_camera(probe, probe.project(points)[0], factor, size)
 
 
 def resample(curves: list[Curve], count: int = OCCLUSION_SAMPLES) -> np.ndarray:
     """About `count` points (N, 3) spread evenly by arc length over the curves."""
-    pieces = [np.concatenate([c.points, c.points[:1]]) if c.closed else c.points
-              for c in curves]
+    pieces = [np.concatenate([c.points, c.points[:1]]) if c.closed else c.points for c in curves]
     total = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in pieces)
     out = []
     for p in pieces:

@@ -16,6 +16,7 @@ worker count, as `datagen --ray` runs it (one task per shard of `--shard-size`),
 one warm-up task per worker, and splits the CPU between the workers and Ray's own
 processes (GCS, raylet, agents).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -30,13 +31,13 @@ import tempfile
 import time
 from pathlib import Path
 
+from machine import machine_line
 from tqdm import tqdm
 
 from datagen import cluster, generate, parallel, sequences
 from datagen.dataset import write_shard
 from datagen.generate import PER_CONTEXT, generate_block
 from Sketch2CADWorkbench.render.maps import MapRenderer
-from machine import machine_line
 
 TARGET = 40_000
 PAPER_SCALE = 400_000
@@ -93,11 +94,13 @@ class StageClock:
                 return fn(*args, **kwargs)
             finally:
                 self._switch(None)
+
         return timed
 
 
-def bench(count: int, workers: int, seed: int, shard_size: int = 256
-          ) -> tuple[float, float, float, float]:
+def bench(
+    count: int, workers: int, seed: int, shard_size: int = 256
+) -> tuple[float, float, float, float]:
     """(start-up seconds, steady samples per second, steady CPU seconds per sample of
     the workers and this process together, and of this process alone: it receives the
     blocks and writes the shards) of `workers` processes, as datagen runs them.
@@ -118,8 +121,10 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256
     # whole CPU to this process's children.
     before = _live_children_cpu() + _exited_children_cpu()
     main = time.process_time()
-    with tempfile.TemporaryDirectory() as tmp, \
-            tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar:
+    with (
+        tempfile.TemporaryDirectory() as tmp,
+        tqdm(total=blocks * PER_CONTEXT, unit="sample", desc="bench") as bar,
+    ):
         parallel._collect(made, shards, counts, Path(tmp), bar)
     secs = time.perf_counter() - ready
     main = time.process_time() - main
@@ -128,8 +133,9 @@ def bench(count: int, workers: int, seed: int, shard_size: int = 256
     return ready - start, n / secs, (children + main) / n, main / n
 
 
-def bench_ray(count: int, workers: int, seed: int, shard_size: int
-              ) -> tuple[float, float, float, float]:
+def bench_ray(
+    count: int, workers: int, seed: int, shard_size: int
+) -> tuple[float, float, float, float]:
     """(start-up seconds, steady samples per second, steady CPU seconds per sample of
     the Ray workers, and of Ray's own processes) of a local Ray cluster of `workers`
     CPUs making `count` samples in shard tasks of `shard_size`, written to a temporary
@@ -137,25 +143,33 @@ def bench_ray(count: int, workers: int, seed: int, shard_size: int
     another seed) is back."""
     start = time.perf_counter()
     with cluster.ray_cluster("local", workers) as ray, tempfile.TemporaryDirectory() as tmp:
-        warm = parallel.DatagenSettings(Path(tmp) / "warm", workers * PER_CONTEXT, seed + 1,
-                                        shard_size=PER_CONTEXT)
+        warm = parallel.DatagenSettings(
+            Path(tmp) / "warm", workers * PER_CONTEXT, seed + 1, shard_size=PER_CONTEXT
+        )
         timed = parallel.DatagenSettings(Path(tmp) / "set", count, seed, shard_size=shard_size)
         for settings in (warm, timed):
             settings.out.mkdir()
-        cluster.make_shards(ray, warm, {k: PER_CONTEXT for k in range(workers)},
-                            tqdm(disable=True), lambda k: None)
+        cluster.make_shards(
+            ray, warm, {k: PER_CONTEXT for k in range(workers)}, tqdm(disable=True), lambda k: None
+        )
         ready = time.perf_counter()
         before = _ray_cpu()
-        counts = {k: min(shard_size, count - k * shard_size)
-                  for k in range((count + shard_size - 1) // shard_size)}
+        counts = {
+            k: min(shard_size, count - k * shard_size)
+            for k in range((count + shard_size - 1) // shard_size)
+        }
         with tqdm(total=count, unit="sample", desc="bench") as bar:
             failed = cluster.make_shards(ray, timed, counts, bar, lambda k: None)
         secs = time.perf_counter() - ready
         after = _ray_cpu()
     if failed:
         raise RuntimeError("; ".join(failed))
-    return (ready - start, count / secs, (after[0] - before[0]) / count,
-            (after[1] - before[1]) / count)
+    return (
+        ready - start,
+        count / secs,
+        (after[0] - before[0]) / count,
+        (after[1] - before[1]) / count,
+    )
 
 
 def _ray_cpu() -> tuple[float, float]:
@@ -165,8 +179,10 @@ def _ray_cpu() -> tuple[float, float]:
     stats = {}
     for pid in (int(p) for p in os.listdir("/proc") if p.isdigit()):
         try:
-            stats[pid] = (*_proc_stat(pid),
-                          Path(f"/proc/{pid}/cmdline").read_bytes().startswith(b"ray::"))
+            stats[pid] = (
+                *_proc_stat(pid),
+                Path(f"/proc/{pid}/cmdline").read_bytes().startswith(b"ray::"),
+            )
         except OSError:  # exited meanwhile
             continue
     mine, grew = {os.getpid()}, True
@@ -230,8 +246,12 @@ def _stage_seconds(job: tuple[int, int]) -> tuple[int, dict[str, float], float, 
                 write(Path(tmp), block, records)
                 records = []
         clock._switch("other")  # books the time since the last stage
-    return (blocks * PER_CONTEXT, dict(clock.seconds), time.process_time() - cpu,
-            time.perf_counter() - wall)
+    return (
+        blocks * PER_CONTEXT,
+        dict(clock.seconds),
+        time.process_time() - cpu,
+        time.perf_counter() - wall,
+    )
 
 
 def cpu_cost(count: int, seed: int) -> None:
@@ -240,10 +260,12 @@ def cpu_cost(count: int, seed: int) -> None:
     n, stages, cpu, wall = next(parallel.made_in_pool(_stage_seconds, [(count, seed)], 1))
     for stage, secs in sorted(stages.items(), key=lambda kv: -kv[1]):
         print(f"  {stage:36s} {secs / n * 1e3:7.1f} ms  {100 * secs / cpu:5.1f}%")
-    print(f"bench_datagen: {cpu / n * 1e3:.1f} ms CPU per sample over {n} samples in one "
-          f"worker (wall {wall / n * 1e3:.0f} ms, load average {os.getloadavg()[0]:.2f} on "
-          f"{os.cpu_count()} cores); {PAPER_SCALE} samples = "
-          f"{PAPER_SCALE * cpu / n / 3600:.1f} core-hours")
+    print(
+        f"bench_datagen: {cpu / n * 1e3:.1f} ms CPU per sample over {n} samples in one "
+        f"worker (wall {wall / n * 1e3:.0f} ms, load average {os.getloadavg()[0]:.2f} on "
+        f"{os.cpu_count()} cores); {PAPER_SCALE} samples = "
+        f"{PAPER_SCALE * cpu / n / 3600:.1f} core-hours"
+    )
 
 
 def main() -> None:
@@ -269,23 +291,29 @@ def main() -> None:
             load = os.getloadavg()[0]
             startup, rate, cpu, own = bench_ray(args.count, workers, args.seed, args.shard_size)
             rates.append(rate)
-            print(f"bench_datagen: Ray, {rate:.2f} samples/s with {workers} worker(s) over "
-                  f"{args.count} samples in tasks of {args.shard_size}, {cpu * 1e3:.1f} ms "
-                  f"CPU per sample in the workers and {own * 1e3:.1f} ms in Ray's own "
-                  f"processes (start-up {startup:.1f} s, load average {load:.2f} -> "
-                  f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)")
+            print(
+                f"bench_datagen: Ray, {rate:.2f} samples/s with {workers} worker(s) over "
+                f"{args.count} samples in tasks of {args.shard_size}, {cpu * 1e3:.1f} ms "
+                f"CPU per sample in the workers and {own * 1e3:.1f} ms in Ray's own "
+                f"processes (start-up {startup:.1f} s, load average {load:.2f} -> "
+                f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)"
+            )
         if len(rates) > 1:
-            print(f"bench_datagen: Ray, {rates[-1] / rates[0]:.2f}x from {args.workers[0]} to "
-                  f"{args.workers[-1]} workers")
+            print(
+                f"bench_datagen: Ray, {rates[-1] / rates[0]:.2f}x from {args.workers[0]} to "
+                f"{args.workers[-1]} workers"
+            )
         return
     for workers in args.workers:
         load = os.getloadavg()[0]
         startup, rate, cpu, main_cpu = bench(args.count, workers, args.seed)
-        print(f"bench_datagen: {rate:.2f} samples/s with {workers} worker(s) over "
-              f"{args.count} samples, {cpu * 1e3:.1f} ms CPU per sample in all processes, "
-              f"{main_cpu * 1e3:.1f} ms of it in the writing main process (start-up {startup:.1f} s, load average {load:.2f} -> "
-              f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores); {TARGET} samples would "
-              f"take {(TARGET / rate + startup) / 60:.1f} min")
+        print(
+            f"bench_datagen: {rate:.2f} samples/s with {workers} worker(s) over "
+            f"{args.count} samples, {cpu * 1e3:.1f} ms CPU per sample in all processes, "
+            f"{main_cpu * 1e3:.1f} ms of it in the writing main process (start-up {startup:.1f} s, load average {load:.2f} -> "
+            f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores); {TARGET} samples would "
+            f"take {(TARGET / rate + startup) / 60:.1f} min"
+        )
 
 
 if __name__ == "__main__":

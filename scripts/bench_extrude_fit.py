@@ -9,6 +9,7 @@ interprets it with the shipped networks; it prints the seconds of the interpret 
 and the process's peak resident memory. The context maps are 256 x 256 whatever the
 view, so neither should grow with the view's resolution.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -40,8 +41,11 @@ def one(width: int, height: int) -> dict:
     t0 = time.perf_counter()
     got = interpret(box, strokes, view, predictor, renderer)
     seconds = time.perf_counter() - t0
-    return {"seconds": seconds, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-            "read": f"{got.op_type.value} d={got.operations[0].d:.2f}"}
+    return {
+        "seconds": seconds,
+        "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "read": f"{got.op_type.value} d={got.operations[0].d:.2f}",
+    }
 
 
 def main() -> int:
@@ -53,11 +57,14 @@ def main() -> int:
         print(json.dumps(one(*map(int, a.one.split("x")))))
         return 0
     for size in a.sizes:
-        out = subprocess.run([sys.executable, __file__, "--one", size], capture_output=True,
-                             text=True, check=True)
+        out = subprocess.run(
+            [sys.executable, __file__, "--one", size], capture_output=True, text=True, check=True
+        )
         r = json.loads(out.stdout.strip().splitlines()[-1])
-        print(f"{size}: {r['seconds']:.2f} s, peak RSS {r['peak_mb']:.0f} MB, read as {r['read']}",
-              flush=True)
+        print(
+            f"{size}: {r['seconds']:.2f} s, peak RSS {r['peak_mb']:.0f} MB, read as {r['read']}",
+            flush=True,
+        )
     return 0
 
 

@@ -14,6 +14,7 @@ while reading to refuse one that fails or changes nothing, and the step's mirror
 or regularized rebuild) and the total. Wall time: other work on the machine inflates
 it; say the load beside the figure.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -27,6 +28,8 @@ import torch
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from machine import machine_line  # noqa: E402
+
 from datagen.dataset import Dataset  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
 from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
@@ -36,7 +39,6 @@ from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
 )
 from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
 from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
-from machine import machine_line  # noqa: E402
 
 STAGES = ("render", "networks", "fitting", "brep", "total")
 
@@ -59,16 +61,24 @@ def main() -> int:
     for i in tqdm(range(-min(a.warmup, n), n), desc="interpret", unit="step"):
         s = ds.sample(max(i, 0))
         try:
-            got = interpret(replay(s.context)[-1], s.strokes, s.camera, predictor, renderer,
-                            InterpretOptions(regularize=False))
+            got = interpret(
+                replay(s.context)[-1],
+                s.strokes,
+                s.camera,
+                predictor,
+                renderer,
+                InterpretOptions(regularize=False),
+            )
         except InterpretError:
             refused += i >= 0
             continue
         if i >= 0:
             for k in STAGES:
                 times[k].append(got.timings_ms[k])
-    print(f"{len(times['total'])} steps timed ({refused} refused), {a.threads} torch threads, "
-          f"load {os.getloadavg()[0]:.1f}")
+    print(
+        f"{len(times['total'])} steps timed ({refused} refused), {a.threads} torch threads, "
+        f"load {os.getloadavg()[0]:.1f}"
+    )
     for k in STAGES:
         v = np.array(times[k])
         print(f"  {k:9s} median {statistics.median(v):7.1f} ms   90% {np.quantile(v, 0.9):7.1f} ms")

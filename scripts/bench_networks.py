@@ -13,6 +13,7 @@ network, upsampling of all outputs to 256 x 256), median over runs, at `--infer-
 threads (2: the target is <= 50 ms per sketch on 2 CPU cores). Timings are wall time,
 so other work on the machine inflates them; the median damps that.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -25,6 +26,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from machine import machine_line  # noqa: E402
+
 from Sketch2CADWorkbench.inference.models import (  # noqa: E402
     N_OPS,
     ModelConfig,
@@ -56,8 +58,9 @@ def random_batch(cfg: ModelConfig, n: int, gen: torch.Generator):
     return x, face, curve, mask, op
 
 
-def train_ms_per_sample(cfg: ModelConfig, batch: int, steps: int, threads: int
-                        ) -> tuple[float, float]:
+def train_ms_per_sample(
+    cfg: ModelConfig, batch: int, steps: int, threads: int
+) -> tuple[float, float]:
     """Median and minimum ms per sample of a training step."""
     torch.set_num_threads(threads)
     gen = torch.Generator().manual_seed(0)
@@ -94,8 +97,9 @@ def latency_ms(model: Sketch2CADNet, runs: int, threads: int) -> float:
     return 1e3 * statistics.median(times)
 
 
-def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, threads: int
-                    ) -> dict[str, float]:
+def head_latency_ms(
+    head: Path, weights: Path | None, data: Path, runs: int, threads: int
+) -> dict[str, float]:
     """Median ms per sketch on the first `runs` sketches of a data set (real strokes and
     face maps): the U-Net's predict alone ("unet"), the whole structured predictor
     (observe, classify, segment for the likeliest operator: "unet + head"), and its
@@ -110,6 +114,7 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
     )
     from Sketch2CADWorkbench.inference.weights import HEAD_NAME
     from Sketch2CADWorkbench.sketch.labels import CLASSES
+
     torch.set_num_threads(threads)
     p = load_structured_predictor(head / HEAD_NAME if head.is_dir() else head, weights)
     p.threads = threads  # the predictor sets its own thread count on every sketch
@@ -124,6 +129,7 @@ def head_latency_ms(head: Path, weights: Path | None, data: Path, runs: int, thr
             clock.append(time.perf_counter())
             if k:  # the first sketch allocates
                 times.setdefault(name, []).append(clock[-1] - clock[-2])
+
         p.model.predict(torch.from_numpy(x)[None])
         lap("unet")
         p.observe(s.strokes, s.face_id)
@@ -160,27 +166,36 @@ def main() -> int:
         if not args.data:
             p.error("--head needs --data (real strokes and face maps)")
         ms = head_latency_ms(args.head, args.weights, args.data, args.runs, args.infer_threads)
-        print(f"latency median per sketch ({args.infer_threads} threads, {args.runs} sketches of "
-              f"{args.data}): U-Net predict {ms.pop('unet'):.1f} ms; U-Net + head "
-              f"{ms.pop('unet + head'):.1f} ms (" + ", ".join(f"{k} {v:.1f}" for k, v in
-                                                        ms.items()) + " ms)")
+        print(
+            f"latency median per sketch ({args.infer_threads} threads, {args.runs} sketches of "
+            f"{args.data}): U-Net predict {ms.pop('unet'):.1f} ms; U-Net + head "
+            f"{ms.pop('unet + head'):.1f} ms ("
+            + ", ".join(f"{k} {v:.1f}" for k, v in ms.items())
+            + " ms)"
+        )
         return 0
     if args.weights:
         path = args.weights / "sketch2cad_net.pt" if args.weights.is_dir() else args.weights
         model, _ = load_checkpoint(path)
-        print(f"{path}: latency {latency_ms(model, args.runs, args.infer_threads):.1f} ms "
-              f"median per sketch (batch 1, {args.infer_threads} threads)")
+        print(
+            f"{path}: latency {latency_ms(model, args.runs, args.infer_threads):.1f} ms "
+            f"median per sketch (batch 1, {args.infer_threads} threads)"
+        )
         return 0
     configs = CANDIDATES if args.candidates else {"shipped": ModelConfig()}
     head = "".join(f"  train ms/sample {t} thr (min)" for t in args.train_threads)
     print(f"{'config (I / widths)':26s} {'params':>8s} {'MMAC':>7s}{head}  latency ms")
     for name, cfg in configs.items():
         model = Sketch2CADNet(cfg)
-        train = "".join("{:22.1f} ({:5.1f})".format(*train_ms_per_sample(cfg, args.batch,
-                                                                         args.steps, t))
-                        for t in args.train_threads)
-        print(f"{name:26s} {count_parameters(model):8d} {flops_per_sample(cfg) / 1e6:7.0f}"
-              f"{train}  {latency_ms(model, args.runs, args.infer_threads):10.1f}", flush=True)
+        train = "".join(
+            "{:22.1f} ({:5.1f})".format(*train_ms_per_sample(cfg, args.batch, args.steps, t))
+            for t in args.train_threads
+        )
+        print(
+            f"{name:26s} {count_parameters(model):8d} {flops_per_sample(cfg) / 1e6:7.0f}"
+            f"{train}  {latency_ms(model, args.runs, args.infer_threads):10.1f}",
+            flush=True,
+        )
     return 0
 
 

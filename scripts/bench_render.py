@@ -8,6 +8,7 @@ random directions framing the solid, as in data generation.
 
 Usage: .venv/bin/python scripts/bench_render.py [--size 256] [--repeats 20]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -15,6 +16,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from machine import machine_line
 from OCP.BRepTools import BRepTools
 
 from Sketch2CADWorkbench.brep.operators import build
@@ -22,7 +24,6 @@ from Sketch2CADWorkbench.brep.protocol import load
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import tessellate
-from machine import machine_line
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "protocols"
 
@@ -41,8 +42,10 @@ def main() -> None:
 
     rng = np.random.default_rng(0)
     renderer = MapRenderer()
-    print(f"{'model':10s} {'faces':>5s} {'tris':>6s} {'tess/s':>8s} {'maps/s':>8s} "
-          f"{'both/s':>8s} {'fg %':>5s}")
+    print(
+        f"{'model':10s} {'faces':>5s} {'tris':>6s} {'tess/s':>8s} {'maps/s':>8s} "
+        f"{'both/s':>8s} {'fg %':>5s}"
+    )
     totals = {"tess": [], "maps": [], "both": []}
     for path in sorted(EXAMPLES.glob("*.json")):
         solid = build(load(path))
@@ -50,8 +53,15 @@ def main() -> None:
         for _ in range(args.repeats):
             d = rng.normal(size=3)
             d[2] = -abs(d[2])  # from above, as a designer looks
-            cams.append(fit_camera(solid, tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0),
-                                   rng.uniform(0.8, 1.6), args.size))
+            cams.append(
+                fit_camera(
+                    solid,
+                    tuple(d / np.linalg.norm(d)),
+                    (0.0, 0.0, 1.0),
+                    rng.uniform(0.8, 1.6),
+                    args.size,
+                )
+            )
         tess, maps, both = [], [], []
         coverage = []
         renderer.render(tessellate(solid), cams[0])  # warm up: shaders, buffers
@@ -72,13 +82,19 @@ def main() -> None:
         totals["tess"] += tess
         totals["maps"] += maps
         totals["both"] += both
-        print(f"{path.stem:10s} {len(solid.Faces()):5d} {len(mesh.triangles):6d} "
-              f"{_per_second(tess):8.1f} {_per_second(maps):8.1f} {_per_second(both):8.1f} "
-              f"{100 * np.mean(coverage):5.0f}")
-    print(f"{'all':10s} {'':5s} {'':6s} {_per_second(totals['tess']):8.1f} "
-          f"{_per_second(totals['maps']):8.1f} {_per_second(totals['both']):8.1f}")
-    print(f"(median rates; maps at {args.size} x {args.size} including read-back and "
-          "interpolation; one process)")
+        print(
+            f"{path.stem:10s} {len(solid.Faces()):5d} {len(mesh.triangles):6d} "
+            f"{_per_second(tess):8.1f} {_per_second(maps):8.1f} {_per_second(both):8.1f} "
+            f"{100 * np.mean(coverage):5.0f}"
+        )
+    print(
+        f"{'all':10s} {'':5s} {'':6s} {_per_second(totals['tess']):8.1f} "
+        f"{_per_second(totals['maps']):8.1f} {_per_second(totals['both']):8.1f}"
+    )
+    print(
+        f"(median rates; maps at {args.size} x {args.size} including read-back and "
+        "interpolation; one process)"
+    )
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ work to do) and some closed loops. Prints the seconds for the readings the pipel
 asks for (a prism at each chord tolerance, with and without the side count, and a
 sweep). --roles writes every reading, to compare two versions' readings.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -65,16 +66,20 @@ def main() -> int:
         strokes = sketch(n, np.random.default_rng(a.seed), n2)
         t0 = time.perf_counter()
         got = []
-        for prism, tol, sides in [(True, tol, sides) for tol in PRISM_CHORD_TOLERANCES
-                                  for sides in (None, n // 3)] + [(False, None, None)]:
+        for prism, tol, sides in [
+            (True, tol, sides) for tol in PRISM_CHORD_TOLERANCES for sides in (None, n // 3)
+        ] + [(False, None, None)]:
             try:
                 got.append(stroke_roles(strokes, frame, cam, prism, tol, sides))
             except FitError as e:
                 got.append(str(e))
         seconds = time.perf_counter() - t0
         readings[n] = got
-        print(f"{n} strokes: {seconds:.2f} s for {len(got)} readings "
-              f"({1e3 * seconds / len(got):.0f} ms each)", flush=True)
+        print(
+            f"{n} strokes: {seconds:.2f} s for {len(got)} readings "
+            f"({1e3 * seconds / len(got):.0f} ms each)",
+            flush=True,
+        )
     if a.roles:
         Path(a.roles).write_text(json.dumps(readings))
     return 0

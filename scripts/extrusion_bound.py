@@ -12,6 +12,7 @@ oracle's rate, the best decision's rate and the expected rate, which bounds what
 reading of these strokes can expect (compare `sketch2cad eval --recovery`'s extrude
 rate). Sets of one noise level pool into one line.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -26,14 +27,21 @@ from training.extrusion_bound import bound_of_set  # noqa: E402
 def pooled(rows: list[dict]) -> dict:
     """Sets' figures weighted by their sample counts."""
     n = sum(r["n"] for r in rows)
-    return {"n": n, **{k: sum(r[k] * r["n"] for r in rows) / n for k in
-                       ("oracle_ml_rate", "best_decision_rate", "expected_bound")}}
+    return {
+        "n": n,
+        **{
+            k: sum(r[k] * r["n"] for r in rows) / n
+            for k in ("oracle_ml_rate", "best_decision_rate", "expected_bound")
+        },
+    }
 
 
 def line(name: str, r: dict) -> str:
-    return (f"{name}: {r['n']} extrusions; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
-            f"best decision {100 * r['best_decision_rate']:.1f}%, expected (the bound) "
-            f"{100 * r['expected_bound']:.1f}%")
+    return (
+        f"{name}: {r['n']} extrusions; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
+        f"best decision {100 * r['best_decision_rate']:.1f}%, expected (the bound) "
+        f"{100 * r['expected_bound']:.1f}%"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

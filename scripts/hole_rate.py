@@ -12,6 +12,7 @@ the view hides, as a designer drawing only what is seen does. `--truth` runs no
 networks: it prints for how many holes the true hole's seen lines explain the strokes
 better than those of the boss on its rim that draws the same lines (paper, Fig. 5b).
 """
+
 import argparse
 import re
 import sys
@@ -23,6 +24,7 @@ from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "inference"))
 from holes import designer_holes, read_as_the_hole, seen_errors  # noqa: E402
+
 from Sketch2CADWorkbench.brep.protocol import Mode  # noqa: E402
 from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
 from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
@@ -30,13 +32,19 @@ from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
 
 def truth(a: argparse.Namespace) -> int:
     renderer = MapRenderer()
-    errors = [seen_errors(hole, renderer) for hole in tqdm(
-        designer_holes(a.count, a.seed, renderer, not a.omit_hidden), total=a.count, unit="hole")]
+    errors = [
+        seen_errors(hole, renderer)
+        for hole in tqdm(
+            designer_holes(a.count, a.seed, renderer, not a.omit_hidden), total=a.count, unit="hole"
+        )
+    ]
     pairs = np.array([e for e in errors if e is not None]).reshape(-1, 2)
     closer = int((pairs[:, 0] < pairs[:, 1]).sum())
-    print(f"{len(pairs)} of {a.count} holes have a boss on their rim that draws the same lines; "
-          f"the hole's seen lines lie closer to the strokes for {closer} (median "
-          f"{np.median(pairs[:, 0]):.2f} px against the boss's {np.median(pairs[:, 1]):.2f} px)")
+    print(
+        f"{len(pairs)} of {a.count} holes have a boss on their rim that draws the same lines; "
+        f"the hole's seen lines lie closer to the strokes for {closer} (median "
+        f"{np.median(pairs[:, 0]):.2f} px against the boss's {np.median(pairs[:, 1]):.2f} px)"
+    )
     return 0
 
 
@@ -44,11 +52,13 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=30)
     p.add_argument("--seed", type=int, default=17002)
-    p.add_argument("--omit-hidden", action="store_true",
-                   help="leave out the lines the view hides")
-    p.add_argument("--truth", action="store_true",
-                   help="no networks: only whether the true hole's seen lines explain the "
-                        "strokes better than those of the boss on its rim (paper, Fig. 5b)")
+    p.add_argument("--omit-hidden", action="store_true", help="leave out the lines the view hides")
+    p.add_argument(
+        "--truth",
+        action="store_true",
+        help="no networks: only whether the true hole's seen lines explain the "
+        "strokes better than those of the boss on its rim (paper, Fig. 5b)",
+    )
     a = p.parse_args()
     if a.truth:
         return truth(a)
@@ -66,9 +76,10 @@ def main() -> int:
             misses["subtract chosen"][re.sub(r"[0-9.]+", "#", chosen.split(":")[0])[:70]] += 1
     for how, missed in misses.items():
         read = a.count - sum(missed.values())
-        print(f"{how}: holes read as drawn {read} of {a.count} ({100 * read / a.count:.0f}%)"
-              + (f"; with the other Boolean it names, {read + flipped}" if how == "no choice"
-                 else ""))
+        print(
+            f"{how}: holes read as drawn {read} of {a.count} ({100 * read / a.count:.0f}%)"
+            + (f"; with the other Boolean it names, {read + flipped}" if how == "no choice" else "")
+        )
         for why, n in missed.most_common():
             print(f"  {n} x {why}")
     return 0

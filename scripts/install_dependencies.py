@@ -8,6 +8,7 @@ Environment: SKETCH2CAD_EXTRAS (pyproject's optional groups, comma-separated, e.
 SKETCH2CAD_TORCH_INDEX, SKETCH2CAD_DEPENDENCY_FOLDER, SKETCH2CAD_PYTHON).
 Its last line is "python=<interpreter> folder=<dependency folder>" for setup.sh.
 """
+
 import os
 import sys
 
@@ -21,8 +22,10 @@ def main() -> int:
         if dependencies.is_installed(plan):
             print(f"install_dependencies: {plan.target} is up to date")
         else:
-            print(f"install_dependencies: installing into {plan.target} with {plan.python}"
-                  + (f" (from the system: {', '.join(plan.skipped)})" if plan.skipped else ""))
+            print(
+                f"install_dependencies: installing into {plan.target} with {plan.python}"
+                + (f" (from the system: {', '.join(plan.skipped)})" if plan.skipped else "")
+            )
             dependencies.install(plan, on_line=lambda line: print("    " + line, flush=True))
     except dependencies.InstallError as e:
         print(f"install_dependencies: {e}", file=sys.stderr)

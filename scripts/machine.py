@@ -8,6 +8,7 @@ whether the host or the reinstalled libraries were the cause; stop 27 saw the sa
 run 134 and 157 ms per interpret step minutes apart on an idle machine (docs/NOTES.md).
 The host's speed drifts: compare figures only beside equal host speeds.
 """
+
 from __future__ import annotations
 
 import importlib.metadata
@@ -66,6 +67,8 @@ def machine_line() -> str:
     """One line: CPU, cores, load average, host speed, Python and library versions."""
     libs = ", ".join(f"{k} {v}" for k, v in library_versions().items())
     loop, sort = host_speed()
-    return (f"machine: {cpu_model()}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}, "
-            f"host speed: Python loop {loop:.2f} ms, numpy sort {sort:.2f} ms; "
-            f"Python {platform.python_version()}, {libs}")
+    return (
+        f"machine: {cpu_model()}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}, "
+        f"host speed: Python loop {loop:.2f} ms, numpy sort {sort:.2f} ms; "
+        f"Python {platform.python_version()}, {libs}"
+    )

@@ -12,6 +12,7 @@ designer sketching it would have the workbench set.
     .bin/python scripts/make_sessions.py camera mixer hammer
     .bin/python scripts/make_sessions.py bolt lamp pipe   # (nut: no informative view for step 3)
 """
+
 import re
 import sys
 from pathlib import Path
@@ -63,17 +64,29 @@ def make(name: str, seed: int = 0) -> Session:
         else:
             raise RuntimeError(f"{name} step {i + 1}: no informative view")
         strokes, _ = sketch_strokes(curves, ctx, rng, 1)
-        view = fit_camera(np.stack([np.minimum(pts.min(0), _bb(solid)[0]),
-                                    np.maximum(pts.max(0), _bb(solid)[1])]),
-                          direction, up, 1.2, (800, 600))
+        view = fit_camera(
+            np.stack(
+                [np.minimum(pts.min(0), _bb(solid)[0]), np.maximum(pts.max(0), _bb(solid)[1])]
+            ),
+            direction,
+            up,
+            1.2,
+            (800, 600),
+        )
         moved = [view.project(ctx.unproject(s))[0] for s in strokes]
         # Modes the strokes cannot show, said in the panel: replace and intersect, and
         # subtract, since a hole and the boss standing on its rim draw the same lines
         # (paper Fig. 5b): the designer drawing a hole picks subtract (or clicks the flip).
-        option = (op.mode if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT,
-                                                           Mode.SUBTRACT) else None)
-        steps.append(SketchStep(view, moved, InterpretOptions(option=option, regularize=True,
-                                                              snap_step=grid)))
+        option = (
+            op.mode
+            if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT, Mode.SUBTRACT)
+            else None
+        )
+        steps.append(
+            SketchStep(
+                view, moved, InterpretOptions(option=option, regularize=True, snap_step=grid)
+            )
+        )
     return Session(protocol.base, steps)
 
 

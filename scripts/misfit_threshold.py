@@ -24,6 +24,7 @@ as many unflagged ones drawn at random as a control, as `sketch2cad eval --recov
 does (the same interpret() call, volume IoU with the ground truth's result, misread
 below training.recovery.RECOVERY_IOU): are the flagged sketches the misread ones?
 """
+
 import argparse
 import json
 import sys
@@ -69,8 +70,14 @@ def fits_of_samples(data: str, predictor, renderer, limit: int, skip: int = 0) -
                 return out
             bar.update(1)
             try:
-                got = interpret(replay(s.context)[-1], s.strokes, s.camera, predictor, renderer,
-                                InterpretOptions(regularize=False))
+                got = interpret(
+                    replay(s.context)[-1],
+                    s.strokes,
+                    s.camera,
+                    predictor,
+                    renderer,
+                    InterpretOptions(regularize=False),
+                )
                 out.append(got.fit)
             except InterpretError:
                 out.append(None)
@@ -83,8 +90,11 @@ def fits_of_scribbles(n: int, predictor, renderer, seed: int) -> list:
         solid = make_box(random_box(rng))
         cam = fit_camera(solid, view_direction(rng, np.array([0.0, 0.0, 1.0])))
         k = int(rng.integers(1, 9))
-        strokes = [np.cumsum(rng.normal(0, 6.0, (int(rng.integers(5, 40)), 2)), axis=0)
-                   + rng.uniform(40, 216, 2) for _ in range(k)]
+        strokes = [
+            np.cumsum(rng.normal(0, 6.0, (int(rng.integers(5, 40)), 2)), axis=0)
+            + rng.uniform(40, 216, 2)
+            for _ in range(k)
+        ]
         try:
             out.append(interpret(solid, strokes, cam, predictor, renderer).fit)
         except InterpretError:
@@ -101,8 +111,12 @@ def recovery_of_flagged(data: str, real: list, skip: int, seed: int) -> None:
 
     flagged = [skip + i for i, f in enumerate(real) if f is not None and f.doubtful]
     unflagged = [skip + i for i, f in enumerate(real) if f is not None and not f.doubtful]
-    control = sorted(int(i) for i in np.random.default_rng(seed).choice(
-        unflagged, size=min(len(flagged), len(unflagged)), replace=False))
+    control = sorted(
+        int(i)
+        for i in np.random.default_rng(seed).choice(
+            unflagged, size=min(len(flagged), len(unflagged)), replace=False
+        )
+    )
     print(f"flagged samples: {flagged}\ncontrol samples: {control}")
     ds, predictor, renderer = Dataset(data), load_predictor(), MapRenderer()
     for name, indices in (("flagged", flagged), ("control", control)):
@@ -111,8 +125,14 @@ def recovery_of_flagged(data: str, real: list, skip: int, seed: int) -> None:
             s = ds.sample(i)
             context = replay(s.context)[-1]
             try:
-                got = interpret(context, s.strokes, s.camera, predictor, renderer,
-                                InterpretOptions(regularize=False))
+                got = interpret(
+                    context,
+                    s.strokes,
+                    s.camera,
+                    predictor,
+                    renderer,
+                    InterpretOptions(regularize=False),
+                )
                 iou = volume_iou(got.solid, apply_operation(context, s.operation))
                 note = f"IoU {iou:.3f}, flagged now {got.fit.doubtful}"
             except (InterpretError, OperationError) as e:
@@ -135,8 +155,9 @@ def choose(real: list, scrib: list) -> list:
         options[name] = sorted({float(np.quantile(rv, q)) for q in qs})
 
     def flags(f, rule):
-        return any(getattr(f, k) < v if k == "confidence" else getattr(f, k) > v
-                   for k, v in rule.items())
+        return any(
+            getattr(f, k) < v if k == "confidence" else getattr(f, k) > v for k, v in rule.items()
+        )
 
     found = []
     for names in [(n,) for n in options] + list(combinations(options, 2)):
@@ -144,34 +165,41 @@ def choose(real: list, scrib: list) -> list:
             rule = dict(zip(names, values))
             real_flagged = sum(flags(f, rule) for f in r) / len(real)
             if real_flagged <= MAX_REAL_FLAGGED:
-                found.append((sum(not flags(f, rule) for f in s) / len(scrib), real_flagged,
-                              rule))
+                found.append((sum(not flags(f, rule) for f in s) / len(scrib), real_flagged, rule))
     return sorted(found, key=lambda x: (x[0], x[1]))
 
 
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("data", nargs="?")
-    p.add_argument("--from", dest="features_in", nargs="+",
-                   help="--features files to read (and pool) instead")
+    p.add_argument(
+        "--from", dest="features_in", nargs="+", help="--features files to read (and pool) instead"
+    )
     p.add_argument("--skip", type=int, default=0, help="leave out the first SKIP samples")
-    p.add_argument("--limit", type=int, default=10 ** 9, help="LIMIT samples only")
+    p.add_argument("--limit", type=int, default=10**9, help="LIMIT samples only")
     p.add_argument("--scribbles", type=int, default=300)
     p.add_argument("--scribble-seed", type=int, default=0)
     p.add_argument("--features", help="also write every reading's measures here (JSON)")
-    p.add_argument("--choose", action="store_true",
-                   help="print the rules that flag at most 1%% of the real sketches")
-    p.add_argument("--recovery", metavar="DATA",
-                   help="with --from: read the flagged real sketches of DATA and a control "
-                        "of unflagged ones again and say which are misread")
+    p.add_argument(
+        "--choose",
+        action="store_true",
+        help="print the rules that flag at most 1%% of the real sketches",
+    )
+    p.add_argument(
+        "--recovery",
+        metavar="DATA",
+        help="with --from: read the flagged real sketches of DATA and a control "
+        "of unflagged ones again and say which are misread",
+    )
     p.add_argument("--control-seed", type=int, default=0)
     a = p.parse_args()
     if a.recovery and not a.features_in:
         p.error("--recovery needs --from")
     if a.features_in:
         saved = [json.loads(Path(f).read_text()) for f in a.features_in]
-        real, scrib = ([f and SketchFit(**f) for one in saved for f in one[k]]
-                       for k in ("real", "scribbles"))
+        real, scrib = (
+            [f and SketchFit(**f) for one in saved for f in one[k]] for k in ("real", "scribbles")
+        )
     elif a.data:
         predictor, renderer = load_predictor(), MapRenderer()
         real = fits_of_samples(a.data, predictor, renderer, a.limit, a.skip)
@@ -179,29 +207,40 @@ def main() -> int:
     else:
         p.error("give a data set or --from")
     if a.features:
-        Path(a.features).write_text(json.dumps(
-            {"real": [f and f.to_dict() for f in real],
-             "scribbles": [f and f.to_dict() for f in scrib]}))
+        Path(a.features).write_text(
+            json.dumps(
+                {
+                    "real": [f and f.to_dict() for f in real],
+                    "scribbles": [f and f.to_dict() for f in scrib],
+                }
+            )
+        )
     r = [f for f in real if f is not None]
     s = [f for f in scrib if f is not None]
     print(f"real sketches: {len(real)}, read {len(r)}; scribbles: {len(scrib)}, read {len(s)}")
     for name in SketchFit.MEASURES:
         rv = np.array([getattr(f, name) for f in r])
         sv = np.array([getattr(f, name) for f in s])
-        print(f"  {name}: real 1/50/99/max {np.quantile(rv, 0.01):.3f} / "
-              f"{np.quantile(rv, 0.5):.3f} / {np.quantile(rv, 0.99):.3f} / {rv.max():.3f}; "
-              f"scribbles 10/50/90 {np.quantile(sv, 0.1):.3f} / {np.quantile(sv, 0.5):.3f} / "
-              f"{np.quantile(sv, 0.9):.3f}")
+        print(
+            f"  {name}: real 1/50/99/max {np.quantile(rv, 0.01):.3f} / "
+            f"{np.quantile(rv, 0.5):.3f} / {np.quantile(rv, 0.99):.3f} / {rv.max():.3f}; "
+            f"scribbles 10/50/90 {np.quantile(sv, 0.1):.3f} / {np.quantile(sv, 0.5):.3f} / "
+            f"{np.quantile(sv, 0.9):.3f}"
+        )
     if a.choose:
         for passed, flagged, rule in choose(real, scrib)[:5]:
-            print(f"  rule {rule}: flags {100 * flagged:.2f}% of the real sketches, "
-                  f"scribbles read without a flag {100 * passed:.1f}%")
+            print(
+                f"  rule {rule}: flags {100 * flagged:.2f}% of the real sketches, "
+                f"scribbles read without a flag {100 * passed:.1f}%"
+            )
     flagged = sum(f.doubtful for f in r)
-    print(f"the shipped rule {DOUBT}: flags {flagged} of the {len(r)} real readings "
-          f"({100 * flagged / len(real):.1f}% of the real sketches; refused "
-          f"{100 * (len(real) - len(r)) / len(real):.1f}%); scribbles read without a flag: "
-          f"{sum(not f.doubtful for f in s)} of {len(scrib)} "
-          f"({100 * sum(not f.doubtful for f in s) / len(scrib):.1f}%)")
+    print(
+        f"the shipped rule {DOUBT}: flags {flagged} of the {len(r)} real readings "
+        f"({100 * flagged / len(real):.1f}% of the real sketches; refused "
+        f"{100 * (len(real) - len(r)) / len(real):.1f}%); scribbles read without a flag: "
+        f"{sum(not f.doubtful for f in s)} of {len(scrib)} "
+        f"({100 * sum(not f.doubtful for f in s) / len(scrib):.1f}%)"
+    )
     if a.recovery:
         recovery_of_flagged(a.recovery, real, a.skip, a.control_seed)
     return 0

@@ -11,6 +11,7 @@ on the same samples; `--rows unet` or `--rows head` runs one (each takes minutes
 samples), and `--json` keeps them, merged into what the file already holds, so the two
 rows can run apart and print together.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,16 +30,22 @@ from training.recovery import recovery  # noqa: E402
 def table(rows: dict, title: str) -> str:
     """The rows (name -> training.recovery result) as the printed table."""
     ops = list(next(iter(rows.values()))["per_operator"])
-    lines = [f"{title}: recovery strict / with the flip (%)",
-             "        " + "".join(f"{o:>16s}" for o in ops) + "   interpret ms"]
+    lines = [
+        f"{title}: recovery strict / with the flip (%)",
+        "        " + "".join(f"{o:>16s}" for o in ops) + "   interpret ms",
+    ]
     for name, r in rows.items():
-        cells = "".join(f"{100 * v['recovery_rate']:7.1f} / "
-                        f"{100 * v['recovery_rate_with_flip']:5.1f} "
-                        if v["recovery_n"] else f"{'-':>16s}"
-                        for v in r["per_operator"].values())
+        cells = "".join(
+            f"{100 * v['recovery_rate']:7.1f} / {100 * v['recovery_rate_with_flip']:5.1f} "
+            if v["recovery_n"]
+            else f"{'-':>16s}"
+            for v in r["per_operator"].values()
+        )
         lines.append(f"{name:8s}{cells}  {r['interpret_median_ms']:.0f}")
-        lines.append(f"        n: {[v['recovery_n'] for v in r['per_operator'].values()]}; "
-                     f"failures: {r['failure_reasons']}")
+        lines.append(
+            f"        n: {[v['recovery_n'] for v in r['per_operator'].values()]}; "
+            f"failures: {r['failure_reasons']}"
+        )
     return "\n".join(lines)
 
 

@@ -15,6 +15,7 @@ interpreted by the shipped weights, read as a Boss with the blue preview
 (docs/sketch-step.png). FreeCAD exits with status 0 once the file is written, 1
 otherwise.
 """
+
 import os
 import sys
 import time
@@ -29,8 +30,10 @@ from Sketch2CADWorkbench.freecad_layer.env import ROOT
 
 PROTOCOL = os.path.join(ROOT, "examples", "protocols", "hammer.json")
 SKETCH = os.environ.get("SKETCH2CAD_SCREENSHOT_MODE") == "sketch"
-OUT = os.environ.get("SKETCH2CAD_SCREENSHOT", os.path.join(
-    ROOT, "docs", "sketch-step.png" if SKETCH else "workbench.png"))
+OUT = os.environ.get(
+    "SKETCH2CAD_SCREENSHOT",
+    os.path.join(ROOT, "docs", "sketch-step.png" if SKETCH else "workbench.png"),
+)
 WINDOW = (1500, 900)  # device-independent pixels (Xvfb: 1.04 device pixels each)
 
 
@@ -46,6 +49,7 @@ def show_model():
     """The hammer's model tree, its last feature shown, a Revolution selected."""
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
     from Sketch2CADWorkbench.freecad_layer.queries import features
+
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
     FreeCAD.newDocument("Hammer")
     model = load_protocol_file(PROTOCOL)
@@ -71,6 +75,7 @@ def show_sketch_step():
     from Sketch2CADWorkbench.freecad_layer.shapes import from_part
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.sketch.curves import operation_curves
+
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
     doc = FreeCAD.newDocument("Sketch")
     model = make_model(doc)
@@ -86,8 +91,9 @@ def show_sketch_step():
     panel = SketchPanel(model)
     FreeCADGui.Control.showDialog(panel)
     for curve in operation_curves(from_part(model.Tip.Shape), op, direction):
-        wobble = rng.normal(0, 0.25, 3) + np.outer(np.sin(np.linspace(0, np.pi, len(
-            curve.points))), rng.normal(0, 0.3, 3))
+        wobble = rng.normal(0, 0.25, 3) + np.outer(
+            np.sin(np.linspace(0, np.pi, len(curve.points))), rng.normal(0, 0.3, 3)
+        )
         panel.capture.strokes.append(list(curve.points + wobble))
     panel.capture.redraw()
     panel.interpret()  # in FreeCAD's default layout: the panel fits the combo view
@@ -102,7 +108,8 @@ def grab(path: str) -> None:
     settle()
     geometry = mw.frameGeometry()
     image = QtGui.QGuiApplication.primaryScreen().grabWindow(
-        0, geometry.x(), geometry.y(), geometry.width(), geometry.height())
+        0, geometry.x(), geometry.y(), geometry.width(), geometry.height()
+    )
     os.makedirs(os.path.dirname(path), exist_ok=True)
     if not image.save(path):
         raise OSError(f"{path}: cannot write the screenshot")

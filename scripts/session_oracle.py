@@ -10,6 +10,7 @@ PROTOCOL [--each-step]`, it tells a reading's shortfall from what the strokes ho
     .bin/python scripts/session_oracle.py examples/sessions/mixer.json examples/protocols/mixer.json
     .bin/python scripts/session_oracle.py --examples [--json out.json]   # all six
 """
+
 from __future__ import annotations
 
 import argparse
@@ -30,8 +31,13 @@ EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe")
 
 def _pairs(args) -> list[tuple[Path, Path]]:
     if args.examples:
-        return [(ROOT / "examples" / "sessions" / f"{n}.json",
-                 ROOT / "examples" / "protocols" / f"{n}.json") for n in EXAMPLES]
+        return [
+            (
+                ROOT / "examples" / "sessions" / f"{n}.json",
+                ROOT / "examples" / "protocols" / f"{n}.json",
+            )
+            for n in EXAMPLES
+        ]
     if len(args.files) != 2:
         sys.exit("session_oracle: give a session and its protocol, or --examples")
     return [(Path(args.files[0]), Path(args.files[1]))]
@@ -40,8 +46,9 @@ def _pairs(args) -> list[tuple[Path, Path]]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("files", nargs="*", metavar="SESSION PROTOCOL")
-    parser.add_argument("--examples", action="store_true",
-                        help="the six example sessions with their protocols")
+    parser.add_argument(
+        "--examples", action="store_true", help="the six example sessions with their protocols"
+    )
     parser.add_argument("--json", help="write the figures here")
     args = parser.parse_args(argv)
     report = {}
@@ -57,19 +64,29 @@ def main(argv: list[str] | None = None) -> int:
             except ValueError as e:
                 sys.exit(f"session_oracle: {session_path}: {e}")
         weakest, bound = got.weakest
-        print(f"{name}: oracle's final volume IoU {got.final_iou:.3f}, "
-              f"snapped as the steps choose {got.regularized_iou:.3f}; with every other "
-              f"step exact, step {weakest} alone ends it at {bound:.3f} at best")
+        print(
+            f"{name}: oracle's final volume IoU {got.final_iou:.3f}, "
+            f"snapped as the steps choose {got.regularized_iou:.3f}; with every other "
+            f"step exact, step {weakest} alone ends it at {bound:.3f} at best"
+        )
         for k, s in enumerate(got.steps, 1):
-            print(f"  step {k}: alone {s.iou:.3f}, snapped {s.snapped_iou:.3f} (the session "
-                  f"{s.session_iou:.3f} / {s.snapped_session_iou:.3f}); ends and loops miss "
-                  f"it by {s.rms_px:.2f} px rms "
-                  f"(the truth by {s.truth_rms_px:.2f}), {s.strokes} strokes: "
-                  f"{describe(s.snapped)}")
-        report[name] = {"final_iou": got.final_iou, "regularized_iou": got.regularized_iou,
-                        "weakest_step": weakest, "weakest_session_iou": bound,
-                        "steps": [{k: v for k, v in dataclasses.asdict(s).items()
-                                   if k not in ("reading", "snapped")} for s in got.steps]}
+            print(
+                f"  step {k}: alone {s.iou:.3f}, snapped {s.snapped_iou:.3f} (the session "
+                f"{s.session_iou:.3f} / {s.snapped_session_iou:.3f}); ends and loops miss "
+                f"it by {s.rms_px:.2f} px rms "
+                f"(the truth by {s.truth_rms_px:.2f}), {s.strokes} strokes: "
+                f"{describe(s.snapped)}"
+            )
+        report[name] = {
+            "final_iou": got.final_iou,
+            "regularized_iou": got.regularized_iou,
+            "weakest_step": weakest,
+            "weakest_session_iou": bound,
+            "steps": [
+                {k: v for k, v in dataclasses.asdict(s).items() if k not in ("reading", "snapped")}
+                for s in got.steps
+            ],
+        }
     if args.json:
         Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
     return 0

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Shared test settings."""
+
 from pathlib import Path
 
 import pytest

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Synthetic drawings for the decoding tests (tests/inference)."""
+
 import numpy as np
 
 from Sketch2CADWorkbench.sketch.labels import END, PROFILE, START
@@ -7,8 +8,9 @@ from Sketch2CADWorkbench.sketch.labels import END, PROFILE, START
 SIZE = 256
 
 
-def prism_drawing(n: int, seed: int = 0, noise: float = 3.6, shift=(10.0, -70.0)
-                  ) -> tuple[list[np.ndarray], list[int]]:
+def prism_drawing(
+    n: int, seed: int = 0, noise: float = 3.6, shift=(10.0, -70.0)
+) -> tuple[list[np.ndarray], list[int]]:
     """An orthographic drawing of a prism over an irregular n-gon (no two corners close): its start outline,
     the end outline (the start moved by `shift`, pixels) and the profiles, each stroke's
     ends moved by `noise` px per axis (level 1: 3.6), in a random order."""

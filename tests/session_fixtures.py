@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sketch sessions drawn from a protocol's own curves, for the session oracle's tests."""
+
 import numpy as np
 
 from datagen.strokes import perturb
@@ -12,15 +13,28 @@ from Sketch2CADWorkbench.sketch.curves import operation_curves
 
 BASE = Box((40.0, 30.0, 20.0))
 TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
-POST = AddSubPrism(TOP, ((-10.0, -5.0, 10.0), (6.0, -5.0, 10.0), (6.0, 7.0, 10.0),
-                         (-10.0, 7.0, 10.0)), 12.0)
-BOSS = Sweep(FaceRef((-2.0, 1.0, 22.0), (0.0, 0.0, 1.0)), (-2.0, 1.0, 22.0), 3.0, 3.0, 8.0,
-             ((3.0, 8.0 / 3), (3.0, 16.0 / 3)))
+POST = AddSubPrism(
+    TOP, ((-10.0, -5.0, 10.0), (6.0, -5.0, 10.0), (6.0, 7.0, 10.0), (-10.0, 7.0, 10.0)), 12.0
+)
+BOSS = Sweep(
+    FaceRef((-2.0, 1.0, 22.0), (0.0, 0.0, 1.0)),
+    (-2.0, 1.0, 22.0),
+    3.0,
+    3.0,
+    8.0,
+    ((3.0, 8.0 / 3), (3.0, 16.0 / 3)),
+)
 NOT_REGULARIZED = InterpretOptions(regularize=False)
 
 
-def sketched_step(protocol: Protocol, k: int, drawn_as=None, sigma: float = 0.0, seed: int = 0,
-                  choices: InterpretOptions = NOT_REGULARIZED) -> SketchStep:
+def sketched_step(
+    protocol: Protocol,
+    k: int,
+    drawn_as=None,
+    sigma: float = 0.0,
+    seed: int = 0,
+    choices: InterpretOptions = NOT_REGULARIZED,
+) -> SketchStep:
     """Step k of the protocol sketched in a whole-model view: the curves of `drawn_as`
     (default: the step's own operation), each end missed by `sigma` px per axis."""
     solids = replay(protocol)
@@ -30,6 +44,7 @@ def sketched_step(protocol: Protocol, k: int, drawn_as=None, sigma: float = 0.0,
     strokes = []
     for c in operation_curves(solids[k], op, camera.direction):
         exact = camera.project(c.points)[0]
-        strokes.append(perturb(exact[:-1] if c.closed else exact, rng, sigma, c.closed)
-                       if sigma else exact)
+        strokes.append(
+            perturb(exact[:-1] if c.closed else exact, rng, sigma, c.closed) if sigma else exact
+        )
     return SketchStep(camera, strokes, choices)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The layers import only downward (Sketch2CADWorkbench/README.md), and the core runs
 without FreeCAD: only the FreeCAD layer imports it."""
+
 import ast
 import subprocess
 import sys
@@ -19,8 +20,12 @@ LAYERS = [
     {"training", "Sketch2CADWorkbench.freecad_layer"},
     {"Sketch2CADWorkbench.cli"},
 ]
-FREECAD_LAYER = {"Sketch2CADWorkbench.freecad_layer", "Sketch2CADWorkbench.commands",
-                 "Sketch2CADWorkbench.Init", "Sketch2CADWorkbench.InitGui"}
+FREECAD_LAYER = {
+    "Sketch2CADWorkbench.freecad_layer",
+    "Sketch2CADWorkbench.commands",
+    "Sketch2CADWorkbench.Init",
+    "Sketch2CADWorkbench.InitGui",
+}
 FREECAD_MODULES = {"FreeCAD", "FreeCADGui", "Part", "pivy"}
 
 
@@ -32,8 +37,9 @@ def _module(path: Path) -> str:
 def _imports(path: Path) -> set[str]:
     """The absolute names `path` imports (relative imports resolved)."""
     mod = _module(path)
-    return _imports_of(path.read_text(), mod if path.name == "__init__.py"
-                       else mod.rpartition(".")[0])
+    return _imports_of(
+        path.read_text(), mod if path.name == "__init__.py" else mod.rpartition(".")[0]
+    )
 
 
 def _imports_of(source: str, package: str) -> set[str]:
@@ -43,7 +49,7 @@ def _imports_of(source: str, package: str) -> set[str]:
             names |= {a.name for a in node.names}
         elif isinstance(node, ast.ImportFrom):
             if node.level:
-                base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
                 names.add(".".join(base + ([node.module] if node.module else [])))
             elif node.module:
                 names.add(node.module)
@@ -57,8 +63,9 @@ def _layer(name: str):
             if name == prefix or name.startswith(prefix + "."):
                 return rank, prefix
     if name.startswith("Sketch2CADWorkbench.commands"):
-        return LAYERS.index({"training", "Sketch2CADWorkbench.freecad_layer"}), \
-            "Sketch2CADWorkbench.freecad_layer"
+        return LAYERS.index(
+            {"training", "Sketch2CADWorkbench.freecad_layer"}
+        ), "Sketch2CADWorkbench.freecad_layer"
     return None
 
 
@@ -92,15 +99,23 @@ def test_every_import_of_our_own_modules_names_one_that_exists():
     # a relative import one level short (a module moved into a subpackage) only fails
     # when that line runs, which in the FreeCAD layer is inside FreeCAD
     ours = ("Sketch2CADWorkbench", "datagen", "training")
-    missing = [f"{_module(f)} imports {name}" for f in _sources() for name in _imports(f)
-               if name.split(".")[0] in ours and not _exists(name)]
+    missing = [
+        f"{_module(f)} imports {name}"
+        for f in _sources()
+        for name in _imports(f)
+        if name.split(".")[0] in ours and not _exists(name)
+    ]
     assert missing == []
 
 
 def test_every_module_is_in_a_layer():
-    loose = [_module(f) for f in _sources()
-             if _layer(_module(f)) is None and _module(f) not in FREECAD_LAYER
-             and _module(f) != "Sketch2CADWorkbench"]
+    loose = [
+        _module(f)
+        for f in _sources()
+        if _layer(_module(f)) is None
+        and _module(f) not in FREECAD_LAYER
+        and _module(f) != "Sketch2CADWorkbench"
+    ]
     assert loose == []
 
 
@@ -124,21 +139,24 @@ def test_the_checker_resolves_relative_imports_to_their_layer():
 
 def test_only_the_cluster_module_imports_ray():
     # Ray is the optional extra `sketch2cad[cluster]`: nothing else may need it
-    importers = [_module(f) for f in _sources()
-                 if "ray" in {n.split(".")[0] for n in _imports(f)}]
+    importers = [_module(f) for f in _sources() if "ray" in {n.split(".")[0] for n in _imports(f)}]
     assert importers == ["datagen.cluster"]
 
 
 def test_the_core_the_command_line_and_training_import_without_ray():
-    code = ("import sys; sys.modules['ray'] = None\n"  # import ray would raise
-            "import Sketch2CADWorkbench.cli, Sketch2CADWorkbench.cli.datagen, datagen.parallel, "
-            "datagen.cluster, training.train, Sketch2CADWorkbench.inference.interpret")
+    code = (
+        "import sys; sys.modules['ray'] = None\n"  # import ray would raise
+        "import Sketch2CADWorkbench.cli, Sketch2CADWorkbench.cli.datagen, datagen.parallel, "
+        "datagen.cluster, training.train, Sketch2CADWorkbench.inference.interpret"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
 
 
 def test_core_imports_and_builds_without_freecad_on_the_path():
-    code = ("import sys; import Sketch2CADWorkbench.brep.operators, Sketch2CADWorkbench.cli; "
-            "assert 'FreeCAD' not in sys.modules; print('ok')")
+    code = (
+        "import sys; import Sketch2CADWorkbench.brep.operators, Sketch2CADWorkbench.cli; "
+        "assert 'FreeCAD' not in sys.modules; print('ok')"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr

@@ -2,6 +2,7 @@
 """The training data in memory: a generated data set pooled once to the network's internal
 size and held as bytes (inputs at I x I, labels at full size), cached in the run folder
 so that a resumed or repeated run skips that step; and the training/validation split."""
+
 from __future__ import annotations
 
 import json
@@ -41,8 +42,9 @@ class PooledData:
     def subset(self, idx) -> "PooledData":
         return PooledData(self.x[idx], self.labels[idx], self.op[idx], self.noise[idx])
 
-    def batch(self, idx: torch.Tensor, device: str, flip: torch.Tensor | None = None
-              ) -> tuple[torch.Tensor, ...]:
+    def batch(
+        self, idx: torch.Tensor, device: str, flip: torch.Tensor | None = None
+    ) -> tuple[torch.Tensor, ...]:
         """Decode samples `idx`: inputs (B, 5, I, I), F~, C~, M~ (B, S, S), op (B,).
 
         flip: (B,) bool, which samples to mirror left-right. A mirrored scene is a valid
@@ -67,29 +69,34 @@ def pool_dataset(ds: Dataset, model: Sketch2CADNet, chunk: int = 32) -> PooledDa
     """All complete shards of `ds`, pooled with the model's own `pool` (the inputs then
     match what `predict` feeds the network, up to the 8-bit storage)."""
     n, i, s = len(ds), model.config.internal_size, model.config.image_size
-    data = PooledData(torch.empty(n, 6, i, i, dtype=torch.uint8),
-                      torch.empty(n, s, s, dtype=torch.uint8),
-                      torch.empty(n, dtype=torch.int64), torch.empty(n, dtype=torch.int64))
+    data = PooledData(
+        torch.empty(n, 6, i, i, dtype=torch.uint8),
+        torch.empty(n, s, s, dtype=torch.uint8),
+        torch.empty(n, dtype=torch.int64),
+        torch.empty(n, dtype=torch.int64),
+    )
     start = 0
     for k in tqdm(ds.shards, desc="pooling data set", unit="shard", leave=False):
         a = ds.shard_arrays(k)
         for j in range(0, len(a["op_type"]), chunk):
             sl = slice(j, j + chunk)
-            full = torch.from_numpy(decode_inputs(a, sl))                    # (b, 5, S, S)
+            full = torch.from_numpy(decode_inputs(a, sl))  # (b, 5, S, S)
             b = len(full)
-            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()             # (b, 1, S, S)
+            fg = (full[:, 2:5].sum(1, keepdim=True) > 0).float()  # (b, 1, S, S)
             with torch.no_grad():
-                pooled = model.pool(full)                                    # (b, 5, I, I)
+                pooled = model.pool(full)  # (b, 5, I, I)
                 share = F.adaptive_avg_pool2d(fg, pooled.shape[-2:])
-            q = torch.cat([pooled[:, :1], pooled[:, 1:2] * 255, pooled[:, 2:5] * 127.5,
-                           share * 255], 1)
-            data.x[start:start + b] = q.round().clamp(0, 255).to(torch.uint8)
+            q = torch.cat(
+                [pooled[:, :1], pooled[:, 1:2] * 255, pooled[:, 2:5] * 127.5, share * 255], 1
+            )
+            data.x[start : start + b] = q.round().clamp(0, 255).to(torch.uint8)
             stroke = a["stroke_mask"][sl] > 0
             code = np.where(stroke, a["curve_label"][sl].astype(np.uint8) + 1, 0) << 1
-            data.labels[start:start + b] = torch.from_numpy(
-                (code | (a["face_label"][sl] > 0)).astype(np.uint8))
-            data.op[start:start + b] = torch.from_numpy(a["op_type"][sl].astype(np.int64))
-            data.noise[start:start + b] = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
+            data.labels[start : start + b] = torch.from_numpy(
+                (code | (a["face_label"][sl] > 0)).astype(np.uint8)
+            )
+            data.op[start : start + b] = torch.from_numpy(a["op_type"][sl].astype(np.int64))
+            data.noise[start : start + b] = torch.from_numpy(a["noise_level"][sl].astype(np.int64))
             start += b
     return data
 
@@ -97,9 +104,15 @@ def pool_dataset(ds: Dataset, model: Sketch2CADNet, chunk: int = 32) -> PooledDa
 def data_key(ds: Dataset, config: ModelConfig) -> dict:
     """What identifies a pooled data set: the data set and the pooling."""
     m = ds.manifest
-    return {"data": str(ds.folder.resolve()), "count": len(ds), "seed": m.get("seed"),
-            "noise": m.get("noise"), "version": m.get("version"),
-            "image_size": config.image_size, "internal_size": config.internal_size}
+    return {
+        "data": str(ds.folder.resolve()),
+        "count": len(ds),
+        "seed": m.get("seed"),
+        "noise": m.get("noise"),
+        "version": m.get("version"),
+        "image_size": config.image_size,
+        "internal_size": config.internal_size,
+    }
 
 
 def load_pooled(ds: Dataset, model: Sketch2CADNet, out: Path) -> PooledData:

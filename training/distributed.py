@@ -9,6 +9,7 @@ same model; a DistributedSampler deals each epoch's order out to the ranks, so o
 global batch is the same samples a single process would take with that batch size, and
 DDP averages the gradients. Rank 0 alone validates, logs and writes checkpoints.
 """
+
 from __future__ import annotations
 
 import os
@@ -25,6 +26,7 @@ from torch.utils.data import DistributedSampler
 class Ranks:
     """This process's place in the run: `rank` of `world` processes, `local_rank` on its
     machine (one process, the default, is rank 0 of 1)."""
+
     rank: int = 0
     world: int = 1
     local_rank: int = 0
@@ -81,16 +83,18 @@ def wrap(model: torch.nn.Module, ranks: Ranks, device: str) -> torch.nn.Module:
     in backward, buffers such as batch-norm statistics sent from rank 0) or the model."""
     if not ranks.distributed:
         return model
-    return DistributedDataParallel(model, device_ids=[ranks.local_rank]
-                                   if device == "cuda" else None)
+    return DistributedDataParallel(
+        model, device_ids=[ranks.local_rank] if device == "cuda" else None
+    )
 
 
 def epoch_order(n: int, seed: int, epoch: int, ranks: Ranks) -> torch.Tensor:
     """This rank's share of the epoch's order of n samples: a DistributedSampler's, which
     takes every world-th sample of one seeded permutation from `rank` on (padded to a
     multiple of world); for one process exactly torch.randperm(n) seeded seed + epoch."""
-    sampler = DistributedSampler(range(n), num_replicas=ranks.world, rank=ranks.rank,
-                                 shuffle=True, seed=seed)
+    sampler = DistributedSampler(
+        range(n), num_replicas=ranks.world, rank=ranks.rank, shuffle=True, seed=seed
+    )
     sampler.set_epoch(epoch)
     return torch.tensor(list(sampler), dtype=torch.int64)
 
@@ -144,8 +148,10 @@ def weight_spread(model: torch.nn.Module, ranks: Ranks, device: str) -> float:
     sums = []
     for t in list(model.parameters()) + list(model.buffers()):
         flat = t.detach().to(device, torch.float64).flatten()
-        sums += [flat.sum(), (flat * torch.arange(1, len(flat) + 1, device=device,
-                                                  dtype=torch.float64)).sum()]
+        sums += [
+            flat.sum(),
+            (flat * torch.arange(1, len(flat) + 1, device=device, dtype=torch.float64)).sum(),
+        ]
     mine = torch.stack(sums)
     every = [torch.empty_like(mine) for _ in range(ranks.world)]
     dist.all_gather(every, mine)

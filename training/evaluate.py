@@ -4,6 +4,7 @@ every sample, example predictions for the report, and the networks' latency:
 the median wall time of `predict` (pooling, network, upsampling of every output to
 256 x 256) on one sketch (batch 1) at 2 threads, over the first samples.
 """
+
 from __future__ import annotations
 
 import statistics
@@ -56,21 +57,23 @@ class Scores:
     features beside its maps when a head was given."""
 
     unet: Tally
-    head: Tally | None              # the head's choices painted into F and C
-    examples: list[dict]            # EXAMPLES_PER_OP U-Net predictions per operator
-    inputs: list[np.ndarray]        # the first `keep_inputs` sketches' inputs (5, S, S)
-    data: dict                      # the data set's path, seed and noise
+    head: Tally | None  # the head's choices painted into F and C
+    examples: list[dict]  # EXAMPLES_PER_OP U-Net predictions per operator
+    inputs: list[np.ndarray]  # the first `keep_inputs` sketches' inputs (5, S, S)
+    data: dict  # the data set's path, seed and noise
 
 
 def batch_tokens(u: UNetPass, meta: list[dict], face_id: np.ndarray) -> list[Tokens]:
     """The head's tokens of a batch's samples from the U-Net's pass over them."""
-    return [tokens(u.logits[j], u.sketch(j), [np.asarray(s, float) for s in m["strokes"]],
-                   face_id[j]) for j, m in enumerate(meta)]
+    return [
+        tokens(u.logits[j], u.sketch(j), [np.asarray(s, float) for s in m["strokes"]], face_id[j])
+        for j, m in enumerate(meta)
+    ]
 
 
-def _head_reading(head: StructureHead, u: UNetPass, meta: list[dict], face_id: np.ndarray,
-                  op: torch.Tensor
-                  ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+def _head_reading(
+    head: StructureHead, u: UNetPass, meta: list[dict], face_id: np.ndarray, op: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """The head's class logits (B, 4) and its choices under the true operator painted
     into F and C (B, S, S), as the fitting reads them."""
     toks = batch_tokens(u, meta, face_id)
@@ -79,14 +82,20 @@ def _head_reading(head: StructureHead, u: UNetPass, meta: list[dict], face_id: n
     for j, t in enumerate(toks):
         o = int(op[j])
         strokes = [np.asarray(s, float) for s in meta[j]["strokes"]]
-        f, c = painted(roles[j, :len(strokes)], faces[j], o, strokes, t, face_id[j])
+        f, c = painted(roles[j, : len(strokes)], faces[j], o, strokes, t, face_id[j])
         pf.append(f)
         pc.append(c)
     return logits, torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
 
 
-def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
-          limit: int | None = None, batch: int = 32, keep_inputs: int = 0) -> Scores:
+def score(
+    data: Path,
+    model: Sketch2CADNet,
+    head: StructureHead | None = None,
+    limit: int | None = None,
+    batch: int = 32,
+    keep_inputs: int = 0,
+) -> Scores:
     """The paper's metrics over `data` (its first `limit` samples) from one pass of the
     U-Net per batch: its own maps, and a `head`'s choices read from the same features;
     each segmentation scored on the ground-truth operator's maps, as the paper does.
@@ -96,9 +105,13 @@ def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
     n_total = min(len(ds), limit) if limit else len(ds)
     if n_total == 0:
         raise ValueError(f"{data}: the data set has no complete shard yet")
-    out = Scores(Tally(), Tally() if head is not None else None, [], [],
-                 {"path": str(data), "seed": ds.manifest.get("seed"),
-                  "noise": ds.manifest.get("noise")})
+    out = Scores(
+        Tally(),
+        Tally() if head is not None else None,
+        [],
+        [],
+        {"path": str(data), "seed": ds.manifest.get("seed"), "noise": ds.manifest.get("noise")},
+    )
     done = 0
     with tqdm(total=n_total, desc="eval", unit="sample", leave=False) as bar:
         for k in ds.shards:
@@ -106,7 +119,7 @@ def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
             m = min(len(a["op_type"]), n_total - done)
             for i in range(0, m, batch):
                 sl = slice(i, min(i + batch, m))
-                x = decode_inputs(a, sl)                                       # (B, 5, S, S)
+                x = decode_inputs(a, sl)  # (B, 5, S, S)
                 op = torch.from_numpy(a["op_type"][sl].astype(np.int64))
                 noise = torch.from_numpy(a["noise_level"][sl])
                 face = torch.from_numpy(a["face_label"][sl].astype(np.float32))
@@ -118,20 +131,38 @@ def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
                     probs, f, c = model.full_size(u.logits, u.f, u.c)
                     if head is not None:
                         logits, pf, pc = _head_reading(head, u, meta[sl], a["face_id"][sl], op)
-                        out.head.add(op, logits.argmax(1), noise, *face_overlap(pf, face),
-                                     *curve_hits(pc, curve, mask, op))
-                fo, co = f[rows, op], c[rows, op]       # the true operator's maps (B, S, S)
-                out.unet.add(op, probs.argmax(1), noise, *face_overlap(fo, face),
-                             *curve_hits(co, curve, mask, op))
+                        out.head.add(
+                            op,
+                            logits.argmax(1),
+                            noise,
+                            *face_overlap(pf, face),
+                            *curve_hits(pc, curve, mask, op),
+                        )
+                fo, co = f[rows, op], c[rows, op]  # the true operator's maps (B, S, S)
+                out.unet.add(
+                    op,
+                    probs.argmax(1),
+                    noise,
+                    *face_overlap(fo, face),
+                    *curve_hits(co, curve, mask, op),
+                )
                 for j in range(len(op)):
                     if len(out.inputs) < keep_inputs:
                         out.inputs.append(x[j])
                     if sum(e["op"] == int(op[j]) for e in out.examples) < EXAMPLES_PER_OP:
-                        out.examples.append({
-                            "op": int(op[j]), "pred": int(probs[j].argmax()),
-                            "sketch": x[j, 0], "depth": x[j, 1], "face": fo[j].numpy(),
-                            "face_label": face[j].numpy(), "curve": co[j].numpy(),
-                            "curve_label": curve[j].numpy(), "mask": mask[j].numpy()})
+                        out.examples.append(
+                            {
+                                "op": int(op[j]),
+                                "pred": int(probs[j].argmax()),
+                                "sketch": x[j, 0],
+                                "depth": x[j, 1],
+                                "face": fo[j].numpy(),
+                                "face_label": face[j].numpy(),
+                                "curve": co[j].numpy(),
+                                "curve_label": curve[j].numpy(),
+                                "mask": mask[j].numpy(),
+                            }
+                        )
                 bar.update(len(op))
             done += m
             if done >= n_total:
@@ -140,9 +171,14 @@ def score(data: Path, model: Sketch2CADNet, head: StructureHead | None = None,
     return out
 
 
-def evaluate(data: Path, weights: Path | None = None, limit: int | None = None,
-             latency_runs: int = 50, batch: int = 32, head: Path | None = None
-             ) -> tuple[dict, list[dict]]:
+def evaluate(
+    data: Path,
+    weights: Path | None = None,
+    limit: int | None = None,
+    latency_runs: int = 50,
+    batch: int = 32,
+    head: Path | None = None,
+) -> tuple[dict, list[dict]]:
     """The metrics of the JSON and a few example predictions for the report.
 
     Args:
@@ -155,20 +191,35 @@ def evaluate(data: Path, weights: Path | None = None, limit: int | None = None,
     """
     path = resolve(weights)
     model, ckpt = load_model(path)
-    s = score(data, model, load_head(head)[0] if head is not None else None, limit, batch,
-              keep_inputs=latency_runs)
+    s = score(
+        data,
+        model,
+        load_head(head)[0] if head is not None else None,
+        limit,
+        batch,
+        keep_inputs=latency_runs,
+    )
     result = s.unet.summary()
-    result["latency_ms"] = {"networks_median": latency_ms(model, s.inputs),
-                            "runs": len(s.inputs), "threads": LATENCY_THREADS}
+    result["latency_ms"] = {
+        "networks_median": latency_ms(model, s.inputs),
+        "runs": len(s.inputs),
+        "threads": LATENCY_THREADS,
+    }
     result["data"] = s.data
-    result["weights"] = {"path": str(path), "config": ckpt["config"],
-                         "trained_on": ckpt.get("data_key")}
+    result["weights"] = {
+        "path": str(path),
+        "config": ckpt["config"],
+        "trained_on": ckpt.get("data_key"),
+    }
     if s.head is not None:
         result["structured"] = s.head.summary()
     trained = ckpt.get("data_key") or {}
     if trained.get("seed") == s.data["seed"] and trained.get("count") == len(Dataset(data)):
-        print(f"sketch2cad eval: warning: {data} looks like the training data set (same seed "
-              "and size); generate a held-out set with another --seed", file=sys.stderr)
+        print(
+            f"sketch2cad eval: warning: {data} looks like the training data set (same seed "
+            "and size); generate a held-out set with another --seed",
+            file=sys.stderr,
+        )
     return result, s.examples
 
 

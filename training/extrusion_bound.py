@@ -22,6 +22,7 @@ posterior decision on the information it uses.
 Left out, so the bound is slightly loose: tips where an occluder cut a stroke (they are
 not at a corner and are skipped) and faces whose outline has curved edges.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -41,8 +42,8 @@ from Sketch2CADWorkbench.inference.fitting.extrude import offset_from_ends
 from Sketch2CADWorkbench.sketch.labels import EXTRUDE_PROFILE
 from training.recovery import RECOVERY_IOU
 
-DECISION_GRID = 41    # candidate d's across d_ML +- SPAN_SD sd: 0.2 sd apart
-SPAN_SD = 4.0         # the posterior outside +-4 sd holds < 1e-4
+DECISION_GRID = 41  # candidate d's across d_ML +- SPAN_SD sd: 0.2 sd apart
+SPAN_SD = 4.0  # the posterior outside +-4 sd holds < 1e-4
 
 
 @dataclass
@@ -68,8 +69,9 @@ class ExtrusionBound:
     best_recovered: bool
 
 
-def moved_corner_tips(sample: Sample, corners_px: np.ndarray, step_px: np.ndarray
-                      ) -> tuple[np.ndarray, np.ndarray]:
+def moved_corner_tips(
+    sample: Sample, corners_px: np.ndarray, step_px: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Tips (k, 2) drawn at moved corners and the corners' images (k, 2) they belong to.
 
     The oracle pairs by the truth: a profile stroke runs from a corner to its moved copy
@@ -118,7 +120,7 @@ def extrusion_bound(sample: Sample) -> ExtrusionBound | None:
 
     lo, hi = (v * DIAG for v in EXTRUDE_D)
     grid = np.linspace(d_ml - SPAN_SD * sd, d_ml + SPAN_SD * sd, DECISION_GRID)
-    grid = grid[(np.abs(grid) >= lo) & (np.abs(grid) <= hi)]   # the prior's support
+    grid = grid[(np.abs(grid) >= lo) & (np.abs(grid) <= hi)]  # the prior's support
     volumes = np.array([_volume(context, op, d) for d in grid])
     keep = np.isfinite(volumes)
     grid, volumes = grid[keep], volumes[keep]
@@ -131,12 +133,19 @@ def extrusion_bound(sample: Sample) -> ExtrusionBound | None:
         pairs = volumes[:, None], volumes[None]
         iou = np.minimum(*pairs) / np.maximum(*pairs)
         p_pass = np.minimum((iou >= RECOVERY_IOU) @ weight, 1.0)
-        best = np.flatnonzero(p_pass >= p_pass.max() - 1e-9)   # ties: the nearest to d_ML
+        best = np.flatnonzero(p_pass >= p_pass.max() - 1e-9)  # ties: the nearest to d_ML
         i = best[int(np.argmin(np.abs(grid[best] - d_ml)))]
         d_best, p_best = float(grid[i]), float(p_pass[i])
-    return ExtrusionBound(float(op.d), d_ml, sd, len(tips), d_best, p_best,
-                          _recovered(context, op, d_ml, truth),
-                          _recovered(context, op, d_best, truth))
+    return ExtrusionBound(
+        float(op.d),
+        d_ml,
+        sd,
+        len(tips),
+        d_best,
+        p_best,
+        _recovered(context, op, d_ml, truth),
+        _recovered(context, op, d_best, truth),
+    )
 
 
 def _volume(context, op: Extrude, d: float) -> float:
@@ -148,8 +157,9 @@ def _volume(context, op: Extrude, d: float) -> float:
 
 def _recovered(context, op: Extrude, d: float, truth) -> bool:
     try:
-        return volume_iou(apply_operation(context, Extrude(op.face, float(d))), truth) \
-            >= RECOVERY_IOU
+        return (
+            volume_iou(apply_operation(context, Extrude(op.face, float(d))), truth) >= RECOVERY_IOU
+        )
     except OperationError:
         return False
 
@@ -172,8 +182,9 @@ def bound_of_set(data: str, limit: int | None = None) -> dict:
                     if got is not None:
                         rows.append(got)
     p = [r.p_best for r in rows if np.isfinite(r.p_best)]
-    return {"n": len(rows),
-            "oracle_ml_rate": float(np.mean([r.ml_recovered for r in rows])) if rows else None,
-            "best_decision_rate": float(np.mean([r.best_recovered for r in rows]))
-            if rows else None,
-            "expected_bound": float(np.mean(p)) if p else None}
+    return {
+        "n": len(rows),
+        "oracle_ml_rate": float(np.mean([r.ml_recovered for r in rows])) if rows else None,
+        "best_decision_rate": float(np.mean([r.best_recovered for r in rows])) if rows else None,
+        "expected_bound": float(np.mean(p)) if p else None,
+    }

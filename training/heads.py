@@ -14,6 +14,7 @@ add/sub's 15: cross-entropy of the class, of each stroke's role under the ground
 operator, and of the base face among the sketch's face tokens (the ground-truth
 operator's face logits; a sample whose base face is not in view adds none).
 """
+
 from __future__ import annotations
 
 import json
@@ -74,8 +75,8 @@ class Item:
     tokens: Tokens
     op: int
     noise: int
-    roles: torch.Tensor   # (S,) int64 curve label per stroke
-    face: int             # index of the base face among the face tokens, -1 not in view
+    roles: torch.Tensor  # (S,) int64 curve label per stroke
+    face: int  # index of the base face among the face tokens, -1 not in view
 
 
 def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice) -> list[Tokens]:
@@ -87,16 +88,29 @@ def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice) -
 
 def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
     face_id, label = a["face_id"][j], a["face_label"][j] > 0
-    base = np.bincount(face_id[label & (face_id >= 0)].astype(np.int64)).argmax() \
-        if label.any() else -1
+    base = (
+        np.bincount(face_id[label & (face_id >= 0)].astype(np.int64)).argmax()
+        if label.any()
+        else -1
+    )
     where = (t.face_ids == int(base)).nonzero()
-    return Item(t, int(a["op_type"][j]), int(a["noise_level"][j]),
-                torch.tensor(m["stroke_parts"], dtype=torch.int64),
-                int(where[0, 0]) if len(where) else -1)
+    return Item(
+        t,
+        int(a["op_type"][j]),
+        int(a["noise_level"][j]),
+        torch.tensor(m["stroke_parts"], dtype=torch.int64),
+        int(where[0, 0]) if len(where) else -1,
+    )
 
 
-def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
-            limit: int | None = None, batch: int = 16, unet: str = "") -> list[Item]:
+def extract(
+    data: Path,
+    model: Sketch2CADNet,
+    cache: Path | None = None,
+    limit: int | None = None,
+    batch: int = 16,
+    unet: str = "",
+) -> list[Item]:
     """Every sample's tokens and targets. With a `cache` folder, each whole shard's items
     are kept there as they are made, so an interrupted extraction resumes by shard; a
     cached shard is reused only for the same data, count, seed and `unet` (its SHA-256),
@@ -109,8 +123,16 @@ def extract(data: Path, model: Sketch2CADNet, cache: Path | None = None,
             meta = ds.shard_meta(k)
             take = min(len(meta), n - len(items))
             path = cache / f"tokens-{k:05d}.pt" if cache is not None else None
-            key = json.dumps({"data": str(Path(data).resolve()), "shard": k, "take": take,
-                              "seed": ds.manifest.get("seed"), "unet": unet}, sort_keys=True)
+            key = json.dumps(
+                {
+                    "data": str(Path(data).resolve()),
+                    "shard": k,
+                    "take": take,
+                    "seed": ds.manifest.get("seed"),
+                    "unet": unet,
+                },
+                sort_keys=True,
+            )
             if path is not None and path.exists():
                 saved = torch.load(path, weights_only=False)
                 if saved["key"] == key:
@@ -142,26 +164,35 @@ def losses(head: StructureHead, items: list[Item]) -> tuple[torch.Tensor, ...]:
     role_terms, face_terms = [], []
     for j, it in enumerate(items):
         if len(it.roles):
-            r = roles[j, :len(it.roles), ROLE_OFFSETS[it.op]:ROLE_OFFSETS[it.op] + ROLES[it.op]]
+            r = roles[j, : len(it.roles), ROLE_OFFSETS[it.op] : ROLE_OFFSETS[it.op] + ROLES[it.op]]
             role_terms.append(F.cross_entropy(r, it.roles))
         if it.face >= 0:
-            face_terms.append(F.cross_entropy(faces[j, :, it.op][None],
-                                              torch.tensor([it.face])))
+            face_terms.append(F.cross_entropy(faces[j, :, it.op][None], torch.tensor([it.face])))
     zero = logits.sum() * 0
-    return (cls, torch.stack(role_terms).mean() if role_terms else zero,
-            torch.stack(face_terms).mean() if face_terms else zero)
+    return (
+        cls,
+        torch.stack(role_terms).mean() if role_terms else zero,
+        torch.stack(face_terms).mean() if face_terms else zero,
+    )
 
 
-def training_items(sets: Sequence[Path], model: Sketch2CADNet, cache: Path,
-                   limit: int | None = None, unet: str = "") -> tuple[list[Item], dict]:
+def training_items(
+    sets: Sequence[Path],
+    model: Sketch2CADNet,
+    cache: Path,
+    limit: int | None = None,
+    unet: str = "",
+) -> tuple[list[Item], dict]:
     """The items of every data set in `sets`, in that order (each its first `limit`
     samples, default all), each set's tokens cached in its own folder cache/<its name>;
     and how many each gave (path -> count). Raises ValueError for two sets of one name
     (they would share a cache folder)."""
     names = [Path(d).name for d in sets]
     if len(set(names)) < len(names):
-        raise ValueError(f"training sets need distinct folder names (their token caches): "
-                         f"{', '.join(map(str, sets))}")
+        raise ValueError(
+            f"training sets need distinct folder names (their token caches): "
+            f"{', '.join(map(str, sets))}"
+        )
     items, counts = [], {}
     for d in sets:
         got = extract(d, model, cache / Path(d).name, limit=limit, unet=unet)
@@ -170,9 +201,14 @@ def training_items(sets: Sequence[Path], model: Sketch2CADNet, cache: Path,
     return items, counts
 
 
-def train_head(data: Path | Sequence[Path], out: Path, settings: HeadSettings,
-               weights: Path | None = None, tokens_cache: Path | None = None,
-               count: int | None = None) -> Path:
+def train_head(
+    data: Path | Sequence[Path],
+    out: Path,
+    settings: HeadSettings,
+    weights: Path | None = None,
+    tokens_cache: Path | None = None,
+    count: int | None = None,
+) -> Path:
     """Train the head on the union of the data sets `data` (one folder or several;
     the first `count` samples of each, default all) with the U-Net of `weights` frozen;
     a rerun with the same `out` resumes after the last finished epoch. Tokens are cached
@@ -188,9 +224,17 @@ def train_head(data: Path | Sequence[Path], out: Path, settings: HeadSettings,
     settings.head.channels = feature_channels(model)
     head, log = fit(items, out / "head-checkpoint.pt", settings)
     final = out / HEAD_NAME
-    save_head(final, head.eval(), settings=asdict(settings), log=log, train_samples=len(items),
-              data=" + ".join(map(str, sets)), data_counts=counts, unet=str(unet_path),
-              unet_sha256=unet_sha)
+    save_head(
+        final,
+        head.eval(),
+        settings=asdict(settings),
+        log=log,
+        train_samples=len(items),
+        data=" + ".join(map(str, sets)),
+        data_counts=counts,
+        unet=str(unet_path),
+        unet_sha256=unet_sha,
+    )
     return final
 
 
@@ -212,8 +256,9 @@ def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureH
     head.train()
     for e in range(epoch, s.epochs):
         t0 = time.perf_counter()
-        order = torch.randperm(len(items),
-                               generator=torch.Generator().manual_seed(s.seed * 1000 + e))
+        order = torch.randperm(
+            len(items), generator=torch.Generator().manual_seed(s.seed * 1000 + e)
+        )
         sums = np.zeros(3)
         for b in range(steps_per_epoch):
             step = e * steps_per_epoch + b
@@ -221,25 +266,39 @@ def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureH
             lr = floor + (s.lr - floor) * 0.5 * (1 + math.cos(math.pi * step / total))
             for g in opt.param_groups:
                 g["lr"] = lr * min(1.0, (step + 1) / 50)
-            batch = [items[int(i)] for i in order[b * s.batch_size:(b + 1) * s.batch_size]]
+            batch = [items[int(i)] for i in order[b * s.batch_size : (b + 1) * s.batch_size]]
             terms = losses(head, batch)
             opt.zero_grad(set_to_none=True)
             sum(terms).backward()
             torch.nn.utils.clip_grad_norm_(head.parameters(), 5.0)
             opt.step()
             sums += [t.item() for t in terms]
-        row = {"epoch": e + 1, "cls": sums[0] / steps_per_epoch, "role": sums[1] / steps_per_epoch,
-               "face": sums[2] / steps_per_epoch, "seconds": round(time.perf_counter() - t0, 1)}
+        row = {
+            "epoch": e + 1,
+            "cls": sums[0] / steps_per_epoch,
+            "role": sums[1] / steps_per_epoch,
+            "face": sums[2] / steps_per_epoch,
+            "seconds": round(time.perf_counter() - t0, 1),
+        }
         log.append(row)
-        print(f"train-head: epoch {e + 1}/{s.epochs}: cls {row['cls']:.4f} role "
-              f"{row['role']:.4f} face {row['face']:.4f} ({row['seconds']} s)", flush=True)
-        save_head(ckpt_path, head, optimizer=opt.state_dict(), epoch=e + 1, log=log,
-                  settings=asdict(s))
+        print(
+            f"train-head: epoch {e + 1}/{s.epochs}: cls {row['cls']:.4f} role "
+            f"{row['role']:.4f} face {row['face']:.4f} ({row['seconds']} s)",
+            flush=True,
+        )
+        save_head(
+            ckpt_path, head, optimizer=opt.state_dict(), epoch=e + 1, log=log, settings=asdict(s)
+        )
     return head, log
 
 
-def evaluate_head(data: Path, head_path: Path, weights: Path | None = None,
-                  limit: int | None = None, batch: int = 16) -> dict:
+def evaluate_head(
+    data: Path,
+    head_path: Path,
+    weights: Path | None = None,
+    limit: int | None = None,
+    batch: int = 16,
+) -> dict:
     """The paper's metrics on `data` for the U-Net's own maps ("unet") and for the head's
     choices painted into F and C ("head"), from one pass of the U-Net (`score`)."""
     model, _ = load_model(resolve(weights))

@@ -21,6 +21,7 @@ latency
     the median wall time of `predict` (pooling, network, upsampling of every output to
     256 x 256) on one sketch (batch 1) at 2 threads, over the first samples.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -33,12 +34,17 @@ NAMES = [c.value for c in CLASSES]
 # Curve class thresholds per operator index; a pixel's class = how many its C exceeds.
 THRESHOLDS = torch.tensor([CURVE_THRESHOLDS[c] for c in CLASSES])
 # The paper's Table 1 ("ours"): face IoU and curve accuracy per operator.
-PAPER = {"extrude": (0.9178, 0.9804), "bevel": (0.9173, 0.9812), "addsub": (0.7826, 0.9354),
-         "sweep": (0.7834, 0.9557)}
+PAPER = {
+    "extrude": (0.9178, 0.9804),
+    "bevel": (0.9173, 0.9812),
+    "addsub": (0.7826, 0.9354),
+    "sweep": (0.7834, 0.9557),
+}
 
 
-def face_overlap(face_prob: torch.Tensor, face_label: torch.Tensor
-                 ) -> tuple[torch.Tensor, torch.Tensor]:
+def face_overlap(
+    face_prob: torch.Tensor, face_label: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor]:
     """|P and G| and |P or G| per sample, P = {F > 0.5}, G = {F~ > 0.5}.
 
     Args:
@@ -58,12 +64,13 @@ def face_iou(face_prob: torch.Tensor, face_label: torch.Tensor) -> torch.Tensor:
 
 def curve_classes(curve: torch.Tensor, op: torch.Tensor) -> torch.Tensor:
     """(B, H, W) C values -> (B, H, W) int64 classes under operator op's thresholds (B,)."""
-    t = THRESHOLDS.to(curve.device)[op]                                   # (B, 2)
+    t = THRESHOLDS.to(curve.device)[op]  # (B, 2)
     return (curve[:, None] > t[:, :, None, None]).sum(1)
 
 
-def curve_hits(curve: torch.Tensor, curve_label: torch.Tensor, stroke_mask: torch.Tensor,
-               op: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+def curve_hits(
+    curve: torch.Tensor, curve_label: torch.Tensor, stroke_mask: torch.Tensor, op: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor]:
     """Stroke pixels whose predicted class equals C~, and all stroke pixels, per sample.
 
     Args:
@@ -86,8 +93,15 @@ class Tally:
     def add(self, op, pred, noise, inter, union, right, strokes) -> None:
         """Each argument (B,): truth, predicted class, noise level, face intersection and
         union, correct and total stroke pixels."""
-        self.rows.append(torch.stack([torch.as_tensor(v).long().cpu() for v in
-                                      (op, pred, noise, inter, union, right, strokes)], 1))
+        self.rows.append(
+            torch.stack(
+                [
+                    torch.as_tensor(v).long().cpu()
+                    for v in (op, pred, noise, inter, union, right, strokes)
+                ],
+                1,
+            )
+        )
 
     def summary(self) -> dict:
         r = torch.cat(self.rows) if self.rows else torch.zeros(0, 7, dtype=torch.long)
@@ -101,10 +115,13 @@ class Tally:
             k = int(sel.sum())
             if not k:
                 return {"n": 0, "face_iou": None, "curve_accuracy": None}
-            return {"n": k, "face_iou": float(iou[sel].mean()),
-                    "curve_accuracy": float(right[sel].sum() / strokes[sel].sum().clamp(min=1)),
-                    "face_iou_pooled": float(inter[sel].sum() / union[sel].sum().clamp(min=1)),
-                    "curve_accuracy_per_sample": float(frac[sel].mean())}
+            return {
+                "n": k,
+                "face_iou": float(iou[sel].mean()),
+                "curve_accuracy": float(right[sel].sum() / strokes[sel].sum().clamp(min=1)),
+                "face_iou_pooled": float(inter[sel].sum() / union[sel].sum().clamp(min=1)),
+                "curve_accuracy_per_sample": float(frac[sel].mean()),
+            }
 
         def accuracy(sel: torch.Tensor) -> float | None:
             return float((op[sel] == pred[sel]).float().mean()) if sel.any() else None
@@ -115,8 +132,11 @@ class Tally:
             "classification_accuracy": accuracy(torch.ones_like(op, dtype=torch.bool)),
             "per_operator": {name: group(op == k) for k, name in enumerate(NAMES)},
             "confusion_matrix": {"classes": NAMES, "rows_true_cols_predicted": confusion.tolist()},
-            "per_noise_level": {str(lv): {"classification_accuracy": accuracy(noise == lv),
-                                          **{name: group((noise == lv) & (op == k))
-                                             for k, name in enumerate(NAMES)}}
-                                for lv in levels},
+            "per_noise_level": {
+                str(lv): {
+                    "classification_accuracy": accuracy(noise == lv),
+                    **{name: group((noise == lv) & (op == k)) for k, name in enumerate(NAMES)},
+                }
+                for lv in levels
+            },
         }

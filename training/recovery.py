@@ -22,6 +22,7 @@ strokes can reach on these samples: the share of samples not missed by a reading
 explains them better than the truth does (`verify.reading_score`, the score readings are
 ranked by), where the hand drew the reading more than the truth.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -42,9 +43,9 @@ from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.fitting.verify import reading_score, sketch_distances
 from Sketch2CADWorkbench.inference.interpret import (
+    TAKE_A_BOOLEAN,
     Context,
     InterpretError,
-    TAKE_A_BOOLEAN,
     InterpretOptions,
     fit_operation,
     interpret,
@@ -63,13 +64,14 @@ class StepReading:
     """How one sample's sketch step was read."""
 
     operation: Operation
-    solid: cq.Shape                 # the sample's context solid with the operation applied
-    other_option: Mode | None       # the other Boolean, when named as reading as well
-    interpret_ms: float | None      # the whole step's time; None for the fitting stage alone
+    solid: cq.Shape  # the sample's context solid with the operation applied
+    other_option: Mode | None  # the other Boolean, when named as reading as well
+    interpret_ms: float | None  # the whole step's time; None for the fitting stage alone
 
 
-def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None,
-              options: InterpretOptions) -> StepReading:
+def read_step(
+    sample, context: cq.Shape, predictor, renderer: MapRenderer | None, options: InterpretOptions
+) -> StepReading:
     """Read one sample's step: by the whole pipeline with `predictor`, or with None by
     the fitting stage alone, given the sample's true class, F and C in its own context
     maps.
@@ -79,23 +81,36 @@ def read_step(sample, context: cq.Shape, predictor, renderer: MapRenderer | None
     """
     if predictor is not None:
         got = interpret(context, sample.strokes, sample.camera, predictor, renderer, options)
-        return StepReading(got.operations[0], got.solid, got.other_option,
-                           got.timings_ms["total"])
-    ctx = Context(sample.camera, sample.strokes,
-                  ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
-                  sample.inputs())
+        return StepReading(got.operations[0], got.solid, got.other_option, got.timings_ms["total"])
+    ctx = Context(
+        sample.camera,
+        sample.strokes,
+        ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
+        sample.inputs(),
+    )
     try:
-        op, index, _ = fit_operation(context, sample.op_type, sample.face_label,
-                                     sample.curve_label, ctx, options)
+        op, index, _ = fit_operation(
+            context, sample.op_type, sample.face_label, sample.curve_label, ctx, options
+        )
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
     result = None
     if options.regularize:  # as interpret() does after fitting
-        op, _, result, _ = snap_or_keep(context, op, context.Faces()[index],
-                                        lambda moved: ctx.sketch_distances(context, moved),
-                                        ctx.camera, sample.camera, options)
-    return StepReading(op, apply_operation(context, op) if result is None else result,
-                       other_option(context, op, index, ctx.camera, options), None)
+        op, _, result, _ = snap_or_keep(
+            context,
+            op,
+            context.Faces()[index],
+            lambda moved: ctx.sketch_distances(context, moved),
+            ctx.camera,
+            sample.camera,
+            options,
+        )
+    return StepReading(
+        op,
+        apply_operation(context, op) if result is None else result,
+        other_option(context, op, index, ctx.camera, options),
+        None,
+    )
 
 
 def the_other_boolean_draws_it(context: cq.Shape, sample) -> bool:
@@ -110,12 +125,18 @@ def the_other_boolean_draws_it(context: cq.Shape, sample) -> bool:
         return False
     cam = sample.camera
     curves = operation_curves(context, op, np.asarray(cam.direction, float))
-    start, end = (np.concatenate([resample(cam.project(c.points)[0], 2.0)
-                                  for c in curves if c.label == k]) for k in (START, END))
+    start, end = (
+        np.concatenate([resample(cam.project(c.points)[0], 2.0) for c in curves if c.label == k])
+        for k in (START, END)
+    )
     face = resolve_face(context, op.face).face
     try:
-        return choose_option(face, face_frame(face, cam, np.concatenate([start, end])), cam,
-                             start, end, None) is op.mode.flipped
+        return (
+            choose_option(
+                face, face_frame(face, cam, np.concatenate([start, end])), cam, start, end, None
+            )
+            is op.mode.flipped
+        )
     except FitError:
         return False
 
@@ -124,13 +145,20 @@ def strokes_favour(context: cq.Shape, reading: Operation, sample) -> bool:
     """Whether the reading's own sketch explains the sample's strokes better than the
     true operation's (`verify.reading_score`, both reprojected in the sample's camera):
     a miss the strokes favour."""
+
     def score(op: Operation) -> float:
         return reading_score(sketch_distances(context, op, sample.camera, sample.strokes))
+
     return score(reading) < score(sample.operation)
 
 
-def recovery(data, predictor, limit: int, oracle: bool = False,
-             options: InterpretOptions = InterpretOptions(regularize=False)) -> dict:
+def recovery(
+    data,
+    predictor,
+    limit: int,
+    oracle: bool = False,
+    options: InterpretOptions = InterpretOptions(regularize=False),
+) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
     level) over the first `limit` samples, and the median time of one interpret step
     (render + networks + fitting + B-rep). The IoU is the reading's, before any flip; a
@@ -152,8 +180,12 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
     times, reasons = [], {}
     reader = None if oracle else predictor
 
-    with tqdm(total=min(limit, len(ds)), desc="fitting" if oracle else "interpret",
-              unit="sample", leave=False) as bar:
+    with tqdm(
+        total=min(limit, len(ds)),
+        desc="fitting" if oracle else "interpret",
+        unit="sample",
+        leave=False,
+    ) as bar:
         for k in ds.shards:
             for s in ds.samples(k):
                 if bar.n >= limit:
@@ -170,8 +202,10 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                     ok = iou >= RECOVERY_IOU
                     if other is not None and not ok:
                         flip = dataclasses.replace(options, option=other)
-                        flipped = volume_iou(read_step(s, context, reader, renderer, flip).solid,
-                                             truth) >= RECOVERY_IOU
+                        flipped = (
+                            volume_iou(read_step(s, context, reader, renderer, flip).solid, truth)
+                            >= RECOVERY_IOU
+                        )
                     if not ok:
                         nearer = strokes_favour(context, got.operation, s)
                 except (InterpretError, OperationError) as e:
@@ -180,7 +214,8 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
                     reasons[key] = reasons.get(key, 0) + 1
                 hits.setdefault((s.op_type.value, s.noise_level), []).append(ok)
                 beyond.setdefault(s.op_type.value, []).append(
-                    the_other_boolean_draws_it(context, s))
+                    the_other_boolean_draws_it(context, s)
+                )
                 favoured.setdefault(s.op_type.value, []).append(nearer)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
                 ious.setdefault(s.op_type.value, []).append(iou)
@@ -189,21 +224,27 @@ def recovery(data, predictor, limit: int, oracle: bool = False,
     for op in OperatorType:
         got = [h for (o, _), v in hits.items() if o == op.value for h in v]
         fl = flips.get(op.value, [])
-        per_op[op.value] = {"recovery_rate": float(np.mean(got)) if got else None,
-                            "recovery_n": len(got),
-                            "mean_iou": float(np.mean(ious[op.value])) if got else None,
-                            "median_iou": float(np.median(ious[op.value])) if got else None,
-                            "recovery_rate_with_flip": float(np.mean([r for _, r in fl]))
-                            if fl else None,
-                            "other_option_share": float(np.mean([o for o, _ in fl]))
-                            if fl else None,
-                            "strict_ceiling": 1.0 - float(np.mean(beyond[op.value]))
-                            if beyond.get(op.value) else None,
-                            "strokes_ceiling": 1.0 - float(np.mean(favoured[op.value]))
-                            if favoured.get(op.value) else None}
+        per_op[op.value] = {
+            "recovery_rate": float(np.mean(got)) if got else None,
+            "recovery_n": len(got),
+            "mean_iou": float(np.mean(ious[op.value])) if got else None,
+            "median_iou": float(np.median(ious[op.value])) if got else None,
+            "recovery_rate_with_flip": float(np.mean([r for _, r in fl])) if fl else None,
+            "other_option_share": float(np.mean([o for o, _ in fl])) if fl else None,
+            "strict_ceiling": 1.0 - float(np.mean(beyond[op.value]))
+            if beyond.get(op.value)
+            else None,
+            "strokes_ceiling": 1.0 - float(np.mean(favoured[op.value]))
+            if favoured.get(op.value)
+            else None,
+        }
     levels = sorted({lvl for _, lvl in hits})
-    return {"per_operator": per_op,
-            "per_noise_level": {str(lvl): {o: float(np.mean(v)) for (o, l2), v in hits.items()
-                                           if l2 == lvl} for lvl in levels},
-            "interpret_median_ms": float(statistics.median(times)) if times else None,
-            "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])[:10])}
+    return {
+        "per_operator": per_op,
+        "per_noise_level": {
+            str(lvl): {o: float(np.mean(v)) for (o, l2), v in hits.items() if l2 == lvl}
+            for lvl in levels
+        },
+        "interpret_median_ms": float(statistics.median(times)) if times else None,
+        "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])[:10]),
+    }

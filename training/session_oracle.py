@@ -23,6 +23,7 @@ session then ends says how far that step's strokes let a reading of the session 
 the weakest step bounds it (`SessionOracle.weakest`); generously, since the numbers a
 step's strokes do not tell (a sweep's inner profile points) stay the truth's.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -30,7 +31,7 @@ from dataclasses import dataclass, replace
 
 import cadquery as cq
 import numpy as np
-from scipy.optimize import linear_sum_assignment, least_squares
+from scipy.optimize import least_squares, linear_sum_assignment
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import FaceFrame, OperationError, is_curved, resolve_face
@@ -63,7 +64,7 @@ from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 
-FAILED_PX = 1e3       # the residual of numbers that build no curves
+FAILED_PX = 1e3  # the residual of numbers that build no curves
 
 
 @dataclass(frozen=True)
@@ -115,8 +116,9 @@ class SessionOracle:
         return k + 1, best[k]
 
 
-def _numbers(solid: cq.Shape, op: Operation
-             ) -> tuple[np.ndarray, Callable[[np.ndarray], Operation]]:
+def _numbers(
+    solid: cq.Shape, op: Operation
+) -> tuple[np.ndarray, Callable[[np.ndarray], Operation]]:
     """The numbers the strokes tell of `op` (mm, in f's frame) and the operation they
     make. The structure stays the truth's: f, the Boolean, the polygon's corner count,
     a bevel's crease (its profile's ends slide along f's edges from c)."""
@@ -128,16 +130,24 @@ def _numbers(solid: cq.Shape, op: Operation
         poly = frame.to_2d(np.array(op.polygon, float))
 
         def prism(x):
-            return replace(op, polygon=tuple(map(tuple, frame.to_3d(x[:-1].reshape(-1, 2)))),
-                           d=float(x[-1]))
+            return replace(
+                op, polygon=tuple(map(tuple, frame.to_3d(x[:-1].reshape(-1, 2)))), d=float(x[-1])
+            )
+
         return np.r_[poly.ravel(), op.d], prism
     if isinstance(op, Sweep):
         centre = frame.to_2d(np.array(op.center, float))[0]
 
         def sweep(x):
-            return replace(op, center=tuple(frame.to_3d(x[:2])[0]), r0=float(x[2]),
-                           r1=float(x[3]), d=float(x[4]),
-                           profile=tuple(map(tuple, x[5:].reshape(2, 2))))
+            return replace(
+                op,
+                center=tuple(frame.to_3d(x[:2])[0]),
+                r0=float(x[2]),
+                r1=float(x[3]),
+                d=float(x[4]),
+                profile=tuple(map(tuple, x[5:].reshape(2, 2))),
+            )
+
         return np.r_[centre, op.r0, op.r1, op.d, np.ravel(op.profile)], sweep
     if isinstance(op, Bevel):
         c, prof = np.array(op.corner, float), np.array(op.profile, float)
@@ -148,6 +158,7 @@ def _numbers(solid: cq.Shape, op: Operation
             inner = frame.to_3d(x[2:].reshape(2, 2))
             pts = [c + x[0] * units[0], *inner, c + x[1] * units[1]]
             return replace(op, profile=tuple(map(tuple, pts)))
+
         return np.r_[[np.linalg.norm(e) for e in ends], frame.to_2d(prof[1:3]).ravel()], bevel
     raise TypeError(f"no oracle for {type(op).__name__}")
 
@@ -164,7 +175,8 @@ class _Pairing:
         self.open_curves = [k for k in range(len(curves)) if not loop[k]]
         closed = [k for k in range(len(curves)) if loop[k]]
         rows, cols, self.swapped = match_ends(
-            self._curve_ends(curves, camera), ends.reshape(-1, 2, 2))
+            self._curve_ends(curves, camera), ends.reshape(-1, 2, 2)
+        )
         self.open = [(opened[r], self.open_curves[c]) for r, c in zip(rows, cols)]
         self.loop_points = [loop_samples(strokes[i]) for i in loops]
         cost = np.zeros((len(loops), len(closed)))
@@ -173,25 +185,32 @@ class _Pairing:
                 cost[r, c] = loop_distances(p, camera.project(curves[k].points)[0]).mean()
         rows, cols = linear_sum_assignment(cost) if cost.size else ((), ())
         self.loops = [(int(r), closed[c]) for r, c in zip(rows, cols)]
-        self.stroke_ends = np.array([[strokes[i][0], strokes[i][-1]] for i, _ in self.open],
-                                    float).reshape(-1, 2, 2)
-        self.stroke_ends = np.where(np.asarray(self.swapped, bool)[:, None, None],
-                                    self.stroke_ends[:, ::-1], self.stroke_ends)
+        self.stroke_ends = np.array(
+            [[strokes[i][0], strokes[i][-1]] for i, _ in self.open], float
+        ).reshape(-1, 2, 2)
+        self.stroke_ends = np.where(
+            np.asarray(self.swapped, bool)[:, None, None],
+            self.stroke_ends[:, ::-1],
+            self.stroke_ends,
+        )
         self.count = len(self.open) + len(self.loops)
 
     def _curve_ends(self, curves, camera: OrthoCamera) -> np.ndarray:
-        return np.array([camera.project(curves[k].points[[0, -1]])[0]
-                         for k in self.open_curves], float).reshape(-1, 2, 2)
+        return np.array(
+            [camera.project(curves[k].points[[0, -1]])[0] for k in self.open_curves], float
+        ).reshape(-1, 2, 2)
 
     def residuals(self, curves, camera: OrthoCamera) -> np.ndarray:
         """Open strokes' end gaps and loops' weighed distances (view pixels)."""
-        ends = np.array([camera.project(curves[k].points[[0, -1]])[0] for _, k in self.open],
-                        float).reshape(-1, 2, 2)
+        ends = np.array(
+            [camera.project(curves[k].points[[0, -1]])[0] for _, k in self.open], float
+        ).reshape(-1, 2, 2)
         out = [(ends - self.stroke_ends).ravel()]
         weight = np.sqrt(LOOP_WEIGHT)
         for r, k in self.loops:
-            out.append(weight * loop_distances(self.loop_points[r],
-                                               camera.project(curves[k].points)[0]))
+            out.append(
+                weight * loop_distances(self.loop_points[r], camera.project(curves[k].points)[0])
+            )
         return np.concatenate(out)
 
 
@@ -227,22 +246,28 @@ def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> Oracl
     snapped = reading
     if c.regularize:  # as interpret snaps, in pixels of the context camera it frames
         context = context_camera(camera, np.concatenate(step.strokes))
-        strokes = [context.project(camera.unproject(np.asarray(s, float)))[0]
-                   for s in step.strokes]
+        strokes = [context.project(camera.unproject(np.asarray(s, float)))[0] for s in step.strokes]
 
         def distances(op: Operation) -> tuple[np.ndarray, ...]:
             return sketch_distances(solid, op, context, strokes)
 
-        snapped = snap_or_keep(solid, reading, resolve_face(solid, reading.face).face,
-                               distances, context, camera, c)[0]
+        snapped = snap_or_keep(
+            solid, reading, resolve_face(solid, reading.face).face, distances, context, camera, c
+        )[0]
     truth_solid = apply_operation(solid, truth)
-    return OracleStep(reading, _iou(solid, reading, truth_solid), snapped,
-                      _iou(solid, snapped, truth_solid), _rms(fit.fun), _rms(truth_res),
-                      pairing.count)
+    return OracleStep(
+        reading,
+        _iou(solid, reading, truth_solid),
+        snapped,
+        _iou(solid, snapped, truth_solid),
+        _rms(fit.fun),
+        _rms(truth_res),
+        pairing.count,
+    )
 
 
 def _rms(r: np.ndarray) -> float:
-    return float(np.sqrt(np.mean(r ** 2)))
+    return float(np.sqrt(np.mean(r**2)))
 
 
 def _iou(solid: cq.Shape, op: Operation, truth_solid: cq.Shape) -> float:
@@ -254,8 +279,9 @@ def _iou(solid: cq.Shape, op: Operation, truth_solid: cq.Shape) -> float:
         return 0.0
 
 
-def session_oracle(session: Session, protocol: Protocol,
-                   on_step: Callable[[int], None] | None = None) -> SessionOracle:
+def session_oracle(
+    session: Session, protocol: Protocol, on_step: Callable[[int], None] | None = None
+) -> SessionOracle:
     """Every step of `session` read by the oracle against `protocol` (one operation per
     step), and the final volume IoUs of its protocol, as read and regularized.
 
@@ -265,8 +291,10 @@ def session_oracle(session: Session, protocol: Protocol,
         ValueError: the session and the protocol differ in their number of steps.
     """
     if len(session.steps) != len(protocol.operations):
-        raise ValueError(f"the session has {len(session.steps)} steps and the protocol "
-                         f"{len(protocol.operations)} operations: one per step is needed")
+        raise ValueError(
+            f"the session has {len(session.steps)} steps and the protocol "
+            f"{len(protocol.operations)} operations: one per step is needed"
+        )
     truths = replay(protocol)
     steps = []
     for k, (step, truth) in enumerate(zip(session.steps, protocol.operations)):
@@ -276,13 +304,17 @@ def session_oracle(session: Session, protocol: Protocol,
     final, exact = truths[-1], list(protocol.operations)
 
     def alone(k: int, op: Operation) -> float:
-        return volume_iou(apply_what_builds(truths[k], [op] + exact[k + 1:]), final)
+        return volume_iou(apply_what_builds(truths[k], [op] + exact[k + 1 :]), final)
 
-    steps = [replace(s, session_iou=alone(k, s.reading),
-                     snapped_session_iou=alone(k, s.snapped)) for k, s in enumerate(steps)]
+    steps = [
+        replace(s, session_iou=alone(k, s.reading), snapped_session_iou=alone(k, s.snapped))
+        for k, s in enumerate(steps)
+    ]
     return SessionOracle(
-        tuple(steps), volume_iou(_built(protocol, [s.reading for s in steps]), final),
-        volume_iou(_built(protocol, [s.snapped for s in steps]), final))
+        tuple(steps),
+        volume_iou(_built(protocol, [s.reading for s in steps]), final),
+        volume_iou(_built(protocol, [s.snapped for s in steps]), final),
+    )
 
 
 def _built(protocol: Protocol, operations: list[Operation]) -> cq.Shape:

@@ -22,6 +22,7 @@ Run folder:
 In several processes (torchrun, `--nproc N`: distributed.py) each process takes its share
 of every global batch of batch_size samples; rank 0 alone writes these files.
 """
+
 from __future__ import annotations
 
 import json
@@ -56,30 +57,36 @@ from .report import plot_curves
 class TrainSettings:
     """Training settings (the command line overrides them; saved in the checkpoint)."""
 
-    minutes: float = 105.0        # wall-time budget of the optimisation loop (validation
-                                  # included, data loading not): fits 2 h with loading
-    steps: int = 0                # > 0: a step budget instead (reproducible schedule)
+    minutes: float = 105.0  # wall-time budget of the optimisation loop (validation
+    # included, data loading not): fits 2 h with loading
+    steps: int = 0  # > 0: a step budget instead (reproducible schedule)
     batch_size: int = 16
-    lr: float = 2e-3              # AdamW peak learning rate
+    lr: float = 2e-3  # AdamW peak learning rate
     final_lr_fraction: float = 0.02
     warmup_steps: int = 200
     weight_decay: float = 1e-4
-    grad_clip: float = 5.0        # max gradient norm: insurance against a bad batch
-    val_fraction: float = 0.04    # held-out tail of the data set (whole contexts)
-    face_dice: float = 1.0        # weight of the soft Dice term on F (models.loss_terms)
-    flip: bool = True             # random horizontal mirror images (N_x negated)
+    grad_clip: float = 5.0  # max gradient norm: insurance against a bad batch
+    val_fraction: float = 0.04  # held-out tail of the data set (whole contexts)
+    face_dice: float = 1.0  # weight of the soft Dice term on F (models.loss_terms)
+    flip: bool = True  # random horizontal mirror images (N_x negated)
     seed: int = 0
     checkpoint_minutes: float = 5.0
-    log_every: int = 25           # steps between "train" log rows
-    threads: int = 0              # CPU threads for torch (0: torch's default)
+    log_every: int = 25  # steps between "train" log rows
+    threads: int = 0  # CPU threads for torch (0: torch's default)
     device: str = "cpu"
     model: ModelConfig = field(default_factory=ModelConfig)
 
 
 # ---------------------------------------------------------------- validation (estimate_loss)
 @torch.no_grad()
-def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch.Tensor,
-             face_dice: float = 0.0, batch: int = 64) -> dict:
+def validate(
+    model: Sketch2CADNet,
+    data: PooledData,
+    device: str,
+    weights: torch.Tensor,
+    face_dice: float = 0.0,
+    batch: int = 64,
+) -> dict:
     """Losses and the evaluation metrics (evaluate.py) on held-out samples."""
     model.eval()
     tally = Tally()
@@ -88,16 +95,21 @@ def validate(model: Sketch2CADNet, data: PooledData, device: str, weights: torch
         idx = torch.arange(i, min(i + batch, len(data)))
         x, face, curve, mask, op = data.batch(idx, device)
         out = model(x)
-        losses += len(idx) * np.array([float(t) for t in loss_terms(model, out, op, face, curve,
-                                                                    mask, weights, face_dice)])
+        losses += len(idx) * np.array(
+            [float(t) for t in loss_terms(model, out, op, face, curve, mask, weights, face_dice)]
+        )
         pick = op[:, None, None, None].expand(-1, 1, *out[1].shape[2:])
         maps = model.upsample(torch.cat([out[1].gather(1, pick), out[2].gather(1, pick)], 1))
-        tally.add(op, out[0].argmax(1), data.noise[idx], *face_overlap(maps[:, 0].sigmoid(), face),
-                  *curve_hits(maps[:, 1], curve, mask, op))
+        tally.add(
+            op,
+            out[0].argmax(1),
+            data.noise[idx],
+            *face_overlap(maps[:, 0].sigmoid(), face),
+            *curve_hits(maps[:, 1], curve, mask, op),
+        )
     model.train()
     n = max(len(data), 1)
-    return {"cls": losses[0] / n, "face": losses[1] / n, "curve": losses[2] / n,
-            **tally.summary()}
+    return {"cls": losses[0] / n, "face": losses[1] / n, "curve": losses[2] / n, **tally.summary()}
 
 
 # ---------------------------------------------------------------- schedule
@@ -121,8 +133,7 @@ class Run:
         resumed: whether it started from out/checkpoint.pt.
     """
 
-    def __init__(self, data_dir: Path, out: Path, settings: TrainSettings,
-                 ranks: Ranks = Ranks()):
+    def __init__(self, data_dir: Path, out: Path, settings: TrainSettings, ranks: Ranks = Ranks()):
         """Open the run: resume from out/checkpoint.pt if there is one, else start anew.
 
         Raises:
@@ -132,8 +143,9 @@ class Run:
         """
         s = settings
         if s.batch_size % ranks.world:
-            raise ValueError(f"--batch-size {s.batch_size} does not divide among "
-                             f"{ranks.world} processes")
+            raise ValueError(
+                f"--batch-size {s.batch_size} does not divide among {ranks.world} processes"
+            )
         self.ranks = ranks
         if s.threads:
             torch.set_num_threads(s.threads)
@@ -148,15 +160,18 @@ class Run:
             s = _resumed_settings(s, model, ckpt, ds, self.ckpt_path)
         else:
             # a new model takes the data set's map size
-            s = replace(s, model=replace(s.model,
-                                         image_size=int(ds.manifest.get("image_size", 256))))
+            s = replace(
+                s, model=replace(s.model, image_size=int(ds.manifest.get("image_size", 256)))
+            )
             torch.manual_seed(s.seed)
             model = Sketch2CADNet(s.model)
         size = int(ds.manifest.get("image_size", model.config.image_size))
         if size != model.config.image_size:
-            raise ValueError(f"{data_dir} holds {size} x {size} maps, but the model in "
-                             f"{self.ckpt_path} takes {model.config.image_size} x "
-                             f"{model.config.image_size}")
+            raise ValueError(
+                f"{data_dir} holds {size} x {size} maps, but the model in "
+                f"{self.ckpt_path} takes {model.config.image_size} x "
+                f"{model.config.image_size}"
+            )
         self.s, self.model, self.resumed = s, model, ckpt is not None
         model.to(s.device).train()
         self.net = distributed.wrap(model, ranks, s.device)  # what forward passes go through
@@ -194,8 +209,7 @@ class Run:
     def progress(self) -> float:
         """How much of the budget is spent (0..1): steps, or minutes of the loop."""
         s = self.s
-        return self.state["step"] / s.steps if s.steps else \
-            self.state["elapsed"] / (60 * s.minutes)
+        return self.state["step"] / s.steps if s.steps else self.state["elapsed"] / (60 * s.minutes)
 
     def order(self, epoch: int) -> torch.Tensor:
         """This process's share of the epoch's order of the training samples (seeded by
@@ -206,7 +220,7 @@ class Run:
         """This process's samples of the next global batch (state["pos"] counts the
         epoch's samples over all processes)."""
         mine = self.state["pos"] // self.ranks.world
-        return perm[mine:mine + self.s.batch_size // self.ranks.world]
+        return perm[mine : mine + self.s.batch_size // self.ranks.world]
 
     def flips(self, count: int) -> torch.Tensor | None:
         """Which of the step's samples are mirrored (seeded by the step), or None; the
@@ -214,18 +228,29 @@ class Run:
         if not self.s.flip:
             return None
         w = self.ranks.world
-        return torch.rand(count * w, generator=torch.Generator().manual_seed(
-            self.s.seed * 1000003 + self.state["step"]))[self.ranks.rank::w] < 0.5
+        return (
+            torch.rand(
+                count * w,
+                generator=torch.Generator().manual_seed(self.s.seed * 1000003 + self.state["step"]),
+            )[self.ranks.rank :: w]
+            < 0.5
+        )
 
     def save(self, rng: torch.Tensor) -> None:
         """The checkpoint (with the torch RNG state `rng` to resume from) and the curves
         (rank 0's)."""
         if not self.ranks.main:
             return
-        save_checkpoint(self.ckpt_path, self.model, optimizer=self.opt.state_dict(),
-                        state=dict(self.state), settings=asdict(self.s),
-                        data_key=data_key(self.ds, self.model.config),
-                        class_counts=self.counts.tolist(), rng=rng)
+        save_checkpoint(
+            self.ckpt_path,
+            self.model,
+            optimizer=self.opt.state_dict(),
+            state=dict(self.state),
+            settings=asdict(self.s),
+            data_key=data_key(self.ds, self.model.config),
+            class_counts=self.counts.tolist(),
+            rng=rng,
+        )
         plot_curves(self.log_path, self.out / "loss_curves.png", self.s.face_dice)
 
     def validation(self) -> dict | None:
@@ -234,8 +259,15 @@ class Run:
         if not len(self.val_data) or not self.ranks.main:
             return None
         v = validate(self.model, self.val_data, self.s.device, self.weights, self.s.face_dice)
-        self.write({"kind": "val", "step": self.state["step"], "epoch": self.state["epoch"],
-                    "elapsed_s": round(self.state["elapsed"], 1), **v})
+        self.write(
+            {
+                "kind": "val",
+                "step": self.state["step"],
+                "epoch": self.state["epoch"],
+                "elapsed_s": round(self.state["elapsed"], 1),
+                **v,
+            }
+        )
         return v
 
     def finish(self) -> Path:
@@ -250,30 +282,45 @@ class Run:
         v = self.validation()
         self.save(torch.get_rng_state())
         self.model.cpu()
-        save_checkpoint(final, self.model, class_counts=self.counts.tolist(),
-                        trained_steps=state["step"],
-                        trained_epochs=state["epoch"] + state["pos"] / self.n,
-                        trained_minutes=state["elapsed"] / 60, settings=asdict(s),
-                        data_key=data_key(self.ds, self.model.config), validation=v)
-        self.write({"kind": "event", "what": "end", "step": state["step"],
-                    "elapsed_s": round(state["elapsed"], 1), "rank_weight_spread": spread})
+        save_checkpoint(
+            final,
+            self.model,
+            class_counts=self.counts.tolist(),
+            trained_steps=state["step"],
+            trained_epochs=state["epoch"] + state["pos"] / self.n,
+            trained_minutes=state["elapsed"] / 60,
+            settings=asdict(s),
+            data_key=data_key(self.ds, self.model.config),
+            validation=v,
+        )
+        self.write(
+            {
+                "kind": "event",
+                "what": "end",
+                "step": state["step"],
+                "elapsed_s": round(state["elapsed"], 1),
+                "rank_weight_spread": spread,
+            }
+        )
         self.log.close()
         return final
 
 
-def _resumed_settings(s: TrainSettings, model: Sketch2CADNet, ckpt: dict, ds: Dataset,
-                      ckpt_path: Path) -> TrainSettings:
+def _resumed_settings(
+    s: TrainSettings, model: Sketch2CADNet, ckpt: dict, ds: Dataset, ckpt_path: Path
+) -> TrainSettings:
     """The settings of a resumed run: the checkpoint's architecture; say which of the
     other settings changed. Raises ValueError for a checkpoint of another data set."""
     saved = ckpt["settings"]
     s = replace(s, model=model.config)  # the architecture is the checkpoint's
     if ckpt["data_key"] != data_key(ds, model.config):
-        raise ValueError(f"{ckpt_path} was trained on another data set "
-                         f"({ckpt['data_key']}); use a new --out folder")
+        raise ValueError(
+            f"{ckpt_path} was trained on another data set "
+            f"({ckpt['data_key']}); use a new --out folder"
+        )
     for name in ("batch_size", "lr", "seed", "val_fraction", "flip"):
         if getattr(s, name) != saved[name]:
-            print(f"train: resuming with {name}={getattr(s, name)} "
-                  f"(checkpoint had {saved[name]})")
+            print(f"train: resuming with {name}={getattr(s, name)} (checkpoint had {saved[name]})")
     return s
 
 
@@ -286,8 +333,7 @@ def train_step(run: Run, idx: torch.Tensor) -> list[torch.Tensor]:
     for g in run.opt.param_groups:
         g["lr"] = lr_at(s, run.state["step"], run.progress())
     x, face, curve, mask, op = run.train_data.batch(idx, s.device, flip)
-    cls, *rest = loss_terms(run.model, run.net(x), op, face, curve, mask, run.weights,
-                            s.face_dice)
+    cls, *rest = loss_terms(run.model, run.net(x), op, face, curve, mask, run.weights, s.face_dice)
     # in several processes, as one: the weighted mean over the whole global batch
     terms = [cls * distributed.weighted_mean_share(run.weights[op], run.ranks), *rest]
     run.opt.zero_grad(set_to_none=True)
@@ -321,22 +367,38 @@ def train(data_dir: Path, out: Path, settings: TrainSettings) -> Path:
 
 def _loop(run: Run) -> Path:
     s, state, n, main = run.s, run.state, run.n, run.ranks.main
-    run.write({"kind": "event", "what": "resume" if run.resumed else "start",
-               "step": state["step"], "train_samples": n, "val_samples": len(run.val_data),
-               "class_counts": run.counts.tolist(), "load_s": round(run.load_s, 1),
-               "settings": asdict(s), "threads": torch.get_num_threads(),
-               "processes": run.ranks.world})
+    run.write(
+        {
+            "kind": "event",
+            "what": "resume" if run.resumed else "start",
+            "step": state["step"],
+            "train_samples": n,
+            "val_samples": len(run.val_data),
+            "class_counts": run.counts.tolist(),
+            "load_s": round(run.load_s, 1),
+            "settings": asdict(s),
+            "threads": torch.get_num_threads(),
+            "processes": run.ranks.world,
+        }
+    )
     if main:
-        print(f"train: {n} training / {len(run.val_data)} validation samples (pooled in "
-              f"{run.load_s:.0f} s); class counts {run.counts.tolist()}; "
-              f"{torch.get_num_threads()} threads"
-              + (f" in each of {run.ranks.world} processes" if run.ranks.distributed else "")
-              + (f"; resuming at step {state['step']}" if run.resumed else ""))
+        print(
+            f"train: {n} training / {len(run.val_data)} validation samples (pooled in "
+            f"{run.load_s:.0f} s); class counts {run.counts.tolist()}; "
+            f"{torch.get_num_threads()} threads"
+            + (f" in each of {run.ranks.world} processes" if run.ranks.distributed else "")
+            + (f"; resuming at step {state['step']}" if run.resumed else "")
+        )
 
     perm = run.order(state["epoch"])
     total = s.steps if s.steps else int(60 * s.minutes)
-    bar = tqdm(total=total, unit="step" if s.steps else "s", desc="train", dynamic_ncols=True,
-               disable=not main)
+    bar = tqdm(
+        total=total,
+        unit="step" if s.steps else "s",
+        desc="train",
+        dynamic_ncols=True,
+        disable=not main,
+    )
     bar.update(state["step"] if s.steps else int(state["elapsed"]))
     t0 = time.perf_counter() - state["elapsed"]
     last_save = time.perf_counter()
@@ -353,10 +415,15 @@ def _loop(run: Run) -> Path:
                 perm = run.order(state["epoch"])
                 v = run.validation()
                 if v:
-                    bar.write(f"epoch {state['epoch']}: val acc "
-                              f"{v['classification_accuracy']:.4f}, face IoU " +
-                              " ".join(f"{k[:2]} {d['face_iou']:.3f}"
-                                       for k, d in v["per_operator"].items() if d["n"]))
+                    bar.write(
+                        f"epoch {state['epoch']}: val acc "
+                        f"{v['classification_accuracy']:.4f}, face IoU "
+                        + " ".join(
+                            f"{k[:2]} {d['face_iou']:.3f}"
+                            for k, d in v["per_operator"].items()
+                            if d["n"]
+                        )
+                    )
             idx = run.next_batch(perm)
             terms = train_step(run, idx)
             stepping = True
@@ -369,17 +436,29 @@ def _loop(run: Run) -> Path:
             seen += 1
             now = time.perf_counter()
             # the processes must agree on a --minutes run's schedule and end: rank 0's clock
-            state["elapsed"] = now - t0 if s.steps else \
-                distributed.from_main(now - t0, run.ranks, s.device)
+            state["elapsed"] = (
+                now - t0 if s.steps else distributed.from_main(now - t0, run.ranks, s.device)
+            )
             if state["step"] % s.log_every == 0:
                 c, f, cu = sums / seen
-                run.write({"kind": "train", "step": state["step"], "epoch": state["epoch"],
-                           "samples": state["step"] * s.batch_size, "cls": c, "face": f,
-                           "curve": cu, "loss": c + f + cu, "lr": run.opt.param_groups[0]["lr"],
-                           "elapsed_s": round(state["elapsed"], 1),
-                           "ms_per_sample": 1e3 * (now - t_log) / (seen * s.batch_size)})
-                bar.set_postfix(cls=f"{c:.3f}", face=f"{f:.4f}", curve=f"{cu:.3f}",
-                                epoch=state["epoch"])
+                run.write(
+                    {
+                        "kind": "train",
+                        "step": state["step"],
+                        "epoch": state["epoch"],
+                        "samples": state["step"] * s.batch_size,
+                        "cls": c,
+                        "face": f,
+                        "curve": cu,
+                        "loss": c + f + cu,
+                        "lr": run.opt.param_groups[0]["lr"],
+                        "elapsed_s": round(state["elapsed"], 1),
+                        "ms_per_sample": 1e3 * (now - t_log) / (seen * s.batch_size),
+                    }
+                )
+                bar.set_postfix(
+                    cls=f"{c:.3f}", face=f"{f:.4f}", curve=f"{cu:.3f}", epoch=state["epoch"]
+                )
                 sums, seen, t_log = np.zeros(3), 0, now
             bar.update(1 if s.steps else int(state["elapsed"]) - bar.n)
             if now - last_save > 60 * s.checkpoint_minutes:
@@ -395,8 +474,10 @@ def _loop(run: Run) -> Path:
             run.save(rng)
             run.write({"kind": "event", "what": "interrupted", "step": state["step"]})
             if main:
-                print(f"train: interrupted at step {state['step']}; checkpoint saved, run "
-                      "the same command again to resume")
+                print(
+                    f"train: interrupted at step {state['step']}; checkpoint saved, run "
+                    "the same command again to resume"
+                )
         if run.log:
             run.log.close()
         raise
@@ -404,6 +485,8 @@ def _loop(run: Run) -> Path:
 
     final = run.finish()
     if main:
-        print(f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs "
-              f"of {n} samples in {state['elapsed'] / 60:.1f} min; weights {final}")
+        print(
+            f"train: {state['step']} steps = {state['epoch'] + state['pos'] / n:.2f} epochs "
+            f"of {n} samples in {state['elapsed'] / 60:.1f} min; weights {final}"
+        )
     return final

@@ -10,6 +10,7 @@ otherwise, or when the answer is low (the way such a failure shows), a point-sam
 estimate picks the route that agrees with it, and failing that, a finer sampling gives
 the answer.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -17,13 +18,13 @@ from collections.abc import Callable
 import cadquery as cq
 import numpy as np
 
-CHECK_POINTS = 512       # points of the sampling check (0.1 to 0.5 s for two solids)
-FALLBACK_POINTS = 4000   # points of the sampled answer when no Boolean route holds
-AGREE_VOLUME = 1e-4      # intersection and union agree within this share of the larger volume
-CHECKED_BELOW = 0.5      # IoU below which a Boolean answer is checked by sampling
-AGREE = 0.05             # largest IoU gap between a checked answer and the sampling
-FUZZY = 1e-5             # fuzzy Boolean tolerance, as a share of the bounding diagonal
-MESH_TOL = 1e-3          # the sampling's tessellation, as a share of the bounding diagonal
+CHECK_POINTS = 512  # points of the sampling check (0.1 to 0.5 s for two solids)
+FALLBACK_POINTS = 4000  # points of the sampled answer when no Boolean route holds
+AGREE_VOLUME = 1e-4  # intersection and union agree within this share of the larger volume
+CHECKED_BELOW = 0.5  # IoU below which a Boolean answer is checked by sampling
+AGREE = 0.05  # largest IoU gap between a checked answer and the sampling
+FUZZY = 1e-5  # fuzzy Boolean tolerance, as a share of the bounding diagonal
+MESH_TOL = 1e-3  # the sampling's tessellation, as a share of the bounding diagonal
 # The sampling's ray direction: off every axis, so that no ray runs along a box's face or
 # through its edges, where a crossing would count twice or not at all.
 RAY = np.array([0.8017837257, 0.5345224838, 0.2672612419])
@@ -45,13 +46,13 @@ def _inside(shape: cq.Shape, points: np.ndarray) -> np.ndarray:
     a, e1, e2, h, inv = a[keep], e1[keep], e2[keep], h[keep], 1.0 / det[keep]
     out = np.empty(len(points), bool)
     for lo in range(0, len(points), 64):  # a few MB of (points, triangles) at a time
-        s = np.asarray(points[lo:lo + 64], float)[:, None, :] - a[None]
+        s = np.asarray(points[lo : lo + 64], float)[:, None, :] - a[None]
         u = np.einsum("ptj,tj->pt", s, h) * inv
         q = np.cross(s, e1[None])
         w = (q @ RAY) * inv
         along = np.einsum("ptj,tj->pt", q, e2) * inv
         hits = (u >= 0) & (w >= 0) & (u + w <= 1) & (along > 0)
-        out[lo:lo + 64] = np.count_nonzero(hits, axis=1) % 2 == 1
+        out[lo : lo + 64] = np.count_nonzero(hits, axis=1) % 2 == 1
     return out
 
 
@@ -59,21 +60,21 @@ def sampled_iou(a: cq.Shape, b: cq.Shape, count: int, seed: int = 0) -> float:
     """IoU estimated from `count` points spread uniformly over both solids' bounding box."""
     box = a.BoundingBox().add(b.BoundingBox())
     rng = np.random.default_rng(seed)
-    pts = rng.uniform((box.xmin, box.ymin, box.zmin), (box.xmax, box.ymax, box.zmax),
-                      (count, 3))
+    pts = rng.uniform((box.xmin, box.ymin, box.zmin), (box.xmax, box.ymax, box.zmax), (count, 3))
     ina, inb = _inside(a, pts), _inside(b, pts)
     union = int(np.count_nonzero(ina | inb))
     return float(np.count_nonzero(ina & inb) / union) if union else 0.0
 
 
-def _common_routes(a: cq.Shape, b: cq.Shape, va: float, vb: float
-                   ) -> list[Callable[[], float]]:
+def _common_routes(a: cq.Shape, b: cq.Shape, va: float, vb: float) -> list[Callable[[], float]]:
     """Ways to compute |A and B| with Booleans, cheapest and most exact first."""
     tol = FUZZY * a.BoundingBox().add(b.BoundingBox()).DiagonalLength
-    return [lambda: a.intersect(b).Volume(),
-            lambda: va + vb - a.fuse(b).Volume(),
-            lambda: a.intersect(b, tol=tol).Volume(),
-            lambda: va + vb - a.fuse(b, tol=tol).Volume()]
+    return [
+        lambda: a.intersect(b).Volume(),
+        lambda: va + vb - a.fuse(b).Volume(),
+        lambda: a.intersect(b, tol=tol).Volume(),
+        lambda: va + vb - a.fuse(b, tol=tol).Volume(),
+    ]
 
 
 def volume_iou(a: cq.Shape, b: cq.Shape) -> float:

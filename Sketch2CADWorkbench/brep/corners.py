@@ -5,6 +5,7 @@ A crease is a straight edge of the solid running from a point of f into the soli
 -n_f (perpendicular to f); a bevel rounds a convex corner c of f, where two straight
 edges of f meet, along the crease c -> c'. Points are world millimetres.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -20,8 +21,11 @@ CREASE_COS = 0.999
 
 def line_edges(shape: cq.Shape) -> list[tuple[np.ndarray, np.ndarray]]:
     """The two end points of each straight edge of a shape (a face or a solid)."""
-    return [(np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple()))
-            for e in shape.Edges() if e.geomType() == "LINE"]
+    return [
+        (np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple()))
+        for e in shape.Edges()
+        if e.geomType() == "LINE"
+    ]
 
 
 def creases(solid: cq.Shape, normal: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -36,8 +40,9 @@ def creases(solid: cq.Shape, normal: np.ndarray) -> list[tuple[np.ndarray, np.nd
     return out
 
 
-def crease_end(solid: cq.Shape, corner: np.ndarray, normal: np.ndarray,
-               tol: float) -> np.ndarray | None:
+def crease_end(
+    solid: cq.Shape, corner: np.ndarray, normal: np.ndarray, tol: float
+) -> np.ndarray | None:
     """c': the far end of the crease leaving `corner` (within tol) along -normal, or None
     when no straight edge of the solid does."""
     return next((t for s, t in creases(solid, normal) if np.linalg.norm(s - corner) < tol), None)
@@ -59,8 +64,7 @@ class BevelCorner:
     lb: float
 
 
-def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray, tol: float
-                  ) -> list[BevelCorner]:
+def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray, tol: float) -> list[BevelCorner]:
     """The corners of f that a bevel can round.
 
     A corner qualifies when two straight edges of f meet at c (within tol) at an angle
@@ -69,8 +73,11 @@ def bevel_corners(solid: cq.Shape, face: cq.Face, n: np.ndarray, tol: float
     edges = line_edges(face)
     out = []
     for c, cp in creases(solid, n):
-        legs = [b - a if np.linalg.norm(a - c) < tol else a - b
-                for a, b in edges if min(np.linalg.norm(a - c), np.linalg.norm(b - c)) < tol]
+        legs = [
+            b - a if np.linalg.norm(a - c) < tol else a - b
+            for a, b in edges
+            if min(np.linalg.norm(a - c), np.linalg.norm(b - c)) < tol
+        ]
         if len(legs) != 2:
             continue
         la, lb = (float(np.linalg.norm(v)) for v in legs)
@@ -89,8 +96,14 @@ def corner_at(corners: list[BevelCorner], point: np.ndarray, tol: float) -> Beve
     return next((k for k in corners if np.linalg.norm(k.c - point) < tol), None)
 
 
-def corner_along(corners: list[BevelCorner], point: np.ndarray, a: np.ndarray, b: np.ndarray,
-                 crease: float, tol: float) -> BevelCorner | None:
+def corner_along(
+    corners: list[BevelCorner],
+    point: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    crease: float,
+    tol: float,
+) -> BevelCorner | None:
     """The corner nearest to `point` whose two edges leave it along the unit directions a
     and b (either way round, within CREASE_COS) and whose crease is `crease` mm long
     (within tol), with its edges in that order; None when no corner is such.

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Writing and reading solids: STEP (AP214, mm) for users, BREP text for FreeCAD."""
+
 from __future__ import annotations
 
 import io

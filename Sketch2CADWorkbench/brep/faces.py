@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Resolving a geometric face reference (`FaceRef`) against the current solid, planar or
 curved (a cylinder's or cone's side, `CurvedSurface`)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,11 +12,11 @@ from cadquery.occ_impl.shapes import geom_LUT_FACE
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
-from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.GeomAbs import GeomAbs_Line, GeomAbs_Plane
+from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import (
     TopAbs_EDGE,
@@ -148,8 +149,9 @@ class CurvedSurface:
         n /= np.linalg.norm(n, axis=1, keepdims=True)
         return n if self.convex else -n
 
-    def roots(self, points: np.ndarray, direction: np.ndarray, lo: float, hi: float
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def roots(
+        self, points: np.ndarray, direction: np.ndarray, lo: float, hi: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Where the lines q + t direction (q: points (K, 3)) cross the surface for t in
         [lo, hi]: the line index (M,), t (M,), and whether the line enters the surface
         there (M,) (passes from outside to inside), ordered by line, then t.
@@ -166,7 +168,7 @@ class CurvedSurface:
         r0 = self.radius + self.slope * h0
         a = float(dp @ dp) - (self.slope * da) ** 2
         b = 2.0 * (p0 @ dp - self.slope * da * r0)
-        c = np.einsum("ij,ij->i", p0, p0) - r0 ** 2
+        c = np.einsum("ij,ij->i", p0, p0) - r0**2
         k = np.arange(len(q))
         if abs(a) <= LINEAR_REL * float(direction @ direction):
             k = k[b != 0]  # along a cylinder's axis no crossing, along a cone's line one
@@ -182,8 +184,7 @@ class CurvedSurface:
         # entering where the quadratic (of `level`'s sign on the nappe) falls
         return k, t, 2.0 * a * t + b[k] < 0
 
-    def crossings(self, points: np.ndarray, direction: np.ndarray, span: float
-                  ) -> np.ndarray:
+    def crossings(self, points: np.ndarray, direction: np.ndarray, span: float) -> np.ndarray:
         """For each point q (K, 3), the t nearest 0 in [-span, span] where q + t direction
         crosses the surface: (K,), NaN where the line misses it within the span."""
         k, t, _ = self.roots(points, direction, -span, span)
@@ -281,8 +282,10 @@ def face_kinds(shape: cq.Shape) -> list[str]:
     """Each face's surface kind as cadquery's geomType() names it ("PLANE", "CYLINDER",
     ...), in the order of shape.Faces(), without wrapping every face as Faces() does."""
     faces = indexed_faces(shape)
-    return [geom_LUT_FACE[BRepAdaptor_Surface(TopoDS.Face_s(faces.FindKey(i))).GetType()]
-            for i in range(1, faces.Extent() + 1)]
+    return [
+        geom_LUT_FACE[BRepAdaptor_Surface(TopoDS.Face_s(faces.FindKey(i))).GetType()]
+        for i in range(1, faces.Extent() + 1)
+    ]
 
 
 def plane_normals(shape: cq.Shape) -> dict[int, np.ndarray]:
@@ -325,8 +328,9 @@ def base_face_index(solid: cq.Shape, face: cq.Face) -> int:
     return index - 1
 
 
-def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
-                   boundary: bool = True) -> np.ndarray:
+def points_on_face(
+    face: cq.Face, points: np.ndarray, tol: float, boundary: bool = True
+) -> np.ndarray:
     """Which points (K, 3) of f's plane lie on f: (K,) bool.
 
     With `boundary`, points within tol of f's edges count as on f; without, only
@@ -342,10 +346,10 @@ def points_on_face(face: cq.Face, points: np.ndarray, tol: float,
     if sides is None:
         return _classify(face, points, tol, boundary)
     origin, axes, ends, own_tol = sides
-    q = (points - origin) @ axes.T                                 # (K, 2) in f's plane
-    a, b = ends[:, 0], ends[:, 1]                                  # (E, 2) each
+    q = (points - origin) @ axes.T  # (K, 2) in f's plane
+    a, b = ends[:, 0], ends[:, 1]  # (E, 2) each
     ab = b - a
-    rel = q[:, None, :] - a[None]                                  # (K, E, 2)
+    rel = q[:, None, :] - a[None]  # (K, E, 2)
     t = np.clip((rel * ab).sum(axis=2) / np.maximum((ab * ab).sum(axis=1), 1e-300), 0.0, 1.0)
     gap = np.hypot(*np.moveaxis(rel - t[..., None] * ab, 2, 0)).min(axis=1)
     # even-odd count of the sides crossing the ray from each point along +u, half open
@@ -390,13 +394,16 @@ def _straight_sides(face: cq.Face) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     while explorer.More():
         edge = TopoDS.Edge_s(explorer.Current())
         explorer.Next()
-        if edge.Orientation() not in (TopAbs_FORWARD, TopAbs_REVERSED) or \
-                BRepAdaptor_Curve(edge).GetType() != GeomAbs_Line:
+        if (
+            edge.Orientation() not in (TopAbs_FORWARD, TopAbs_REVERSED)
+            or BRepAdaptor_Curve(edge).GetType() != GeomAbs_Line
+        ):
             return None
         vertices = (TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge))
         ends.append([BRep_Tool.Pnt_s(v).Coord() for v in vertices])
-        own_tol = max(own_tol, BRep_Tool.Tolerance_s(edge),
-                      *(BRep_Tool.Tolerance_s(v) for v in vertices))
+        own_tol = max(
+            own_tol, BRep_Tool.Tolerance_s(edge), *(BRep_Tool.Tolerance_s(v) for v in vertices)
+        )
     if not ends:
         return None
     return origin, axes, (np.array(ends) - origin) @ axes.T, own_tol
@@ -435,10 +442,14 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
     tol = ON_FACE_REL * max(scale, 1.0)
     n_ref = np.asarray(ref.normal, dtype=float)
     p_ref = np.asarray(ref.point, dtype=float)
-    if not (np.isfinite(n_ref).all() and np.isfinite(p_ref).all()) \
-            or abs(float(np.linalg.norm(n_ref)) - 1.0) > 1e-6:
-        raise OperationError(f"{what} reference (point {ref.point}, normal {ref.normal}): "
-                             "expected a finite point and a unit normal")
+    if (
+        not (np.isfinite(n_ref).all() and np.isfinite(p_ref).all())
+        or abs(float(np.linalg.norm(n_ref)) - 1.0) > 1e-6
+    ):
+        raise OperationError(
+            f"{what} reference (point {ref.point}, normal {ref.normal}): "
+            "expected a finite point and a unit normal"
+        )
     if ref.surface.curved:
         return resolve_curved_face(solid, ref, scale, tol, what)
     best: tuple[cq.Face, np.ndarray, float] | None = None
@@ -457,15 +468,17 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
         raise OperationError(
             f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
             f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no planar face "
-            "with that outward normal contains the point")
+            "with that outward normal contains the point"
+        )
     face, n, shift = best
     if abs(shift) > tol:
         _refuse_inward_normal(solid, ref, p_ref, n_ref, tol, what)
     return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
 
 
-def resolve_curved_face(solid: cq.Shape, ref: FaceRef, scale: float, tol: float,
-                        what: str) -> ResolvedFace:
+def resolve_curved_face(
+    solid: cq.Shape, ref: FaceRef, scale: float, tol: float, what: str
+) -> ResolvedFace:
     """The cylindrical or conical face `ref` designates: the face of that kind that holds
     ref.point with ref.normal as its outward normal there; if none does (an earlier step
     was edited: a sweep's radius changed), the nearest such face along the line through
@@ -498,22 +511,28 @@ def resolve_curved_face(solid: cq.Shape, ref: FaceRef, scale: float, tol: float,
             f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
             f"{tuple(round(x, 4) for x in ref.normal)}) no longer resolves: no "
             f"{ref.surface.value} face has that outward normal at the point or along the "
-            "line through it")
+            "line through it"
+        )
     face, shift, surface = best
     return ResolvedFace(face, n_ref, shift, surface, p_ref + shift * n_ref)
 
 
-def _refuse_inward_normal(solid: cq.Shape, ref: FaceRef, p_ref: np.ndarray, n_ref: np.ndarray,
-                          tol: float, what: str) -> None:
+def _refuse_inward_normal(
+    solid: cq.Shape, ref: FaceRef, p_ref: np.ndarray, n_ref: np.ndarray, tol: float, what: str
+) -> None:
     """A point on a face whose outward normal is the opposite of ref's: the reference's
     normal points into the solid (it would otherwise match the face across the solid)."""
     for face, n, offset in planar_faces(solid):
-        if float(n @ n_ref) <= -NORMAL_COS_TOL and abs(offset - float(n @ p_ref)) <= tol \
-                and face.distance(cq.Vertex.makeVertex(*p_ref)) <= tol:
+        if (
+            float(n @ n_ref) <= -NORMAL_COS_TOL
+            and abs(offset - float(n @ p_ref)) <= tol
+            and face.distance(cq.Vertex.makeVertex(*p_ref)) <= tol
+        ):
             raise OperationError(
                 f"{what} reference (point {tuple(round(x, 4) for x in ref.point)}, normal "
                 f"{tuple(round(x, 4) for x in ref.normal)}): the normal points into the "
-                f"solid; the face there faces {tuple(round(float(x), 4) for x in n)}")
+                f"solid; the face there faces {tuple(round(float(x), 4) for x in n)}"
+            )
 
 
 def face_ref_of(face: cq.Face) -> FaceRef:
@@ -533,8 +552,9 @@ def face_ref_at(face: cq.Face, point) -> FaceRef:
     """
     kinds = {v: k for k, v in GEOM_TYPES.items()}
     if face.geomType() not in kinds:
-        raise OperationError(f"a base face must be planar, cylindrical or conical, not "
-                             f"{face.geomType().lower()}")
+        raise OperationError(
+            f"a base face must be planar, cylindrical or conical, not {face.geomType().lower()}"
+        )
     at = cq.Vector(*map(float, point))
     projected = GeomAPI_ProjectPointOnSurf(at.toPnt(), BRep_Tool.Surface_s(face.wrapped))
     p = projected.NearestPoint().Coord() if projected.NbPoints() else at.toTuple()
@@ -546,8 +566,11 @@ def face_ref_at(face: cq.Face, point) -> FaceRef:
         p = extrema.PointOnShape2(1).Coord()
         at = cq.Vector(*p)
     n = face.normalAt(at)
-    return FaceRef(tuple(round(float(c), 9) for c in p),
-                   tuple(round(c, 12) for c in n.toTuple()), kinds[face.geomType()])
+    return FaceRef(
+        tuple(round(float(c), 9) for c in p),
+        tuple(round(c, 12) for c in n.toTuple()),
+        kinds[face.geomType()],
+    )
 
 
 def interior_point(face: cq.Face) -> tuple[float, float, float]:

@@ -4,6 +4,7 @@
 Each check returns the parsed value or raises `error(path, message, value)`, whose text
 reads like "operations[2].d: expected a positive number, got -6".
 """
+
 from __future__ import annotations
 
 import json
@@ -16,8 +17,11 @@ class FieldError(ValueError):
 
 
 def error(path: str, msg: str, value: Any) -> FieldError:
-    shown = value if isinstance(value, str) and value.startswith("an integer of") else \
-        json.dumps(value, default=repr)
+    shown = (
+        value
+        if isinstance(value, str) and value.startswith("an integer of")
+        else json.dumps(value, default=repr)
+    )
     if len(shown) > 80:
         shown = shown[:77] + "..."
     return FieldError(f"{path}: {msg}, got {shown}")
@@ -46,8 +50,11 @@ def obj(v: Any, path: str, required: set[str], optional: set[str] = frozenset())
         raise error(path, f"missing key '{missing[0]}'", v)
     extra = sorted(v.keys() - required - optional)
     if extra:
-        raise error(f"{path}.{extra[0]}",
-                    f"unknown key (expected one of {sorted(required | optional)})", v[extra[0]])
+        raise error(
+            f"{path}.{extra[0]}",
+            f"unknown key (expected one of {sorted(required | optional)})",
+            v[extra[0]],
+        )
     return v
 
 
@@ -63,8 +70,11 @@ def number(v: Any, path: str, positive: bool = False, nonzero: bool = False) -> 
     except OverflowError:  # an integer of hundreds of digits
         finite = False
     if not finite:
-        raise error(path, "expected a finite number", v if isinstance(v, float) else
-                    f"an integer of {len(str(abs(v)))} digits")
+        raise error(
+            path,
+            "expected a finite number",
+            v if isinstance(v, float) else f"an integer of {len(str(abs(v)))} digits",
+        )
     if positive and v <= 0:
         raise error(path, "expected a positive number", v)
     if nonzero and v == 0:
@@ -107,6 +117,7 @@ def box_size(v: Any) -> tuple[float, float, float]:
     for i, s in enumerate(size):
         number(s, f"base.size[{i}]", positive=True)
         if not MIN_BOX_MM <= s <= MAX_BOX_MM:
-            raise error(f"base.size[{i}]", f"expected a side from {MIN_BOX_MM:g} to "
-                        f"{MAX_BOX_MM:g} mm", s)
+            raise error(
+                f"base.size[{i}]", f"expected a side from {MIN_BOX_MM:g} to {MAX_BOX_MM:g} mm", s
+            )
     return size

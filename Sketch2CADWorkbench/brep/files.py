@@ -10,6 +10,7 @@ write of that path removes once process PID is gone. Several outputs of one comm
 moved into place together, only when all of them were written (`atomic_outputs`).
 Standard library only: every layer uses it.
 """
+
 from __future__ import annotations
 
 import os
@@ -38,7 +39,7 @@ def remove_stale_temporaries(path: str | Path) -> None:
         return
     for name in names:
         if name.startswith(prefix):
-            pid = name[len(prefix):].split("-")[0]
+            pid = name[len(prefix) :].split("-")[0]
             if pid.isdigit() and not _running(int(pid)):
                 try:
                     os.unlink(path.parent / name)
@@ -123,8 +124,9 @@ def write_atomically(path: str | Path, data: str | bytes) -> None:
         tmp.write_bytes(data.encode() if isinstance(data, str) else data)
 
 
-def check_outputs(inputs: dict[str, str | Path | None], outputs: dict[str, str | Path | None]
-                  ) -> None:
+def check_outputs(
+    inputs: dict[str, str | Path | None], outputs: dict[str, str | Path | None]
+) -> None:
     """Refuse outputs that would overwrite an input or each other, before any work.
 
     Args:
@@ -139,6 +141,8 @@ def check_outputs(inputs: dict[str, str | Path | None], outputs: dict[str, str |
             continue
         key = Path(os.path.realpath(p))
         if key in seen:
-            raise ValueError(f"{name} {p} is the same file as {seen[key]}: refused, so that "
-                             f"neither is lost; nothing was written")
+            raise ValueError(
+                f"{name} {p} is the same file as {seen[key]}: refused, so that "
+                f"neither is lost; nothing was written"
+            )
         seen[key] = name

@@ -1,14 +1,19 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Small numeric geometry shared by every layer (numpy only): cubic Beziers, an
 orthonormal basis of a plane, and polylines resampled by arc length."""
+
 import numpy as np
 
 
 def bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Points (K, D) of a cubic Bezier with control points (4, D) at parameters t (K,)."""
     t = np.asarray(t, float)[:, None]
-    return ((1 - t) ** 3 * ctrl[0] + 3 * (1 - t) ** 2 * t * ctrl[1]
-            + 3 * (1 - t) * t ** 2 * ctrl[2] + t ** 3 * ctrl[3])
+    return (
+        (1 - t) ** 3 * ctrl[0]
+        + 3 * (1 - t) ** 2 * t * ctrl[1]
+        + 3 * (1 - t) * t**2 * ctrl[2]
+        + t**3 * ctrl[3]
+    )
 
 
 def bezier_points(ctrl: np.ndarray, k: int) -> np.ndarray:
@@ -45,8 +50,9 @@ def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
     return _at_lengths(p, arc_lengths(p), count)
 
 
-def resample_every(points: np.ndarray, step: float, lengths: np.ndarray | None = None
-                   ) -> np.ndarray:
+def resample_every(
+    points: np.ndarray, step: float, lengths: np.ndarray | None = None
+) -> np.ndarray:
     """A polyline (K, D) of at least two points resampled every ~`step` of arc length
     (its units), both ends included: at least two points. `lengths`: its `arc_lengths`,
     when the caller has them."""
@@ -80,4 +86,5 @@ def crossing_sides(polygon: np.ndarray) -> tuple[int, int] | None:
 def _segments_cross(a, b, c, d) -> bool:
     def orient(p, q, r):
         return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+
     return orient(a, b, c) * orient(a, b, d) < 0 and orient(c, d, a) * orient(c, d, b) < 0

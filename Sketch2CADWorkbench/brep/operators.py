@@ -17,6 +17,7 @@ the face along its normal (`extrude_tool`), and a prism or sweep stands on the t
 plane T of f at the step's point p_f, along n_f there, reaching through T down to the
 curved surface (`_stand_on_curved`). A bevel needs a planar f.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -103,8 +104,11 @@ def combine(solid: cq.Shape, tool: cq.Shape, mode: Mode, what: str) -> Operation
 
 
 # OCCT's Boolean for each mode that has one.
-BOOLEANS = {Mode.ADD: BRepAlgoAPI_Fuse, Mode.SUBTRACT: BRepAlgoAPI_Cut,
-            Mode.INTERSECT: BRepAlgoAPI_Common}
+BOOLEANS = {
+    Mode.ADD: BRepAlgoAPI_Fuse,
+    Mode.SUBTRACT: BRepAlgoAPI_Cut,
+    Mode.INTERSECT: BRepAlgoAPI_Common,
+}
 
 
 def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
@@ -115,7 +119,7 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     23)."""
     algo = BOOLEANS[mode]()
     if isinstance(shape, cq.Compound):  # as cadquery: the compound's shapes stand for it,
-        parts = list(shape)             # a fuse's first one alone as the argument
+        parts = list(shape)  # a fuse's first one alone as the argument
         inputs = (parts[:1], parts[1:] + [tool]) if mode is Mode.ADD else (parts, [tool])
     else:
         inputs = ([shape], [tool])
@@ -154,6 +158,7 @@ def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> OperationResu
 # Each takes the current solid, the resolved base face f, the operation and the model's
 # size (mm, for tolerances), and returns the primitive that `combine` joins to the solid.
 
+
 def extrude_tool(solid: cq.Shape, rf: ResolvedFace, op: Extrude, scale: float) -> cq.Solid:
     """Face f swept by d along n_f: a pad (d > 0) or the pocket's volume (d < 0).
 
@@ -170,22 +175,24 @@ def extrude_tool(solid: cq.Shape, rf: ResolvedFace, op: Extrude, scale: float) -
     if surface.slope == 0.0 and inward >= surface.radius:
         raise OperationError(
             f"extrude: d = {op.d:g} mm would take the cylinder's radius {surface.radius:g} "
-            f"mm to {surface.radius - inward:g} mm; |d| must stay under the radius")
+            f"mm to {surface.radius - inward:g} mm; |d| must stay under the radius"
+        )
     try:
         tool = rf.face.thicken(op.d)
     except Exception as e:  # OCCT's offset algorithm raises its own types
-        raise OperationError(f"extrude: OCCT cannot offset the curved face f by "
-                             f"{op.d:g} mm: {e}") from None
-    if tool.isNull() or not tool.isValid() or tool.Volume() <= 1e-12 * scale ** 3:
-        raise OperationError(f"extrude: offsetting the curved face f by {op.d:g} mm gives "
-                             "no valid solid")
+        raise OperationError(
+            f"extrude: OCCT cannot offset the curved face f by {op.d:g} mm: {e}"
+        ) from None
+    if tool.isNull() or not tool.isValid() or tool.Volume() <= 1e-12 * scale**3:
+        raise OperationError(
+            f"extrude: offsetting the curved face f by {op.d:g} mm gives no valid solid"
+        )
     return tool
 
 
 def extrude_tool_planar(rf: ResolvedFace, op: Extrude) -> cq.Solid:
     """A planar f's outline (and its holes) extruded by d along n_f."""
-    return cq.Solid.extrudeLinear(rf.face.outerWire(), rf.face.innerWires(),
-                                  _vec(rf.normal * op.d))
+    return cq.Solid.extrudeLinear(rf.face.outerWire(), rf.face.innerWires(), _vec(rf.normal * op.d))
 
 
 @dataclass(frozen=True)
@@ -216,8 +223,10 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
             does not fit, and why.
     """
     if rf.surface is not None:
-        raise OperationError(f"bevel: face f is the side of a {rf.surface.kind.value}; a "
-                             "bevel rounds a corner of a planar face")
+        raise OperationError(
+            f"bevel: face f is the side of a {rf.surface.kind.value}; a "
+            "bevel rounds a corner of a planar face"
+        )
     (c,) = on_face_plane([op.corner], rf, scale, "bevel corner c")
     ctrl = on_face_plane(op.profile, rf, scale, "bevel profile l")
     crease = np.asarray(op.opposite, float) - np.asarray(op.corner, float)
@@ -242,7 +251,8 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
             f"bevel: corner c {_pt(c)} is not a corner of face f that a bevel can round (two "
             "straight edges of f meeting there, with an edge of the solid running from it "
             "along -n_f), nor has such a corner moved from there (no corner of f has its "
-            "edges along profile l's ends and a crease as long as c -> c')")
+            "edges along profile l's ends and a crease as long as c -> c')"
+        )
     # l in the corner's (a, b) frame, laid on the corner found again
     coords = np.linalg.lstsq(np.stack([a, b], axis=1), (ctrl - c).T, rcond=None)[0].T
     moved_ctrl = moved.c + coords @ np.stack([moved.a, moved.b])
@@ -250,22 +260,26 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
     return BevelPlace(moved.c, moved.opposite - moved.c, moved_ctrl)
 
 
-def _check_profile_ends(c: np.ndarray, ctrl: np.ndarray, corner: BevelCorner,
-                        tol: float) -> None:
+def _check_profile_ends(c: np.ndarray, ctrl: np.ndarray, corner: BevelCorner, tol: float) -> None:
     """Refuse a profile whose ends do not lie on the corner's two edges of f."""
     for name, end in (("start l(0)", ctrl[0]), ("end l(1)", ctrl[3])):
         reach = float(np.linalg.norm(end - c))
-        along = [(edge, edge_length) for edge, edge_length in
-                 ((corner.a, corner.la), (corner.b, corner.lb))
-                 if float(unit(end - c) @ edge) > CREASE_COS]
+        along = [
+            (edge, edge_length)
+            for edge, edge_length in ((corner.a, corner.la), (corner.b, corner.lb))
+            if float(unit(end - c) @ edge) > CREASE_COS
+        ]
         if not along:
-            raise OperationError(f"bevel: the {name} of profile l {_pt(end)} is not on an edge "
-                                 f"of f that meets at corner c {_pt(c)}")
+            raise OperationError(
+                f"bevel: the {name} of profile l {_pt(end)} is not on an edge "
+                f"of f that meets at corner c {_pt(c)}"
+            )
         if reach > along[0][1] + tol:
             raise OperationError(
                 f"bevel: profile l ends {reach:.4g} mm from corner c {_pt(c)} along an edge "
                 f"of f that is {along[0][1]:.4g} mm long: the bevel does not fit that corner "
-                "(an earlier step made f smaller there?)")
+                "(an earlier step made f smaller there?)"
+            )
 
 
 def _pt(p: np.ndarray) -> str:
@@ -279,17 +293,20 @@ def bevel_tool(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> cq
     c, ctrl = at.corner, at.profile
     _check_bevel_region(c, ctrl, rf.normal, scale)
     try:
-        wire = cq.Wire.assembleEdges([
-            cq.Edge.makeLine(_vec(c), _vec(ctrl[0])),
-            cq.Edge.makeBezier([_vec(p) for p in ctrl]),
-            cq.Edge.makeLine(_vec(ctrl[3]), _vec(c)),
-        ])
+        wire = cq.Wire.assembleEdges(
+            [
+                cq.Edge.makeLine(_vec(c), _vec(ctrl[0])),
+                cq.Edge.makeBezier([_vec(p) for p in ctrl]),
+                cq.Edge.makeLine(_vec(ctrl[3]), _vec(c)),
+            ]
+        )
         tool = cq.Solid.extrudeLinear(wire, [], _vec(at.crease))
     except Exception as e:  # OCCT raises its own types for degenerate input
         raise OperationError(f"bevel: cannot build the region between c and l: {e}") from None
-    if not tool.isValid() or tool.Volume() <= 1e-12 * scale ** 3:
-        raise OperationError("bevel: profile l and corner c bound no area (l self-intersects "
-                             "or is collinear with c)")
+    if not tool.isValid() or tool.Volume() <= 1e-12 * scale**3:
+        raise OperationError(
+            "bevel: profile l and corner c bound no area (l self-intersects or is collinear with c)"
+        )
     return tool
 
 
@@ -302,8 +319,12 @@ def locate_bevel(solid: cq.Shape, op: Bevel) -> Bevel:
     """
     rf = resolve_face(solid, op.face, "bevel face f")
     at = place_bevel(solid, rf, op, model_scale(solid))
-    return Bevel(op.face, _tuple(at.corner), _tuple(at.corner + at.crease),
-                 tuple(_tuple(p) for p in at.profile))
+    return Bevel(
+        op.face,
+        _tuple(at.corner),
+        _tuple(at.corner + at.crease),
+        tuple(_tuple(p) for p in at.profile),
+    )
 
 
 def _tuple(p) -> tuple[float, float, float]:
@@ -328,12 +349,13 @@ def _check_bevel_region(c: np.ndarray, ctrl: np.ndarray, n: np.ndarray, scale: f
     in_a = s * (a[0] * q[:, 1] - a[1] * q[:, 0])  # >= 0 on c's side of line c-a
     in_b = s * (q[:, 0] * b[1] - q[:, 1] * b[0])
     if min(in_a.min(), in_b.min()) < -1e-6 * scale * scale:
-        raise OperationError("bevel: profile l leaves the corner's region (it crosses the "
-                             "face edges at c); keep it between the two edges")
+        raise OperationError(
+            "bevel: profile l leaves the corner's region (it crosses the "
+            "face edges at c); keep it between the two edges"
+        )
 
 
-def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float
-               ) -> cq.Solid:
+def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float) -> cq.Solid:
     """The right prism of an add/subtract: polygon c on f extruded by d along n_f, or
     into the solid (-n_f) for SUBTRACT.
 
@@ -346,8 +368,12 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float
         wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
         return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
     closed = np.vstack([pts, pts[:1]])
-    footprint = np.concatenate([a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
-                                for a, b in zip(closed[:-1], closed[1:])])
+    footprint = np.concatenate(
+        [
+            a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
+            for a, b in zip(closed[:-1], closed[1:])
+        ]
+    )
 
     def prism(start: float, length: float) -> cq.Solid:
         wire = cq.Wire.makePolygon([_vec(p + rf.normal * start) for p in pts], close=True)
@@ -356,9 +382,14 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float
     return _stand_on_curved(rf, op, footprint, prism, scale, "prism polygon c")
 
 
-def _stand_on_curved(rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.ndarray,
-                     primitive: Callable[[float, float], cq.Solid], scale: float,
-                     what: str) -> cq.Solid:
+def _stand_on_curved(
+    rf: ResolvedFace,
+    op: AddSubPrism | Sweep,
+    footprint: np.ndarray,
+    primitive: Callable[[float, float], cq.Solid],
+    scale: float,
+    what: str,
+) -> cq.Solid:
     """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap.
 
     `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f;
@@ -375,14 +406,17 @@ def _stand_on_curved(rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.nd
     """
     surface = rf.surface
     if op.mode not in (Mode.ADD, Mode.SUBTRACT):
-        raise OperationError(f"{op.NOUN}: {op.mode.value} on a curved face f is not "
-                             "supported (add or subtract on it, or use a planar face)")
+        raise OperationError(
+            f"{op.NOUN}: {op.mode.value} on a curved face f is not "
+            "supported (add or subtract on it, or use a planar face)"
+        )
     t = surface.crossings(footprint, rf.normal, scale)
     if np.isnan(t).any():
         k = int(np.argmax(np.isnan(t)))
         raise OperationError(
             f"{what} reaches past the side of the {surface.kind.value} (at {_pt(footprint[k])} "
-            f"the line along n_f misses it): keep it narrower than the {surface.kind.value}")
+            f"the line along n_f misses it): keep it narrower than the {surface.kind.value}"
+        )
     margin = REACH_MARGIN_REL * scale
     if op.mode is Mode.ADD:
         start = -(max(0.0, -float(t.min())) + margin)
@@ -396,8 +430,9 @@ def _stand_on_curved(rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.nd
     clipped = boolean(tool, inside, Mode.INTERSECT if keep_inside else Mode.SUBTRACT)
     solids = clipped.Solids()
     if len(solids) != 1 or not solids[0].isValid():
-        raise OperationError(f"{op.NOUN}: the primitive does not meet the curved face f in one "
-                             "piece")
+        raise OperationError(
+            f"{op.NOUN}: the primitive does not meet the curved face f in one piece"
+        )
     return solids[0]
 
 
@@ -411,11 +446,13 @@ def _check_simple_polygon(pts: np.ndarray, n: np.ndarray, scale: float) -> None:
             raise OperationError(f"prism: polygon vertices {i} and {(i + 1) % k} coincide")
     crossing = crossing_sides(q)
     if crossing:
-        raise OperationError(f"prism: polygon sides {crossing[0]} and {crossing[1]} cross "
-                             "each other")
-    area = 0.5 * abs(sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1]
-                         for i in range(k)))
-    if area < 1e-8 * scale ** 2:
+        raise OperationError(
+            f"prism: polygon sides {crossing[0]} and {crossing[1]} cross each other"
+        )
+    area = 0.5 * abs(
+        sum(q[i, 0] * q[(i + 1) % k, 1] - q[(i + 1) % k, 0] * q[i, 1] for i in range(k))
+    )
+    if area < 1e-8 * scale**2:
         raise OperationError("prism: base polygon c has no area")
 
 
@@ -438,11 +475,16 @@ def sweep_tool(solid: cq.Shape, rf: ResolvedFace, op: Sweep, scale: float) -> cq
 
         def primitive(start: float, length: float) -> cq.Solid:
             # the sweep itself, and a cylinder of c0 through T to the surface
-            down = cq.Solid.makeCylinder(op.r0, abs(start), _vec(center + rf.normal * start),
-                                         _vec(-rf.normal * np.sign(start)))
+            down = cq.Solid.makeCylinder(
+                op.r0,
+                abs(start),
+                _vec(center + rf.normal * start),
+                _vec(-rf.normal * np.sign(start)),
+            )
             swept = sweep_primitive(center, op, rf.normal * op.mode.sign)
-            return _single_solid(boolean(swept, down, Mode.ADD),
-                                 f"{op.NOUN} on a curved face", down).solid
+            return _single_solid(
+                boolean(swept, down, Mode.ADD), f"{op.NOUN} on a curved face", down
+            ).solid
 
         return _stand_on_curved(rf, op, footprint, primitive, scale, "sweep circle c0")
     return sweep_primitive(center, op, rf.normal * op.mode.sign)
@@ -462,12 +504,14 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
         return _vec(center + radial * rh[0] + axis * rh[1])
 
     top = center + axis * op.d
-    wire = cq.Wire.assembleEdges([
-        cq.Edge.makeLine(_vec(center), world(ctrl[0])),
-        cq.Edge.makeBezier([world(p) for p in ctrl]),
-        cq.Edge.makeLine(world(ctrl[3]), _vec(top)),
-        cq.Edge.makeLine(_vec(top), _vec(center)),
-    ])
+    wire = cq.Wire.assembleEdges(
+        [
+            cq.Edge.makeLine(_vec(center), world(ctrl[0])),
+            cq.Edge.makeBezier([world(p) for p in ctrl]),
+            cq.Edge.makeLine(world(ctrl[3]), _vec(top)),
+            cq.Edge.makeLine(_vec(top), _vec(center)),
+        ]
+    )
     tool = cq.Solid.revolve(wire, [], 360.0, _vec(center), _vec(top))
     if not tool.isValid():
         raise OperationError("sweep: the swept primitive is not a valid solid")
@@ -475,10 +519,17 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
 
 
 # The builder of each operator's primitive.
-TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], cq.Solid]] = \
+TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], cq.Solid]] = (
     per_operator(
-        {OperatorType.EXTRUDE: extrude_tool, OperatorType.BEVEL: bevel_tool,
-         OperatorType.ADDSUB: prism_tool, OperatorType.SWEEP: sweep_tool}, "operators.TOOLS")
+        {
+            OperatorType.EXTRUDE: extrude_tool,
+            OperatorType.BEVEL: bevel_tool,
+            OperatorType.ADDSUB: prism_tool,
+            OperatorType.SWEEP: sweep_tool,
+        },
+        "operators.TOOLS",
+    )
+)
 
 
 # Lengths and points an operation may hold, relative to the model's size (its bounding
@@ -502,7 +553,8 @@ def check_ranges(solid: cq.Shape, op: Operation) -> None:
             if not lo <= abs(value) <= hi:
                 raise OperationError(
                     f"{op.type.value}: {f.name} = {value:g} mm is out of range for this model "
-                    f"(size {scale:.4g} mm): |{f.name}| must be from {lo:.3g} to {hi:.3g} mm")
+                    f"(size {scale:.4g} mm): |{f.name}| must be from {lo:.3g} to {hi:.3g} mm"
+                )
         elif f.name != "face" and isinstance(value, tuple):
             pts = np.asarray(value, float)
             pts = pts.reshape(-1, pts.shape[-1])
@@ -511,11 +563,11 @@ def check_ranges(solid: cq.Shape, op: Operation) -> None:
             if far > MAX_EXTENT_REL * scale:
                 raise OperationError(
                     f"{op.type.value}: {f.name} lies {far:.4g} mm from the model (size "
-                    f"{scale:.4g} mm); at most {MAX_EXTENT_REL * scale:.4g} mm")
+                    f"{scale:.4g} mm); at most {MAX_EXTENT_REL * scale:.4g} mm"
+                )
 
 
-def apply_operation(solid: cq.Solid, op: Operation, face: cq.Face | None = None
-                    ) -> cq.Solid:
+def apply_operation(solid: cq.Solid, op: Operation, face: cq.Face | None = None) -> cq.Solid:
     """Apply one protocol operation to `solid`.
 
     The parameters are checked, f is resolved on the solid (following it when an earlier
@@ -537,8 +589,9 @@ def apply_operation(solid: cq.Solid, op: Operation, face: cq.Face | None = None
     return operation_result(solid, op, face).solid
 
 
-def operation_result(solid: cq.Solid, op: Operation, face: cq.Face | None = None
-                     ) -> OperationResult:
+def operation_result(
+    solid: cq.Solid, op: Operation, face: cq.Face | None = None
+) -> OperationResult:
     """`apply_operation`'s result with its volume (the same arguments and errors)."""
     check_ranges(solid, op)
     index = None if face is None else _held_face_index(solid, face, op)
@@ -547,8 +600,11 @@ def operation_result(solid: cq.Solid, op: Operation, face: cq.Face | None = None
         solid = solid.copy()
         # BRepBuilderAPI_Copy keeps the order of the faces: the held face is the copy's
         # face at the same index
-        rf = resolve_face(solid, op.face, f"{op.NOUN} face f") if index is None \
+        rf = (
+            resolve_face(solid, op.face, f"{op.NOUN} face f")
+            if index is None
             else ResolvedFace.of(face_at(solid, index))
+        )
         tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
         return combine(solid, tool, op.boolean, op.name)
     except OperationError:
@@ -565,8 +621,7 @@ def _held_face_index(solid: cq.Shape, face: cq.Face, op: Operation) -> int:
     return base_face_index(solid, face)
 
 
-def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None
-           ) -> list[cq.Solid]:
+def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> list[cq.Solid]:
     """The solid after the base box and after each operation, in order.
 
     Args:

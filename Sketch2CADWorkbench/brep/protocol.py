@@ -45,6 +45,7 @@ written as version 2.
 
 `validate` style: every loader error names the field path and the offending value.
 """
+
 from __future__ import annotations
 
 import json
@@ -127,8 +128,9 @@ def per_operator(table: dict[OperatorType, T], what: str) -> dict[OperatorType, 
     missing = [t.value for t in OperatorType if t not in table]
     extra = [k for k in table if not isinstance(k, OperatorType)]
     if missing or extra:
-        raise TypeError(f"{what}: one entry per OperatorType expected; missing {missing}, "
-                        f"not operators {extra}")
+        raise TypeError(
+            f"{what}: one entry per OperatorType expected; missing {missing}, not operators {extra}"
+        )
     return table
 
 
@@ -210,10 +212,12 @@ class FaceRef:
             try:
                 surface = Surface(o["surface"])
             except ValueError:
-                raise _fail(f"{path}.surface", f"expected one of {[s.value for s in Surface]}",
-                            o["surface"]) from None
-        return FaceRef(vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"),
-                       surface)
+                raise _fail(
+                    f"{path}.surface", f"expected one of {[s.value for s in Surface]}", o["surface"]
+                ) from None
+        return FaceRef(
+            vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"), surface
+        )
 
     def reflected(self, point: PointMap, vector: PointMap) -> "FaceRef":
         return FaceRef(point(self.point), vector(self.normal), self.surface)
@@ -337,22 +341,34 @@ class Bevel(_Operation):
     NOUN = "bevel"
 
     def describe(self) -> str:
-        return (f"Bevel {self.face.describe()} c={_fmt(self.corner)} c'={_fmt(self.opposite)} "
-                f"l=Bezier[{', '.join(_fmt(p) for p in self.profile)}]")
+        return (
+            f"Bevel {self.face.describe()} c={_fmt(self.corner)} c'={_fmt(self.opposite)} "
+            f"l=Bezier[{', '.join(_fmt(p) for p in self.profile)}]"
+        )
 
     def parameters(self) -> dict[str, Any]:
-        return {"corner": list(self.corner), "opposite": list(self.opposite),
-                "profile": [list(p) for p in self.profile]}
+        return {
+            "corner": list(self.corner),
+            "opposite": list(self.opposite),
+            "profile": [list(p) for p in self.profile],
+        }
 
     @classmethod
     def parse(cls, face: FaceRef, o: dict, path: str) -> "Bevel":
-        return cls(face, vec(o["corner"], f"{path}.corner"),
-                   vec(o["opposite"], f"{path}.opposite"),
-                   points(o["profile"], f"{path}.profile", 4, 4))
+        return cls(
+            face,
+            vec(o["corner"], f"{path}.corner"),
+            vec(o["opposite"], f"{path}.opposite"),
+            points(o["profile"], f"{path}.profile", 4, 4),
+        )
 
     def reflected(self, point: PointMap, vector: PointMap) -> "Bevel":
-        return Bevel(self.face.reflected(point, vector), point(self.corner),
-                     point(self.opposite), tuple(point(p) for p in self.profile))
+        return Bevel(
+            self.face.reflected(point, vector),
+            point(self.corner),
+            point(self.opposite),
+            tuple(point(p) for p in self.profile),
+        )
 
 
 class _CombinedOperation(_Operation):
@@ -384,34 +400,48 @@ class AddSubPrism(_CombinedOperation):
     type = OperatorType.ADDSUB
     KEYS = ("polygon", "d", "mode")
     NOUN = "prism"
-    NAMES = {Mode.ADD: "AddPolyhedron", Mode.SUBTRACT: "SubtractPolyhedron",
-             Mode.INTERSECT: "IntersectPolyhedron", Mode.REPLACE: "ReplaceByPolyhedron"}
+    NAMES = {
+        Mode.ADD: "AddPolyhedron",
+        Mode.SUBTRACT: "SubtractPolyhedron",
+        Mode.INTERSECT: "IntersectPolyhedron",
+        Mode.REPLACE: "ReplaceByPolyhedron",
+    }
 
     def check(self) -> None:
         if not 3 <= len(self.polygon) <= 6:
-            raise OperationError(f"prism: base polygon c needs 3 to 6 vertices, got "
-                                 f"{len(self.polygon)}")
+            raise OperationError(
+                f"prism: base polygon c needs 3 to 6 vertices, got {len(self.polygon)}"
+            )
         if not self.d > 0:
             raise OperationError(f"prism: length d must be positive, got {self.d}")
 
     def describe(self) -> str:
-        return (f"{self.NAMES[self.mode]} {self.face.describe()} c={len(self.polygon)}-gon"
-                f"[{', '.join(_fmt(p) for p in self.polygon)}] d={_num(self.d)}")
+        return (
+            f"{self.NAMES[self.mode]} {self.face.describe()} c={len(self.polygon)}-gon"
+            f"[{', '.join(_fmt(p) for p in self.polygon)}] d={_num(self.d)}"
+        )
 
     def parameters(self) -> dict[str, Any]:
-        return {"polygon": [list(p) for p in self.polygon], "d": self.d,
-                "mode": self.mode.value}
+        return {"polygon": [list(p) for p in self.polygon], "d": self.d, "mode": self.mode.value}
 
     @classmethod
     def parse(cls, face: FaceRef, o: dict, path: str) -> "AddSubPrism":
-        return cls(face, points(o["polygon"], f"{path}.polygon", 3, 6),
-                   number(o["d"], f"{path}.d", positive=True), _mode(o["mode"], f"{path}.mode"))
+        return cls(
+            face,
+            points(o["polygon"], f"{path}.polygon", 3, 6),
+            number(o["d"], f"{path}.d", positive=True),
+            _mode(o["mode"], f"{path}.mode"),
+        )
 
     def reflected(self, point: PointMap, vector: PointMap) -> "AddSubPrism":
         """Mirrored, with the polygon's vertex order reversed so that it keeps its
         orientation on the mirrored face."""
-        return AddSubPrism(self.face.reflected(point, vector),
-                           tuple(point(p) for p in reversed(self.polygon)), self.d, self.mode)
+        return AddSubPrism(
+            self.face.reflected(point, vector),
+            tuple(point(p) for p in reversed(self.polygon)),
+            self.d,
+            self.mode,
+        )
 
 
 @dataclass(frozen=True)
@@ -437,59 +467,93 @@ class Sweep(_CombinedOperation):
     type = OperatorType.SWEEP
     KEYS = ("center", "r0", "r1", "d", "profile", "mode")
     NOUN = "sweep"
-    NAMES = {Mode.ADD: "AddSweepShape", Mode.SUBTRACT: "SubtractSweepShape",
-             Mode.INTERSECT: "IntersectSweepShape", Mode.REPLACE: "ReplaceBySweepShape"}
+    NAMES = {
+        Mode.ADD: "AddSweepShape",
+        Mode.SUBTRACT: "SubtractSweepShape",
+        Mode.INTERSECT: "IntersectSweepShape",
+        Mode.REPLACE: "ReplaceBySweepShape",
+    }
 
     def check(self) -> None:
         if not (self.r0 > 0 and self.r1 > 0 and self.d > 0):
-            raise OperationError(f"sweep: r0, r1 and d must be positive, got r0={self.r0}, "
-                                 f"r1={self.r1}, d={self.d}")
+            raise OperationError(
+                f"sweep: r0, r1 and d must be positive, got r0={self.r0}, r1={self.r1}, d={self.d}"
+            )
         radii = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 65))[:, 0]
         if radii.min() <= 0:
             raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
 
     def describe(self) -> str:
         ctrl = ", ".join(_fmt(p) for p in self.control_points())
-        return (f"{self.NAMES[self.mode]} {self.face.describe()} c0=(center "
-                f"{_fmt(self.center)}, r {_num(self.r0)}) c1=(r {_num(self.r1)}, offset "
-                f"{_num(self.d)}) c_p=Bezier(r,h)[{ctrl}]")
+        return (
+            f"{self.NAMES[self.mode]} {self.face.describe()} c0=(center "
+            f"{_fmt(self.center)}, r {_num(self.r0)}) c1=(r {_num(self.r1)}, offset "
+            f"{_num(self.d)}) c_p=Bezier(r,h)[{ctrl}]"
+        )
 
     def parameters(self) -> dict[str, Any]:
-        return {"center": list(self.center), "r0": self.r0, "r1": self.r1, "d": self.d,
-                "profile": [list(p) for p in self.profile], "mode": self.mode.value}
+        return {
+            "center": list(self.center),
+            "r0": self.r0,
+            "r1": self.r1,
+            "d": self.d,
+            "profile": [list(p) for p in self.profile],
+            "mode": self.mode.value,
+        }
 
     @classmethod
     def parse(cls, face: FaceRef, o: dict, path: str) -> "Sweep":
-        return cls(face, vec(o["center"], f"{path}.center"),
-                   number(o["r0"], f"{path}.r0", positive=True),
-                   number(o["r1"], f"{path}.r1", positive=True),
-                   number(o["d"], f"{path}.d", positive=True),
-                   points(o["profile"], f"{path}.profile", 2, 2, dim=2),
-                   _mode(o["mode"], f"{path}.mode"))
+        return cls(
+            face,
+            vec(o["center"], f"{path}.center"),
+            number(o["r0"], f"{path}.r0", positive=True),
+            number(o["r1"], f"{path}.r1", positive=True),
+            number(o["d"], f"{path}.d", positive=True),
+            points(o["profile"], f"{path}.profile", 2, 2, dim=2),
+            _mode(o["mode"], f"{path}.mode"),
+        )
 
     def reflected(self, point: PointMap, vector: PointMap) -> "Sweep":
-        return Sweep(self.face.reflected(point, vector), point(self.center), self.r0, self.r1,
-                     self.d, self.profile, self.mode)
+        return Sweep(
+            self.face.reflected(point, vector),
+            point(self.center),
+            self.r0,
+            self.r1,
+            self.d,
+            self.profile,
+            self.mode,
+        )
 
     def control_points(self) -> tuple[Vec2, Vec2, Vec2, Vec2]:
         """All four (r, h) control points of c_p."""
         return ((self.r0, 0.0), self.profile[0], self.profile[1], (self.r1, self.d))
 
-    def retuned(self, r0: float | None = None, r1: float | None = None,
-                d: float | None = None) -> "Sweep":
+    def retuned(
+        self, r0: float | None = None, r1: float | None = None, d: float | None = None
+    ) -> "Sweep":
         """The same sweep with new r0, r1 or d; the inner control points follow
         (`retuned_profile`)."""
-        new = (self.r0 if r0 is None else r0, self.r1 if r1 is None else r1,
-               self.d if d is None else d)
-        return Sweep(self.face, self.center, *new,
-                     retuned_profile(self.profile, (self.r0, self.r1, self.d), new), self.mode)
+        new = (
+            self.r0 if r0 is None else r0,
+            self.r1 if r1 is None else r1,
+            self.d if d is None else d,
+        )
+        return Sweep(
+            self.face,
+            self.center,
+            *new,
+            retuned_profile(self.profile, (self.r0, self.r1, self.d), new),
+            self.mode,
+        )
 
 
 def straight_profile(r0: float, r1: float, d: float) -> tuple[Vec2, Vec2]:
     """A sweep's inner (r, h) control points for a straight profile from (r0, 0) to
     (r1, d): the line's thirds (a cone, or a cylinder)."""
-    return ((float(r0 + (r1 - r0) / 3), float(d / 3)),
-            (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)))
+    return (
+        (float(r0 + (r1 - r0) / 3), float(d / 3)),
+        (float(r0 + 2 * (r1 - r0) / 3), float(2 * d / 3)),
+    )
 
 
 def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[Vec2, Vec2]:
@@ -514,8 +578,14 @@ def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[V
 Operation = Union[Extrude, Bevel, AddSubPrism, Sweep]
 # The operation dataclass of each operator.
 OPERATIONS: dict[OperatorType, type] = per_operator(
-    {OperatorType.EXTRUDE: Extrude, OperatorType.BEVEL: Bevel,
-     OperatorType.ADDSUB: AddSubPrism, OperatorType.SWEEP: Sweep}, "OPERATIONS")
+    {
+        OperatorType.EXTRUDE: Extrude,
+        OperatorType.BEVEL: Bevel,
+        OperatorType.ADDSUB: AddSubPrism,
+        OperatorType.SWEEP: Sweep,
+    },
+    "OPERATIONS",
+)
 
 
 @dataclass(frozen=True)
@@ -560,6 +630,7 @@ def describe(op: Operation) -> str:
 
 # ----------------------------------------------------------------- JSON
 
+
 def operation_to_dict(op: Operation) -> dict[str, Any]:
     return op.to_dict()
 
@@ -570,9 +641,13 @@ def protocol_version(p: Protocol) -> int:
 
 
 def protocol_to_dict(p: Protocol) -> dict[str, Any]:
-    return {"format": FORMAT, "version": protocol_version(p), "units": "mm",
-            "base": {"type": "box", "size": list(p.base.size)},
-            "operations": [op.to_dict() for op in p.operations]}
+    return {
+        "format": FORMAT,
+        "version": protocol_version(p),
+        "units": "mm",
+        "base": {"type": "box", "size": list(p.base.size)},
+        "operations": [op.to_dict() for op in p.operations],
+    }
 
 
 _KINDS = {t.value: cls for t, cls in OPERATIONS.items()}
@@ -616,9 +691,11 @@ def _protocol(v: Any) -> Protocol:
     if o["version"] == 1:
         curved = next((i for i, op in enumerate(parsed) if op.face.surface.curved), None)
         if curved is not None:
-            raise _fail(f"operations[{curved}].face.surface", "a curved base face needs "
-                        "version 2 (version 1 has planar faces only)",
-                        parsed[curved].face.surface.value)
+            raise _fail(
+                f"operations[{curved}].face.surface",
+                "a curved base face needs version 2 (version 1 has planar faces only)",
+                parsed[curved].face.surface.value,
+            )
     return Protocol(Box(size), parsed)
 
 

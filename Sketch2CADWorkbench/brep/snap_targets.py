@@ -2,6 +2,7 @@
 """What a feature on a base face may snap to (key points, edges, earlier features' axes
 and sizes), in the face's 2D frame: read by the regularization (inference) and drawn
 from by the data generator's regular samples (datagen/regular.py)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -21,18 +22,19 @@ ROUND_AXIS = "the axis of an earlier round feature"
 class SnapTargets:
     """What a feature on the base face may snap to, in the face's 2D frame (mm)."""
 
-    points: list[tuple[np.ndarray, str]]               # key points and earlier axes
-    lines: list[tuple[np.ndarray, np.ndarray, str]]    # point, unit direction, name
-    sizes: list[tuple[float, str]]                     # earlier lengths
-    radii: list[tuple[float, str]]                     # earlier circles' radii
-    origin: np.ndarray                                 # the face's centre: grid origin
-    axes: tuple[np.ndarray, ...]                       # grid directions: along f's edges
+    points: list[tuple[np.ndarray, str]]  # key points and earlier axes
+    lines: list[tuple[np.ndarray, np.ndarray, str]]  # point, unit direction, name
+    sizes: list[tuple[float, str]]  # earlier lengths
+    radii: list[tuple[float, str]]  # earlier circles' radii
+    origin: np.ndarray  # the face's centre: grid origin
+    axes: tuple[np.ndarray, ...]  # grid directions: along f's edges
     # (a planar f's two; a curved f's one, along its generatrix)
 
 
 def _circle(edge: cq.Edge) -> tuple[np.ndarray, np.ndarray, float]:
     """A circular edge's centre, axis and radius."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
+
     c = BRepAdaptor_Curve(edge.wrapped).Circle()
     loc, ax = c.Location(), c.Axis().Direction()
     return np.array([loc.X(), loc.Y(), loc.Z()]), np.array([ax.X(), ax.Y(), ax.Z()]), c.Radius()
@@ -53,8 +55,10 @@ def _planar_face_targets(face: cq.Face, frame: FaceFrame):
                 points.append(((a + b) / 2, "the midpoint of a face edge"))
                 lines.append((a, d, FACE_EDGE))
                 lines.append((centre, d, CENTRE_LINE))
-    points += [(p, "a corner of the face")
-               for p in frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))]
+    points += [
+        (p, "a corner of the face")
+        for p in frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))
+    ]
     first = next((d for _, d, name in lines if name == FACE_EDGE), np.array([1.0, 0.0]))
     return points, lines, centre, (first, np.array([-first[1], first[0]]))
 
@@ -85,8 +89,12 @@ def _curved_face_targets(face: cq.Face, frame: FaceFrame):
     centre = on_generatrix(0.5 * (min(heights) + max(heights)))
     lines = [(on_generatrix(h), around, FACE_EDGE) for h in rims]
     lines.append((centre, around, CENTRE_LINE))
-    return [(centre, "the middle of the curved face's height")], lines, centre, \
-        (np.array([1.0, 0.0]),)
+    return (
+        [(centre, "the middle of the curved face's height")],
+        lines,
+        centre,
+        (np.array([1.0, 0.0]),),
+    )
 
 
 def snap_targets(solid: cq.Shape, face: cq.Face, frame: FaceFrame) -> SnapTargets:

@@ -6,6 +6,7 @@ shape's oriented bounding box. Models here start from an axis-aligned box and ev
 operator keeps faces planar, so the planes are the bounding box's mid-planes
 perpendicular to x, y or z.
 """
+
 from __future__ import annotations
 
 import cadquery as cq

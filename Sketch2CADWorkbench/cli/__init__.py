@@ -6,6 +6,7 @@ option_scan.py). Each has a docstring (the command's description), `add_argument
 and `run(args) -> int` (the exit code). Only the module of the command asked for is
 imported: the others would load torch, cadquery and VTK for nothing (seconds).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,7 +32,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     parser = argparse.ArgumentParser(
         prog="sketch2cad",
-        description="Sketch2CAD: sequential CAD modeling by sketching in context.")
+        description="Sketch2CAD: sequential CAD modeling by sketching in context.",
+    )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     wanted = next((a for a in argv if not a.startswith("-")), None)
     for name, text in COMMANDS.items():

@@ -3,6 +3,7 @@
 
 `sketch2cad build PROTOCOL [--step OUT.step] [--png OUT.png] [--quiet]`.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -27,8 +28,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="do not print the protocol listing")
 
 
-def write_outputs(solid, protocol: Protocol | None, step: Path | None, png: Path | None,
-                  protocol_path: Path | None = None) -> None:
+def write_outputs(
+    solid,
+    protocol: Protocol | None,
+    step: Path | None,
+    png: Path | None,
+    protocol_path: Path | None = None,
+) -> None:
     """Write the asked-for outputs of a command all or none: each to a temporary beside it,
     moved into place only when every one was written (brep/files.py).
 
@@ -42,6 +48,7 @@ def write_outputs(solid, protocol: Protocol | None, step: Path | None, png: Path
         writers.append((step, lambda tmp: export_step(solid, tmp)))
     if png:
         from ..render.picture import shaded_picture  # VTK only when a picture is asked for
+
         writers.append((png, lambda tmp: shaded_picture(solid, path=tmp)))
     for path, _ in writers:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -61,14 +68,21 @@ def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet:
     if not quiet:
         print(f"{protocol_path}:\n{protocol.listing()}")
     steps = len(protocol.operations)
-    with tqdm(total=steps, desc=f"build {protocol_path.name}", unit="step", leave=False,
-              disable=steps < PROGRESS_FROM) as bar:
+    with tqdm(
+        total=steps,
+        desc=f"build {protocol_path.name}",
+        unit="step",
+        leave=False,
+        disable=steps < PROGRESS_FROM,
+    ) as bar:
         solid = build(protocol, on_step=lambda i: bar.update(1))
     write_outputs(solid, protocol, step, png)
     if not quiet:
         bb = solid.BoundingBox()
-        print(f"  -> volume {solid.Volume():.2f} mm^3, size {bb.xlen:.1f} x {bb.ylen:.1f} x "
-              f"{bb.zlen:.1f} mm" + (f", {step}" if step else "") + (f", {png}" if png else ""))
+        print(
+            f"  -> volume {solid.Volume():.2f} mm^3, size {bb.xlen:.1f} x {bb.ylen:.1f} x "
+            f"{bb.zlen:.1f} mm" + (f", {step}" if step else "") + (f", {png}" if png else "")
+        )
     return solid
 
 

@@ -11,6 +11,7 @@ regular parameters (datagen/regular.py).
 `--curved`: a set whose operations stand on curved faces (datagen/curved.py): held out,
 or the curved part of the head's training data.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,30 +33,55 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", type=Path, required=True, help="data set folder")
     p.add_argument("--count", type=int, required=True, help="number of samples")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--noise-level", default="1", choices=NOISE_CHOICES,
-                   help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal (levels 1, "
-                        "2, 3), or mix (the levels take turns per context); default 1")
-    p.add_argument("--hidden-lines", default="draw", choices=HIDDEN_CHOICES,
-                   help="draw the lines the view hides (the paper's sketches), leave them out "
-                        "as a designer drawing what is seen does, or mix (they take turns per "
-                        "context); default draw")
-    p.add_argument("--regular-share", type=float, default=0.0, metavar="P",
-                   help="share (0 to 1) of the operations drawn with a designer's regular "
-                        "parameters: lengths on a 1 mm grid or equal to earlier ones, "
-                        "features centred or on centre lines or concentric, outlines "
-                        "aligned with the face's edges (datagen/regular.py); default 0")
+    p.add_argument(
+        "--noise-level",
+        default="1",
+        choices=NOISE_CHOICES,
+        help="stroke noise: 1.4%%, 2.8%%, 4.1%% of the image diagonal (levels 1, "
+        "2, 3), or mix (the levels take turns per context); default 1",
+    )
+    p.add_argument(
+        "--hidden-lines",
+        default="draw",
+        choices=HIDDEN_CHOICES,
+        help="draw the lines the view hides (the paper's sketches), leave them out "
+        "as a designer drawing what is seen does, or mix (they take turns per "
+        "context); default draw",
+    )
+    p.add_argument(
+        "--regular-share",
+        type=float,
+        default=0.0,
+        metavar="P",
+        help="share (0 to 1) of the operations drawn with a designer's regular "
+        "parameters: lengths on a 1 mm grid or equal to earlier ones, "
+        "features centred or on centre lines or concentric, outlines "
+        "aligned with the face's edges (datagen/regular.py); default 0",
+    )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
-    p.add_argument("--shard-size", type=int, default=SHARD_SIZE,
-                   help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})")
-    p.add_argument("--ray", nargs="?", const="local", metavar="ADDRESS",
-                   help="run the shards as Ray tasks: on a local cluster of --workers CPUs, "
-                        "or on the running cluster at ADDRESS (host:port, 'auto'); the "
-                        "optional extra 'cluster'")
+    p.add_argument(
+        "--shard-size",
+        type=int,
+        default=SHARD_SIZE,
+        help=f"samples per shard, a multiple of {PER_CONTEXT} (default {SHARD_SIZE})",
+    )
+    p.add_argument(
+        "--ray",
+        nargs="?",
+        const="local",
+        metavar="ADDRESS",
+        help="run the shards as Ray tasks: on a local cluster of --workers CPUs, "
+        "or on the running cluster at ADDRESS (host:port, 'auto'); the "
+        "optional extra 'cluster'",
+    )
     p.add_argument("--preview", type=Path, help="write a contact sheet of the first samples")
-    p.add_argument("--curved", action="store_true",
-                   help="every sample's operation stands on a cylinder's or cone's side (a "
-                        "held-out set for measuring operators on curved faces, or training "
-                        "data for the head; one worker, shards of %d)" % SHARD_SIZE)
+    p.add_argument(
+        "--curved",
+        action="store_true",
+        help="every sample's operation stands on a cylinder's or cone's side (a "
+        "held-out set for measuring operators on curved faces, or training "
+        "data for the head; one worker, shards of %d)" % SHARD_SIZE,
+    )
 
 
 def out_problem(out: Path) -> str | None:
@@ -76,16 +102,30 @@ def run(args: argparse.Namespace) -> int:
         return 2
     if args.curved:
         if args.count <= 0:
-            print("sketch2cad datagen: error: --curved needs a positive --count",
-                  file=sys.stderr)
+            print("sketch2cad datagen: error: --curved needs a positive --count", file=sys.stderr)
             return 2
         if args.ray is not None or args.hidden_lines != "draw" or args.regular_share:
-            print("sketch2cad datagen: error: --curved makes its set in one process with "
-                  "every line drawn and random parameters: leave out --ray, --hidden-lines "
-                  "and --regular-share", file=sys.stderr)
+            print(
+                "sketch2cad datagen: error: --curved makes its set in one process with "
+                "every line drawn and random parameters: leave out --ray, --hidden-lines "
+                "and --regular-share",
+                file=sys.stderr,
+            )
             return 2
         from datagen.curved import write_curved_set
+
         return write_curved_set(args.out, args.count, args.seed, args.noise_level)
-    return generate_dataset(DatagenSettings(args.out, args.count, args.seed, args.noise_level,
-                                            args.hidden_lines, args.workers, args.shard_size,
-                                            args.preview, args.ray, args.regular_share))
+    return generate_dataset(
+        DatagenSettings(
+            args.out,
+            args.count,
+            args.seed,
+            args.noise_level,
+            args.hidden_lines,
+            args.workers,
+            args.shard_size,
+            args.preview,
+            args.ray,
+            args.regular_share,
+        )
+    )

@@ -3,6 +3,7 @@
 
 `sketch2cad demo [--out out] [--examples DIR]`.
 """
+
 from __future__ import annotations
 
 import argparse

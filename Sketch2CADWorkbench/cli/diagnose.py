@@ -11,6 +11,7 @@ errors by message, and misses with the +/- option right or wrong; a wrong one is
 by whether the pipeline named the other Boolean as reading as well (the orthographic
 Necker case, paper Fig. 5b) and whether that would recover it.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,14 +33,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("data")
     p.add_argument("operator", choices=[o.value for o in OperatorType])
     p.add_argument("n", type=int, nargs="?", default=60)
-    p.add_argument("--networks", nargs="?", const="", default=None, metavar="WEIGHTS",
-                   help="the whole pipeline with these weights (default: the shipped ones)")
+    p.add_argument(
+        "--networks",
+        nargs="?",
+        const="",
+        default=None,
+        metavar="WEIGHTS",
+        help="the whole pipeline with these weights (default: the shipped ones)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     predictor = renderer = None
     if args.networks is not None:
         from ..inference.weights import load_predictor
+
         predictor, renderer = load_predictor(args.networks or None), MapRenderer()
     want = OperatorType(args.operator)
     options = InterpretOptions(regularize=False)
@@ -71,13 +79,17 @@ def run(args: argparse.Namespace) -> int:
             elif other is None:
                 tally["missed, option wrong, no other Boolean named"] += 1
             else:
-                flipped = read_step(s, context, predictor, renderer,
-                                    dataclasses.replace(options, option=other))
+                flipped = read_step(
+                    s, context, predictor, renderer, dataclasses.replace(options, option=other)
+                )
                 ok = volume_iou(flipped.solid, truth) >= RECOVERY_IOU
-                tally[f"missed, option wrong, other named, flip {'recovers' if ok else 'misses'}"] += 1
+                tally[
+                    f"missed, option wrong, other named, flip {'recovers' if ok else 'misses'}"
+                ] += 1
             print(f"IoU {iou:.3f}\n  truth {describe(s.operation)}\n  got   {describe(op)}")
-    print(f"{seen} {want.value} samples of {args.data} ({named} with the other Boolean "
-          "named as reading as well):")
+    print(
+        f"{seen} {want.value} samples of {args.data} ({named} with the other Boolean "
+        "named as reading as well):"
+    )
     for what, count in tally.most_common():
         print(f"  {count:4d}  {what}")
-

@@ -8,6 +8,7 @@ with `--each-step` reads every step on that protocol's model, one step's miss no
 into the next, and says where the session would end with that step so read and every
 other step exact.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,48 +32,75 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
     p.add_argument("--png", type=Path, help="write a picture of the final solid")
     p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
-    p.add_argument("--compare", type=Path, metavar="PROTOCOL",
-                   help="the model the sketches mean (a protocol with one operation per "
-                        "step): print each step's volume IoU with it")
-    p.add_argument("--each-step", action="store_true",
-                   help="with --compare, read every step on the compared protocol's model "
-                        "before it, not on the model the earlier readings built, and print "
-                        "that step's volume IoU alone (where a session loses, step by step), "
-                        "and the final one with every other step exact")
-    p.add_argument("--regularize", choices=("session", "on", "off"), default="session",
-                   help="snapping and rectification: as each step's choices say (default), "
-                        "or on or off for every step")
-    p.add_argument("--snap-step", type=float, metavar="MM",
-                   help="with regularization, round lengths to multiples of this step in "
-                        "every step (default: each step's own, else 0: no grid)")
-    p.add_argument("--snap-px", type=float, metavar="PX",
-                   help="with regularization, snap to targets within this many pixels of "
-                        "the view the strokes were drawn in, in every step (default: each "
-                        f"step's own, else {SNAP_PX})")
-    p.add_argument("--keep-going", action="store_true",
-                   help="skip a step that cannot be interpreted instead of stopping (the "
-                        "skipped steps are listed; the exit code is then 0)")
+    p.add_argument(
+        "--compare",
+        type=Path,
+        metavar="PROTOCOL",
+        help="the model the sketches mean (a protocol with one operation per "
+        "step): print each step's volume IoU with it",
+    )
+    p.add_argument(
+        "--each-step",
+        action="store_true",
+        help="with --compare, read every step on the compared protocol's model "
+        "before it, not on the model the earlier readings built, and print "
+        "that step's volume IoU alone (where a session loses, step by step), "
+        "and the final one with every other step exact",
+    )
+    p.add_argument(
+        "--regularize",
+        choices=("session", "on", "off"),
+        default="session",
+        help="snapping and rectification: as each step's choices say (default), "
+        "or on or off for every step",
+    )
+    p.add_argument(
+        "--snap-step",
+        type=float,
+        metavar="MM",
+        help="with regularization, round lengths to multiples of this step in "
+        "every step (default: each step's own, else 0: no grid)",
+    )
+    p.add_argument(
+        "--snap-px",
+        type=float,
+        metavar="PX",
+        help="with regularization, snap to targets within this many pixels of "
+        "the view the strokes were drawn in, in every step (default: each "
+        f"step's own, else {SNAP_PX})",
+    )
+    p.add_argument(
+        "--keep-going",
+        action="store_true",
+        help="skip a step that cannot be interpreted instead of stopping (the "
+        "skipped steps are listed; the exit code is then 0)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     from ..inference.weights import load_predictor
     from ..render.maps import MapRenderer
+
     try:
-        check_outputs({"SESSION": args.session, "--compare": args.compare,
-                       "--weights": args.weights},
-                      {"--protocol": args.protocol, "--step": args.step, "--png": args.png})
+        check_outputs(
+            {"SESSION": args.session, "--compare": args.compare, "--weights": args.weights},
+            {"--protocol": args.protocol, "--step": args.step, "--png": args.png},
+        )
     except ValueError as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
         return 2
     if args.each_step and (not args.compare or args.protocol or args.step or args.png):
-        print("sketch2cad interpret: error: --each-step needs --compare, and reads each step "
-              "on that protocol's model, so it writes no --protocol, --step or --png",
-              file=sys.stderr)
+        print(
+            "sketch2cad interpret: error: --each-step needs --compare, and reads each step "
+            "on that protocol's model, so it writes no --protocol, --step or --png",
+            file=sys.stderr,
+        )
         return 2
     try:
         session = load_session(args.session)
-        meant, reference = _reference(args.compare, len(session.steps)) if args.compare \
-            else (None, None)
+        meant, reference = (
+            _reference(args.compare, len(session.steps)) if args.compare else (None, None)
+        )
         predictor = load_predictor(args.weights)
     except (ProtocolError, FileNotFoundError, ValueError) as e:
         print(f"sketch2cad interpret: error: {e}", file=sys.stderr)
@@ -107,30 +135,41 @@ def run(args: argparse.Namespace) -> int:
                 print(f"         (snapped: {snap.describe()})")
             if got.unsnapped:
                 print(f"         (not snapped: {got.unsnapped})")
-            print(f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
-                  f"{got.timings_ms['total']:.0f} ms)")
+            print(
+                f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
+                f"{got.timings_ms['total']:.0f} ms)"
+            )
             if got.doubtful:
                 print(f"         (warning: {got.doubt()})")
             if got.other_option is not None:
-                print(f"         (the strokes read just as well as {got.other_option.value}: "
-                      f"set this step's choices.option to have it)")
+                print(
+                    f"         (the strokes read just as well as {got.other_option.value}: "
+                    f"set this step's choices.option to have it)"
+                )
             solid = got.solid
         if reference:
             alone = " (this step alone)" if args.each_step else ""
-            line = (f"         volume IoU with {args.compare.name} after step {i}{alone}: "
-                    f"{volume_iou(solid, reference[i]):.3f}")
+            line = (
+                f"         volume IoU with {args.compare.name} after step {i}{alone}: "
+                f"{volume_iou(solid, reference[i]):.3f}"
+            )
             if args.each_step and got is not None:
                 ends = apply_what_builds(solid, list(meant.operations[i:]))
-                line += f"; the session so, every other step exact: " \
-                        f"{volume_iou(ends, reference[-1]):.3f}"
+                line += (
+                    f"; the session so, every other step exact: "
+                    f"{volume_iou(ends, reference[-1]):.3f}"
+                )
             print(line)
-    print(f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
-          f"volume {solid.Volume():.1f} mm^3")
+    print(
+        f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
+        f"volume {solid.Volume():.1f} mm^3"
+    )
     try:
         write_outputs(solid, protocol, args.step, args.png, args.protocol)
     except OSError as e:
-        print(f"sketch2cad interpret: error: {e}; no output was written or replaced",
-              file=sys.stderr)
+        print(
+            f"sketch2cad interpret: error: {e}; no output was written or replaced", file=sys.stderr
+        )
         return 2
     return 0
 
@@ -141,6 +180,8 @@ def _reference(path: Path, steps: int) -> tuple[Protocol, list]:
     meant = load(path)
     solids = replay(meant)
     if len(solids) != steps + 1:
-        raise ProtocolError(f"{path}: {len(solids) - 1} operations for {steps} sketched "
-                            "steps; --compare needs one operation per step")
+        raise ProtocolError(
+            f"{path}: {len(solids) - 1} operations for {steps} sketched "
+            "steps; --compare needs one operation per step"
+        )
     return meant, solids

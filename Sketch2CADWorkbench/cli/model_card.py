@@ -7,6 +7,7 @@ states the data, the training time and hardware, and the table measured by
 for the 96-sample set of tests/inference/test_shipped_weights.py) guards against
 regressions. Run by `make weights`, which also makes the data and trains.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -26,9 +27,11 @@ ROOT = Path(__file__).resolve().parents[2]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 OPS = ("extrude", "bevel", "addsub", "sweep")
 # The paper's Table 1 ("ours", level-1 noise): face IoU and curve accuracy per operator.
-PAPER = {"classification_accuracy": 0.998,
-         "face_iou": dict(zip(OPS, (0.918, 0.917, 0.783, 0.783))),
-         "curve_accuracy": dict(zip(OPS, (0.980, 0.981, 0.935, 0.956)))}
+PAPER = {
+    "classification_accuracy": 0.998,
+    "face_iou": dict(zip(OPS, (0.918, 0.917, 0.783, 0.783))),
+    "curve_accuracy": dict(zip(OPS, (0.980, 0.981, 0.935, 0.956))),
+}
 # Margins under the level-1 figures for the regression test's small set (96 samples,
 # about 12 per operator for the rarest): wide enough for its sampling spread, narrow
 # enough that a broken network fails.
@@ -46,21 +49,36 @@ def recovery_count(evals: dict[str, dict]) -> int:
 
 
 def table(evals: dict[str, dict]) -> list[str]:
-    rows = ["| noise level | n | classification | " + " | ".join(
-                f"{op}: face IoU / curve acc. / recovery [with flip] / fitting alone" for op in OPS) + " | networks ms |",
-            "|---|---|---|" + "---|" * len(OPS) + "---|"]
+    rows = [
+        "| noise level | n | classification | "
+        + " | ".join(
+            f"{op}: face IoU / curve acc. / recovery [with flip] / fitting alone" for op in OPS
+        )
+        + " | networks ms |",
+        "|---|---|---|" + "---|" * len(OPS) + "---|",
+    ]
     for level, r in sorted(evals.items()):
         cells = []
         for op in OPS:
             d = r["per_operator"][op]
-            cells.append(f"{pct(d['face_iou'])} / {pct(d['curve_accuracy'])} / "
-                         f"{pct(d.get('recovery_rate'))} [{pct(d.get('recovery_rate_with_flip'))}] / "
-                         f"{pct(d.get('fitting_recovery_rate'))}")
-        rows.append(f"| {level} | {r['n']} | {pct(r['classification_accuracy'])} | "
-                    + " | ".join(cells) + f" | {r['latency_ms']['networks_median']:.1f} |")
-    rows.append("| paper, level 1 | | 99.8 | " + " | ".join(
-        f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])} / - / -"
-        for op in OPS) + " | (GPU) |")
+            cells.append(
+                f"{pct(d['face_iou'])} / {pct(d['curve_accuracy'])} / "
+                f"{pct(d.get('recovery_rate'))} [{pct(d.get('recovery_rate_with_flip'))}] / "
+                f"{pct(d.get('fitting_recovery_rate'))}"
+            )
+        rows.append(
+            f"| {level} | {r['n']} | {pct(r['classification_accuracy'])} | "
+            + " | ".join(cells)
+            + f" | {r['latency_ms']['networks_median']:.1f} |"
+        )
+    rows.append(
+        "| paper, level 1 | | 99.8 | "
+        + " | ".join(
+            f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])} / - / -"
+            for op in OPS
+        )
+        + " | (GPU) |"
+    )
     return rows
 
 
@@ -69,26 +87,41 @@ def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
     (with each run's head checkpoint, or None): per held-out set, the U-Net's own maps
     (once) and each head's choices painted into F and C, scored on the same samples with
     the paper's metrics."""
-    out = ["| data | n | reading | classification | " + " | ".join(
-               f"{op}: face IoU / curve acc." for op in OPS) + " |",
-           "|---|---|---|---|" + "---|" * len(OPS)]
+    out = [
+        "| data | n | reading | classification | "
+        + " | ".join(f"{op}: face IoU / curve acc." for op in OPS)
+        + " |",
+        "|---|---|---|---|" + "---|" * len(OPS),
+    ]
     rows = []
     for k, (scores, head) in enumerate(runs):
-        label = (f"head, {head['config']['layers']} attention layers"
-                 + (f", width {head['config']['width']}" if "width" in head["config"] else "")
-                 if head else "head")
+        label = (
+            f"head, {head['config']['layers']} attention layers"
+            + (f", width {head['config']['width']}" if "width" in head["config"] else "")
+            if head
+            else "head"
+        )
         for data, result in scores.items():
-            for name in (("unet", "head") if k == 0 else ("head",)):
+            for name in ("unet", "head") if k == 0 else ("head",):
                 if name in result:
                     rows.append((data, label if name == "head" else name, result[name]))
     for data, name, r in sorted(rows, key=lambda row: row[0]):
-        cells = [f"{pct(r['per_operator'][op]['face_iou'])} / "
-                 f"{pct(r['per_operator'][op]['curve_accuracy'])}" for op in OPS]
-        out.append(f"| {Path(data).name} | {r['n']} | {name} | "
-                   f"{pct(r['classification_accuracy'])} | " + " | ".join(cells) + " |")
-    out.append("| paper, Table 1 | | | 99.8 | " + " | ".join(
-        f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])}" for op in OPS)
-        + " |")
+        cells = [
+            f"{pct(r['per_operator'][op]['face_iou'])} / "
+            f"{pct(r['per_operator'][op]['curve_accuracy'])}"
+            for op in OPS
+        ]
+        out.append(
+            f"| {Path(data).name} | {r['n']} | {name} | "
+            f"{pct(r['classification_accuracy'])} | " + " | ".join(cells) + " |"
+        )
+    out.append(
+        "| paper, Table 1 | | | 99.8 | "
+        + " | ".join(
+            f"{pct(PAPER['face_iou'][op])} / {pct(PAPER['curve_accuracy'][op])}" for op in OPS
+        )
+        + " |"
+    )
     return out
 
 
@@ -98,8 +131,7 @@ SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
 HEAD_COMMANDS = [
     "sketch2cad datagen --out data/head-train --count 27648 --seed 1 --noise-level mix",
     "sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 --noise-level mix",
-    "sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 "
-    "--noise-level 1",
+    "sketch2cad datagen --curved --out data/curved-50003 --count 100 --seed 50003 --noise-level 1",
     "sketch2cad datagen --out data/head-test-lN --count 400 --seed 4000N --noise-level N",
     "sketch2cad train-head --data data/head-train data/curved-train --out runs/head --epochs 20 "
     "--width 128 --tokens runs/head-tokens --weights runs/main --eval data/head-test-l1 "
@@ -114,8 +146,11 @@ HEAD_COMMANDS = [
 ]
 
 
-def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict] | None = None,
-                  shipped: bool = False) -> list[str]:
+def heads_section(
+    runs: list[tuple[dict, dict | None]],
+    recovery: dict[str, dict] | None = None,
+    shipped: bool = False,
+) -> list[str]:
     """The model card's section on the structured heads (inference/heads.py): `runs`,
     each run's `train-head --json` scores and head checkpoint dictionary (or None), the
     first being the head that ships when `shipped`; `recovery`, per data set the
@@ -125,13 +160,15 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
         if head:
             params = sum(v.numel() for v in head["model"].values())
             s = head["settings"]
-            trained += [f"- Head, {head['config']['layers']} attention layers, width "
-                        f"{head['config'].get('width')}: {params} "
-                        f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
-                        f"of {head.get('train_samples')} samples of {_trained_on(head)} in "
-                        f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
-                        f"{s['threads']} torch thread(s), on the features of the U-Net with "
-                        f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."]
+            trained += [
+                f"- Head, {head['config']['layers']} attention layers, width "
+                f"{head['config'].get('width')}: {params} "
+                f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
+                f"of {head.get('train_samples')} samples of {_trained_on(head)} in "
+                f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
+                f"{s['threads']} torch thread(s), on the features of the U-Net with "
+                f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."
+            ]
     return [
         SHIPPED_HEAD_HEADING if shipped else HEADS_HEADING,
         "The heads read the frozen U-Net's features per stroke (sampled along the polyline, "
@@ -144,9 +181,13 @@ def heads_section(runs: list[tuple[dict, dict | None]], recovery: dict[str, dict
         "accuracy and face IoU score them unchanged. Rows: `unet`, this network's own maps; "
         "`head`, the head's choices; each segmentation on the ground-truth operator's maps, "
         "as the paper scores them. Printed by `sketch2cad train-head ... --eval DIR ...` "
-        "(`make weights`); figures in %." + (
+        "(`make weights`); figures in %."
+        + (
             f" The predictor loads `{HEAD_NAME}` with the U-Net beside it and refuses it "
-            "for any U-Net but the one whose SHA-256 it records." if shipped else ""),
+            "for any U-Net but the one whose SHA-256 it records."
+            if shipped
+            else ""
+        ),
         "",
         *trained,
         "",
@@ -172,20 +213,29 @@ def _trained_on(head: dict) -> str:
 def end_to_end(recovery: dict[str, dict]) -> list[str]:
     """Recovery of whole interpret steps with the U-Net alone and with the head, per
     data set (scripts/recovery_with_head.py --json), strict [with the flip]."""
-    out = ["End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
-           "the truth; in brackets with the named one-click flip of the Boolean), %; "
-           "interpret ms is wall time on the shared project machine, comparable only between "
-           "rows run at the same load:", "",
-           "| data | reading | " + " | ".join(f"{op} (n)" for op in OPS)
-           + " | interpret ms (median) |",
-           "|---|---|" + "---|" * len(OPS) + "---|"]
+    out = [
+        "End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
+        "the truth; in brackets with the named one-click flip of the Boolean), %; "
+        "interpret ms is wall time on the shared project machine, comparable only between "
+        "rows run at the same load:",
+        "",
+        "| data | reading | "
+        + " | ".join(f"{op} (n)" for op in OPS)
+        + " | interpret ms (median) |",
+        "|---|---|" + "---|" * len(OPS) + "---|",
+    ]
     for data, rows in recovery.items():
         for name, r in rows.items():
             per = r["per_operator"]
-            out.append(f"| {data} | {name} | " + " | ".join(
-                f"{pct(per[op]['recovery_rate'])} [{pct(per[op]['recovery_rate_with_flip'])}]"
-                f" ({per[op]['recovery_n']})" for op in OPS)
-                + f" | {r['interpret_median_ms']:.0f} |")
+            out.append(
+                f"| {data} | {name} | "
+                + " | ".join(
+                    f"{pct(per[op]['recovery_rate'])} [{pct(per[op]['recovery_rate_with_flip'])}]"
+                    f" ({per[op]['recovery_n']})"
+                    for op in OPS
+                )
+                + f" | {r['interpret_median_ms']:.0f} |"
+            )
     return out + [""]
 
 
@@ -199,24 +249,33 @@ def plot_recovery(evals: dict[str, dict], path: Path) -> None:
     """Bars per operator and noise level: end-to-end recovery, the same with the one-click
     flip of the Boolean, and the fitting stage alone; the 90% target as a line."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
+
     levels = sorted(evals)
-    kinds = (("recovery_rate", "end to end", 1.0),
-             ("recovery_rate_with_flip", "end to end, with the named flip", 0.55),
-             ("fitting_recovery_rate", "fitting alone (ground-truth maps)", 0.3))
+    kinds = (
+        ("recovery_rate", "end to end", 1.0),
+        ("recovery_rate_with_flip", "end to end, with the named flip", 0.55),
+        ("fitting_recovery_rate", "fitting alone (ground-truth maps)", 0.3),
+    )
     fig, axes = plt.subplots(1, len(levels), figsize=(4.2 * len(levels), 3.6), sharey=True)
     for ax, level in zip(np.atleast_1d(axes), levels):
         per = evals[level]["per_operator"]
         x = np.arange(len(OPS))
         for k, (key, label, alpha) in enumerate(kinds):
-            bars = ax.bar(x + (k - 1) * 0.27, [per[op].get(key) or 0 for op in OPS], 0.27,
-                          label=label, alpha=alpha, color="#1f77b4")
+            bars = ax.bar(
+                x + (k - 1) * 0.27,
+                [per[op].get(key) or 0 for op in OPS],
+                0.27,
+                label=label,
+                alpha=alpha,
+                color="#1f77b4",
+            )
             ax.bar_label(bars, fmt="%.2f", fontsize=6)
         ax.axhline(0.9, color="#d62728", lw=1, ls="--", label="target 0.90")
-        ax.set_xticks(x, [f"{op}\n(n={per[op].get('recovery_n', 0)})" for op in OPS],
-                      fontsize=8)
+        ax.set_xticks(x, [f"{op}\n(n={per[op].get('recovery_n', 0)})" for op in OPS], fontsize=8)
         ax.set(ylim=(0, 1.08), title=f"noise level {level}")
     first = np.atleast_1d(axes)[0]
     first.set_ylabel("recovered (volume IoU >= 0.95)")
@@ -229,30 +288,52 @@ def plot_recovery(evals: dict[str, dict], path: Path) -> None:
 def targets_met(level1: dict) -> str:
     """Which of the paper's level-1 figures these weights reach, in words."""
     met, missed = [], []
-    (met if level1["classification_accuracy"] >= PAPER["classification_accuracy"]
-     else missed).append("classification")
+    (
+        met if level1["classification_accuracy"] >= PAPER["classification_accuracy"] else missed
+    ).append("classification")
     for metric, name in (("face_iou", "face IoU"), ("curve_accuracy", "curve accuracy")):
         for op in OPS:
             ours = level1["per_operator"][op][metric]
             (met if ours >= PAPER[metric][op] else missed).append(f"{op} {name}")
-    return (f"these are met: {', '.join(met) or 'none'}; these are not: "
-            f"{', '.join(missed) or 'none'}")
+    return (
+        f"these are met: {', '.join(met) or 'none'}; these are not: {', '.join(missed) or 'none'}"
+    )
 
 
 def add_arguments(ap: argparse.ArgumentParser) -> None:
-    ap.add_argument("--run", type=Path, help="training run folder (with --eval; without "
-                    "both, only the card's heads section is rewritten)")
-    ap.add_argument("--eval", nargs="+", metavar="LEVEL=JSON",
-                    help="`sketch2cad eval` results per noise level of the held-out sets")
-    ap.add_argument("--heads", type=Path, nargs="+", metavar="JSON",
-                    help="`sketch2cad train-head --json` scores, one per head (the head "
-                         "checkpoint beside each): the heads' ablation section")
-    ap.add_argument("--head-recovery", type=Path, nargs="+", metavar="JSON",
-                    help="scripts/recovery_with_head.py --json results: the heads' "
-                         "end-to-end table")
-    ap.add_argument("--ship-head", action="store_true",
-                    help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
-                         "U-Net (it must have been trained on that U-Net's features)")
+    ap.add_argument(
+        "--run",
+        type=Path,
+        help="training run folder (with --eval; without "
+        "both, only the card's heads section is rewritten)",
+    )
+    ap.add_argument(
+        "--eval",
+        nargs="+",
+        metavar="LEVEL=JSON",
+        help="`sketch2cad eval` results per noise level of the held-out sets",
+    )
+    ap.add_argument(
+        "--heads",
+        type=Path,
+        nargs="+",
+        metavar="JSON",
+        help="`sketch2cad train-head --json` scores, one per head (the head "
+        "checkpoint beside each): the heads' ablation section",
+    )
+    ap.add_argument(
+        "--head-recovery",
+        type=Path,
+        nargs="+",
+        metavar="JSON",
+        help="scripts/recovery_with_head.py --json results: the heads' end-to-end table",
+    )
+    ap.add_argument(
+        "--ship-head",
+        action="store_true",
+        help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
+        "U-Net (it must have been trained on that U-Net's features)",
+    )
 
 
 def _heads(args: argparse.Namespace) -> list[str]:
@@ -262,14 +343,20 @@ def _heads(args: argparse.Namespace) -> list[str]:
         return []
     if args.ship_head:
         from ..inference.heads import sha256_of
+
         head = _head_beside(args.heads[0])
         if head is None or head.get("unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
-            raise ValueError(f"{args.heads[0].parent / HEAD_NAME}: not a head trained on "
-                             f"the features of {WEIGHTS / 'sketch2cad_net.pt'}")
+            raise ValueError(
+                f"{args.heads[0].parent / HEAD_NAME}: not a head trained on "
+                f"the features of {WEIGHTS / 'sketch2cad_net.pt'}"
+            )
         shutil.copyfile(args.heads[0].parent / HEAD_NAME, WEIGHTS / HEAD_NAME)
     recovery = {p.stem: json.loads(p.read_text()) for p in args.head_recovery or []}
-    return heads_section([(json.loads(p.read_text()), _head_beside(p)) for p in args.heads],
-                         recovery, shipped=(WEIGHTS / HEAD_NAME).exists())
+    return heads_section(
+        [(json.loads(p.read_text()), _head_beside(p)) for p in args.heads],
+        recovery,
+        shipped=(WEIGHTS / HEAD_NAME).exists(),
+    )
 
 
 def replace_heads_section(card: str, section: list[str]) -> str:
@@ -278,17 +365,21 @@ def replace_heads_section(card: str, section: list[str]) -> str:
     lines = card.splitlines()
     starts = [i for i, ln in enumerate(lines) if ln in (HEADS_HEADING, SHIPPED_HEAD_HEADING)]
     if starts:
-        end = next((i for i in range(starts[0] + 1, len(lines))
-                    if lines[i].startswith("## ")), len(lines))
+        end = next(
+            (i for i in range(starts[0] + 1, len(lines)) if lines[i].startswith("## ")), len(lines)
+        )
     else:
         starts = [end] = [next(i for i, ln in enumerate(lines) if ln == GUARD_HEADING)]
-    return "\n".join(lines[:starts[0]] + section + lines[end:]) + "\n"
+    return "\n".join(lines[: starts[0]] + section + lines[end:]) + "\n"
 
 
 def run(args: argparse.Namespace) -> int:
     if (args.run is None) != (args.eval is None) or (args.run is None and not args.heads):
-        print("sketch2cad model-card: error: give --run with --eval (the whole card), or "
-              "--heads alone (its heads section)", file=sys.stderr)
+        print(
+            "sketch2cad model-card: error: give --run with --eval (the whole card), or "
+            "--heads alone (its heads section)",
+            file=sys.stderr,
+        )
         return 2
     if args.run is None:
         return _write(args, WEIGHTS / "MODEL_CARD.md", None)
@@ -297,8 +388,10 @@ def run(args: argparse.Namespace) -> int:
         level, _, path = item.partition("=")
         evals[level] = json.loads(Path(path).read_text())
     if "1" not in evals:
-        print("sketch2cad model-card: error: the level-1 evaluation sets the thresholds: "
-              "pass 1=JSON", file=sys.stderr)
+        print(
+            "sketch2cad model-card: error: the level-1 evaluation sets the thresholds: pass 1=JSON",
+            file=sys.stderr,
+        )
         return 2
     ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
     WEIGHTS.mkdir(exist_ok=True)
@@ -311,9 +404,11 @@ def _drop_stale_head() -> None:
     """Remove a shipped head that another U-Net's features trained: the predictor would
     refuse it (the new U-Net's card says whether a head for it ships)."""
     from ..inference.heads import sha256_of
+
     path = WEIGHTS / HEAD_NAME
     if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(
-            "unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
+        "unet_sha256"
+    ) != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
         path.unlink()
         print(f"removed {path}: trained on another U-Net's features")
 
@@ -328,20 +423,27 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
         return 2
     if full is None:
         card.write_text(replace_heads_section(card.read_text(), heads))
-        print(f"wrote the heads section of {card}"
-              + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else ""))
+        print(
+            f"wrote the heads section of {card}"
+            + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else "")
+        )
         return 0
     ckpt, evals = full
     one = evals["1"]
-    limits = {"classification_accuracy": round(one["classification_accuracy"]
-                                               - MARGIN_CLASSIFICATION, 3),
-              "per_operator": {op: {k: round(max(0.0, one["per_operator"][op][k]
-                                                 - MARGIN_SEGMENTATION), 3)
-                                    for k in ("face_iou", "curve_accuracy")} for op in OPS}}
+    limits = {
+        "classification_accuracy": round(one["classification_accuracy"] - MARGIN_CLASSIFICATION, 3),
+        "per_operator": {
+            op: {
+                k: round(max(0.0, one["per_operator"][op][k] - MARGIN_SEGMENTATION), 3)
+                for k in ("face_iou", "curve_accuracy")
+            }
+            for op in OPS
+        },
+    }
     (WEIGHTS / "thresholds.json").write_text(json.dumps(limits, indent=1) + "\n")
 
     key, s = ckpt["data_key"], ckpt["settings"]
-    size_mb = (WEIGHTS / "sketch2cad_net.pt").stat().st_size / 2 ** 20
+    size_mb = (WEIGHTS / "sketch2cad_net.pt").stat().st_size / 2**20
     lines = [
         "# Model card: sketch2cad_net.pt",
         "",
@@ -351,9 +453,13 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
         "operator classifier on the bottleneck and per-operator F and C heads. "
         f"Widths {tuple(ckpt['config']['widths'])}; {size_mb:.1f} MB.",
         "Loss: the paper's (Eq. 1, class-weighted cross entropy; Eq. 2, F over the image "
-        "and C on stroke pixels)" + (
+        "and C on stroke pixels)"
+        + (
             f", plus a soft Dice term on F of weight {s['face_dice']}, so that small base "
-            "faces count as much as large ones." if s.get("face_dice") else "."),
+            "faces count as much as large ones."
+            if s.get("face_dice")
+            else "."
+        ),
         "",
         "## Training",
         f"- Data: `sketch2cad datagen` v{key['version']}, {key['count']} samples, seed "
@@ -378,9 +484,12 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
         "",
         "Recovery per operator and noise level, as bars: `docs/recovery.png`.",
         "",
-        "Median interpret step (render + networks + fitting + B-rep), ms: " + ", ".join(
+        "Median interpret step (render + networks + fitting + B-rep), ms: "
+        + ", ".join(
             f"level {lvl}: {r['latency_ms'].get('interpret_median', float('nan')):.0f}"
-            for lvl, r in sorted(evals.items())) + ".",
+            for lvl, r in sorted(evals.items())
+        )
+        + ".",
         "",
         "Against the paper: classification at noise level 3 is "
         f"{pct(evals[max(evals)]['classification_accuracy'])}% (the paper's classifier: 53.2%); "
@@ -413,9 +522,10 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
         "on 96 freshly generated samples (seed 9090) against them.",
     ]
     (WEIGHTS / "MODEL_CARD.md").write_text("\n".join(lines) + "\n")
-    plot_curves(args.run / "log.jsonl", ROOT / "docs" / "loss_curves.png",
-                s.get("face_dice", 0.0))
+    plot_curves(args.run / "log.jsonl", ROOT / "docs" / "loss_curves.png", s.get("face_dice", 0.0))
     plot_recovery(evals, ROOT / "docs" / "recovery.png")
-    print(f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
-          "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png")
+    print(
+        f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
+        "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png"
+    )
     return 0

@@ -9,6 +9,7 @@ how many of the steps with the wrong +/- option it would cover. The pipeline nam
 when the forced flip would be accepted (`other_option_fits`: 0.25, MOSTLY_FRACTION, or
 the outline's region covering half of f).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -40,8 +41,7 @@ def run(args: argparse.Namespace) -> int:
                 continue
             context = replay(s.context)[-1]
             try:
-                op = read_step(s, context, None, None,
-                               InterpretOptions(regularize=False)).operation
+                op = read_step(s, context, None, None, InterpretOptions(regularize=False)).operation
             except (InterpretError, OperationError):
                 continue
             face = resolve_face(context, op.face).face
@@ -51,6 +51,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"{len(shares)} {want.value} steps fitted, {int(wrong.sum())} with the wrong option")
     for th in (0.25, 0.5, 0.75, 0.9):
         named = shares >= th
-        print(f"  threshold {th:.2f}: named for {100 * named.mean():.0f}% of steps, covers "
-              f"{int((named & wrong).sum())} of {int(wrong.sum())} wrong options")
-
+        print(
+            f"  threshold {th:.2f}: named for {100 * named.mean():.0f}% of steps, covers "
+            f"{int((named & wrong).sum())} of {int(wrong.sum())} wrong options"
+        )

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """What the commands share: their resources and the active model (messages and undo
 steps: freecad_layer/gui_helpers.py)."""
+
 import FreeCAD
 import FreeCADGui
 

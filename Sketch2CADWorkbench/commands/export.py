@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Export STEP: the selected model's final solid."""
+
 import FreeCADGui
 from PySide import QtGui
 
@@ -13,17 +14,23 @@ class ExportStep:
     """Export STEP: the selected model's final solid, through FreeCAD's STEP writer."""
 
     def GetResources(self):
-        return resources("ExportStep", QT_TRANSLATE_NOOP("Sketch2CAD_ExportStep", "Export STEP..."),
-                         QT_TRANSLATE_NOOP("Sketch2CAD_ExportStep", "Write the selected model's final "
-                             "solid as a STEP file (AP214, mm)"))
+        return resources(
+            "ExportStep",
+            QT_TRANSLATE_NOOP("Sketch2CAD_ExportStep", "Export STEP..."),
+            QT_TRANSLATE_NOOP(
+                "Sketch2CAD_ExportStep",
+                "Write the selected model's final solid as a STEP file (AP214, mm)",
+            ),
+        )
 
     def IsActive(self):
         return active_model() is not None
 
     def Activated(self):
         model = active_model()
-        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export STEP",
-                                                    f"{model.Label}.step", "STEP (*.step *.stp)")
+        path, _ = QtGui.QFileDialog.getSaveFileName(
+            FreeCADGui.getMainWindow(), "Export STEP", f"{model.Label}.step", "STEP (*.step *.stp)"
+        )
         if path:
             export_model_step(model, path)
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Protocol files: load one as a model tree, save a model as one, replay a model."""
+
 import time
 from pathlib import Path
 
@@ -27,16 +28,21 @@ class LoadProtocol:
     """Load protocol: a file dialog, then `load_protocol_file`."""
 
     def GetResources(self):
-        return resources("LoadProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_LoadProtocol", "Load protocol..."),
-                         QT_TRANSLATE_NOOP("Sketch2CAD_LoadProtocol",
-                             "Build a new model tree from a protocol file (JSON)"))
+        return resources(
+            "LoadProtocol",
+            QT_TRANSLATE_NOOP("Sketch2CAD_LoadProtocol", "Load protocol..."),
+            QT_TRANSLATE_NOOP(
+                "Sketch2CAD_LoadProtocol", "Build a new model tree from a protocol file (JSON)"
+            ),
+        )
 
     def IsActive(self):
         return True
 
     def Activated(self):
-        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(),
-                                                    "Load protocol", "", PROTOCOL_FILTER)
+        path, _ = QtGui.QFileDialog.getOpenFileName(
+            FreeCADGui.getMainWindow(), "Load protocol", "", PROTOCOL_FILTER
+        )
         if path:
             load_protocol_file(path)
 
@@ -54,6 +60,7 @@ def load_protocol_file(path: str):
     # cadquery on first use, not when the workbench is activated (see freecad_layer/shapes.py)
     from ..brep.faces import OperationError
     from ..brep.operators import replay
+
     try:
         protocol = load(path)
         replay(protocol)
@@ -70,7 +77,8 @@ def load_protocol_file(path: str):
                 "Sketch2CADWorkbench.freecad_layer.make.make_model.make_model_from_protocol("
                 f"FreeCAD.getDocument({doc.Name!r}), "
                 f"Sketch2CADWorkbench.brep.protocol.load({str(path)!r}), "
-                f"label={Path(path).stem!r})")
+                f"label={Path(path).stem!r})"
+            )
             model = find_models(doc)[-1]
             bad = failed_features(model)
             if bad:
@@ -87,17 +95,23 @@ class SaveProtocol:
     """Save protocol: the selected model's protocol as JSON."""
 
     def GetResources(self):
-        return resources("SaveProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_SaveProtocol", "Save protocol..."),
-                         QT_TRANSLATE_NOOP("Sketch2CAD_SaveProtocol",
-                             "Save the selected model's steps as a protocol file (JSON)"))
+        return resources(
+            "SaveProtocol",
+            QT_TRANSLATE_NOOP("Sketch2CAD_SaveProtocol", "Save protocol..."),
+            QT_TRANSLATE_NOOP(
+                "Sketch2CAD_SaveProtocol",
+                "Save the selected model's steps as a protocol file (JSON)",
+            ),
+        )
 
     def IsActive(self):
         return active_model() is not None
 
     def Activated(self):
         model = active_model()
-        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Save protocol",
-                                                    f"{model.Label}.json", PROTOCOL_FILTER)
+        path, _ = QtGui.QFileDialog.getSaveFileName(
+            FreeCADGui.getMainWindow(), "Save protocol", f"{model.Label}.json", PROTOCOL_FILTER
+        )
         if path:
             save_protocol_file(model, path)
 
@@ -117,9 +131,14 @@ class ReplayProtocol:
     """Replay protocol: `replay_model` on the selected model."""
 
     def GetResources(self):
-        return resources("ReplayProtocol", QT_TRANSLATE_NOOP("Sketch2CAD_ReplayProtocol", "Replay protocol"),
-                         QT_TRANSLATE_NOOP("Sketch2CAD_ReplayProtocol", "Rebuild the selected model step "
-                             "by step, showing each step's result"))
+        return resources(
+            "ReplayProtocol",
+            QT_TRANSLATE_NOOP("Sketch2CAD_ReplayProtocol", "Replay protocol"),
+            QT_TRANSLATE_NOOP(
+                "Sketch2CAD_ReplayProtocol",
+                "Rebuild the selected model step by step, showing each step's result",
+            ),
+        )
 
     def IsActive(self):
         return active_model() is not None
@@ -147,7 +166,10 @@ def replay_model(model, step_s: float = REPLAY_STEP_S) -> bool:
         obj.ViewObject.Visibility = True
         FreeCADGui.updateGui()
         if not built:
-            error(translate("Sketch2CAD", "Replay stopped"), f"step {i} ({obj.Label}): {obj.getStatusString()}")
+            error(
+                translate("Sketch2CAD", "Replay stopped"),
+                f"step {i} ({obj.Label}): {obj.getStatusString()}",
+            )
             return False
         time.sleep(step_s)
     return True

@@ -16,6 +16,7 @@ The same `install()` runs behind the workbench's Install button and behind the
 developers' `scripts/setup.sh` (through `scripts/install_dependencies.py` in freecadcmd).
 Only the standard library here: this runs before numpy may be imported.
 """
+
 import importlib.util
 import os
 import re
@@ -45,6 +46,7 @@ class InstallError(RuntimeError):
 @dataclass
 class InstallPlan:
     """What `install` will do: which interpreter runs pip, into which folder, what."""
+
     python: str
     target: str
     requirements: list[str]
@@ -52,8 +54,18 @@ class InstallPlan:
     skipped: list[str] = field(default_factory=list)  # already on the system (torch)
 
     def pip_command(self, into: str) -> list[str]:
-        cmd = [self.python, "-m", "pip", "install", "--no-input", "--progress-bar", "off",
-               "--disable-pip-version-check", "--target", into]
+        cmd = [
+            self.python,
+            "-m",
+            "pip",
+            "install",
+            "--no-input",
+            "--progress-bar",
+            "off",
+            "--disable-pip-version-check",
+            "--target",
+            into,
+        ]
         if self.torch_index:
             cmd += ["--extra-index-url", self.torch_index]
         return cmd + self.requirements
@@ -87,8 +99,11 @@ def import_name(requirement: str) -> str:
 
 def missing(extras: tuple = ()) -> list[str]:
     """The distributions of `requirements(extras)` that this interpreter cannot import."""
-    return [distribution(r) for r in requirements(extras)
-            if importlib.util.find_spec(import_name(r)) is None]
+    return [
+        distribution(r)
+        for r in requirements(extras)
+        if importlib.util.find_spec(import_name(r)) is None
+    ]
 
 
 def find_python() -> str:
@@ -103,23 +118,38 @@ def find_python() -> str:
     major, minor = sys.version_info[:2]
     names = [f"python{major}.{minor}", f"python{major}", "python"]
     exe = ".exe" if os.name == "nt" else ""
-    dirs = [os.path.dirname(sys.executable), os.path.join(sys.prefix, "bin"), sys.prefix,
-            os.path.join(sys.base_prefix, "bin"), sys.base_prefix]
+    dirs = [
+        os.path.dirname(sys.executable),
+        os.path.join(sys.prefix, "bin"),
+        sys.prefix,
+        os.path.join(sys.base_prefix, "bin"),
+        sys.base_prefix,
+    ]
     candidates = [sys.executable] + [os.path.join(d, n + exe) for d in dirs for n in names]
     candidates += [p for p in (shutil.which(n) for n in names) if p]
     for path in dict.fromkeys(candidates):
         # FreeCAD's own binary runs `-c` code too, but not `-m pip`
-        if os.path.basename(path).lower().startswith("python") and os.path.isfile(path) \
-                and _python_version(path) == (major, minor):
+        if (
+            os.path.basename(path).lower().startswith("python")
+            and os.path.isfile(path)
+            and _python_version(path) == (major, minor)
+        ):
             return path
-    raise InstallError(f"found no python{major}.{minor} beside FreeCAD ({sys.executable}) "
-                       f"to run pip with; set the Python in Sketch2CAD's preferences")
+    raise InstallError(
+        f"found no python{major}.{minor} beside FreeCAD ({sys.executable}) "
+        f"to run pip with; set the Python in Sketch2CAD's preferences"
+    )
 
 
 def _python_version(path: str) -> Optional[tuple]:
     try:
-        out = subprocess.run([path, "-c", "import sys; print(*sys.version_info[:2])"],
-                             capture_output=True, text=True, timeout=30, env=_clean_env())
+        out = subprocess.run(
+            [path, "-c", "import sys; print(*sys.version_info[:2])"],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            env=_clean_env(),
+        )
     except (OSError, subprocess.TimeoutExpired):
         return None
     parts = out.stdout.split()
@@ -134,22 +164,31 @@ def _clean_env() -> dict:
 def system_has(python: str, requirement: str) -> bool:
     """Whether `python`, on its own sys.path, already imports a version of the
     requirement's distribution that the requirement admits (Debian's python3-torch)."""
-    name, spec = distribution(requirement), requirement[len(distribution(requirement)):]
-    code = ("import importlib.metadata as m, sys\n"
-            f"v = m.version({name!r})\n"
-            "from packaging.specifiers import SpecifierSet\n"
-            f"sys.exit(0 if SpecifierSet({spec.strip()!r}).contains(v.split('+')[0]) else 3)")
+    name, spec = distribution(requirement), requirement[len(distribution(requirement)) :]
+    code = (
+        "import importlib.metadata as m, sys\n"
+        f"v = m.version({name!r})\n"
+        "from packaging.specifiers import SpecifierSet\n"
+        f"sys.exit(0 if SpecifierSet({spec.strip()!r}).contains(v.split('+')[0]) else 3)"
+    )
     # packaging is pip's own vendored copy when the system has none
-    code = code.replace("from packaging.specifiers",
-                        "try:\n    import packaging.specifiers\nexcept ImportError:\n"
-                        "    import pip._vendor.packaging.specifiers as _p; "
-                        "sys.modules['packaging.specifiers'] = _p\nfrom packaging.specifiers")
+    code = code.replace(
+        "from packaging.specifiers",
+        "try:\n    import packaging.specifiers\nexcept ImportError:\n"
+        "    import pip._vendor.packaging.specifiers as _p; "
+        "sys.modules['packaging.specifiers'] = _p\nfrom packaging.specifiers",
+    )
     run = subprocess.run([python, "-c", code], capture_output=True, env=_clean_env(), timeout=60)
     return run.returncode == 0
 
 
-def plan(target: str, extras: tuple = (), python: Optional[str] = None,
-         torch_spec: Optional[str] = None, torch_index: Optional[str] = None) -> InstallPlan:
+def plan(
+    target: str,
+    extras: tuple = (),
+    python: Optional[str] = None,
+    torch_spec: Optional[str] = None,
+    torch_index: Optional[str] = None,
+) -> InstallPlan:
     """What to install into `target`.
 
     Args:
@@ -219,8 +258,14 @@ def install(p: InstallPlan, on_line: Callable[[str], None] = print) -> None:
 
 def _run_pip(cmd: list, on_line: Callable[[str], None]) -> None:
     on_line("$ " + " ".join(cmd))
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            env=_clean_env(), bufsize=1)
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=_clean_env(),
+        bufsize=1,
+    )
     tail = []
     for line in proc.stdout:
         line = line.rstrip()
@@ -236,8 +281,11 @@ def manual_command(p: InstallPlan) -> str:
 
 
 def _quote(arg: str) -> str:
-    return arg if re.fullmatch(r"[\w@%+=:,./<>-]+", arg) and not set("<>") & set(arg) \
+    return (
+        arg
+        if re.fullmatch(r"[\w@%+=:,./<>-]+", arg) and not set("<>") & set(arg)
         else "'" + arg.replace("'", "'\\''") + "'"
+    )
 
 
 def setting(name: str, default: str) -> str:
@@ -247,6 +295,7 @@ def setting(name: str, default: str) -> str:
     if env is not None:
         return env
     import FreeCAD
+
     return FreeCAD.ParamGet(PARAMETERS).GetString(name, "") or default
 
 
@@ -254,6 +303,7 @@ def folder() -> str:
     """This FreeCAD's dependency folder: `<UserAppData>/Sketch2CAD/py3XY`, or the
     DependencyFolder setting (which is used as it is, whatever the Python version)."""
     import FreeCAD
+
     default = os.path.join(FreeCAD.getUserAppDataDir(), "Sketch2CAD", python_tag())
     return os.path.abspath(os.path.expanduser(setting("DependencyFolder", default)))
 
@@ -262,6 +312,10 @@ def user_plan(extras: tuple = ()) -> InstallPlan:
     """The plan for this FreeCAD: its folder, its interpreter, the torch settings
     (TorchRequirement, TorchIndex: "" for none)."""
     index = setting("TorchIndex", "default")
-    return plan(folder(), extras, python=setting("Python", "") or None,
-                torch_spec=setting("TorchRequirement", "") or None,
-                torch_index=None if index == "default" else index)
+    return plan(
+        folder(),
+        extras,
+        python=setting("Python", "") or None,
+        torch_spec=setting("TorchRequirement", "") or None,
+        torch_index=None if index == "default" else index,
+    )

@@ -11,6 +11,7 @@ workbenches then see the folder's numpy, scipy and matplotlib, consistent with e
 
 Only the standard library (and FreeCAD) here, so it can run first.
 """
+
 import os
 import site
 import sys
@@ -44,5 +45,9 @@ def shadowed_modules() -> list[str]:
     before the folder's copies are used."""
     deps = dependencies.folder()
     names = [n for n in ("numpy", "pyparsing", "scipy", "matplotlib") if n in sys.modules]
-    return [n for n in names if os.path.isdir(os.path.join(deps, n))
-            and not os.path.abspath(getattr(sys.modules[n], "__file__", "") or "").startswith(deps)]
+    return [
+        n
+        for n in names
+        if os.path.isdir(os.path.join(deps, n))
+        and not os.path.abspath(getattr(sys.modules[n], "__file__", "") or "").startswith(deps)
+    ]

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A model's final solid as a STEP file, written by FreeCAD's own STEP writer."""
+
 from pathlib import Path
 
 import FreeCAD  # Import needs FreeCAD imported first
@@ -31,8 +32,9 @@ def export_step(model, path) -> None:
     refuse_failed_steps(model, "exporting")
     if tip is None or not tip.isValid() or tip.Shape.isNull():
         name = tip.Label if tip is not None else "none"
-        raise ValueError(f"{model.Label}: its last step ({name}) has no valid solid; fix it "
-                         "before exporting")
+        raise ValueError(
+            f"{model.Label}: its last step ({name}) has no valid solid; fix it before exporting"
+        )
     active = FreeCAD.ActiveDocument
     scratch = FreeCAD.newDocument("Sketch2CADExport", hidden=True)
     try:

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """What the commands and the task panels share: telling the user, and one undo step."""
+
 from contextlib import contextmanager
 
 import FreeCAD

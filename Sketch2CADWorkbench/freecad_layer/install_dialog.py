@@ -3,6 +3,7 @@
 its command. Imports only FreeCAD, Qt and the standard library: it runs when cadquery,
 torch and VTK are not there yet.
 """
+
 import queue
 import threading
 
@@ -31,14 +32,19 @@ class InstallDialog(QtGui.QDialog):
         self.outcome = None  # None while running, else "" (done) or the error's text
         self.setWindowTitle("Sketch2CAD: install Python packages")
         lay = QtGui.QVBoxLayout(self)
-        torch = ("torch is already on this system." if plan.skipped else
-                 f"torch comes as a CPU build from {plan.torch_index}." if plan.torch_index
-                 else "")
+        torch = (
+            "torch is already on this system."
+            if plan.skipped
+            else f"torch comes as a CPU build from {plan.torch_index}."
+            if plan.torch_index
+            else ""
+        )
         self.info = QtGui.QLabel(
             f"Sketch2CAD needs Python packages that FreeCAD does not include: "
             f"<b>{', '.join(missing)}</b>.<br>Install them now with FreeCAD's Python "
             f"(<tt>{plan.python}</tt>) into <tt>{plan.target}</tt>? They take about 3 GB "
-            f"and a few minutes to download. {torch}<br>Nothing else in FreeCAD changes.")
+            f"and a few minutes to download. {torch}<br>Nothing else in FreeCAD changes."
+        )
         self.info.setWordWrap(True)
         self.info.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         lay.addWidget(self.info)
@@ -90,16 +96,20 @@ class InstallDialog(QtGui.QDialog):
         self.progress.setRange(0, 1)
         self.progress.setValue(1 if not self.outcome else 0)
         if self.outcome:
-            self.info.setText("<b style='color:#b00'>The installation failed</b>; FreeCAD and "
-                              "any earlier installation are unchanged. pip said:")
+            self.info.setText(
+                "<b style='color:#b00'>The installation failed</b>; FreeCAD and "
+                "any earlier installation are unchanged. pip said:"
+            )
             self.log.appendPlainText(self.outcome)
             self.close_button.setText("Close")
             self.close_button.setEnabled(True)
-            FreeCAD.Console.PrintError(f"Sketch2CAD: installing the dependencies failed: "
-                                       f"{self.outcome}\n")
+            FreeCAD.Console.PrintError(
+                f"Sketch2CAD: installing the dependencies failed: {self.outcome}\n"
+            )
             return
-        FreeCAD.Console.PrintMessage(f"Sketch2CAD: dependencies installed into "
-                                     f"{self.plan.target}\n")
+        FreeCAD.Console.PrintMessage(
+            f"Sketch2CAD: dependencies installed into {self.plan.target}\n"
+        )
         self.accept()
 
 
@@ -119,11 +129,13 @@ def offer(missing: list) -> bool:
             FreeCAD.Console.PrintWarning(
                 f"Sketch2CAD: {', '.join(shadowed)} {'was' if len(shadowed) == 1 else 'were'} "
                 "loaded by FreeCAD before the installation; restart FreeCAD to use the "
-                "installed copy\n")
+                "installed copy\n"
+            )
         return not dependencies.missing()
     FreeCAD.Console.PrintWarning(
         f"Sketch2CAD needs {', '.join(missing)}. Install them from the menu Sketch2CAD > "
-        f"Install dependencies, or run: {dependencies.manual_command(plan)}\n")
+        f"Install dependencies, or run: {dependencies.manual_command(plan)}\n"
+    )
     return False
 
 
@@ -134,9 +146,12 @@ class InstallDependencies:
         self.on_installed = on_installed
 
     def GetResources(self):
-        return {"Pixmap": icon_path("Sketch2CAD"), "MenuText": "Install dependencies",
-                "ToolTip": "Install the Python packages Sketch2CAD needs (cadquery, torch, "
-                           "VTK, ...) with FreeCAD's Python"}
+        return {
+            "Pixmap": icon_path("Sketch2CAD"),
+            "MenuText": "Install dependencies",
+            "ToolTip": "Install the Python packages Sketch2CAD needs (cadquery, torch, "
+            "VTK, ...) with FreeCAD's Python",
+        }
 
     def IsActive(self):
         return True
@@ -144,8 +159,11 @@ class InstallDependencies:
     def Activated(self):
         missing = dependencies.missing()
         if not missing:
-            QtGui.QMessageBox.information(FreeCADGui.getMainWindow(), "Sketch2CAD",
-                                          "Every package Sketch2CAD needs is installed.")
+            QtGui.QMessageBox.information(
+                FreeCADGui.getMainWindow(),
+                "Sketch2CAD",
+                "Every package Sketch2CAD needs is installed.",
+            )
             return
         if offer(missing) and self.on_installed:
             self.on_installed()

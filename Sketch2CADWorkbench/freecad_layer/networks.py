@@ -13,13 +13,18 @@ object or a widget, which belong to the GUI thread. It still holds the GIL in st
 (OCP's module initialisation is one long C++ call), when the GUI stalls; the GUI check
 prints the longest stall (tests/freecad/scripts/responsiveness_session.py).
 """
+
 import threading
 import time
 
 # Leaves first: a module the GUI thread imports meanwhile (a command on first use) then
 # only waits for the thread's import of the leaf, never the other way round.
-PRELOAD = ("cadquery", "torch", "Sketch2CADWorkbench.brep.operators",
-           "Sketch2CADWorkbench.inference.interpret")
+PRELOAD = (
+    "cadquery",
+    "torch",
+    "Sketch2CADWorkbench.brep.operators",
+    "Sketch2CADWorkbench.inference.interpret",
+)
 STATUS_MS = 5000  # how long "networks ready" stays in the status bar
 POLL_MS = 200  # how often the GUI thread looks whether the load has ended
 
@@ -33,9 +38,11 @@ _seconds = None  # how long the background load took
 def _load():
     """The predictor: the PRELOAD modules imported, the shipped weights read."""
     import importlib
+
     for name in PRELOAD:
         importlib.import_module(name)
     from ..inference.weights import load_predictor
+
     return load_predictor()
 
 
@@ -96,6 +103,7 @@ def when_loaded(fn, parent) -> None:
     runs). The poll is a timer owned by the QObject `parent`: it ends with it (a closed
     task panel's widget), so `fn` never sees a deleted widget."""
     from PySide import QtCore
+
     timer = QtCore.QTimer(parent)
 
     def poll():
@@ -114,6 +122,7 @@ def show_status() -> None:
     that they are ready, or why not."""
     import FreeCADGui
     from PySide import QtCore, QtGui
+
     bar = FreeCADGui.getMainWindow().statusBar()
     label = QtGui.QLabel("Sketch2CAD: loading networks\u2026 (you can draw meanwhile)")
     label.setObjectName("Sketch2CADNetworksStatus")

@@ -10,6 +10,7 @@ them (FreeCAD's parameters at User parameter:BaseApp/Preferences/Mod/Sketch2CAD)
   (dependencies.folder(); read when FreeCAD starts).
 - NetworkThreads: the CPU threads the networks use; 0 leaves the predictor's default.
 """
+
 import FreeCAD
 
 from .dependencies import PARAMETERS
@@ -50,33 +51,48 @@ class PreferencesPage:
 
     def __init__(self):
         from PySide import QtGui
+
         self.form = QtGui.QWidget()
         self.form.setObjectName("Sketch2CADPreferences")
         self.form.setWindowTitle(translate("Sketch2CAD", "Sketch2CAD"))
         lay = QtGui.QFormLayout(self.form)
         self.regularize = QtGui.QCheckBox(translate("Sketch2CAD", "Regularize sketches"))
-        self.regularize.setToolTip(translate(
-            "Sketch2CAD", "Snap and rectify what is read from a sketch (the Sketch panel's "
-            "initial choice)"))
+        self.regularize.setToolTip(
+            translate(
+                "Sketch2CAD",
+                "Snap and rectify what is read from a sketch (the Sketch panel's initial choice)",
+            )
+        )
         lay.addRow(self.regularize)
         self.snap = QtGui.QDoubleSpinBox()
         self.snap.setRange(0.0, 100.0)
         self.snap.setDecimals(3)
         self.snap.setSuffix(" mm")
-        self.snap.setToolTip(translate(
-            "Sketch2CAD", "Round lengths read from a sketch to this step when regularizing "
-            "(0: keep them as fitted)"))
+        self.snap.setToolTip(
+            translate(
+                "Sketch2CAD",
+                "Round lengths read from a sketch to this step when regularizing "
+                "(0: keep them as fitted)",
+            )
+        )
         lay.addRow(translate("Sketch2CAD", "Snapping step"), self.snap)
         self.folder = QtGui.QLineEdit()
-        self.folder.setToolTip(translate(
-            "Sketch2CAD", "Where cadquery, torch and VTK are installed (empty: the default "
-            "folder); takes effect when FreeCAD restarts"))
+        self.folder.setToolTip(
+            translate(
+                "Sketch2CAD",
+                "Where cadquery, torch and VTK are installed (empty: the default "
+                "folder); takes effect when FreeCAD restarts",
+            )
+        )
         lay.addRow(translate("Sketch2CAD", "Dependency folder"), self.folder)
         self.threads = QtGui.QSpinBox()
         self.threads.setRange(0, 256)
         self.threads.setSpecialValueText(translate("Sketch2CAD", "automatic"))
-        self.threads.setToolTip(translate("Sketch2CAD", "CPU threads the networks use "
-                                          "(automatic: the workbench's default)"))
+        self.threads.setToolTip(
+            translate(
+                "Sketch2CAD", "CPU threads the networks use (automatic: the workbench's default)"
+            )
+        )
         lay.addRow(translate("Sketch2CAD", "Networks' threads"), self.threads)
 
     def loadSettings(self):
@@ -99,5 +115,6 @@ def add_page() -> None:
     import FreeCADGui
 
     from .icons import ICONS
+
     FreeCADGui.addIconPath(ICONS)  # the page's group icon: preferences-sketch2cad.svg
     FreeCADGui.addPreferencePage(PreferencesPage, PAGE)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Reading Sketch2CAD models in a FreeCAD document: their features, their protocol, their
 errors, the models of a document. With or without the GUI."""
+
 from ..brep.protocol import Protocol
 from .objects.model import ModelFeature
 
@@ -29,8 +30,11 @@ def failed_features(model) -> list:
 
 def find_models(doc) -> list:
     """The document's Sketch2CAD models, in creation order."""
-    return [o for o in doc.Objects
-            if getattr(getattr(o, "Proxy", None), "TYPE", "") == ModelFeature.TYPE]
+    return [
+        o
+        for o in doc.Objects
+        if getattr(getattr(o, "Proxy", None), "TYPE", "") == ModelFeature.TYPE
+    ]
 
 
 def refuse_failed_steps(model, doing: str) -> None:
@@ -43,5 +47,6 @@ def refuse_failed_steps(model, doing: str) -> None:
     bad = failed_features(model)
     if bad:
         status = bad[0].getStatusString()
-        raise ValueError(f"{model.Label}: step {bad[0].Label} failed to build ({status}); "
-                         f"fix it before {doing}")
+        raise ValueError(
+            f"{model.Label}: step {bad[0].Label} failed to build ({status}); fix it before {doing}"
+        )

@@ -5,6 +5,7 @@ cadquery is imported on the first crossing, not with this module: the feature cl
 the commands import it when the workbench is activated, which must stay fast (importing
 cadquery takes seconds; networks.py preloads it in the background meanwhile).
 """
+
 import FreeCAD  # noqa: F401  (Part needs FreeCAD imported first)
 import Part
 
@@ -12,6 +13,7 @@ import Part
 def to_part(shape) -> "Part.Shape":
     """A cadquery shape as a FreeCAD Part.Shape."""
     from ..brep.exchange import to_brep_text
+
     out = Part.Shape()
     out.importBrepFromString(to_brep_text(shape))
     return out
@@ -20,6 +22,7 @@ def to_part(shape) -> "Part.Shape":
 def from_part(shape: "Part.Shape"):
     """A FreeCAD Part.Shape as a cadquery shape (a Solid when it holds one solid)."""
     from ..brep.exchange import from_brep_text
+
     cq_shape = from_brep_text(shape.exportBrepToString())
     solids = cq_shape.Solids()
     return solids[0] if len(solids) == 1 else cq_shape

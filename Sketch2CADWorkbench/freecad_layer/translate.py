@@ -2,6 +2,7 @@
 """Translatable strings, as FreeCAD's workbenches mark them: `translate(context, text)` at
 run time, `QT_TRANSLATE_NOOP(context, text)` where the text is only marked (command
 resources, which FreeCAD translates itself)."""
+
 try:
     from FreeCAD import Qt
 

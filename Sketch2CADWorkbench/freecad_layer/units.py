@@ -1,9 +1,16 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Values as the user reads them: in the unit schema chosen in FreeCAD's preferences."""
+
 import FreeCAD
 
-AXES = {(1, 0, 0): "+X", (-1, 0, 0): "-X", (0, 1, 0): "+Y", (0, -1, 0): "-Y",
-        (0, 0, 1): "+Z", (0, 0, -1): "-Z"}
+AXES = {
+    (1, 0, 0): "+X",
+    (-1, 0, 0): "-X",
+    (0, 1, 0): "+Y",
+    (0, -1, 0): "-Y",
+    (0, 0, 1): "+Z",
+    (0, 0, -1): "-Z",
+}
 
 
 def length(mm: float) -> str:

@@ -10,6 +10,7 @@ few ways the corner graph splits into two n-cycles and a matching (one split for
 triangle, pentagon or hexagon, three for a quadrilateral: a cube's graph), each outline
 as start or as end. The structured head (heads.py) chooses among them.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -47,8 +48,11 @@ def corners(strokes: list[np.ndarray], size: int) -> np.ndarray | None:
         near = [b for b in range(a + 1, m) if d[a][b] <= reach and b // 2 != a // 2]
         for b, c in itertools.combinations(near, 2):
             if c // 2 != b // 2 and d[b][c] <= reach:
-                entry = (d[a][b] ** 2 + d[a][c] ** 2 + d[b][c] ** 2,
-                         1 << a | 1 << b | 1 << c, (a, b, c))
+                entry = (
+                    d[a][b] ** 2 + d[a][c] ** 2 + d[b][c] ** 2,
+                    1 << a | 1 << b | 1 << c,
+                    (a, b, c),
+                )
                 for e in (a, b, c):
                     triples[e].append(entry)
     for t in triples:
@@ -140,9 +144,13 @@ def _labellings(corner: np.ndarray) -> list[np.ndarray] | None:
     out = []
     for profiles in _matchings(edges, 2 * n):
         outlines = _cycles(edges, [k for k in range(len(edges)) if k not in profiles])
-        if len(outlines) != 2 or any(len(vs) != n for vs, _ in outlines) or \
-                any((edges[k][0] in outlines[0][0]) == (edges[k][1] in outlines[0][0])
-                    for k in profiles):  # a profile runs from one outline to the other
+        if (
+            len(outlines) != 2
+            or any(len(vs) != n for vs, _ in outlines)
+            or any(
+                (edges[k][0] in outlines[0][0]) == (edges[k][1] in outlines[0][0]) for k in profiles
+            )
+        ):  # a profile runs from one outline to the other
             continue
         for (_, first), (_, second) in (outlines, outlines[::-1]):
             labels = np.full(len(edges), PROFILE)

@@ -28,6 +28,7 @@ Why frozen features: a head over them trains in minutes on a CPU, where retraini
 U-Net takes hours; and the U-Net's maps are already right about where the base face is
 and which part of a profile points along n_f, only not about whole strokes.
 """
+
 from __future__ import annotations
 
 import functools
@@ -53,9 +54,9 @@ from .models import N_OPS, Sketch2CADNet, load_checkpoint
 from .weights import NetworkPredictor, resolve
 
 HEAD_FORMAT = "sketch2cad-head"
-POINTS = 16            # samples along each stroke (evenly in arc length)
-DECODER_LEVELS = 3     # finest decoder maps pooled (8, 16, 32 channels for the shipped net)
-MAX_FACES = 48         # largest visible faces kept as tokens (a sketch sees far fewer)
+POINTS = 16  # samples along each stroke (evenly in arc length)
+DECODER_LEVELS = 3  # finest decoder maps pooled (8, 16, 32 channels for the shipped net)
+MAX_FACES = 48  # largest visible faces kept as tokens (a sketch sees far fewer)
 # Stroke roles per operator (the curve label encodings of sketch/labels.py).
 ROLES = (2, 2, 3, 3)
 ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
@@ -80,7 +81,7 @@ def feature_channels(model: Sketch2CADNet) -> int:
 class HeadConfig:
     """The head's settings; saved in its checkpoint, so a file rebuilds the head."""
 
-    channels: int = 69     # feature_channels of the U-Net it reads
+    channels: int = 69  # feature_channels of the U-Net it reads
     width: int = 96
     layers: int = 3
     attention_heads: int = 4
@@ -117,8 +118,8 @@ class UNetPass:
     and the maps the tokens pool (so a caller needing both runs the U-Net once)."""
 
     logits: torch.Tensor  # (B, 4) class logits
-    f: torch.Tensor       # (B, 4, I, I) F logits
-    c: torch.Tensor       # (B, 4, I, I) C values
+    f: torch.Tensor  # (B, 4, I, I) F logits
+    c: torch.Tensor  # (B, 4, I, I) C values
     maps: list[torch.Tensor]  # (B, C_m, r_m, r_m) each at its own size r_m, channels-last:
     #                           the decoder maps (coarsest first), F and C, pooled inputs
 
@@ -134,8 +135,12 @@ def feature_maps(model: Sketch2CADNet, x_full: torch.Tensor) -> UNetPass:
     x = model.pool(x_full)
     logits, f, c, decoded = model.features(x)
     out = torch.cat([f, c], 1)  # F and C as the one 1x1 conv output they came from
-    return UNetPass(logits, f, c, decoded[-DECODER_LEVELS:] +
-                    [out, x.contiguous(memory_format=torch.channels_last)])
+    return UNetPass(
+        logits,
+        f,
+        c,
+        decoded[-DECODER_LEVELS:] + [out, x.contiguous(memory_format=torch.channels_last)],
+    )
 
 
 @functools.lru_cache(maxsize=8)
@@ -154,8 +159,8 @@ def _upsampling_adjoint(h: torch.Tensor, factor: int) -> torch.Tensor:
     past the border fold back onto the border pixels, which the upsampling clamps to."""
     pad = 3 * factor // 2  # fine pixels for the coarse pixels -1 and r past each border
     halves = F.pad(h, (pad, pad)).unflatten(-1, (-1, factor)) @ _adjoint_taps(factor)
-    ext = halves[..., :-1, 0] + halves[..., 1:, 1]                     # (..., r + 2)
-    ext[..., 1] += ext[..., 0]                                         # (..., r + 2)
+    ext = halves[..., :-1, 0] + halves[..., 1:, 1]  # (..., r + 2)
+    ext[..., 1] += ext[..., 0]  # (..., r + 2)
     ext[..., -2] += ext[..., -1]
     return ext[..., 1:-1]
 
@@ -166,36 +171,48 @@ def _face_sums(hits: torch.Tensor, part: torch.Tensor) -> torch.Tensor:
     sum of the upsampled map U p is that of p weighted by U's adjoint of the hits."""
     c, r, i = part.shape[0], part.shape[-1], hits.shape[-1]
     if r != i:
-        hits = _upsampling_adjoint(_upsampling_adjoint(hits, i // r).transpose(1, 2), i // r) \
-            .transpose(1, 2)
+        hits = _upsampling_adjoint(
+            _upsampling_adjoint(hits, i // r).transpose(1, 2), i // r
+        ).transpose(1, 2)
     return hits.reshape(len(hits), r * r) @ part.permute(1, 2, 0).reshape(r * r, c)
 
 
-def _fine_neighbours(pts: np.ndarray, size: int, internal: int
-                     ) -> tuple[torch.Tensor, torch.Tensor]:
+def _fine_neighbours(
+    pts: np.ndarray, size: int, internal: int
+) -> tuple[torch.Tensor, torch.Tensor]:
     """Bilinear sampling at pixel points (N, 2) of the full-size maps on an I x I map,
     clamped to the border (F.grid_sample, align_corners=False, padding "border"): the
     centres of each point's 4 pixels of that map as a grid (1, N, 4, 2) and their
     weights (N, 4)."""
-    t = np.clip(pts * internal / size - 0.5, 0, internal - 1)           # (N, 2) x, y
+    t = np.clip(pts * internal / size - 0.5, 0, internal - 1)  # (N, 2) x, y
     lo = np.floor(t)
     hi = np.minimum(lo + 1, internal - 1)
     frac = t - lo
-    corners = np.stack([np.stack([lo[:, 0], lo[:, 1]], 1), np.stack([hi[:, 0], lo[:, 1]], 1),
-                        np.stack([lo[:, 0], hi[:, 1]], 1), np.stack([hi[:, 0], hi[:, 1]], 1)], 1)
+    corners = np.stack(
+        [
+            np.stack([lo[:, 0], lo[:, 1]], 1),
+            np.stack([hi[:, 0], lo[:, 1]], 1),
+            np.stack([lo[:, 0], hi[:, 1]], 1),
+            np.stack([hi[:, 0], hi[:, 1]], 1),
+        ],
+        1,
+    )
     wx, wy = frac[:, 0], frac[:, 1]
     weights = np.stack([(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy, wx * wy], 1)
     grid = (2 * corners + 1) / internal - 1
-    return (torch.from_numpy(grid.astype(np.float32))[None],
-            torch.from_numpy(weights.astype(np.float32)))
+    return (
+        torch.from_numpy(grid.astype(np.float32))[None],
+        torch.from_numpy(weights.astype(np.float32)),
+    )
 
 
 def _sample(part: torch.Tensor, grid: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
     """(N, C) a map (C, r, r) upsampled to I and sampled at the points `_fine_neighbours`
     gave: the upsampled map's value at a pixel centre of I is the map's bilinear sample
     there (the same clamping at the border), so no map of size I is made."""
-    at = F.grid_sample(part[None], grid, mode="bilinear", padding_mode="border",
-                       align_corners=False)[0]                            # (C, N, 4)
+    at = F.grid_sample(
+        part[None], grid, mode="bilinear", padding_mode="border", align_corners=False
+    )[0]  # (C, N, 4)
     return (at * weights).sum(-1).T
 
 
@@ -229,14 +246,17 @@ class _Polylines:
     def resample(self, count: int) -> np.ndarray:
         """(S, count, 2) points evenly along each polyline's arc length (a polyline of
         no length: its first point)."""
-        t = self.arc[self.first][:, None] + \
-            np.linspace(0.0, 1.0, count)[None] * self.lengths()[:, None]
-        return np.stack([np.interp(t, self.arc, self.points[:, 0]),
-                         np.interp(t, self.arc, self.points[:, 1])], -1)
+        t = (
+            self.arc[self.first][:, None]
+            + np.linspace(0.0, 1.0, count)[None] * self.lengths()[:, None]
+        )
+        return np.stack(
+            [np.interp(t, self.arc, self.points[:, 0]), np.interp(t, self.arc, self.points[:, 1])],
+            -1,
+        )
 
 
-def stroke_geometry(strokes: list[np.ndarray], normal_xy: np.ndarray, size: int
-                    ) -> np.ndarray:
+def stroke_geometry(strokes: list[np.ndarray], normal_xy: np.ndarray, size: int) -> np.ndarray:
     """(S, 14) per stroke, numbers that do not depend on the drawing direction: centroid
     (2), the two ends ordered by x (4), chord direction as (cos 2a, sin 2a) (2), chord
     and arc length (2), closedness (chord / arc), straightness (largest distance from
@@ -252,19 +272,37 @@ def stroke_geometry(strokes: list[np.ndarray], normal_xy: np.ndarray, size: int
     u = np.where(chord[:, None] > 1e-9, d / np.maximum(chord, 1e-9)[:, None], [1.0, 0.0])
     angle = np.arctan2(u[:, 1], u[:, 0])
     across = np.repeat(np.stack([-u[:, 1], u[:, 0]], 1), counts, 0)
-    off = np.maximum.reduceat(np.abs(((p - np.repeat(p[first], counts, 0)) * across).sum(1)),
-                              first)
+    off = np.maximum.reduceat(np.abs(((p - np.repeat(p[first], counts, 0)) * across).sum(1)), first)
     n = np.linalg.norm(normal_xy, axis=1)
     along = np.where(n > 1e-9, np.abs((u * normal_xy).sum(1)) / np.maximum(n, 1e-9), 0.0)
-    swap = (p[first, 0] > p[last, 0]) | ((p[first, 0] == p[last, 0]) &
-                                         (p[first, 1] > p[last, 1]))
-    ends = np.where(swap[:, None], np.concatenate([p[last], p[first]], 1),
-                    np.concatenate([p[first], p[last]], 1))
+    swap = (p[first, 0] > p[last, 0]) | ((p[first, 0] == p[last, 0]) & (p[first, 1] > p[last, 1]))
+    ends = np.where(
+        swap[:, None],
+        np.concatenate([p[last], p[first]], 1),
+        np.concatenate([p[first], p[last]], 1),
+    )
     centroid = np.add.reduceat(p, first) / counts[:, None]
     safe = np.maximum(arc, 1e-9)
-    return np.concatenate([centroid, ends, np.stack([
-        np.cos(2 * angle), np.sin(2 * angle), chord, arc, chord / safe, off / safe, along, n],
-        1)], 1).astype(np.float32)
+    return np.concatenate(
+        [
+            centroid,
+            ends,
+            np.stack(
+                [
+                    np.cos(2 * angle),
+                    np.sin(2 * angle),
+                    chord,
+                    arc,
+                    chord / safe,
+                    off / safe,
+                    along,
+                    n,
+                ],
+                1,
+            ),
+        ],
+        1,
+    ).astype(np.float32)
 
 
 def stroke_context(pts: np.ndarray, face_id: np.ndarray, voted: np.ndarray) -> np.ndarray:
@@ -278,15 +316,15 @@ def stroke_context(pts: np.ndarray, face_id: np.ndarray, voted: np.ndarray) -> n
         voted: (4,) face-ID the U-Net's F votes most for, per operator (-2: none).
     """
     n, size = len(pts), face_id.shape[-1]
-    ends = pts[:, [0, -1]]                                              # (S, 2, 2)
+    ends = pts[:, [0, -1]]  # (S, 2, 2)
     gap = np.full((n, 2), 1.0)
     if n > 1:
         d = np.linalg.norm(ends[:, :, None, None] - ends[None, None], axis=-1)  # S,2,S,2
         d[np.arange(n), :, np.arange(n)] = np.inf
         gap = np.sort(np.minimum(d.min((2, 3)) / size, 1.0), axis=1)
     ij = np.clip(np.floor(pts).astype(int), 0, size - 1)
-    under = face_id[ij[..., 1], ij[..., 0]]                             # (S, P)
-    share = (under[:, :, None] == voted[None, None]).mean(1)             # (S, 4)
+    under = face_id[ij[..., 1], ij[..., 0]]  # (S, P)
+    share = (under[:, :, None] == voted[None, None]).mean(1)  # (S, 4)
     return np.concatenate([gap, share, (under < 0).mean(1, keepdims=True)], 1)
 
 
@@ -305,8 +343,9 @@ def _pixel_grid(size: int, internal: int) -> tuple[np.ndarray, np.ndarray, np.nd
     return xs, ys, cell
 
 
-def tokens(logits: torch.Tensor, maps: list[torch.Tensor], strokes: list[np.ndarray],
-           face_id: np.ndarray) -> Tokens:
+def tokens(
+    logits: torch.Tensor, maps: list[torch.Tensor], strokes: list[np.ndarray], face_id: np.ndarray
+) -> Tokens:
     """One sketch's tokens.
 
     Args:
@@ -333,8 +372,8 @@ def tokens(logits: torch.Tensor, maps: list[torch.Tensor], strokes: list[np.ndar
 
     def per_face(index: np.ndarray, bins: int) -> np.ndarray:
         """(k, bins) counts of the pixels of each face token per index value."""
-        return np.bincount(key * bins + index, minlength=(k + 1) * bins) \
-            .reshape(k + 1, bins)[1:]
+        return np.bincount(key * bins + index, minlength=(k + 1) * bins).reshape(k + 1, bins)[1:]
+
     # each map's mean over the face's pixels, each pixel read from the internal-size cell
     # it falls in (a (K, I*I) count matrix times the maps)
     hits = torch.from_numpy(per_face(cell, i * i).astype(np.float32)).reshape(k, i, i)
@@ -350,42 +389,64 @@ def tokens(logits: torch.Tensor, maps: list[torch.Tensor], strokes: list[np.ndar
     votes = (per_face(bits.astype(np.int64), 1 << N_OPS) @ _BIT_OF_CODE).astype(np.float64)
     # centroid and spread from each face's pixel counts per column and per row
     coord = np.arange(size) / size
-    along = np.stack([coord, coord ** 2], 1)                             # (size, 2)
-    sx, sy = per_face(xs, size) @ along, per_face(ys, size) @ along      # (k, 2) each
+    along = np.stack([coord, coord**2], 1)  # (size, 2)
+    sx, sy = per_face(xs, size) @ along, per_face(ys, size) @ along  # (k, 2) each
     centroid = np.stack([sx[:, 0], sy[:, 0]], 1) / counts[:, None]
     squares = np.stack([sx[:, 1], sy[:, 1]], 1) / counts[:, None]
-    spread = np.sqrt(np.clip(squares - centroid ** 2, 0, None))
-    geo = np.concatenate([counts[:, None] / size ** 2, centroid, spread,
-                          votes / counts[:, None], votes / np.maximum(votes.sum(0), 1)], 1)
+    spread = np.sqrt(np.clip(squares - centroid**2, 0, None))
+    geo = np.concatenate(
+        [
+            counts[:, None] / size**2,
+            centroid,
+            spread,
+            votes / counts[:, None],
+            votes / np.maximum(votes.sum(0), 1),
+        ],
+        1,
+    )
     face = torch.cat([mean, torch.from_numpy(geo.astype(np.float32))], 1)
     # the faces' normals from the pooled N (the last 3 maps; stored as normal + 1); image
     # y points down
-    normal_image = (mean[:, c - 3:c - 1] - 1.0) * torch.tensor([1.0, -1.0])
+    normal_image = (mean[:, c - 3 : c - 1] - 1.0) * torch.tensor([1.0, -1.0])
     # strokes: the maps at POINTS points along each
     pts = _Polylines.of(strokes).resample(POINTS) if strokes else np.zeros((0, POINTS, 2))
     grid, weights = _fine_neighbours(pts.reshape(-1, 2), size, i)
-    samples = torch.cat([_sample(m, grid, weights) for m in maps], 1) \
-        .reshape(len(pts), POINTS, c)                                     # (S, P, C)
-    normal = samples[..., -3:-1].mean(1).numpy()                          # (S, 2) N_x, N_y
+    samples = torch.cat([_sample(m, grid, weights) for m in maps], 1).reshape(
+        len(pts), POINTS, c
+    )  # (S, P, C)
+    normal = samples[..., -3:-1].mean(1).numpy()  # (S, 2) N_x, N_y
     # the U-Net's most voted face per operator (-2: none); image y points down, so the
     # normal's image direction is (N_x, -N_y)
     voted = np.where(votes.max(0) > 0, ids[votes.argmax(0)], -2) if k else np.full(N_OPS, -2)
-    geo = np.concatenate([stroke_geometry(strokes, normal * np.array([1.0, -1.0]), size),
-                          stroke_context(pts, face_id, voted)], 1) if strokes else \
-        np.zeros((0, STROKE_GEOMETRY), np.float32)
+    geo = (
+        np.concatenate(
+            [
+                stroke_geometry(strokes, normal * np.array([1.0, -1.0]), size),
+                stroke_context(pts, face_id, voted),
+            ],
+            1,
+        )
+        if strokes
+        else np.zeros((0, STROKE_GEOMETRY), np.float32)
+    )
     stroke = torch.cat([samples.mean(1), samples.amax(1), torch.from_numpy(geo)], 1)
 
-    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16,
-                                           *count_fits(len(strokes))])])
-    return Tokens(stroke.float(), face.float(), torch.from_numpy(ids.astype(np.int64)),
-                  cls.float(), stroke_on_faces(pts, face_id, ids), normal_image.float())
+    cls = torch.cat([logits, torch.tensor([len(strokes) / 16, k / 16, *count_fits(len(strokes))])])
+    return Tokens(
+        stroke.float(),
+        face.float(),
+        torch.from_numpy(ids.astype(np.int64)),
+        cls.float(),
+        stroke_on_faces(pts, face_id, ids),
+        normal_image.float(),
+    )
 
 
 def stroke_on_faces(pts: np.ndarray, face_id: np.ndarray, ids: np.ndarray) -> torch.Tensor:
     """(S, K) share of each stroke's points (S, P, 2; pixels) on each face of `ids`."""
     size = face_id.shape[-1]
     ij = np.clip(np.floor(pts).astype(int), 0, size - 1)
-    under = face_id[ij[..., 1], ij[..., 0]]                             # (S, P)
+    under = face_id[ij[..., 1], ij[..., 0]]  # (S, P)
     return torch.from_numpy((under[:, :, None] == ids[None, None]).mean(1).astype(np.float32))
 
 
@@ -401,17 +462,22 @@ class AttentionLayer(nn.Module):
         self.norm1, self.norm2 = nn.LayerNorm(width), nn.LayerNorm(width)
         self.qkv = nn.Linear(width, 3 * width)
         self.out = nn.Linear(width, width)
-        self.feed = nn.Sequential(nn.Linear(width, 2 * width), nn.ReLU(), nn.Dropout(dropout),
-                                  nn.Linear(2 * width, width))
+        self.feed = nn.Sequential(
+            nn.Linear(width, 2 * width), nn.ReLU(), nn.Dropout(dropout), nn.Linear(2 * width, width)
+        )
         self.drop = nn.Dropout(dropout)
 
     def forward(self, h: torch.Tensor, bias: torch.Tensor) -> torch.Tensor:
         """(B, L, width) tokens, (B, heads, L, L) bias -> (B, L, width)."""
         b, n, w = h.shape
-        q, k, v = self.qkv(self.norm1(h)).view(b, n, 3, self.heads, w // self.heads) \
+        q, k, v = (
+            self.qkv(self.norm1(h))
+            .view(b, n, 3, self.heads, w // self.heads)
             .permute(2, 0, 3, 1, 4)
-        a = F.scaled_dot_product_attention(q, k, v, attn_mask=bias,
-                                           dropout_p=self.dropout if self.training else 0.0)
+        )
+        a = F.scaled_dot_product_attention(
+            q, k, v, attn_mask=bias, dropout_p=self.dropout if self.training else 0.0
+        )
         h = h + self.drop(self.out(a.transpose(1, 2).reshape(b, n, w)))
         return h + self.drop(self.feed(self.norm2(h)))
 
@@ -424,22 +490,32 @@ class StructureHead(nn.Module):
         self.config = cfg = config or HeadConfig()
         w = cfg.width
         self.embed_cls = nn.Linear(N_OPS + CLASS_EXTRA, w)
-        self.embed_stroke = nn.Sequential(nn.LayerNorm(2 * cfg.channels + STROKE_GEOMETRY),
-                                          nn.Linear(2 * cfg.channels + STROKE_GEOMETRY, w))
-        self.embed_face = nn.Sequential(nn.LayerNorm(cfg.channels + FACE_GEOMETRY),
-                                        nn.Linear(cfg.channels + FACE_GEOMETRY, w))
+        self.embed_stroke = nn.Sequential(
+            nn.LayerNorm(2 * cfg.channels + STROKE_GEOMETRY),
+            nn.Linear(2 * cfg.channels + STROKE_GEOMETRY, w),
+        )
+        self.embed_face = nn.Sequential(
+            nn.LayerNorm(cfg.channels + FACE_GEOMETRY), nn.Linear(cfg.channels + FACE_GEOMETRY, w)
+        )
         # layers = 0: every token read alone (the ablation of the context)
-        self.layers = nn.ModuleList(AttentionLayer(w, cfg.attention_heads, cfg.dropout)
-                                    for _ in range(cfg.layers))
+        self.layers = nn.ModuleList(
+            AttentionLayer(w, cfg.attention_heads, cfg.dropout) for _ in range(cfg.layers)
+        )
         # per attention head, a learned bias per END_GAP_BINS bin of two strokes' end gap:
         # the strokes of one outline meet end to end, which attention over coordinates
         # finds only approximately (ablation: docs/NOTES.md, stop 22)
-        self.end_bias = nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads) \
-            if cfg.end_bias and cfg.layers else None
+        self.end_bias = (
+            nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads)
+            if cfg.end_bias and cfg.layers
+            else None
+        )
         # and per bin of a stroke's share on a face, a bias each way (stroke to face, face
         # to stroke): which face a stroke lies on is in no token
-        self.face_bias = nn.Embedding(len(ON_FACE_BINS) + 1, 2 * cfg.attention_heads) \
-            if cfg.face_bias and cfg.layers else None
+        self.face_bias = (
+            nn.Embedding(len(ON_FACE_BINS) + 1, 2 * cfg.attention_heads)
+            if cfg.face_bias and cfg.layers
+            else None
+        )
         for bias in (self.end_bias, self.face_bias):
             if bias is not None:
                 nn.init.zeros_(bias.weight)
@@ -451,8 +527,9 @@ class StructureHead(nn.Module):
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
 
-    def _attention_bias(self, stroke: torch.Tensor, on_face: torch.Tensor, pad: torch.Tensor
-                        ) -> torch.Tensor:
+    def _attention_bias(
+        self, stroke: torch.Tensor, on_face: torch.Tensor, pad: torch.Tensor
+    ) -> torch.Tensor:
         """(B, heads, L, L) additive attention mask: -inf on padded keys; between strokes
         the end bias of their nearest ends' gap bin; between a stroke and a face the face
         bias of the stroke's share on it."""
@@ -461,19 +538,25 @@ class StructureHead(nn.Module):
         mask = torch.zeros(b, heads, n, n).masked_fill(pad[:, None, None], float("-inf"))
         if self.end_bias is not None:
             geo = 2 * self.config.channels
-            ends = stroke[..., geo + ENDS.start:geo + ENDS.stop].reshape(b, n_s, 2, 2)
+            ends = stroke[..., geo + ENDS.start : geo + ENDS.stop].reshape(b, n_s, 2, 2)
             gap = (ends[:, :, None, :, None] - ends[:, None, :, None, :]).norm(dim=-1)
             bins = torch.bucketize(gap.amin((-2, -1)), torch.tensor(END_GAP_BINS))
-            mask[:, :, 1:1 + n_s, 1:1 + n_s] += self.end_bias(bins).permute(0, 3, 1, 2)
+            mask[:, :, 1 : 1 + n_s, 1 : 1 + n_s] += self.end_bias(bins).permute(0, 3, 1, 2)
         if self.face_bias is not None:
             bias = self.face_bias(torch.bucketize(on_face, torch.tensor(ON_FACE_BINS)))
-            mask[:, :, 1:1 + n_s, 1 + n_s:] += bias[..., :heads].permute(0, 3, 1, 2)
-            mask[:, :, 1 + n_s:, 1:1 + n_s] += bias[..., heads:].permute(0, 3, 2, 1)
+            mask[:, :, 1 : 1 + n_s, 1 + n_s :] += bias[..., :heads].permute(0, 3, 1, 2)
+            mask[:, :, 1 + n_s :, 1 : 1 + n_s] += bias[..., heads:].permute(0, 3, 2, 1)
         return mask
 
-    def forward(self, cls: torch.Tensor, stroke: torch.Tensor, stroke_mask: torch.Tensor,
-                face: torch.Tensor, face_mask: torch.Tensor, on_face: torch.Tensor
-                ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    def forward(
+        self,
+        cls: torch.Tensor,
+        stroke: torch.Tensor,
+        stroke_mask: torch.Tensor,
+        face: torch.Tensor,
+        face_mask: torch.Tensor,
+        on_face: torch.Tensor,
+    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Padded batch -> logits.
 
         Args:
@@ -485,8 +568,9 @@ class StructureHead(nn.Module):
             (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
         """
         n_s = stroke.shape[1]
-        h = torch.cat([self.embed_cls(cls)[:, None], self.embed_stroke(stroke),
-                       self.embed_face(face)], 1)
+        h = torch.cat(
+            [self.embed_cls(cls)[:, None], self.embed_stroke(stroke), self.embed_face(face)], 1
+        )
         pad = torch.cat([torch.zeros_like(stroke_mask[:, :1]), ~stroke_mask, ~face_mask], 1)
         if len(self.layers):
             bias = self._attention_bias(stroke, on_face, pad)
@@ -494,8 +578,8 @@ class StructureHead(nn.Module):
                 h = layer(h, bias)
         h = self.norm(h)
         logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
-        roles = self.role_out(h[:, 1:1 + n_s])
-        faces = self.face_out(h[:, 1 + n_s:]).masked_fill(~face_mask[..., None], float("-inf"))
+        roles = self.role_out(h[:, 1 : 1 + n_s])
+        faces = self.face_out(h[:, 1 + n_s :]).masked_fill(~face_mask[..., None], float("-inf"))
         return logits, roles, faces
 
 
@@ -510,16 +594,16 @@ def collate(items: list[Tokens]) -> tuple[torch.Tensor, ...]:
     f_mask = torch.zeros(b, n_f, dtype=torch.bool)
     on_face = torch.zeros(b, n_s, n_f)
     for j, t in enumerate(items):
-        stroke[j, :len(t.stroke)], s_mask[j, :len(t.stroke)] = t.stroke, True
-        face[j, :len(t.face)], f_mask[j, :len(t.face)] = t.face, True
-        on_face[j, :len(t.stroke), :len(t.face)] = t.on_face
+        stroke[j, : len(t.stroke)], s_mask[j, : len(t.stroke)] = t.stroke, True
+        face[j, : len(t.face)], f_mask[j, : len(t.face)] = t.face, True
+        on_face[j, : len(t.stroke), : len(t.face)] = t.on_face
     return torch.stack([t.cls for t in items]), stroke, s_mask, face, f_mask, on_face
 
 
 # ---------------------------------------------------------------- decoding
 def role_probabilities(roles: torch.Tensor, op: int) -> torch.Tensor:
     """(S, 10) role logits of one sketch -> (S, ROLES[op]) probabilities of operator op."""
-    return roles[:, ROLE_OFFSETS[op]:ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
+    return roles[:, ROLE_OFFSETS[op] : ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
 
 
 def role_counts(op: int, strokes: int) -> tuple[int, ...] | None:
@@ -545,9 +629,12 @@ def count_fits(strokes: int) -> list[float]:
     """Per operator (CLASSES order), 1 where its drawing has this many strokes: an
     extrusion any, a bevel its l and l', a prism 3n, a sweep 4; for the class token,
     where a sum of stroke tokens hides it."""
-    fits = {OperatorType.EXTRUDE: True, OperatorType.BEVEL: strokes == 2,
-            OperatorType.ADDSUB: strokes > 0 and strokes % 3 == 0,
-            OperatorType.SWEEP: strokes == 4}
+    fits = {
+        OperatorType.EXTRUDE: True,
+        OperatorType.BEVEL: strokes == 2,
+        OperatorType.ADDSUB: strokes > 0 and strokes % 3 == 0,
+        OperatorType.SWEEP: strokes == 4,
+    }
     return [float(fits[k]) for k in CLASSES]
 
 
@@ -573,15 +660,18 @@ class Choice:
     """The head's reading of one sketch under one operator."""
 
     roles: list[int]  # each stroke's curve label
-    face: int         # the chosen face token (index into face_ids); -1: no face in view
+    face: int  # the chosen face token (index into face_ids); -1: no face in view
 
 
 # The two outlines each operator's drawing ties to n_f: (from, to, sign), the `to` outline
 # lying from the `from` one along sign * n_f: a prism's or sweep's end outline from its
 # start (sketch/curves.py orders them along n_f), a bevel's l' from l along its crease,
 # which runs along -n_f (brep/corners.py CREASE_COS).
-OUTLINES = {OperatorType.ADDSUB: (START, END, 1.0), OperatorType.SWEEP: (START, END, 1.0),
-            OperatorType.BEVEL: (BEVEL_L, BEVEL_L_PRIME, -1.0)}
+OUTLINES = {
+    OperatorType.ADDSUB: (START, END, 1.0),
+    OperatorType.SWEEP: (START, END, 1.0),
+    OperatorType.BEVEL: (BEVEL_L, BEVEL_L_PRIME, -1.0),
+}
 # The least cosine between the image shift from one outline to the other (stroke
 # midpoints) and sign * n_f's image that agrees. A bevel's copy l' is the whole stroke
 # moved, so the shift keeps the crease's direction: 0.9 accepts 99% of the truths at
@@ -606,8 +696,14 @@ def _outline_labellings(op: int, strokes: list[np.ndarray], size: int) -> list[n
     return []
 
 
-def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
-           strokes: list[np.ndarray], normal_image: np.ndarray, size: int) -> Choice:
+def choose(
+    role_logits: torch.Tensor,
+    face_logits: torch.Tensor,
+    op: int,
+    strokes: list[np.ndarray],
+    normal_image: np.ndarray,
+    size: int,
+) -> Choice:
     """The stroke roles and the base face, read together where the drawing ties them.
 
     A prism's or sweep's end outline lies from its start outline along n_f, a bevel's l'
@@ -624,23 +720,24 @@ def choose(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
         normal seen in the image (Tokens.normal_image); size: the maps' side (pixels).
     """
     probs = role_probabilities(role_logits, op)
-    face_lp = face_logits[:len(normal_image), op].log_softmax(0).numpy()
+    face_lp = face_logits[: len(normal_image), op].log_softmax(0).numpy()
     alone = Choice(decode_roles(probs, op), int(face_lp.argmax()) if len(face_lp) else -1)
     labellings = _outline_labellings(op, strokes, size)
     if not labellings or not len(face_lp):
         return alone
-    labels = np.stack(labellings)                                           # (L, S)
+    labels = np.stack(labellings)  # (L, S)
     role_lp = np.log(np.clip(probs.numpy(), 1e-12, None))
     score = role_lp[np.arange(len(strokes))[None], labels].sum(1)[:, None] + face_lp[None]
     first, second, sign = OUTLINES[CLASSES[op]]
     mids = np.stack([np.asarray(s, float).reshape(-1, 2).mean(0) for s in strokes])
-    shift = np.stack([mids[lab == second].mean(0) - mids[lab == first].mean(0)
-                      for lab in labels])                                   # (L, 2)
-    n_img = sign * np.asarray(normal_image, np.float64)                     # (K, 2)
+    shift = np.stack(
+        [mids[lab == second].mean(0) - mids[lab == first].mean(0) for lab in labels]
+    )  # (L, 2)
+    n_img = sign * np.asarray(normal_image, np.float64)  # (K, 2)
     n_len = np.linalg.norm(n_img, axis=1)
     cos = shift @ n_img.T / np.maximum(np.linalg.norm(shift, axis=1)[:, None] * n_len, 1e-12)
     agree = (cos > OUTLINE_SHIFT_COS[CLASSES[op]]) | (n_len < MIN_SIN)[None]
-    score = np.where(agree, score, -np.inf)                                 # (L, K)
+    score = np.where(agree, score, -np.inf)  # (L, K)
     if not np.isfinite(score).any():
         return alone
     lab, face = np.unravel_index(int(score.argmax()), score.shape)
@@ -653,8 +750,9 @@ def paint_curve(strokes: list[np.ndarray], labels: list[int], size: int) -> np.n
     return rasterize(strokes, size, size, [float(v) for v in labels])
 
 
-def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.ndarray,
-               chosen: int) -> np.ndarray:
+def paint_face(
+    face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.ndarray, chosen: int
+) -> np.ndarray:
     """F: 1 on the chosen face's pixels (index into face_ids); every other face gets at
     most 0.5 p / p_max (not above the 0.5 that counts as f, so the paper's IoU and the
     fitting's vote see one face, while the fitting's fallback order by mean F follows
@@ -670,9 +768,14 @@ def paint_face(face_probs: torch.Tensor, face_ids: torch.Tensor, face_id: np.nda
     return lut[face_id]
 
 
-def painted(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
-            strokes: list[np.ndarray], t: Tokens, face_id: np.ndarray
-            ) -> tuple[np.ndarray, np.ndarray]:
+def painted(
+    role_logits: torch.Tensor,
+    face_logits: torch.Tensor,
+    op: int,
+    strokes: list[np.ndarray],
+    t: Tokens,
+    face_id: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """The head's reading of one sketch under operator op (`choose`) painted into the F
     and C maps the fitting and the paper's metrics read (`paint_face`, `paint_curve`).
 
@@ -681,16 +784,25 @@ def painted(role_logits: torch.Tensor, face_logits: torch.Tensor, op: int,
         strokes: the S polylines; t: the sketch's tokens; face_id: (H, W) face-ID map.
     """
     c = choose(role_logits, face_logits, op, strokes, t.normal_image.numpy(), face_id.shape[-1])
-    return (paint_face(face_logits[:len(t.face_ids), op].softmax(0), t.face_ids, face_id, c.face),
-            paint_curve(strokes, c.roles, face_id.shape[-1]))
+    return (
+        paint_face(face_logits[: len(t.face_ids), op].softmax(0), t.face_ids, face_id, c.face),
+        paint_curve(strokes, c.roles, face_id.shape[-1]),
+    )
 
 
 # ---------------------------------------------------------------- checkpoints
 def save_head(path: str | Path, head: StructureHead, **extra) -> None:
     """The head's weights and config (plus `extra`), written atomically."""
     with atomic_path(path) as tmp:
-        torch.save({"format": HEAD_FORMAT, "config": asdict(head.config),
-                    "model": head.state_dict(), **extra}, tmp)
+        torch.save(
+            {
+                "format": HEAD_FORMAT,
+                "config": asdict(head.config),
+                "model": head.state_dict(),
+                **extra,
+            },
+            tmp,
+        )
 
 
 def load_head(path: str | Path) -> tuple[StructureHead, dict]:
@@ -701,8 +813,9 @@ def load_head(path: str | Path) -> tuple[StructureHead, dict]:
     except FileNotFoundError:
         raise
     except Exception as e:
-        raise ValueError(f"{path}: not a readable {HEAD_FORMAT} checkpoint "
-                         f"({type(e).__name__}: {str(e)[:120]})") from None
+        raise ValueError(
+            f"{path}: not a readable {HEAD_FORMAT} checkpoint ({type(e).__name__}: {str(e)[:120]})"
+        ) from None
     if not isinstance(ckpt, dict) or ckpt.get("format") != HEAD_FORMAT:
         raise ValueError(f"{path}: not a {HEAD_FORMAT} checkpoint")
     known = {f.name for f in fields(HeadConfig)}
@@ -765,8 +878,7 @@ class StructuredPredictor(NetworkPredictor):
             raise ValueError("stroke_roles needs observe(strokes, face_id) first")
         return role_probabilities(out[3], CLASSES.index(op_type)).numpy()
 
-    def face_probabilities(self, inputs: np.ndarray, op_type: OperatorType
-                           ) -> dict[int, float]:
+    def face_probabilities(self, inputs: np.ndarray, op_type: OperatorType) -> dict[int, float]:
         """Face-ID -> probability of being the base face under op_type (visible faces)."""
         out = self._structured(inputs)
         if out is None:
@@ -774,8 +886,7 @@ class StructuredPredictor(NetworkPredictor):
         p = out[4][:, CLASSES.index(op_type)].softmax(0)
         return {int(i): float(v) for i, v in zip(out[1].face_ids, p)}
 
-    def segment(self, inputs: np.ndarray, op_type: OperatorType
-                ) -> tuple[np.ndarray, np.ndarray]:
+    def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         out = self._structured(inputs)
         if out is None:
             return super().segment(inputs, op_type)
@@ -783,8 +894,9 @@ class StructuredPredictor(NetworkPredictor):
         return painted(out[3], out[4], k, self._strokes, out[1], self._face_id)
 
 
-def load_structured_predictor(head_path: str | Path, weights: str | Path | None = None
-                              ) -> StructuredPredictor:
+def load_structured_predictor(
+    head_path: str | Path, weights: str | Path | None = None
+) -> StructuredPredictor:
     """The U-Net of `weights` (default: shipped) with the head of `head_path`.
 
     Raises:
@@ -796,8 +908,10 @@ def load_structured_predictor(head_path: str | Path, weights: str | Path | None 
     head, ckpt = load_head(head_path)
     # the head reads the U-Net's inner features, which another U-Net lays out otherwise
     if ckpt.get("unet_sha256") != sha256_of(path):
-        raise ValueError(f"{head_path} was trained on the features of another U-Net "
-                         f"({ckpt.get('unet')}), not {path}")
+        raise ValueError(
+            f"{head_path} was trained on the features of another U-Net "
+            f"({ckpt.get('unet')}), not {path}"
+        )
     return StructuredPredictor(model, head)
 
 

@@ -10,6 +10,7 @@ face F and the curves C; fitting turns those into an operation; the operation is
 applied to a copy of the solid. Any failure raises InterpretError with the reason,
 and the caller's solid is untouched.
 """
+
 from __future__ import annotations
 
 import time
@@ -155,38 +156,56 @@ class SketchFit:
     tried too: they told scribbles from real sketches less well.
     """
 
-    misfit_px: float            # symmetric mean distance between strokes and sketch
-    strokes_off_px: float       # mean distance of the strokes' samples to the sketch
-    sketch_off_px: float        # mean distance of the sketch's samples to the strokes
+    misfit_px: float  # symmetric mean distance between strokes and sketch
+    strokes_off_px: float  # mean distance of the strokes' samples to the sketch
+    sketch_off_px: float  # mean distance of the sketch's samples to the strokes
     strokes_unexplained: float  # share of stroke samples over EXPLAINED_PX from the sketch
-    sketch_unexplained: float   # share of sketch samples over EXPLAINED_PX from the strokes
-    confidence: float           # the classifier's probability of the operator read
+    sketch_unexplained: float  # share of sketch samples over EXPLAINED_PX from the strokes
+    confidence: float  # the classifier's probability of the operator read
 
-    MEASURES = ("misfit_px", "strokes_off_px", "sketch_off_px", "strokes_unexplained",
-                "sketch_unexplained", "confidence")
+    MEASURES = (
+        "misfit_px",
+        "strokes_off_px",
+        "sketch_off_px",
+        "strokes_unexplained",
+        "sketch_unexplained",
+        "confidence",
+    )
 
     @staticmethod
-    def of(solid: cq.Shape, op: Operation, camera: OrthoCamera, strokes: list[np.ndarray],
-           confidence: float) -> "SketchFit":
-        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes)[:2],
-                                      confidence)
+    def of(
+        solid: cq.Shape,
+        op: Operation,
+        camera: OrthoCamera,
+        strokes: list[np.ndarray],
+        confidence: float,
+    ) -> "SketchFit":
+        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes)[:2], confidence)
 
     @staticmethod
-    def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray,
-                     confidence: float) -> "SketchFit":
+    def of_distances(
+        to_sketch: np.ndarray, to_strokes: np.ndarray, confidence: float
+    ) -> "SketchFit":
         """From `verify.sketch_distances`' first two arrays."""
-        return SketchFit(mean_distance((to_sketch, to_strokes)),
-                         float(to_sketch.mean()), float(to_strokes.mean()),
-                         float(np.mean(to_sketch > EXPLAINED_PX)),
-                         float(np.mean(to_strokes > EXPLAINED_PX)), float(confidence))
+        return SketchFit(
+            mean_distance((to_sketch, to_strokes)),
+            float(to_sketch.mean()),
+            float(to_strokes.mean()),
+            float(np.mean(to_sketch > EXPLAINED_PX)),
+            float(np.mean(to_strokes > EXPLAINED_PX)),
+            float(confidence),
+        )
 
     def to_dict(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in self.MEASURES}
 
     def passed(self) -> list[str]:
         """The measures past their DOUBT thresholds."""
-        return [k for k, limit in DOUBT.items()
-                if (getattr(self, k) < limit if k == "confidence" else getattr(self, k) > limit)]
+        return [
+            k
+            for k, limit in DOUBT.items()
+            if (getattr(self, k) < limit if k == "confidence" else getattr(self, k) > limit)
+        ]
 
     @property
     def doubtful(self) -> bool:
@@ -197,13 +216,13 @@ class SketchFit:
 class Interpretation:
     """What a sketch step was read as, and the resulting solid."""
 
-    operations: tuple[Operation, ...]   # the operation, then its mirror image if asked
+    operations: tuple[Operation, ...]  # the operation, then its mirror image if asked
     solid: cq.Solid
     op_type: OperatorType
     probabilities: dict[str, float]
     base_face: int
     stroke_labels: list[int]
-    camera: OrthoCamera                 # the context camera (maps' pixels)
+    camera: OrthoCamera  # the context camera (maps' pixels)
     # ms per stage: render, networks, fitting, brep (every Boolean built: the readings'
     # results, which fitting builds to refuse one that fails or changes nothing, and the
     # step's mirror image or regularized rebuild) and total
@@ -233,17 +252,21 @@ class Interpretation:
         if not self.doubtful:
             return ""
         f, what = self.fit, self.op_type.value
-        why = {"misfit_px": f"its own sketch lies {f.misfit_px:.1f} px from them",
-               "strokes_off_px": f"the strokes lie {f.strokes_off_px:.1f} px from its sketch",
-               "sketch_off_px": f"its sketch lies {f.sketch_off_px:.1f} px from the strokes",
-               "strokes_unexplained": f"{f.strokes_unexplained:.0%} of the strokes are not "
-                                      "lines of it",
-               "sketch_unexplained": f"{f.sketch_unexplained:.0%} of its lines were not drawn",
-               "confidence": f"the networks are {1 - f.confidence:.0%} unsure"}
-        return (f"the strokes do not look much like this {what}: "
-                + "; ".join(why[k] for k in f.passed())
-                + " (beyond 99.5% of held-out synthetic sketches); check it, or clear and "
-                "draw again")
+        why = {
+            "misfit_px": f"its own sketch lies {f.misfit_px:.1f} px from them",
+            "strokes_off_px": f"the strokes lie {f.strokes_off_px:.1f} px from its sketch",
+            "sketch_off_px": f"its sketch lies {f.sketch_off_px:.1f} px from the strokes",
+            "strokes_unexplained": f"{f.strokes_unexplained:.0%} of the strokes are not "
+            "lines of it",
+            "sketch_unexplained": f"{f.sketch_unexplained:.0%} of its lines were not drawn",
+            "confidence": f"the networks are {1 - f.confidence:.0%} unsure",
+        }
+        return (
+            f"the strokes do not look much like this {what}: "
+            + "; ".join(why[k] for k in f.passed())
+            + " (beyond 99.5% of held-out synthetic sketches); check it, or clear and "
+            "draw again"
+        )
 
 
 @dataclass
@@ -257,11 +280,13 @@ class Context:
     # `sketch_distances` by (solid, operation): a face's fit scores its readings, and the
     # one it keeps is scored again among the faces' readings
     scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
-        default_factory=dict, repr=False, compare=False)
+        default_factory=dict, repr=False, compare=False
+    )
     # base faces resolved by (solid, reference): every reading on one planar face names
     # it alike, and each is scored and built
     faces: dict[tuple[cq.Shape, FaceRef], ResolvedFace] = field(
-        default_factory=dict, repr=False, compare=False)
+        default_factory=dict, repr=False, compare=False
+    )
     # seconds spent building readings' results (`_builds_a_change`): B-rep work done while
     # reading, timed as the B-rep stage
     build_s: float = field(default=0.0, compare=False)
@@ -277,17 +302,24 @@ class Context:
             self.faces[solid, ref] = resolve_face(solid, ref)
         return self.faces[solid, ref]
 
-    def sketch_distances(self, solid: cq.Shape, op: Operation
-                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def sketch_distances(
+        self, solid: cq.Shape, op: Operation
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
         if (solid, op) not in self.scores:
-            self.scores[solid, op] = sketch_distances(solid, op, self.camera, self.drawn,
-                                                      face=self.resolved(solid, op.face))
+            self.scores[solid, op] = sketch_distances(
+                solid, op, self.camera, self.drawn, face=self.resolved(solid, op.face)
+            )
         return self.scores[solid, op]
 
 
-def to_context(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
-               renderer: MapRenderer, size: int = 256) -> Context:
+def to_context(
+    solid: cq.Shape,
+    strokes: list[np.ndarray],
+    view: OrthoCamera,
+    renderer: MapRenderer,
+    size: int = 256,
+) -> Context:
     """Frame, transform and rasterise the sketch and render the context maps."""
     if not strokes or all(len(s) < 2 for s in strokes):
         raise InterpretError("there are no strokes to interpret")
@@ -315,7 +347,7 @@ class Reading:
     labels: list[int]
     hidden: bool
     result: cq.Solid | None = None
-    refused: str = ""   # why it cannot be the step: its Boolean fails or changes nothing
+    refused: str = ""  # why it cannot be the step: its Boolean fails or changes nothing
     # read with the other Boolean because none with the first built: no flip back to it
     flip_refused: bool = False
 
@@ -345,8 +377,9 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
     tol = SAME_VOLUME * model_scale(before)
     a, b = before.BoundingBox(), after.BoundingBox()
     box = lambda bb: (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)  # noqa: E731
-    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and \
-        len(before.Faces()) == len(after.Faces())
+    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and len(before.Faces()) == len(
+        after.Faces()
+    )
 
 
 def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
@@ -364,9 +397,11 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
             reading.refused = str(e)
         else:
             if leaves_unchanged(solid, result):
-                reading.refused = (f"the {reading.op.type.value} it reads would leave the model "
-                                   "as it is (it adds or removes nothing there); draw it over "
-                                   "the face it stands on")
+                reading.refused = (
+                    f"the {reading.op.type.value} it reads would leave the model "
+                    "as it is (it adds or removes nothing there); draw it over "
+                    "the face it stands on"
+                )
             else:
                 reading.result = result
         finally:
@@ -374,10 +409,15 @@ def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
     return reading.result is not None
 
 
-def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face,
-                 distances: Callable[[Operation], tuple[np.ndarray, ...]],
-                 context: OrthoCamera, view: OrthoCamera, options: InterpretOptions
-                 ) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
+def snap_or_keep(
+    solid: cq.Shape,
+    op: Operation,
+    face: cq.Face,
+    distances: Callable[[Operation], tuple[np.ndarray, ...]],
+    context: OrthoCamera,
+    view: OrthoCamera,
+    options: InterpretOptions,
+) -> tuple[Operation, tuple[Snap, ...], cq.Solid | None, str]:
     """A fitted operation regularized within the hand's tolerance (`hand_tolerance` of
     its misfit) and built: the operation, its snaps, its result and "". When nothing
     snaps, or the snapped operation does not build (a snapped sweep OCCT calls invalid):
@@ -389,6 +429,7 @@ def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face,
     the operations it moves (`StrokeFit`, a clear fit within GOOD_FIT_PX; one whose sketch
     cannot be drawn lies infinitely far): a target beyond the tolerance, or a round
     length, is taken where the strokes still fit the operation moved there."""
+
     def distance(moved: Operation) -> float:
         try:
             return mean_distance(distances(moved))
@@ -396,8 +437,16 @@ def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face,
             return float("inf")
 
     tol = hand_tolerance(options.snap_px, mean_distance(distances(op)), context, view)
-    reg = regularize_operation(solid, op, face, view, options.snap_step, tol,
-                               options.skip_snaps, StrokeFit(distance, GOOD_FIT_PX))
+    reg = regularize_operation(
+        solid,
+        op,
+        face,
+        view,
+        options.snap_step,
+        tol,
+        options.skip_snaps,
+        StrokeFit(distance, GOOD_FIT_PX),
+    )
     if not reg.snaps:
         return op, (), None, ""
     try:
@@ -406,14 +455,21 @@ def snap_or_keep(solid: cq.Shape, op: Operation, face: cq.Face,
         return op, (), None, f"snapped, it would not build ({e}), so it stays as drawn"
 
 
-def _snapped(solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera,
-             options: InterpretOptions) -> tuple[Operation, tuple[Snap, ...], cq.Solid, str]:
+def _snapped(
+    solid: cq.Shape, reading: Reading, ctx: Context, view: OrthoCamera, options: InterpretOptions
+) -> tuple[Operation, tuple[Snap, ...], cq.Solid, str]:
     """`snap_or_keep` for a reading, its result the reading's own when it is kept (the
     rebuild goes to ctx.build_s)."""
     start = time.perf_counter()
-    op, snaps, result, why = snap_or_keep(solid, reading.op, face_at(solid, reading.index),
-                                          lambda moved: ctx.sketch_distances(solid, moved),
-                                          ctx.camera, view, options)
+    op, snaps, result, why = snap_or_keep(
+        solid,
+        reading.op,
+        face_at(solid, reading.index),
+        lambda moved: ctx.sketch_distances(solid, moved),
+        ctx.camera,
+        view,
+        options,
+    )
     ctx.build_s += time.perf_counter() - start
     return op, snaps, reading.result if result is None else result, why
 
@@ -435,8 +491,9 @@ def stands_behind_the_model(op: Operation, ctx: Context) -> bool:
     return float(depth[0]) > seen + BEHIND_PX * ctx.camera.pixel_size
 
 
-def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden: set[int],
-                    curved: bool = False) -> list[int]:
+def candidate_faces(
+    solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden: set[int], curved: bool = False
+) -> list[int]:
     """The base faces to fit, best first: the network's BASE_FACE_TRIES by counting, then
     the planar faces most of a stroke lies on (an outline is drawn on its base face, so
     a face F missed is still tried), faces `hidden` from the view (`hidden_faces`) after
@@ -450,8 +507,14 @@ def candidate_faces(solid: cq.Shape, face_prob: np.ndarray, ctx: Context, hidden
     return sorted(ranked, key=lambda i: i in hidden)
 
 
-def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
-                   curve: np.ndarray, ctx: Context, options: InterpretOptions) -> Reading:
+def read_operation(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    face_prob: np.ndarray,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> Reading:
     """Stage three: the base face by counting, then the operator's fitting, then the
     operation built.
 
@@ -478,8 +541,9 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
     hidden = hidden_faces(solid, ctx.camera)
     order = candidate_faces(solid, face_prob, ctx, hidden, op_type in ON_CURVED_FACES)
     if not order:
-        raise FitError("no face of the model was recognised under the sketch; draw on a "
-                       "visible face")
+        raise FitError(
+            "no face of the model was recognised under the sketch; draw on a visible face"
+        )
     readings, first = [], None
     for index in order:
         try:
@@ -494,16 +558,21 @@ def read_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray
                 first = first or e
                 continue
             readings.append(reading)
-            if reading.error <= GOOD_FIT_PX and not reading.hidden and \
-                    _builds_a_change(solid, reading, ctx):
+            if (
+                reading.error <= GOOD_FIT_PX
+                and not reading.hidden
+                and _builds_a_change(solid, reading, ctx)
+            ):
                 return reading
     readings.sort(key=lambda r: (r.hidden, r.score))
     if readings and not _builds_a_change(solid, readings[0], ctx):
         # the best reading's other Boolean draws its lines too (paper Fig. 5b): it competes
         # by its score with the rest, before a reading that explains the strokes worse
-        readings = sorted(readings + _with_the_other_boolean(
-            solid, op_type, readings, curve, ctx, options, hidden),
-            key=lambda r: (r.hidden, r.score))
+        readings = sorted(
+            readings
+            + _with_the_other_boolean(solid, op_type, readings, curve, ctx, options, hidden),
+            key=lambda r: (r.hidden, r.score),
+        )
     for reading in readings:
         if _builds_a_change(solid, reading, ctx):
             return reading
@@ -516,25 +585,39 @@ def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Readi
     """A fit scored against the strokes; hidden when its face is (`hidden_faces`) or it
     stands behind the model."""
     op, used, labels = fit
-    return Reading(ctx.sketch_distances(solid, op), op, used, labels,
-                   used in hidden or stands_behind_the_model(op, ctx))
+    return Reading(
+        ctx.sketch_distances(solid, op),
+        op,
+        used,
+        labels,
+        used in hidden or stands_behind_the_model(op, ctx),
+    )
 
 
-def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: list[Reading],
-                            curve: np.ndarray, ctx: Context, options: InterpretOptions,
-                            hidden: set[int]) -> list[Reading]:
+def _with_the_other_boolean(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    refused: list[Reading],
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+    hidden: set[int],
+) -> list[Reading]:
     """When the best reading of a primitive builds no change, it fitted again with the
     other Boolean on its face (the designer chose none), the closest first: a boss read
     as the hole its lines also draw (paper Fig. 5b) may cut the model in two, or cut
     only air, where the boss builds."""
-    if options.option is not None or op_type not in TAKE_A_BOOLEAN or not refused or \
-            refused[0].op.mode.flipped is None:
+    if (
+        options.option is not None
+        or op_type not in TAKE_A_BOOLEAN
+        or not refused
+        or refused[0].op.mode.flipped is None
+    ):
         return []
     best = refused[0]
     other = best.op.mode.flipped
     try:
-        fits = _fit_on_face(solid, op_type, best.index, curve, ctx,
-                            replace(options, option=other))
+        fits = _fit_on_face(solid, op_type, best.index, curve, ctx, replace(options, option=other))
     except (FitError, OperationError):
         return []
     # a primitive's fits were scored by `_scored_readings`, which drops any that cannot be
@@ -545,22 +628,35 @@ def _with_the_other_boolean(solid: cq.Shape, op_type: OperatorType, refused: lis
     return readings
 
 
-def fit_operation(solid: cq.Shape, op_type: OperatorType, face_prob: np.ndarray,
-                  curve: np.ndarray, ctx: Context, options: InterpretOptions) -> Fit:
+def fit_operation(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    face_prob: np.ndarray,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> Fit:
     """`read_operation`'s (operation, base face index, per-stroke labels)."""
     r = read_operation(solid, op_type, face_prob, curve, ctx, options)
     return r.op, r.index, r.labels
 
 
-def _fit_on_face(solid: cq.Shape, op_type: OperatorType, index: int, curve: np.ndarray,
-                 ctx: Context, options: InterpretOptions) -> list[Fit]:
+def _fit_on_face(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    index: int,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> list[Fit]:
     """The operator's fittings on base face `index`, the likeliest first: one, or for a
     primitive one per reading of the strokes' roles (`_fit_by_roles`)."""
     return _FIT_ON_FACE[op_type](solid, index, curve, ctx, options)
 
 
-def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                         options: InterpretOptions) -> list[Fit]:
+def _fit_extrude_on_face(
+    solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+) -> list[Fit]:
     """The extrusion on face `index`, its offset and side edges as C labels them (an
     extrusion's sign is read from the strokes: `options` has nothing for it). On a
     polygon, d read from the strokes' ends, on a cylinder's or cone's side from the ends
@@ -602,44 +698,57 @@ def _fit_extrude_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Co
             return reading_score(ctx.sketch_distances(solid, op))
         except OperationError:
             return np.inf
+
     best = _extrusion_by_score(ops, score, cam.pixel_size, 1e-6 * model_scale(solid))
     if best not in ops:
         ops.append(best)
     return [(op, index, labels) for op in sorted(ops, key=score)]
 
 
-def _extrusion_by_score(ops: list[Extrude], score: Callable[[Operation], float],
-                        pixel: float, least: float) -> Extrude:
+def _extrusion_by_score(
+    ops: list[Extrude], score: Callable[[Operation], float], pixel: float, least: float
+) -> Extrude:
     """The extrusion whose d minimises `score` (`verify.reading_score`, the score readings
     are ranked by, of which the line search's terms are cheaper stand-ins) within the
     range of the line search's readings `ops` widened by SCORE_SEARCH_SPAN of their d or
     SCORE_SEARCH_PX, whichever is more, to a quarter pixel (`pixel`: mm per pixel); an
     offset under `least` (mm) is no operation."""
     ds = [op.d for op in ops]
-    span = max(max(ds) - min(ds), SCORE_SEARCH_SPAN * max(abs(d) for d in ds),
-               SCORE_SEARCH_PX * pixel)
+    span = max(
+        max(ds) - min(ds), SCORE_SEARCH_SPAN * max(abs(d) for d in ds), SCORE_SEARCH_PX * pixel
+    )
     found = minimize_scalar(
         lambda d: score(replace(ops[0], d=float(d))) if abs(d) >= least else np.inf,
-        bounds=(min(ds) - span, max(ds) + span), method="bounded",
-        options={"xatol": 0.25 * pixel, "maxiter": SCORE_SEARCH_STEPS})
+        bounds=(min(ds) - span, max(ds) + span),
+        method="bounded",
+        options={"xatol": 0.25 * pixel, "maxiter": SCORE_SEARCH_STEPS},
+    )
     return replace(ops[0], d=float(found.x))
 
 
-def _fit_prism_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                       options: InterpretOptions) -> list[Fit]:
+def _fit_prism_on_face(
+    solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+) -> list[Fit]:
     """The add/sub prism on face `index` (`_fit_by_roles`)."""
     return _fit_by_roles(prism_fit, OperatorType.ADDSUB, solid, index, curve, ctx, options)
 
 
-def _fit_sweep_on_face(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                       options: InterpretOptions) -> list[Fit]:
+def _fit_sweep_on_face(
+    solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+) -> list[Fit]:
     """The sweep on face `index` (`_fit_by_roles`)."""
     return _fit_by_roles(sweep_fit, OperatorType.SWEEP, solid, index, curve, ctx, options)
 
 
-def _fit_by_roles(fit: Callable[..., PrismFit | SweepFit], op_type: OperatorType,
-                  solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                  options: InterpretOptions) -> list[Fit]:
+def _fit_by_roles(
+    fit: Callable[..., PrismFit | SweepFit],
+    op_type: OperatorType,
+    solid: cq.Shape,
+    index: int,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> list[Fit]:
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
     by those read from the strokes' geometry, the one whose own sketch lies closest to
     the strokes first. All are kept: a thin slot seen nearly along f's normal also
@@ -679,8 +788,9 @@ def _fit_by_roles(fit: Callable[..., PrismFit | SweepFit], op_type: OperatorType
     return [(op, index, labels) for _, op, labels in _scored_readings(fits, solid, ctx)]
 
 
-def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: cq.Shape,
-                     ctx: Context) -> list[tuple[float, Operation, list[int]]]:
+def _scored_readings(
+    fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: cq.Shape, ctx: Context
+) -> list[tuple[float, Operation, list[int]]]:
     """Each (fit, stroke roles) as (score, operation, roles), the best first
     (`verify.reading_score`). A primitive's joint refinement costs more than the rest of
     its fit, and readings of the roles far apart before it refine to nearly one
@@ -706,8 +816,11 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
             errors.append(e)
             return None
 
-    before = {id(got): distances(got.operation) for got, _ in fits
-              if len(fits) > 1 or isinstance(got, SweepFit)}
+    before = {
+        id(got): distances(got.operation)
+        for got, _ in fits
+        if len(fits) > 1 or isinstance(got, SweepFit)
+    }
     apart = {k: np.inf if d is None else mean_distance(d) for k, d in before.items()}
     closest = min(apart.values(), default=np.inf)
     scored = []
@@ -733,8 +846,9 @@ def _scored_readings(fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: c
     return sorted(scored, key=lambda f: f[0])
 
 
-def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context,
-                        options: InterpretOptions) -> list[Fit]:
+def _fit_bevel_readings(
+    solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+) -> list[Fit]:
     """The bevel on face `index` whose profile l is the stroke C votes for most or, when
     that reading's own sketch lies more than GOOD_FIT_PX from the strokes, the one of
     the next stroke if it explains them better: C sometimes takes l' for l, and l' back
@@ -751,8 +865,7 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
     for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
         faces = [index]
         under = face_under_stroke(strokes[pick], ctx.maps.face_id)
-        if under is not None and under != index and \
-                face_at(solid, under).geomType() == "PLANE":
+        if under is not None and under != index and face_at(solid, under).geomType() == "PLANE":
             # the profile l lies on f by definition: when F points elsewhere, the
             # stroke's own face may be the one it was drawn on; or, l running along f's
             # edges, a hand's stroke strays onto the next face (held-out level 3)
@@ -783,14 +896,20 @@ def _fit_bevel_readings(solid: cq.Shape, index: int, curve: np.ndarray, ctx: Con
     return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])]
 
 
-_FIT_ON_FACE = per_operator({OperatorType.EXTRUDE: _fit_extrude_on_face,
-                             OperatorType.BEVEL: _fit_bevel_readings,
-                             OperatorType.ADDSUB: _fit_prism_on_face,
-                             OperatorType.SWEEP: _fit_sweep_on_face}, "_FIT_ON_FACE")
+_FIT_ON_FACE = per_operator(
+    {
+        OperatorType.EXTRUDE: _fit_extrude_on_face,
+        OperatorType.BEVEL: _fit_bevel_readings,
+        OperatorType.ADDSUB: _fit_prism_on_face,
+        OperatorType.SWEEP: _fit_sweep_on_face,
+    },
+    "_FIT_ON_FACE",
+)
 
 
-def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera,
-                 options: InterpretOptions) -> Mode | None:
+def other_option(
+    solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera, options: InterpretOptions
+) -> Mode | None:
     """The flipped Boolean when it reads the strokes as well as the one chosen (only
     when the designer did not choose one): see `Interpretation.other_option`."""
     if options.option is not None or op.type not in TAKE_A_BOOLEAN:
@@ -800,9 +919,9 @@ def other_option(solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCa
     return op.mode.flipped
 
 
-def apply_with_symmetry(solid: cq.Shape, op: Operation, symmetry: str | None,
-                        result: cq.Solid | None = None
-                        ) -> tuple[tuple[Operation, ...], cq.Solid]:
+def apply_with_symmetry(
+    solid: cq.Shape, op: Operation, symmetry: str | None, result: cq.Solid | None = None
+) -> tuple[tuple[Operation, ...], cq.Solid]:
     """Apply the operation (unless its `result` is given) and, if asked, its mirror image
     through a mid-plane."""
     result = apply_operation(solid, op) if result is None else result
@@ -836,8 +955,10 @@ def check_sketch(strokes: list[np.ndarray]) -> None:
     if not strokes:
         raise InterpretError("no strokes: draw the operation's edges over the model")
     if len(strokes) > MAX_STROKES:
-        raise InterpretError(f"{len(strokes)} strokes: one operation takes at most "
-                             f"{MAX_STROKES}; clear the strokes and draw it again")
+        raise InterpretError(
+            f"{len(strokes)} strokes: one operation takes at most "
+            f"{MAX_STROKES}; clear the strokes and draw it again"
+        )
     points = sum(len(s) for s in strokes)
     if points > MAX_POINTS:
         raise InterpretError(f"{points} stroke points: at most {MAX_POINTS} per operation")
@@ -845,14 +966,23 @@ def check_sketch(strokes: list[np.ndarray]) -> None:
     if not np.isfinite(every).all():
         raise InterpretError("a stroke point is not a finite number")
     if float(np.ptp(every, axis=0).max()) < MIN_SPAN_PX:
-        raise InterpretError(f"the strokes span less than {MIN_SPAN_PX} pixels: draw the "
-                             "operation's edges, not a dot")
+        raise InterpretError(
+            f"the strokes span less than {MIN_SPAN_PX} pixels: draw the "
+            "operation's edges, not a dot"
+        )
 
 
-def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarray,
-                    predictor: Predictor, ctx: Context, options: InterpretOptions,
-                    times: dict[str, float], errors: list[str],
-                    read: list[tuple[float, OperatorType, Reading]]) -> None:
+def _read_operators(
+    solid: cq.Shape,
+    order: list[OperatorType],
+    probs: np.ndarray,
+    predictor: Predictor,
+    ctx: Context,
+    options: InterpretOptions,
+    times: dict[str, float],
+    errors: list[str],
+    read: list[tuple[float, OperatorType, Reading]],
+) -> None:
     """Read the operators of `order` (taken from it, but for those too unlikely to replace
     a reading) until one reads the strokes within GOOD_FIT_PX, adding (score, operator,
     reading) to `read`: the first reading when `read` is empty, and any later one that may
@@ -877,17 +1007,25 @@ def _read_operators(solid: cq.Shape, order: list[OperatorType], probs: np.ndarra
             times["fitting"] += time.perf_counter() - tb
         good = reading.error <= GOOD_FIT_PX
         score = reading.error + PRIOR_PX * -np.log10(max(p, 1e-12))
-        if not read or good or (score <= RESCUE_SCORE_PX
-                                and min(read, key=lambda r: r[0])[2].doubtful):
+        if (
+            not read
+            or good
+            or (score <= RESCUE_SCORE_PX and min(read, key=lambda r: r[0])[2].doubtful)
+        ):
             read.append((score, kind, reading))
         if good:
             break
 
 
-def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
-              predictor: Predictor, renderer: MapRenderer | None = None,
-              options: InterpretOptions = InterpretOptions(),
-              op_type: OperatorType | None = None) -> Interpretation:
+def interpret(
+    solid: cq.Shape,
+    strokes: list[np.ndarray],
+    view: OrthoCamera,
+    predictor: Predictor,
+    renderer: MapRenderer | None = None,
+    options: InterpretOptions = InterpretOptions(),
+    op_type: OperatorType | None = None,
+) -> Interpretation:
     """Read one sketch step over `solid` as an operation and apply it.
 
     Args:
@@ -925,11 +1063,13 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
     while True:
         _read_operators(solid, order, probs, predictor, ctx, options, times, errors, read)
         if not read:
-            more = (" (read as any other operator, the strokes did not fit either)"
-                    if len(errors) > 1 else "")
+            more = (
+                " (read as any other operator, the strokes did not fit either)"
+                if len(errors) > 1
+                else ""
+            )
             if options.option is not None and op_type is None:
-                more += (f" (with {options.option.value} chosen, only prisms and sweeps "
-                         "are read)")
+                more += f" (with {options.option.value} chosen, only prisms and sweeps are read)"
             raise InterpretError(errors[0] + more) from None
         read.sort(key=lambda r: r[0])
         _, kind, reading = read.pop(0)
@@ -938,8 +1078,11 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
             op, snaps, built, unsnapped = reading.op, (), reading.result, ""
             if options.regularize:
                 op, snaps, built, unsnapped = _snapped(solid, reading, ctx, view, options)
-            other = None if reading.flip_refused else \
-                other_option(solid, op, reading.index, ctx.camera, options)
+            other = (
+                None
+                if reading.flip_refused
+                else other_option(solid, op, reading.index, ctx.camera, options)
+            )
             tc = time.perf_counter()
             times["fitting"] += tc - tb
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)
@@ -949,12 +1092,28 @@ def interpret(solid: cq.Shape, strokes: list[np.ndarray], view: OrthoCamera,
             errors.append(f"read as {kind.value}, but {e}")
     td = time.perf_counter()
     confidence = float(probs[CLASSES.index(kind)])
-    fit = (SketchFit.of_distances(*reading.distances[:2], confidence) if op is reading.op
-           else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence))
-    return Interpretation(ops, result, kind, {c.value: float(p) for c, p in zip(CLASSES, probs)},
-                          reading.index, reading.labels, ctx.camera,
-                          {"render": 1e3 * (t1 - t0), "networks": 1e3 * times["networks"],
-                           "fitting": 1e3 * (times["fitting"] - ctx.build_s),
-                           "brep": 1e3 * (ctx.build_s + td - tc), "total": 1e3 * (td - t0)},
-                          other,
-                          fit, snaps, unsnapped)
+    fit = (
+        SketchFit.of_distances(*reading.distances[:2], confidence)
+        if op is reading.op
+        else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence)
+    )
+    return Interpretation(
+        ops,
+        result,
+        kind,
+        {c.value: float(p) for c, p in zip(CLASSES, probs)},
+        reading.index,
+        reading.labels,
+        ctx.camera,
+        {
+            "render": 1e3 * (t1 - t0),
+            "networks": 1e3 * times["networks"],
+            "fitting": 1e3 * (times["fitting"] - ctx.build_s),
+            "brep": 1e3 * (ctx.build_s + td - tc),
+            "total": 1e3 * (td - t0),
+        },
+        other,
+        fit,
+        snaps,
+        unsnapped,
+    )

@@ -28,6 +28,7 @@ than 128 once the smaller maps stop filling the cores (bench_networks.py).
 Labels stay at full size: the outputs are upsampled before the loss, so training
 optimises exactly the maps that the fitting stage and the evaluation read.
 """
+
 from __future__ import annotations
 
 import copy
@@ -43,7 +44,7 @@ from ..brep.files import atomic_path
 from ..sketch.labels import CLASSES
 
 N_OPS = len(CLASSES)
-IN_CHANNELS = 5    # S, D, N (datagen/sample.py)
+IN_CHANNELS = 5  # S, D, N (datagen/sample.py)
 CHECKPOINT_FORMAT = "sketch2cad-net"
 
 
@@ -68,19 +69,25 @@ class ModelConfig:
     def __post_init__(self):
         self.widths = tuple(int(w) for w in self.widths)
         levels = len(self.widths) - 1
-        if self.internal_size % (2 ** levels):
-            raise ValueError(f"internal_size {self.internal_size} must be divisible by "
-                             f"2^{levels} for {len(self.widths)} encoder levels")
+        if self.internal_size % (2**levels):
+            raise ValueError(
+                f"internal_size {self.internal_size} must be divisible by "
+                f"2^{levels} for {len(self.widths)} encoder levels"
+            )
 
 
 class ConvBlock(nn.Sequential):
     """Two 3x3 conv + batch norm + ReLU: (B, cin, H, W) -> (B, cout, H, W)."""
 
     def __init__(self, cin: int, cout: int):
-        super().__init__(nn.Conv2d(cin, cout, 3, padding=1, bias=False), nn.BatchNorm2d(cout),
-                         nn.ReLU(inplace=True),
-                         nn.Conv2d(cout, cout, 3, padding=1, bias=False), nn.BatchNorm2d(cout),
-                         nn.ReLU(inplace=True))
+        super().__init__(
+            nn.Conv2d(cin, cout, 3, padding=1, bias=False),
+            nn.BatchNorm2d(cout),
+            nn.ReLU(inplace=True),
+            nn.Conv2d(cout, cout, 3, padding=1, bias=False),
+            nn.BatchNorm2d(cout),
+            nn.ReLU(inplace=True),
+        )
 
 
 class Sketch2CADNet(nn.Module):
@@ -90,15 +97,21 @@ class Sketch2CADNet(nn.Module):
         super().__init__()
         self.config = cfg = config or ModelConfig()
         w = cfg.widths
-        self.encoder = nn.ModuleList([ConvBlock(IN_CHANNELS, w[0])] +
-                                     [ConvBlock(w[i - 1], w[i]) for i in range(1, len(w))])
+        self.encoder = nn.ModuleList(
+            [ConvBlock(IN_CHANNELS, w[0])] + [ConvBlock(w[i - 1], w[i]) for i in range(1, len(w))]
+        )
         self.classifier = nn.Sequential(
-            nn.Linear(2 * w[-1], cfg.classifier_hidden), nn.ReLU(inplace=True),
-            nn.Dropout(cfg.dropout), nn.Linear(cfg.classifier_hidden, N_OPS))
-        self.up = nn.ModuleList([nn.ConvTranspose2d(w[i], w[i - 1], 2, stride=2)
-                                 for i in range(len(w) - 1, 0, -1)])
-        self.decoder = nn.ModuleList([ConvBlock(2 * w[i - 1], w[i - 1])
-                                      for i in range(len(w) - 1, 0, -1)])
+            nn.Linear(2 * w[-1], cfg.classifier_hidden),
+            nn.ReLU(inplace=True),
+            nn.Dropout(cfg.dropout),
+            nn.Linear(cfg.classifier_hidden, N_OPS),
+        )
+        self.up = nn.ModuleList(
+            [nn.ConvTranspose2d(w[i], w[i - 1], 2, stride=2) for i in range(len(w) - 1, 0, -1)]
+        )
+        self.decoder = nn.ModuleList(
+            [ConvBlock(2 * w[i - 1], w[i - 1]) for i in range(len(w) - 1, 0, -1)]
+        )
         self.heads = nn.Conv2d(w[0], 2 * N_OPS, 1)  # channels: F logits of 4 ops, then C
         with torch.no_grad():  # start C at the middle of the labels' range 0..2
             self.heads.bias[N_OPS:].fill_(1.0)
@@ -118,9 +131,11 @@ class Sketch2CADNet(nn.Module):
             hint = " (full-size maps: call predict(x), or pool(x) before forward)"
         elif x.dim() == 4 and tuple(x.shape[2:]) == (self.config.internal_size,) * 2:
             hint = " (pooled maps: call forward(x); predict takes full-size maps)"
-        raise ValueError(f"Sketch2CADNet.{where} expects a float tensor of shape "
-                         f"(B, {IN_CHANNELS}, {size}, {size}) holding S, D, N stacked as "
-                         f"datagen/sample.py Sample.inputs() does, got {tuple(x.shape)}{hint}")
+        raise ValueError(
+            f"Sketch2CADNet.{where} expects a float tensor of shape "
+            f"(B, {IN_CHANNELS}, {size}, {size}) holding S, D, N stacked as "
+            f"datagen/sample.py Sample.inputs() does, got {tuple(x.shape)}{hint}"
+        )
 
     def pool(self, x: torch.Tensor) -> torch.Tensor:
         """Full-size (B, 5, S, S) -> (B, 5, I, I): max for the strokes S, mean for D, N."""
@@ -128,8 +143,10 @@ class Sketch2CADNet(nn.Module):
         factor, rest = divmod(self.config.image_size, self.config.internal_size)
         if rest:  # a size that is no multiple of I (the 96 of bench_networks' candidates)
             size = (self.config.internal_size,) * 2
-            return torch.cat([F.adaptive_max_pool2d(x[:, :1], size),
-                              F.adaptive_avg_pool2d(x[:, 1:], size)], dim=1)
+            return torch.cat(
+                [F.adaptive_max_pool2d(x[:, :1], size), F.adaptive_avg_pool2d(x[:, 1:], size)],
+                dim=1,
+            )
         # the adaptive pools' numbers (to float rounding) as f^2 strided slices, in a fifth
         # of their time on one sketch (0.52 -> 0.13 ms)
         cells = [x[:, :, i::factor, j::factor] for i in range(factor) for j in range(factor)]
@@ -137,12 +154,13 @@ class Sketch2CADNet(nn.Module):
         for cell in cells[1:]:
             strokes = torch.maximum(strokes, cell[:, :1])
             rest = rest + cell[:, 1:]
-        return torch.cat([strokes, rest / factor ** 2], dim=1)
+        return torch.cat([strokes, rest / factor**2], dim=1)
 
     def upsample(self, maps: torch.Tensor) -> torch.Tensor:
         """(B, K, I, I) -> (B, K, S, S), bilinear: the outputs at the input's size."""
-        return F.interpolate(maps, size=(self.config.image_size,) * 2, mode="bilinear",
-                             align_corners=False)
+        return F.interpolate(
+            maps, size=(self.config.image_size,) * 2, mode="bilinear", align_corners=False
+        )
 
     def fused(self) -> "Sketch2CADNet":
         """An eval-mode copy for inference with each batch norm folded into the
@@ -152,8 +170,7 @@ class Sketch2CADNet(nn.Module):
         for block in out.modules():
             if isinstance(block, nn.Sequential):
                 for i in range(len(block) - 1):
-                    if isinstance(block[i], nn.Conv2d) and isinstance(block[i + 1],
-                                                                      nn.BatchNorm2d):
+                    if isinstance(block[i], nn.Conv2d) and isinstance(block[i + 1], nn.BatchNorm2d):
                         block[i] = fuse_conv_bn_eval(block[i], block[i + 1])
                         block[i + 1] = nn.Identity()
         return out.to(memory_format=torch.channels_last)
@@ -171,8 +188,9 @@ class Sketch2CADNet(nn.Module):
         logits, f, c, _ = self.features(x)
         return logits, f, c
 
-    def features(self, x: torch.Tensor
-                 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, list[torch.Tensor]]:
+    def features(
+        self, x: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, list[torch.Tensor]]:
         """`forward`, plus the decoder's feature maps that the structured heads
         (inference/heads.py) pool along strokes and over faces.
 
@@ -190,7 +208,7 @@ class Sketch2CADNet(nn.Module):
         for up, block, skip in zip(self.up, self.decoder, reversed(skips[:-1])):
             h = block(torch.cat([up(h), skip], 1))  # (B, w_l, I/2^l, I/2^l), l = 3..0
             decoded.append(h)
-        out = self.heads(h)                          # (B, 8, I, I)
+        out = self.heads(h)  # (B, 8, I, I)
         return logits, out[:, :N_OPS], out[:, N_OPS:], decoded
 
     @torch.inference_mode()
@@ -207,8 +225,9 @@ class Sketch2CADNet(nn.Module):
         self.eval()
         return self.full_size(*self(self.pool(x)))
 
-    def full_size(self, logits: torch.Tensor, f: torch.Tensor, c: torch.Tensor
-                  ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    def full_size(
+        self, logits: torch.Tensor, f: torch.Tensor, c: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """`forward`'s outputs -> `predict`'s (for a caller that ran `features` itself)."""
         up = self.upsample(torch.cat([f, c], 1))  # logits upsampled, then squashed: sharper
         return logits.softmax(1), up[:, :N_OPS].sigmoid(), up[:, N_OPS:]
@@ -226,10 +245,16 @@ def class_weights(counts: torch.Tensor) -> torch.Tensor:
     return inv / inv.sum()
 
 
-def loss_terms(model: Sketch2CADNet, outputs: tuple[torch.Tensor, torch.Tensor, torch.Tensor],
-               op: torch.Tensor, face_label: torch.Tensor, curve_label: torch.Tensor,
-               stroke_mask: torch.Tensor, weights: torch.Tensor, face_dice: float = 0.0
-               ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+def loss_terms(
+    model: Sketch2CADNet,
+    outputs: tuple[torch.Tensor, torch.Tensor, torch.Tensor],
+    op: torch.Tensor,
+    face_label: torch.Tensor,
+    curve_label: torch.Tensor,
+    stroke_mask: torch.Tensor,
+    weights: torch.Tensor,
+    face_dice: float = 0.0,
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """The paper's losses (Eqs. 1 and 2), averaged over a batch, plus an optional Dice term.
 
     Classification: -w_O log P_O (Eq. 1), averaged with PyTorch's weighted mean (divided
@@ -256,7 +281,7 @@ def loss_terms(model: Sketch2CADNet, outputs: tuple[torch.Tensor, torch.Tensor, 
     cls = F.cross_entropy(logits, op, weight=weights)
     pick = op[:, None, None, None].expand(-1, 1, *f_logits.shape[2:])  # (B, 1, I, I)
     maps = model.upsample(torch.cat([f_logits.gather(1, pick), curve.gather(1, pick)], 1))
-    f, c = maps[:, 0].sigmoid(), maps[:, 1]                           # (B, S, S) each
+    f, c = maps[:, 0].sigmoid(), maps[:, 1]  # (B, S, S) each
     face = ((f - face_label) ** 2).mean((1, 2))
     if face_dice:
         overlap = 2 * (f * face_label).sum((1, 2)) + 1.0  # +1: an empty face has Dice 1
@@ -272,12 +297,18 @@ def save_checkpoint(path: str | Path, model: Sketch2CADNet, **extra) -> None:
     (training state, class counts, provenance). Written to a temporary name and renamed,
     so an interrupted save never leaves a broken file."""
     with atomic_path(path) as tmp:
-        torch.save({"format": CHECKPOINT_FORMAT, "config": asdict(model.config),
-                    "model": model.state_dict(), **extra}, tmp)
+        torch.save(
+            {
+                "format": CHECKPOINT_FORMAT,
+                "config": asdict(model.config),
+                "model": model.state_dict(),
+                **extra,
+            },
+            tmp,
+        )
 
 
-def load_checkpoint(path: str | Path, map_location: str = "cpu"
-                    ) -> tuple[Sketch2CADNet, dict]:
+def load_checkpoint(path: str | Path, map_location: str = "cpu") -> tuple[Sketch2CADNet, dict]:
     """Rebuild a model from a checkpoint file alone.
 
     Returns:
@@ -293,18 +324,23 @@ def load_checkpoint(path: str | Path, map_location: str = "cpu"
     except FileNotFoundError:
         raise
     except Exception as e:  # a truncated or foreign file: pickle, zip and torch errors alike
-        raise ValueError(f"{path}: not a readable {CHECKPOINT_FORMAT} checkpoint "
-                         f"({type(e).__name__}: {str(e)[:120]})") from None
+        raise ValueError(
+            f"{path}: not a readable {CHECKPOINT_FORMAT} checkpoint "
+            f"({type(e).__name__}: {str(e)[:120]})"
+        ) from None
     if not isinstance(ckpt, dict) or ckpt.get("format") != CHECKPOINT_FORMAT:
         raise ValueError(f"{path}: not a {CHECKPOINT_FORMAT} checkpoint")
     known = {f.name for f in fields(ModelConfig)}
     try:
-        model = Sketch2CADNet(ModelConfig(**{k: v for k, v in ckpt["config"].items()
-                                             if k in known}))
+        model = Sketch2CADNet(
+            ModelConfig(**{k: v for k, v in ckpt["config"].items() if k in known})
+        )
         model.load_state_dict(ckpt["model"])
     except (KeyError, TypeError, RuntimeError) as e:
-        raise ValueError(f"{path}: a {CHECKPOINT_FORMAT} checkpoint that does not rebuild "
-                         f"the network ({type(e).__name__}: {str(e)[:120]})") from None
+        raise ValueError(
+            f"{path}: a {CHECKPOINT_FORMAT} checkpoint that does not rebuild "
+            f"the network ({type(e).__name__}: {str(e)[:120]})"
+        ) from None
     return model.eval(), ckpt
 
 
@@ -317,11 +353,10 @@ def flops_per_sample(config: ModelConfig) -> float:
     w, s = config.widths, config.internal_size
     total = 0.0
     for level, width in enumerate(w):
-        area = (s / 2 ** level) ** 2
+        area = (s / 2**level) ** 2
         cin = IN_CHANNELS if level == 0 else w[level - 1]
-        total += area * 9 * (cin * width + width * width)               # encoder block
+        total += area * 9 * (cin * width + width * width)  # encoder block
         if level < len(w) - 1:
-            total += area * 9 * (2 * width * width + width * width)     # decoder block
-            total += area * w[level + 1] * width                        # transposed conv
+            total += area * 9 * (2 * width * width + width * width)  # decoder block
+            total += area * w[level + 1] * width  # transposed conv
     return total + s * s * w[0] * 2 * N_OPS
-

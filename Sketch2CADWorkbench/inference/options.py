@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The designer's choices for one sketch step (stored in sessions, read by interpret)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

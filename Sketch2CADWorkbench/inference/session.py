@@ -21,6 +21,7 @@ camera is the orthographic view the designer sketched in. The three optional cho
 (InterpretOptions' fields) are written only when they differ from their defaults, so a
 step without them reads, and is written, as before they existed.
 """
+
 from __future__ import annotations
 
 import json
@@ -67,9 +68,13 @@ class Session:
     steps: list[SketchStep]
 
     def to_dict(self) -> dict[str, Any]:
-        return {"format": FORMAT, "version": VERSION, "units": "mm",
-                "base": {"type": "box", "size": list(self.base.size)},
-                "steps": [_step_dict(s) for s in self.steps]}
+        return {
+            "format": FORMAT,
+            "version": VERSION,
+            "units": "mm",
+            "base": {"type": "box", "size": list(self.base.size)},
+            "steps": [_step_dict(s) for s in self.steps],
+        }
 
     def save(self, path: str | Path) -> None:
         """Write the session as JSON; the file is replaced only once fully written."""
@@ -77,15 +82,19 @@ class Session:
 
 
 def _step_dict(s: SketchStep) -> dict[str, Any]:
-    return {"camera": s.camera.to_dict(),
-            "strokes": [[[round(float(x), 3), round(float(y), 3)] for x, y in st]
-                        for st in s.strokes],
-            "choices": _choices_dict(s.choices)}
+    return {
+        "camera": s.camera.to_dict(),
+        "strokes": [[[round(float(x), 3), round(float(y), 3)] for x, y in st] for st in s.strokes],
+        "choices": _choices_dict(s.choices),
+    }
 
 
 def _choices_dict(c: InterpretOptions) -> dict[str, Any]:
-    out = {"option": c.option.value if c.option else None, "symmetry": c.symmetry,
-           "regularize": c.regularize}
+    out = {
+        "option": c.option.value if c.option else None,
+        "symmetry": c.symmetry,
+        "regularize": c.regularize,
+    }
     if c.snap_step != DEFAULTS.snap_step:
         out["snap_step"] = float(c.snap_step)
     if c.snap_px != DEFAULTS.snap_px:
@@ -110,6 +119,7 @@ def step_from_dict(v: Any, path: str = "step") -> SketchStep:
 
 # ----------------------------------------------------------------- loading
 
+
 def _err(path: str, msg: str, value: Any) -> SessionError:
     return SessionError(str(error(path, msg, value)))
 
@@ -131,15 +141,17 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
 
 
 def _choices(v: Any, path: str) -> InterpretOptions:
-    o = obj(v, path, set(), {"option", "symmetry", "regularize", "snap_step", "snap_px",
-                              "skip_snaps"})
+    o = obj(
+        v, path, set(), {"option", "symmetry", "regularize", "snap_step", "snap_px", "skip_snaps"}
+    )
     option = o.get("option")
     if option is not None:
         try:
             option = Mode(option)
         except ValueError:
-            raise _err(f"{path}.option", f"expected null or one of {[m.value for m in Mode]}",
-                       option) from None
+            raise _err(
+                f"{path}.option", f"expected null or one of {[m.value for m in Mode]}", option
+            ) from None
     sym = o.get("symmetry")
     if sym is not None and sym not in SYMMETRY_PLANES:
         raise _err(f"{path}.symmetry", f"expected null or one of {list(SYMMETRY_PLANES)}", sym)
@@ -148,16 +160,19 @@ def _choices(v: Any, path: str) -> InterpretOptions:
         raise _err(f"{path}.regularize", "expected true or false", reg)
     step = number(o.get("snap_step", DEFAULTS.snap_step), f"{path}.snap_step")
     if not 0 <= step <= MAX_SNAP_STEP:
-        raise _err(f"{path}.snap_step", f"expected a grid step from 0 (none) to {MAX_SNAP_STEP} mm",
-                   step)
+        raise _err(
+            f"{path}.snap_step", f"expected a grid step from 0 (none) to {MAX_SNAP_STEP} mm", step
+        )
     px = number(o.get("snap_px", DEFAULTS.snap_px), f"{path}.snap_px")
     if not 0 < px <= MAX_SNAP_PX:
-        raise _err(f"{path}.snap_px", f"expected a tolerance above 0 and at most {MAX_SNAP_PX} px",
-                   px)
+        raise _err(
+            f"{path}.snap_px", f"expected a tolerance above 0 and at most {MAX_SNAP_PX} px", px
+        )
     skip = o.get("skip_snaps", [])
     if not isinstance(skip, list) or not all(isinstance(k, str) and k in SNAP_KINDS for k in skip):
-        raise _err(f"{path}.skip_snaps", f"expected a list of snap kinds from {list(SNAP_KINDS)}",
-                   skip)
+        raise _err(
+            f"{path}.skip_snaps", f"expected a list of snap kinds from {list(SNAP_KINDS)}", skip
+        )
     return InterpretOptions(reg, option, sym, float(step), float(px), frozenset(skip))
 
 

@@ -7,6 +7,7 @@ structured head (inference/heads.py) beside a U-Net's file, sketch2cad_head.pt, 
 with it; the head records the SHA-256 of the U-Net it was trained on, and a head beside
 another U-Net is refused.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -38,7 +39,8 @@ def resolve(path: str | Path | None = None) -> Path:
         raise FileNotFoundError(
             f"no network weights at {path}: train them with `sketch2cad train --data DIR "
             f"--out RUN` and pass --weights RUN, or copy RUN/{WEIGHTS_NAME} to {WEIGHTS_DIR}/ "
-            "(see the model card there)")
+            "(see the model card there)"
+        )
     return path
 
 
@@ -87,8 +89,7 @@ def shipped_head(path: str | Path | None = None) -> Path | None:
     return head if head.is_file() else None
 
 
-def load_predictor(path: str | Path | None = None, structured: bool = True
-                   ) -> NetworkPredictor:
+def load_predictor(path: str | Path | None = None, structured: bool = True) -> NetworkPredictor:
     """The predictor for a weights file or run folder (default: the shipped weights):
     with the structured head when HEAD_NAME lies beside the weights file (and
     `structured`), else the U-Net alone.
@@ -100,6 +101,7 @@ def load_predictor(path: str | Path | None = None, structured: bool = True
     head = shipped_head(path)
     if structured and head is not None:
         from .heads import load_structured_predictor  # heads builds on this module
+
         return load_structured_predictor(head, unet)
     model, _ = load_model(unet)
     return NetworkPredictor(model)

@@ -6,6 +6,7 @@ Pixel convention everywhere in the core: x grows to the right, y grows downwards
 array `img[j, i]` has its centre at (i + 0.5, j + 0.5). The FreeCAD layer converts
 its bottom-left-origin mouse positions to this.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -43,7 +44,9 @@ class OrthoCamera:
         if not np.isfinite(u).all() or not np.abs(u).any():
             raise ValueError(f"camera up must be a non-zero vector, got {self.up}")
         if np.linalg.norm(np.cross(_unit(d), _unit(u))) < 1e-9:
-            raise ValueError(f"camera up {self.up} must not be parallel to direction {self.direction}")
+            raise ValueError(
+                f"camera up {self.up} must not be parallel to direction {self.direction}"
+            )
         if not self.scale > 0:
             raise ValueError(f"camera scale must be positive, got {self.scale}")
         if self.width <= 0 or self.height <= 0:
@@ -87,8 +90,10 @@ class OrthoCamera:
 
     def image_of(self, vector) -> np.ndarray:
         """The pixel displacement (2,) of a world vector (3,): projection is linear."""
-        return self.project(np.asarray(self.center, float) + np.asarray(vector, float))[0][0] \
+        return (
+            self.project(np.asarray(self.center, float) + np.asarray(vector, float))[0][0]
             - self.project(np.asarray(self.center, float))[0][0]
+        )
 
     def unproject(self, pixels, depth=0.0) -> np.ndarray:
         """Pixel positions (N, 2) and depths (N,) or a scalar -> world points (N, 3)."""
@@ -98,8 +103,7 @@ class OrthoCamera:
         a = (q[:, 0] - self.width / 2.0) * s
         b = -(q[:, 1] - self.height / 2.0) * s
         depth = np.broadcast_to(np.asarray(depth, float), (len(q),))
-        return (np.asarray(self.center, float) + a[:, None] * r + b[:, None] * u
-                + depth[:, None] * f)
+        return np.asarray(self.center, float) + a[:, None] * r + b[:, None] * u + depth[:, None] * f
 
     def ray(self, pixels) -> tuple[np.ndarray, np.ndarray]:
         """World ray origins (N, 3) on the centre plane and the shared unit direction."""
@@ -121,16 +125,26 @@ class OrthoCamera:
 
     def to_dict(self) -> dict:
         """Plain JSON-ready values (the inverse of `from_dict`)."""
-        return {"center": [float(c) for c in self.center],
-                "direction": [float(c) for c in self.direction],
-                "up": [float(c) for c in self.up], "scale": float(self.scale),
-                "width": int(self.width), "height": int(self.height)}
+        return {
+            "center": [float(c) for c in self.center],
+            "direction": [float(c) for c in self.direction],
+            "up": [float(c) for c in self.up],
+            "scale": float(self.scale),
+            "width": int(self.width),
+            "height": int(self.height),
+        }
 
     @staticmethod
     def from_dict(d: dict) -> "OrthoCamera":
         """A camera from `to_dict` values (the constructor's checks apply)."""
-        return OrthoCamera(tuple(d["center"]), tuple(d["direction"]), tuple(d["up"]),
-                           d["scale"], d["width"], d["height"])
+        return OrthoCamera(
+            tuple(d["center"]),
+            tuple(d["direction"]),
+            tuple(d["up"]),
+            d["scale"],
+            d["width"],
+            d["height"],
+        )
 
     def with_size(self, width: int, height: int) -> "OrthoCamera":
         """The same view at another image size (the visible height is kept)."""

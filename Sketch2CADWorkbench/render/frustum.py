@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Choosing cameras: the paper's context frustum around a sketch, and framing a shape."""
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -11,8 +12,9 @@ from .mesh import FaceMesh
 MIN_EXTENT_PX = 8.0  # a dot-like sketch still gets a sensible context window
 
 
-def context_camera(view: OrthoCamera, stroke_pixels: np.ndarray, factor: float = 2.0,
-                   size: int = 256) -> OrthoCamera:
+def context_camera(
+    view: OrthoCamera, stroke_pixels: np.ndarray, factor: float = 2.0, size: int = 256
+) -> OrthoCamera:
     """The context view: a square `factor` times the sketch's bounding box, centred on it.
 
     The paper renders the context maps in a frustum twice the size of the sketch's 2D
@@ -39,8 +41,13 @@ def context_camera(view: OrthoCamera, stroke_pixels: np.ndarray, factor: float =
     return OrthoCamera(tuple(map(float, centre)), view.direction, view.up, scale, size, size)
 
 
-def fit_camera(shape: cq.Shape | FaceMesh | np.ndarray, direction, up=(0.0, 0.0, 1.0),
-               margin: float = 1.1, size: int | tuple[int, int] = 256) -> OrthoCamera:
+def fit_camera(
+    shape: cq.Shape | FaceMesh | np.ndarray,
+    direction,
+    up=(0.0, 0.0, 1.0),
+    margin: float = 1.1,
+    size: int | tuple[int, int] = 256,
+) -> OrthoCamera:
     """A view along `direction` in which the whole shape shows, centred.
 
     Args:
@@ -63,8 +70,9 @@ def fit_camera(shape: cq.Shape | FaceMesh | np.ndarray, direction, up=(0.0, 0.0,
             lo, hi = np.array([bb.xmin, bb.ymin, bb.zmin]), np.array([bb.xmax, bb.ymax, bb.zmax])
         else:
             lo, hi = np.asarray(shape, float).reshape(2, 3)
-        points = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                           for z in (lo[2], hi[2])])
+        points = np.array(
+            [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+        )
     width, height = (size, size) if isinstance(size, int) else size
     probe = OrthoCamera((0.0, 0.0, 0.0), tuple(direction), tuple(up), 1.0, width, height)
     r, u, f = probe.basis()
@@ -72,5 +80,11 @@ def fit_camera(shape: cq.Shape | FaceMesh | np.ndarray, direction, up=(0.0, 0.0,
     centre = (r * (x.min() + x.max()) + u * (y.min() + y.max()) + f * (z.min() + z.max())) / 2
     half_w, half_h = (x.max() - x.min()) / 2, (y.max() - y.min()) / 2
     scale = margin * max(half_h, half_w * height / width, 1e-9)
-    return OrthoCamera(tuple(map(float, centre)), tuple(map(float, direction)),
-                       tuple(map(float, up)), float(scale), width, height)
+    return OrthoCamera(
+        tuple(map(float, centre)),
+        tuple(map(float, direction)),
+        tuple(map(float, up)),
+        float(scale),
+        width,
+        height,
+    )

@@ -7,6 +7,7 @@ the triangle under each pixel centre: its B-rep face, and, by barycentric interp
 at the pixel centre, the depth of its plane (exact, no z-buffer quantisation) and the
 face's smooth surface normal. The window and pipeline are made once per MapRenderer.
 """
+
 from __future__ import annotations
 
 import os
@@ -71,8 +72,11 @@ def offscreen_window() -> vtkRenderWindow:
     Without a display, the EGL window is made directly: the generic factory would try
     X first and print a warning before falling back to EGL.
     """
-    if os.name == "posix" and not os.environ.get("DISPLAY") and hasattr(_opengl,
-                                                                        "vtkEGLRenderWindow"):
+    if (
+        os.name == "posix"
+        and not os.environ.get("DISPLAY")
+        and hasattr(_opengl, "vtkEGLRenderWindow")
+    ):
         window = _opengl.vtkEGLRenderWindow()
     else:
         window = vtkRenderWindow()
@@ -88,8 +92,10 @@ def polydata(mesh: FaceMesh) -> vtkPolyData:
     pd.SetPoints(pts)
     n = len(mesh.triangles)
     cells = vtkCellArray()
-    cells.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 3 * n + 1, 3, dtype=np.int64), deep=True),
-                  numpy_to_vtkIdTypeArray(mesh.triangles.astype(np.int64).ravel(), deep=True))
+    cells.SetData(
+        numpy_to_vtkIdTypeArray(np.arange(0, 3 * n + 1, 3, dtype=np.int64), deep=True),
+        numpy_to_vtkIdTypeArray(mesh.triangles.astype(np.int64).ravel(), deep=True),
+    )
     pd.SetPolys(cells)
     return pd
 
@@ -168,8 +174,9 @@ class MapRenderer:
         triangle = self.triangle_ids(mesh, camera, (float(depths.min()), float(depths.max())))
         return _surface_maps(mesh, camera, triangle, pixels, depths)
 
-    def triangle_ids(self, mesh: FaceMesh, camera: OrthoCamera,
-                     depth_range: tuple[float, float]) -> np.ndarray:
+    def triangle_ids(
+        self, mesh: FaceMesh, camera: OrthoCamera, depth_range: tuple[float, float]
+    ) -> np.ndarray:
         """(H, W) int32 index of the triangle seen at each pixel centre, -1 on background.
 
         Args:
@@ -178,14 +185,17 @@ class MapRenderer:
             depth_range: (nearest, farthest) view depth (mm) of the mesh's vertices.
         """
         if len(mesh.triangles) > MAX_TRIANGLES:
-            raise ValueError(f"{len(mesh.triangles)} triangles exceed the {MAX_TRIANGLES} "
-                             "that the colour encoding holds")
+            raise ValueError(
+                f"{len(mesh.triangles)} triangles exceed the {MAX_TRIANGLES} "
+                "that the colour encoding holds"
+            )
         if mesh is not self._mesh:
             pd = polydata(mesh)
             code = np.arange(1, len(mesh.triangles) + 1, dtype=np.int64)
             rgb = np.stack([code & 255, (code >> 8) & 255, (code >> 16) & 255], axis=1)
-            colours = numpy_to_vtk(np.ascontiguousarray(rgb, dtype=np.uint8), deep=True,
-                                   array_type=VTK_UNSIGNED_CHAR)
+            colours = numpy_to_vtk(
+                np.ascontiguousarray(rgb, dtype=np.uint8), deep=True, array_type=VTK_UNSIGNED_CHAR
+            )
             pd.GetCellData().SetScalars(colours)
             self.mapper.SetInputData(pd)
             self._mesh = mesh
@@ -200,8 +210,13 @@ class MapRenderer:
         return (rgba & 0xFFFFFF).astype(np.int32) - 1
 
 
-def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
-                  pixels: np.ndarray, depths: np.ndarray) -> ContextMaps:
+def _surface_maps(
+    mesh: FaceMesh,
+    camera: OrthoCamera,
+    triangle: np.ndarray,
+    pixels: np.ndarray,
+    depths: np.ndarray,
+) -> ContextMaps:
     """The maps from the triangle seen at each pixel, by interpolation at pixel centres.
 
     Args:
@@ -213,8 +228,7 @@ def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
     h, w = triangle.shape
     r, u, f = camera.basis()
     # Per vertex: view depth and camera-space normal (x right, y up, z to the viewer).
-    attrs = np.concatenate([depths[:, None], mesh.vertex_normals @ np.stack([r, u, -f]).T],
-                           axis=1)
+    attrs = np.concatenate([depths[:, None], mesh.vertex_normals @ np.stack([r, u, -f]).T], axis=1)
     # Pixel positions are taken from the image centre, which keeps the affine
     # coefficients small enough for float32; float32 halves the per-pixel work.
     centre = np.array([w / 2.0, h / 2.0])
@@ -236,8 +250,9 @@ def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
     # The rasteriser may take a centre a hair outside its triangle, and on slivers seen
     # edge-on the coefficients are too large for float32: redo those pixels in float64
     # at the point of the triangle nearest in barycentric weights.
-    redo = np.flatnonzero((l1 < -BARY_SLACK) | (l2 < -BARY_SLACK) | (l1 + l2 > 1 + BARY_SLACK)
-                          | np.take(thin, seen))
+    redo = np.flatnonzero(
+        (l1 < -BARY_SLACK) | (l2 < -BARY_SLACK) | (l1 + l2 > 1 + BARY_SLACK) | np.take(thin, seen)
+    )
     if len(redo):
         t = seen[redo]
         xy1 = np.stack([x[redo], y[redo], np.ones(len(redo))], axis=1)
@@ -257,12 +272,14 @@ def _surface_maps(mesh: FaceMesh, camera: OrthoCamera, triangle: np.ndarray,
     face_id = np.full(h * w, -1, np.int32)
     face_id[index] = np.take(mesh.face_index, seen)
     view_depth = view_depth.reshape(h, w)
-    return ContextMaps(normalized_depth(view_depth), normal.reshape(3, h, w),
-                       face_id.reshape(h, w), view_depth)
+    return ContextMaps(
+        normalized_depth(view_depth), normal.reshape(3, h, w), face_id.reshape(h, w), view_depth
+    )
 
 
-def _affine_coefficients(triangles: np.ndarray, pixels: np.ndarray, attrs: np.ndarray
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def _affine_coefficients(
+    triangles: np.ndarray, pixels: np.ndarray, attrs: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Per triangle, the affine functions of the pixel position (x, y) that interpolate
     the vertex attributes linearly across the projected triangle.
 
@@ -281,16 +298,20 @@ def _affine_coefficients(triangles: np.ndarray, pixels: np.ndarray, attrs: np.nd
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]  # twice the signed projected area
     ok = np.abs(det) > 1e-12
     inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-    l1 = np.stack([e2[:, 1] * inv, -e2[:, 0] * inv,
-                   (a[:, 1] * e2[:, 0] - a[:, 0] * e2[:, 1]) * inv], axis=1)
-    l2 = np.stack([-e1[:, 1] * inv, e1[:, 0] * inv,
-                   (a[:, 0] * e1[:, 1] - a[:, 1] * e1[:, 0]) * inv], axis=1)
+    l1 = np.stack(
+        [e2[:, 1] * inv, -e2[:, 0] * inv, (a[:, 1] * e2[:, 0] - a[:, 0] * e2[:, 1]) * inv], axis=1
+    )
+    l2 = np.stack(
+        [-e1[:, 1] * inv, e1[:, 0] * inv, (a[:, 0] * e1[:, 1] - a[:, 1] * e1[:, 0]) * inv], axis=1
+    )
     l1[~ok, 2] = l2[~ok, 2] = 1.0 / 3.0
     v0, v1, v2 = (attrs[triangles[:, k]] for k in range(3))
     coef = (v1 - v0)[:, :, None] * l1[:, None, :] + (v2 - v0)[:, :, None] * l2[:, None, :]
     coef[:, :, 2] += v0
-    return (np.concatenate([coef, l1[:, None, :], l2[:, None, :]], axis=1),
-            np.abs(det) < 2.0 * THIN_AREA)
+    return (
+        np.concatenate([coef, l1[:, None, :], l2[:, None, :]], axis=1),
+        np.abs(det) < 2.0 * THIN_AREA,
+    )
 
 
 def normalized_depth(view_depth: np.ndarray) -> np.ndarray:

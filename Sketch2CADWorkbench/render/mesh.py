@@ -6,6 +6,7 @@ OCCT always does), so a shape already meshed finely enough is not meshed again. 
 IVtk converter then copies every face's triangles, nodes and surface normals into one
 VTK mesh in C++, several times faster than reading the nodes one by one from Python.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -73,12 +74,14 @@ def view_tolerance(model_size: float, pixel_size: float) -> float:
         model_size: the model's bounding-box diagonal (mm).
         pixel_size: the view's pixel size (mm).
     """
-    return float(np.clip(0.5 * pixel_size, MIN_REL_TOLERANCE * model_size,
-                         REL_TOLERANCE * model_size))
+    return float(
+        np.clip(0.5 * pixel_size, MIN_REL_TOLERANCE * model_size, REL_TOLERANCE * model_size)
+    )
 
 
-def tessellate(solid: cq.Shape, tolerance: float | None = None,
-               angular_tolerance: float = ANGULAR_TOLERANCE) -> FaceMesh:
+def tessellate(
+    solid: cq.Shape, tolerance: float | None = None, angular_tolerance: float = ANGULAR_TOLERANCE
+) -> FaceMesh:
     """Triangulate every face of `solid`.
 
     Args:
@@ -95,8 +98,9 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
     if tolerance is None:
         tolerance = REL_TOLERANCE * model_scale(solid)
     if not tolerance > 0 or not angular_tolerance > 0:
-        raise ValueError(f"tolerances must be positive, got {tolerance} mm and "
-                         f"{angular_tolerance} rad")
+        raise ValueError(
+            f"tolerances must be positive, got {tolerance} mm and {angular_tolerance} rad"
+        )
     shape = solid.wrapped
     # BRepMesh records the deviation it reached, which on curved faces can exceed the
     # request by a few percent; without slack every call would mesh again.
@@ -142,8 +146,7 @@ def tessellate(solid: cq.Shape, tolerance: float | None = None,
     vnormals = vtk_to_numpy(pd.GetPointData().GetArray("Normals"))[used].astype(np.float64)
     vnormals /= np.maximum(np.linalg.norm(vnormals, axis=1, keepdims=True), 1e-300)
     tris = tris.reshape(-1, 3).astype(np.int32)
-    return FaceMesh(points, tris, face_index, _triangle_normals(points, tris, vnormals),
-                    vnormals)
+    return FaceMesh(points, tris, face_index, _triangle_normals(points, tris, vnormals), vnormals)
 
 
 def _triangle_normals(v: np.ndarray, t: np.ndarray, vn: np.ndarray) -> np.ndarray:

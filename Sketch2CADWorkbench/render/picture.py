@@ -6,6 +6,7 @@ and averaged down (anti-aliasing): soft two-light shading of the camera-space no
 and black lines where the visible B-rep face changes (edges and outlines) or the depth
 jumps within a face (a curved face hiding part of itself).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -36,8 +37,7 @@ SHININESS_LOG2 = 4  # specular exponent 16
 CREASE_PX = 3.0
 
 
-def default_camera(shape: cq.Shape | FaceMesh, width: int = 800, height: int = 600
-                   ) -> OrthoCamera:
+def default_camera(shape: cq.Shape | FaceMesh, width: int = 800, height: int = 600) -> OrthoCamera:
     """The default picture view: from EYE_SIDE, world z up, framing the shape.
 
     Args:
@@ -47,10 +47,14 @@ def default_camera(shape: cq.Shape | FaceMesh, width: int = 800, height: int = 6
     return fit_camera(shape, tuple(-np.asarray(EYE_SIDE)), (0.0, 0.0, 1.0), 1.1, (width, height))
 
 
-def shaded_picture(solid: cq.Shape, camera: OrthoCamera | None = None,
-                   size: tuple[int, int] = (800, 600), path: str | Path | None = None,
-                   strokes: list[np.ndarray] | None = None,
-                   renderer: MapRenderer | None = None) -> np.ndarray:
+def shaded_picture(
+    solid: cq.Shape,
+    camera: OrthoCamera | None = None,
+    size: tuple[int, int] = (800, 600),
+    path: str | Path | None = None,
+    strokes: list[np.ndarray] | None = None,
+    renderer: MapRenderer | None = None,
+) -> np.ndarray:
     """A shaded picture of the solid with black B-rep edges on white.
 
     Args:
@@ -102,8 +106,11 @@ def shade(maps: ContextMaps, pixel_size: float) -> np.ndarray:
     key, fill = KEY_LIGHT / np.linalg.norm(KEY_LIGHT), FILL_LIGHT / np.linalg.norm(FILL_LIGHT)
     half = key + np.array([0.0, 0.0, 1.0])
     half = (half / np.linalg.norm(half)).astype(np.float32)
-    light = (AMBIENT + KEY * np.clip(n @ key.astype(np.float32), 0, None)
-             + FILL * np.clip(n @ fill.astype(np.float32), 0, None))
+    light = (
+        AMBIENT
+        + KEY * np.clip(n @ key.astype(np.float32), 0, None)
+        + FILL * np.clip(n @ fill.astype(np.float32), 0, None)
+    )
     glint = np.clip(n @ half, 0, None)
     for _ in range(SHININESS_LOG2):  # repeated squaring: far faster than a float power
         glint *= glint
@@ -148,8 +155,9 @@ def draw_strokes(picture: np.ndarray, strokes: list[np.ndarray]) -> None:
     for s in strokes:
         pts = np.round((np.asarray(s, float).reshape(-1, 2) - 0.5) * 16).astype(np.int32)
         if len(pts):
-            cv2.polylines(picture, [pts.reshape(-1, 1, 2)], False, STROKE_RGB, thickness,
-                          cv2.LINE_AA, 4)
+            cv2.polylines(
+                picture, [pts.reshape(-1, 1, 2)], False, STROKE_RGB, thickness, cv2.LINE_AA, 4
+            )
 
 
 def write_png(rgb: np.ndarray, path: str | Path) -> None:
@@ -164,8 +172,9 @@ def write_png(rgb: np.ndarray, path: str | Path) -> None:
             raise OSError(f"{path}: cannot write the picture")
 
 
-def contact_sheet(images: list[np.ndarray], cols: int, labels: list[str] | None = None,
-                  pad: int = 6) -> np.ndarray:
+def contact_sheet(
+    images: list[np.ndarray], cols: int, labels: list[str] | None = None, pad: int = 6
+) -> np.ndarray:
     """Pictures on a white grid, row by row, with optional captions under them.
 
     Args:
@@ -193,8 +202,16 @@ def contact_sheet(images: list[np.ndarray], cols: int, labels: list[str] | None 
     for k, img in enumerate(rgbs):
         r, c = divmod(k, cols)
         y, x = pad + r * (h + pad + cap), pad + c * (w + pad)
-        sheet[y:y + img.shape[0], x:x + img.shape[1]] = img
+        sheet[y : y + img.shape[0], x : x + img.shape[1]] = img
         if labels:
-            cv2.putText(sheet, str(labels[k]), (x + 2, y + h + 16), cv2.FONT_HERSHEY_SIMPLEX,
-                        0.45, (20, 20, 20), 1, cv2.LINE_AA)
+            cv2.putText(
+                sheet,
+                str(labels[k]),
+                (x + 2, y + h + 16),
+                cv2.FONT_HERSHEY_SIMPLEX,
+                0.45,
+                (20, 20, 20),
+                1,
+                cv2.LINE_AA,
+            )
     return sheet

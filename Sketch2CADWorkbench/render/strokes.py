@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Rasterising 2D strokes (pixel polylines) into maps, 8-connected, without anti-aliasing."""
+
 from __future__ import annotations
 
 import cv2
@@ -27,8 +28,13 @@ def _draw(out: np.ndarray, polylines: list[np.ndarray], values, thickness: int) 
     return out
 
 
-def rasterize(polylines: list[np.ndarray], width: int, height: int,
-              values: list[float] | None = None, thickness: int = 1) -> np.ndarray:
+def rasterize(
+    polylines: list[np.ndarray],
+    width: int,
+    height: int,
+    values: list[float] | None = None,
+    thickness: int = 1,
+) -> np.ndarray:
     """Draw polylines into an (H, W) float32 map.
 
     Args:
@@ -45,16 +51,19 @@ def rasterize(polylines: list[np.ndarray], width: int, height: int,
         values = [1.0] * len(polylines)
     if len(values) != len(polylines):
         raise ValueError(f"{len(values)} values for {len(polylines)} polylines")
-    return _draw(np.zeros((height, width), np.float32), polylines,
-                 [float(v) for v in values], thickness)
+    return _draw(
+        np.zeros((height, width), np.float32), polylines, [float(v) for v in values], thickness
+    )
 
 
-def rasterize_index(polylines: list[np.ndarray], width: int, height: int,
-                    thickness: int = 1) -> np.ndarray:
+def rasterize_index(
+    polylines: list[np.ndarray], width: int, height: int, thickness: int = 1
+) -> np.ndarray:
     """Which stroke covers each pixel: (H, W) int32 polyline index, -1 off the strokes.
 
     Drawn exactly like `rasterize` (the later stroke wins where strokes cross), so
     `rasterize_index(...) >= 0` is `rasterize(...) != 0` for non-zero values.
     """
-    return _draw(np.full((height, width), -1, np.int32), polylines,
-                 list(range(len(polylines))), thickness)
+    return _draw(
+        np.full((height, width), -1, np.int32), polylines, list(range(len(polylines))), thickness
+    )

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Which 3D points a camera sees, given the view depth of the rendered solid."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -11,8 +12,7 @@ from .maps import ContextMaps
 _OFFSETS = np.array([(di, dj) for dj in (-1, 0, 1) for di in (-1, 0, 1)])
 
 
-def visible(points: np.ndarray, camera: OrthoCamera, maps: ContextMaps, tol: float
-            ) -> np.ndarray:
+def visible(points: np.ndarray, camera: OrthoCamera, maps: ContextMaps, tol: float) -> np.ndarray:
     """Per point: inside the image and not hidden behind the rendered surface.
 
     A point is visible when its view depth is at most the deepest surface depth among
@@ -42,8 +42,9 @@ def visible(points: np.ndarray, camera: OrthoCamera, maps: ContextMaps, tol: flo
     return out
 
 
-def visible_fraction(points: np.ndarray, camera: OrthoCamera, maps: ContextMaps,
-                     tol: float) -> float:
+def visible_fraction(
+    points: np.ndarray, camera: OrthoCamera, maps: ContextMaps, tol: float
+) -> float:
     """The share of `points` that `visible` accepts (0 for no points).
 
     Args:

@@ -18,6 +18,7 @@ the primitive meets the surface (its outline on the tangent plane T carried alon
 onto f), and its profile lines start there; an extrusion's offset curves move each
 point of f's edges along the normal there.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -83,8 +84,9 @@ def outline_corners(face: cq.Face) -> list[np.ndarray]:
             t = sign * np.array(e.tangentAt(at).toTuple())
             leaving.setdefault(tuple(np.round(p, 6)), []).append(t / np.linalg.norm(t))
     limit = -np.cos(np.radians(CORNER_DEG))
-    return [np.array(p) for p, ts in leaving.items()
-            if len(ts) != 2 or float(ts[0] @ ts[1]) > limit]
+    return [
+        np.array(p) for p, ts in leaving.items() if len(ts) != 2 or float(ts[0] @ ts[1]) > limit
+    ]
 
 
 def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list[Curve]:
@@ -93,10 +95,10 @@ def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list
             return points + rf.normal * op.d
         return points + rf.surface.normals(points) * op.d
 
-    out = [Curve(moved(_edge_points(e)), EXTRUDE_OFFSET, relevant=True)
-           for e in rf.face.Edges()]
-    out += [Curve(np.stack([p, moved(p[None])[0]]), EXTRUDE_PROFILE)
-            for p in outline_corners(rf.face)]
+    out = [Curve(moved(_edge_points(e)), EXTRUDE_OFFSET, relevant=True) for e in rf.face.Edges()]
+    out += [
+        Curve(np.stack([p, moved(p[None])[0]]), EXTRUDE_PROFILE) for p in outline_corners(rf.face)
+    ]
     return out
 
 
@@ -129,8 +131,9 @@ def prism_curves(rf: ResolvedFace, op: AddSubPrism, direction: np.ndarray) -> li
     if rf.surface is None:
         sides = [_segment(base[i], base[(i + 1) % k]) for i in range(k)]
     else:  # each side where the prism meets the curved f
-        sides = [on_surface(rf, np.linspace(base[i], base[(i + 1) % k], CURVE_POINTS))
-                 for i in range(k)]
+        sides = [
+            on_surface(rf, np.linspace(base[i], base[(i + 1) % k], CURVE_POINTS)) for i in range(k)
+        ]
     base_ends = np.array([side[0] for side in sides])
     far_sides = [_segment(far[i], far[(i + 1) % k]) for i in range(k)]
     out = []
@@ -169,8 +172,10 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
     ring = np.cos(t)[:, None] * side + np.sin(t)[:, None] * other
     base, far = on_surface(rf, c0 + op.r0 * ring), c1 + op.r1 * ring
     start, end = _start_end(base, far, op.mode)
-    out = [Curve(start, START, closed=True, relevant=start is base),
-           Curve(end, END, closed=True, relevant=end is base)]
+    out = [
+        Curve(start, START, closed=True, relevant=start is base),
+        Curve(end, END, closed=True, relevant=end is base),
+    ]
     rh = bezier_points(np.array(op.control_points(), float), CURVE_POINTS)
     for s in (1.0, -1.0):
         line = c0 + s * rh[:, :1] * side + rh[:, 1:2] * axis
@@ -183,14 +188,22 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
 
 # The curves of each operator, from its resolved base face f, the operation and the view
 # direction (world, into the scene; only a sweep's profile lines depend on it).
-CURVES: dict[OperatorType, Callable[[ResolvedFace, Operation, np.ndarray], list[Curve]]] = \
-    per_operator({OperatorType.EXTRUDE: extrude_curves, OperatorType.BEVEL: bevel_curves,
-                  OperatorType.ADDSUB: prism_curves, OperatorType.SWEEP: sweep_curves},
-                 "sketch.curves.CURVES")
+CURVES: dict[OperatorType, Callable[[ResolvedFace, Operation, np.ndarray], list[Curve]]] = (
+    per_operator(
+        {
+            OperatorType.EXTRUDE: extrude_curves,
+            OperatorType.BEVEL: bevel_curves,
+            OperatorType.ADDSUB: prism_curves,
+            OperatorType.SWEEP: sweep_curves,
+        },
+        "sketch.curves.CURVES",
+    )
+)
 
 
-def operation_curves(solid: cq.Shape, op: Operation, direction,
-                     face: ResolvedFace | None = None) -> list[Curve]:
+def operation_curves(
+    solid: cq.Shape, op: Operation, direction, face: ResolvedFace | None = None
+) -> list[Curve]:
     """The labelled sketch curves of `op` applied to `solid` (its context).
 
     Args:

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The curve label encodings of the paper, per operator: the C~ value of a stroke's pixels
 (training targets), and the thresholds that read a regressed C back into those classes."""
+
 from ..brep.protocol import OperatorType, per_operator
 
 # The classifier's classes in output order, which is also the order of the F and C heads.
@@ -12,7 +13,12 @@ START, PROFILE, END = 0, 1, 2  # add/sub and sweep
 
 # C > LOW is class 1 (offset, l, profile); for add/sub and sweep C > HIGH is class 2 (end):
 # the midpoints between the encodings (the paper's C > 0.5 split for two classes).
-CURVE_THRESHOLDS = per_operator({OperatorType.EXTRUDE: (0.5, float("inf")),
-                                 OperatorType.BEVEL: (0.5, float("inf")),
-                                 OperatorType.ADDSUB: (0.5, 1.5),
-                                 OperatorType.SWEEP: (0.5, 1.5)}, "sketch.labels.CURVE_THRESHOLDS")
+CURVE_THRESHOLDS = per_operator(
+    {
+        OperatorType.EXTRUDE: (0.5, float("inf")),
+        OperatorType.BEVEL: (0.5, float("inf")),
+        OperatorType.ADDSUB: (0.5, 1.5),
+        OperatorType.SWEEP: (0.5, 1.5),
+    },
+    "sketch.labels.CURVE_THRESHOLDS",
+)

@@ -8,6 +8,7 @@ Seen, they differ: a boss hides the back of its own base outline, a hole's mater
 hides the near part of its floor outline, and so the lines one leaves out the other
 draws.
 """
+
 from __future__ import annotations
 
 import numpy as np

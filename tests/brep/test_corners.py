@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Corners a bevel can round and the creases leaving them."""
+
 import cadquery as cq
 import numpy as np
 

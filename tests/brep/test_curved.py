@@ -2,6 +2,7 @@
 """Operators on curved faces (#16, beyond the paper): a boss, slot, peg or drilled hole
 standing on a cylinder's side meets the curved wall as a designer expects, an extrusion
 of a cylinder's side changes its radius, and anything else is a clear error."""
+
 import math
 
 import cadquery as cq
@@ -41,8 +42,12 @@ def tube(outer=R, inner=6.0):
 def rectangle(half_w, half_l, x=R, z=30.0):
     """A rectangle on the tangent plane x = `x`: half_w across the axis (y), half_l along
     it (z)."""
-    return ((x, -half_w, z - half_l), (x, half_w, z - half_l), (x, half_w, z + half_l),
-            (x, -half_w, z + half_l))
+    return (
+        (x, -half_w, z - half_l),
+        (x, half_w, z - half_l),
+        (x, half_w, z + half_l),
+        (x, -half_w, z + half_l),
+    )
 
 
 def segment_area(a, r=R):
@@ -60,7 +65,7 @@ def test_a_boss_on_a_rod_meets_the_curved_side_without_a_gap():
     assert added == pytest.approx(2 * l * (2 * a * d + segment_area(a)), rel=1e-6)
     assert out.BoundingBox().xmax == pytest.approx(R + d)
     # just above the wall under the boss's edge is material: no gap
-    assert out.isInside(cq.Vector(math.sqrt(R * R - 3.9 ** 2) + 0.05, 3.9, 30.0))
+    assert out.isInside(cq.Vector(math.sqrt(R * R - 3.9**2) + 0.05, 3.9, 30.0))
 
 
 def test_a_slot_in_a_rod_is_d_deep_below_the_point_it_stands_on():
@@ -82,8 +87,9 @@ def test_a_radial_peg_on_a_tube_and_a_hole_drilled_into_its_bore():
     assert peg.BoundingBox().xmax == pytest.approx(R + d)
     assert peg.isInside(cq.Vector(R - sagitta + 0.1, 2.9, 30.0))  # under the peg's rim
     assert not peg.isInside(cq.Vector(5.0, 0.0, 30.0))  # the bore stays open
-    hole = apply_operation(tube(), Sweep(SIDE, SIDE.point, 2.0, 2.0, 5.0, straight(2, 2, 5),
-                                         Mode.SUBTRACT))
+    hole = apply_operation(
+        tube(), Sweep(SIDE, SIDE.point, 2.0, 2.0, 5.0, straight(2, 2, 5), Mode.SUBTRACT)
+    )
     assert hole.isValid()
     assert not hole.isInside(cq.Vector(8.0, 0.0, 30.0))  # through the wall into the bore
     assert hole.isInside(cq.Vector(8.0, 0.0, 25.0))
@@ -111,50 +117,104 @@ def test_a_rib_inside_a_tubes_bore_stands_on_the_concave_wall():
 def test_a_cone_side_takes_a_boss_too():
     cone = cq.Solid.makeCone(12.0, 6.0, 40.0, cq.Vector(0, 0, 0), cq.Vector(0, 0, 1))
     slope = 6.0 / 40.0
-    n = (1 / math.sqrt(1 + slope ** 2), 0.0, slope / math.sqrt(1 + slope ** 2))
+    n = (1 / math.sqrt(1 + slope**2), 0.0, slope / math.sqrt(1 + slope**2))
     p = (9.0, 0.0, 20.0)
     u = (-n[2], 0.0, n[0])  # along the cone's side, in the tangent plane
-    square = tuple((p[0] + s * u[0], t, p[2] + s * u[2]) for s, t in
-                   ((-2, -2), (2, -2), (2, 2), (-2, 2)))
+    square = tuple(
+        (p[0] + s * u[0], t, p[2] + s * u[2]) for s, t in ((-2, -2), (2, -2), (2, 2), (-2, 2))
+    )
     out = apply_operation(cone, AddSubPrism(FaceRef(p, n, Surface.CONE), square, 2.0))
     assert out.isValid() and out.Volume() > cone.Volume() + 4 * 4 * 2.0
 
 
-@pytest.mark.parametrize("op, message", [
-    (AddSubPrism(SIDE, rectangle(11.0, 3.0), 2.0), r"narrower than the cylinder"),
-    (AddSubPrism(SIDE, rectangle(3.0, 3.0), 2.0, Mode.INTERSECT),
-     r"intersect on a curved face f is not supported"),
-    (Extrude(SIDE, -10.0), r"\|d\| must stay under the radius"),
-    (Bevel(SIDE, (R, 0.0, 30.0), (R, 0.0, 20.0),
-           ((R, 1.0, 30.0), (R, 1.0, 29.0), (R, 0.0, 29.0), (R, 0.0, 28.0))),
-     r"a bevel rounds a corner of a planar face"),
-    (AddSubPrism(FaceRef((R, 0.0, 30.0), (1.0, 0.0, 0.0)), rectangle(2.0, 2.0), 2.0),
-     r"no planar face"),
-    (AddSubPrism(FaceRef((0.0, 0.0, H), (0.0, 0.0, 1.0), CYL), rectangle(2.0, 2.0), 2.0),
-     r"no cylinder face"),
-])
+@pytest.mark.parametrize(
+    "op, message",
+    [
+        (AddSubPrism(SIDE, rectangle(11.0, 3.0), 2.0), r"narrower than the cylinder"),
+        (
+            AddSubPrism(SIDE, rectangle(3.0, 3.0), 2.0, Mode.INTERSECT),
+            r"intersect on a curved face f is not supported",
+        ),
+        (Extrude(SIDE, -10.0), r"\|d\| must stay under the radius"),
+        (
+            Bevel(
+                SIDE,
+                (R, 0.0, 30.0),
+                (R, 0.0, 20.0),
+                ((R, 1.0, 30.0), (R, 1.0, 29.0), (R, 0.0, 29.0), (R, 0.0, 28.0)),
+            ),
+            r"a bevel rounds a corner of a planar face",
+        ),
+        (
+            AddSubPrism(FaceRef((R, 0.0, 30.0), (1.0, 0.0, 0.0)), rectangle(2.0, 2.0), 2.0),
+            r"no planar face",
+        ),
+        (
+            AddSubPrism(FaceRef((0.0, 0.0, H), (0.0, 0.0, 1.0), CYL), rectangle(2.0, 2.0), 2.0),
+            r"no cylinder face",
+        ),
+    ],
+)
 def test_what_cannot_stand_on_a_curved_face_is_a_clear_error(op, message):
     with pytest.raises(OperationError, match=message):
         apply_operation(rod(), op)
 
 
-PIPE = Protocol(Box((40.0, 40.0, 20.0)), (
-    Sweep(FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)), (0.0, 0.0, 10.0), R, R, H,
-          straight(R, R, H), Mode.REPLACE),
-    Sweep(FaceRef((0.0, 0.0, 70.0), (0.0, 0.0, 1.0)), (0.0, 0.0, 70.0), 6.0, 6.0, H,
-          straight(6, 6, H), Mode.SUBTRACT),
-    Sweep(FaceRef((R, 0.0, 40.0), (1.0, 0.0, 0.0), CYL), (R, 0.0, 40.0), 3.0, 3.0, 8.0,
-          straight(3, 3, 8)),
-    AddSubPrism(FaceRef((0.0, -R, 30.0), (0.0, -1.0, 0.0), CYL),
-                ((-2.0, -R, 27.0), (2.0, -R, 27.0), (2.0, -R, 33.0), (-2.0, -R, 33.0)), 2.0),
-))
+PIPE = Protocol(
+    Box((40.0, 40.0, 20.0)),
+    (
+        Sweep(
+            FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),
+            (0.0, 0.0, 10.0),
+            R,
+            R,
+            H,
+            straight(R, R, H),
+            Mode.REPLACE,
+        ),
+        Sweep(
+            FaceRef((0.0, 0.0, 70.0), (0.0, 0.0, 1.0)),
+            (0.0, 0.0, 70.0),
+            6.0,
+            6.0,
+            H,
+            straight(6, 6, H),
+            Mode.SUBTRACT,
+        ),
+        Sweep(
+            FaceRef((R, 0.0, 40.0), (1.0, 0.0, 0.0), CYL),
+            (R, 0.0, 40.0),
+            3.0,
+            3.0,
+            8.0,
+            straight(3, 3, 8),
+        ),
+        AddSubPrism(
+            FaceRef((0.0, -R, 30.0), (0.0, -1.0, 0.0), CYL),
+            ((-2.0, -R, 27.0), (2.0, -R, 27.0), (2.0, -R, 33.0), (-2.0, -R, 33.0)),
+            2.0,
+        ),
+    ),
+)
 
 
 def test_a_step_on_a_cylinders_side_follows_an_edit_of_its_radius():
     before = replay(PIPE)[-1]
-    wider = Protocol(PIPE.base, (Sweep(PIPE.operations[0].face, (0.0, 0.0, 10.0), 13.0, 13.0,
-                                       H, straight(13, 13, H), Mode.REPLACE),)
-                     + PIPE.operations[1:])
+    wider = Protocol(
+        PIPE.base,
+        (
+            Sweep(
+                PIPE.operations[0].face,
+                (0.0, 0.0, 10.0),
+                13.0,
+                13.0,
+                H,
+                straight(13, 13, H),
+                Mode.REPLACE,
+            ),
+        )
+        + PIPE.operations[1:],
+    )
     after = replay(wider)[-1]
     bb0, bb1 = before.BoundingBox(), after.BoundingBox()
     # the peg and the boss moved out with the wall, keeping their height above it

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A cylinder's or cone's side in closed form (brep/faces.CurvedSurface): its normals are
 OCCT's, and lines cross it where OCCT's face lies."""
+
 import math
 
 import cadquery as cq
@@ -31,8 +32,13 @@ def face_points(face, n=7):
     """Points of the face on an n x n grid of its parameters."""
     u0, u1, v0, v1 = face.uvBounds()
     adaptor = face._geomAdaptor()
-    return np.array([adaptor.Value(u, v).Coord() for u in np.linspace(u0, u1, n)
-                     for v in np.linspace(v0, v1, n)])
+    return np.array(
+        [
+            adaptor.Value(u, v).Coord()
+            for u in np.linspace(u0, u1, n)
+            for v in np.linspace(v0, v1, n)
+        ]
+    )
 
 
 @pytest.mark.parametrize("solid", [rod, cone, tube])  # the tube has a bore's concave wall
@@ -61,18 +67,23 @@ def test_lines_along_the_normal_cross_the_surface_on_the_face(solid):
 def test_a_line_through_a_rod_enters_then_leaves_it_at_the_chords_ends():
     surface = CurvedSurface.of(curved_faces(rod())[0])
     a = 6.0  # the line y = a, z = 30 along -x, from x = 20
-    k, t, entering = surface.roots(np.array([[20.0, a, 30.0]]), np.array([-1.0, 0, 0]),
-                                   -100.0, 100.0)
-    half = math.sqrt(10.0 ** 2 - a ** 2)
+    k, t, entering = surface.roots(
+        np.array([[20.0, a, 30.0]]), np.array([-1.0, 0, 0]), -100.0, 100.0
+    )
+    half = math.sqrt(10.0**2 - a**2)
     assert k.tolist() == [0, 0] and entering.tolist() == [True, False]
     assert np.allclose(t, [20.0 - half, 20.0 + half], rtol=0, atol=1e-12)
 
 
 def test_lines_that_miss_or_only_touch_the_surface_do_not_cross_it():
     surface = CurvedSurface.of(curved_faces(rod())[0])
-    points = np.array([[20.0, 12.0, 30.0],    # passes beside the rod
-                       [20.0, 10.0, 30.0],    # touches it along y = 10
-                       [5.0, 0.0, 30.0]])     # runs along the axis, inside
+    points = np.array(
+        [
+            [20.0, 12.0, 30.0],  # passes beside the rod
+            [20.0, 10.0, 30.0],  # touches it along y = 10
+            [5.0, 0.0, 30.0],
+        ]
+    )  # runs along the axis, inside
     for p, direction in zip(points, ([-1.0, 0, 0], [-1.0, 0, 0], [0, 0, 1.0])):
         assert np.isnan(surface.crossings(p[None], np.array(direction), 100.0)).all()
     # only the nearer crossing within the span counts
@@ -81,13 +92,15 @@ def test_lines_that_miss_or_only_touch_the_surface_do_not_cross_it():
 
 
 def test_a_line_parallel_to_a_cones_generatrix_crosses_it_once():
-    surface = CurvedSurface.of(curved_faces(
-        cq.Solid.makeCone(10.0, 0.0, 20.0, cq.Vector(0, 0, 0), cq.Vector(0, 0, 1)))[0])
+    surface = CurvedSurface.of(
+        curved_faces(cq.Solid.makeCone(10.0, 0.0, 20.0, cq.Vector(0, 0, 0), cq.Vector(0, 0, 1)))[0]
+    )
     generatrix = np.array([-10.0, 0.0, 20.0]) / math.hypot(10.0, 20.0)
     # x = 9 - z / 2, inside the cone along the generatrix x = 10 - z / 2: it leaves the
     # cone through the opposite generatrix x = z / 2 - 10, at z = 19 (beyond that, it
     # would meet the nappe past the apex)
     k, t, entering = surface.roots(np.array([[9.0, 0.0, 0.0]]), generatrix, -100.0, 100.0)
     assert k.tolist() == [0] and entering.tolist() == [False]
-    assert np.allclose(np.array([9.0, 0.0, 0.0]) + t[0] * generatrix, [-0.5, 0.0, 19.0],
-                       rtol=0, atol=1e-9)
+    assert np.allclose(
+        np.array([9.0, 0.0, 0.0]) + t[0] * generatrix, [-0.5, 0.0, 19.0], rtol=0, atol=1e-9
+    )

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """STEP files and BREP text carry the solid exactly."""
+
 import pytest
 
 from Sketch2CADWorkbench.brep.exchange import export_step, from_brep_text, import_step, to_brep_text

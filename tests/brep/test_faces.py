@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Which points lie on a face (as OCCT's classifier tells them), and faces read without wrapping
 each one: by index, their kinds, planar normals."""
+
 import cadquery as cq
 import numpy as np
 import pytest
@@ -24,8 +25,9 @@ SOLIDS = {
     "through hole": BOX.cut(cq.Solid.makeBox(10, 8, 40, cq.Vector(-5, -4, -20))),
     "notch": BOX.cut(cq.Solid.makeBox(15, 15, 8, cq.Vector(5, 0, 2))),
     "round hole": BOX.cut(cq.Solid.makeCylinder(5, 40, cq.Vector(12, 8, -20))),
-    "turned": BOX.cut(cq.Solid.makeBox(10, 8, 40, cq.Vector(-5, -4, -20)))
-                 .rotate(cq.Vector(0, 0, 0), cq.Vector(1, 2, 3), 33),
+    "turned": BOX.cut(cq.Solid.makeBox(10, 8, 40, cq.Vector(-5, -4, -20))).rotate(
+        cq.Vector(0, 0, 0), cq.Vector(1, 2, 3), 33
+    ),
 }
 
 
@@ -49,17 +51,21 @@ def test_points_on_a_planar_face_are_told_as_occts_classifier_tells_them(name):
         corners = frame.to_2d(np.array([v.toTuple() for v in face.Vertices()]))
         lo, hi = corners.min(axis=0) - 3, corners.max(axis=0) + 3
         at = corners[rng.integers(0, len(corners), 30)]
-        grid = np.stack(np.meshgrid(np.linspace(lo[0] + 3, hi[0] - 3, 7),
-                                    np.linspace(lo[1] + 3, hi[1] - 3, 7)), -1).reshape(-1, 2)
+        grid = np.stack(
+            np.meshgrid(np.linspace(lo[0] + 3, hi[0] - 3, 7), np.linspace(lo[1] + 3, hi[1] - 3, 7)),
+            -1,
+        ).reshape(-1, 2)
         # anywhere, at the corners and just beside them, and on a grid over the face's box
         # (whose outer rows run along its sides), a hair off the plane
-        flat = np.concatenate([rng.uniform(lo, hi, (40, 2)), at,
-                               at + rng.normal(0, 1e-3, at.shape), grid])
+        flat = np.concatenate(
+            [rng.uniform(lo, hi, (40, 2)), at, at + rng.normal(0, 1e-3, at.shape), grid]
+        )
         points = frame.to_3d(flat) + rng.normal(0, 1e-9, (len(flat), 3))
         for tol in (1e-7, 0.3):
             for boundary in (True, False):
-                np.testing.assert_array_equal(points_on_face(face, points, tol, boundary),
-                                              occt(face, points, tol, boundary))
+                np.testing.assert_array_equal(
+                    points_on_face(face, points, tol, boundary), occt(face, points, tol, boundary)
+                )
 
 
 @pytest.mark.parametrize("name", SOLIDS)

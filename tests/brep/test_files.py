@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Atomic writes (brep/files.py): readers never see a part of a file, writers never share
 a temporary, failures replace nothing, modes are kept, stale temporaries are cleaned."""
+
 import json
 import os
 import subprocess
@@ -80,8 +81,14 @@ WRITER = textwrap.dedent("""
 def test_two_writers_of_one_path_never_leave_a_reader_a_broken_file(tmp_path):
     path = tmp_path / "shared.json"
     files.write_atomically(path, json.dumps({"writer": "start"}))
-    writers = [subprocess.Popen([sys.executable, "-c", WRITER, str(path), "150", name],
-                                stderr=subprocess.PIPE, text=True) for name in "ab"]
+    writers = [
+        subprocess.Popen(
+            [sys.executable, "-c", WRITER, str(path), "150", name],
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for name in "ab"
+    ]
     reads, broken, deadline = 0, 0, time.monotonic() + 120
     while any(w.poll() is None for w in writers) and time.monotonic() < deadline:
         try:

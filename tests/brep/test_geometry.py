@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Polyline helpers that every stroke and curve sample goes through."""
+
 import numpy as np
 import pytest
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Each operator gives the analytically expected solid, and never touches its input."""
+
 import math
 
 import cadquery as cq
@@ -40,8 +41,12 @@ def box():
 
 
 def square(half, z, cx=0.0, cy=0.0):
-    return ((cx - half, cy - half, z), (cx + half, cy - half, z),
-            (cx + half, cy + half, z), (cx - half, cy + half, z))
+    return (
+        (cx - half, cy - half, z),
+        (cx + half, cy - half, z),
+        (cx + half, cy + half, z),
+        (cx - half, cy + half, z),
+    )
 
 
 def straight(r0, r1, d):
@@ -119,9 +124,13 @@ def test_curved_sweep_volume_matches_pappus(box):
     vol = 0.0
     for i in range(n):  # midpoint rule on the parametric curve: pi r^2 dh/dt dt
         t = (i + 0.5) / n
-        b = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2, t ** 3]
-        db = [-3 * (1 - t) ** 2, 3 * (1 - t) ** 2 - 6 * (1 - t) * t, 6 * (1 - t) * t - 3 * t * t,
-              3 * t * t]
+        b = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2, t**3]
+        db = [
+            -3 * (1 - t) ** 2,
+            3 * (1 - t) ** 2 - 6 * (1 - t) * t,
+            6 * (1 - t) * t - 3 * t * t,
+            3 * t * t,
+        ]
         r = sum(w * p[0] for w, p in zip(b, ctrl))
         dh = sum(w * p[1] for w, p in zip(db, ctrl))
         vol += math.pi * r * r * dh / n
@@ -131,8 +140,12 @@ def test_curved_sweep_volume_matches_pappus(box):
 def test_bevel_with_straight_profile_cuts_a_triangular_prism(box):
     c = (LX / 2, -LY / 2, LZ / 2)
     a, b = (LX / 2 - 6, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 4)
-    chord = (a, tuple(x + (y - x) / 3 for x, y in zip(a, b)),
-             tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b)), b)
+    chord = (
+        a,
+        tuple(x + (y - x) / 3 for x, y in zip(a, b)),
+        tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b)),
+        b,
+    )
     out = apply_operation(box, Bevel(FRONT, c, (LX / 2, LY / 2, LZ / 2), chord))
     assert out.Volume() == pytest.approx(BOX_VOLUME - 0.5 * 6 * 4 * LY, rel=REL)
 
@@ -148,39 +161,57 @@ def test_rounded_bevel_removes_less_than_the_chamfer(box):
     pts = [(c[0], c[2])]
     for i in range(2001):
         t = i / 2000
-        w = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2, t ** 3]
-        pts.append((sum(wi * p[0] for wi, p in zip(w, arc)), sum(wi * p[2] for wi, p in zip(w, arc))))
+        w = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2, t**3]
+        pts.append(
+            (sum(wi * p[0] for wi, p in zip(w, arc)), sum(wi * p[2] for wi, p in zip(w, arc)))
+        )
     area = 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
     assert area == pytest.approx(36 - math.pi * 9, rel=5e-3)
     assert BOX_VOLUME - out.Volume() == pytest.approx(area * LY, rel=1e-5)
 
 
-@pytest.mark.parametrize("op,message", [
-    (Extrude(FaceRef((0, 0, 99), (0, 0, 1)), 3.0), "no longer resolves"),
-    (Extrude(FaceRef((0, 0, LZ / 2), (0.6, 0, 0.8)), 3.0), "no longer resolves"),
-    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2), (10, 0, LZ / 2)), 3.0), "no area"),
-    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 5, LZ / 2), (5, 0, LZ / 2), (0, 5, LZ / 2)), 3.0),
-     "cross"),
-    (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2 + 3), (0, 5, LZ / 2)), 3.0),
-     r"polygon c\[1\] lies 3 mm off"),
-    (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, ((-9.0, 2.0), (4.0, 3.0))), "crosses the axis"),
-    (Bevel(FRONT, (LX / 2, -LY / 2, LZ / 2), (LX / 2, -LY / 2, -LZ / 2),
-           ((14, -15, 10), (16, -15, 10), (20, -15, 8), (20, -15, 6))), "crease"),
-    # out of the range any operator builds for a 54 mm model, said before OCCT runs
-    (Extrude(TOP, 1e300), r"d = 1e\+300 mm is out of range for this model"),
-    (Extrude(TOP, 1e-12), r"d = 1e-12 mm is out of range"),
-    (AddSubPrism(TOP, square(4, LZ / 2), 1e-12), "out of range"),
-    (Sweep(TOP, (0, 0, LZ / 2), 1e9, 4.0, 5.0, straight(1e9, 4.0, 5.0)), "r0 = 1e"),
-    (AddSubPrism(TOP, ((0, 0, 1e9), (5, 0, 1e9), (0, 5, 1e9)), 3.0), "polygon lies 1e"),
-    # a point on the top with the normal into the solid: not the bottom face 20 mm away
-    (Extrude(FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, -1.0)), 3.0), "points into the solid"),
-    (Extrude(FaceRef((0.0, 0.0, LZ / 2), (math.nan, 0.0, 1.0)), 3.0), "unit normal"),
-    # parameters no solid takes are named before f is looked for (this f is nowhere)
-    (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99)[:2], 3.0), "3 to 6 vertices"),
-    (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99), -3.0), "d must be positive"),
-    (Sweep(FaceRef((0, 0, 99), (0, 0, 1)), (0, 0, 99), -4.0, 4.0, 5.0, straight(4, 4, 5)),
-     "r0, r1 and d must be positive"),
-])
+@pytest.mark.parametrize(
+    "op,message",
+    [
+        (Extrude(FaceRef((0, 0, 99), (0, 0, 1)), 3.0), "no longer resolves"),
+        (Extrude(FaceRef((0, 0, LZ / 2), (0.6, 0, 0.8)), 3.0), "no longer resolves"),
+        (AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2), (10, 0, LZ / 2)), 3.0), "no area"),
+        (
+            AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 5, LZ / 2), (5, 0, LZ / 2), (0, 5, LZ / 2)), 3.0),
+            "cross",
+        ),
+        (
+            AddSubPrism(TOP, ((0, 0, LZ / 2), (5, 0, LZ / 2 + 3), (0, 5, LZ / 2)), 3.0),
+            r"polygon c\[1\] lies 3 mm off",
+        ),
+        (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, ((-9.0, 2.0), (4.0, 3.0))), "crosses the axis"),
+        (
+            Bevel(
+                FRONT,
+                (LX / 2, -LY / 2, LZ / 2),
+                (LX / 2, -LY / 2, -LZ / 2),
+                ((14, -15, 10), (16, -15, 10), (20, -15, 8), (20, -15, 6)),
+            ),
+            "crease",
+        ),
+        # out of the range any operator builds for a 54 mm model, said before OCCT runs
+        (Extrude(TOP, 1e300), r"d = 1e\+300 mm is out of range for this model"),
+        (Extrude(TOP, 1e-12), r"d = 1e-12 mm is out of range"),
+        (AddSubPrism(TOP, square(4, LZ / 2), 1e-12), "out of range"),
+        (Sweep(TOP, (0, 0, LZ / 2), 1e9, 4.0, 5.0, straight(1e9, 4.0, 5.0)), "r0 = 1e"),
+        (AddSubPrism(TOP, ((0, 0, 1e9), (5, 0, 1e9), (0, 5, 1e9)), 3.0), "polygon lies 1e"),
+        # a point on the top with the normal into the solid: not the bottom face 20 mm away
+        (Extrude(FaceRef((0.0, 0.0, LZ / 2), (0.0, 0.0, -1.0)), 3.0), "points into the solid"),
+        (Extrude(FaceRef((0.0, 0.0, LZ / 2), (math.nan, 0.0, 1.0)), 3.0), "unit normal"),
+        # parameters no solid takes are named before f is looked for (this f is nowhere)
+        (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99)[:2], 3.0), "3 to 6 vertices"),
+        (AddSubPrism(FaceRef((0, 0, 99), (0, 0, 1)), square(4, 99), -3.0), "d must be positive"),
+        (
+            Sweep(FaceRef((0, 0, 99), (0, 0, 1)), (0, 0, 99), -4.0, 4.0, 5.0, straight(4, 4, 5)),
+            "r0, r1 and d must be positive",
+        ),
+    ],
+)
 def test_unbuildable_operation_raises_operation_error_saying_why(box, op, message):
     with pytest.raises(OperationError, match=message):
         apply_operation(box, op)
@@ -216,15 +247,17 @@ def test_applying_what_builds_leaves_out_a_step_whose_face_is_gone(box):
     raised = Extrude(FaceRef((0.0, 0.0, LZ / 2 + 8.0), (0.0, 0.0, 1.0)), 2.0)
     got = apply_what_builds(box, [post, raised])
     assert got.Volume() == pytest.approx(BOX_VOLUME + 800.0 + 200.0, rel=REL)
-    gone = Extrude(FaceRef((0.0, 0.0, 100.0), (0.0, 0.0, 1.0)), 2.0)   # no face there
+    gone = Extrude(FaceRef((0.0, 0.0, 100.0), (0.0, 0.0, 1.0)), 2.0)  # no face there
     with pytest.raises(OperationError):
         apply_operation(box, gone)
-    assert apply_what_builds(box, [gone, post]).Volume() == \
-        pytest.approx(BOX_VOLUME + 800.0, rel=REL)
+    assert apply_what_builds(box, [gone, post]).Volume() == pytest.approx(
+        BOX_VOLUME + 800.0, rel=REL
+    )
 
 
 def test_replay_is_deterministic(examples_dir):
     from Sketch2CADWorkbench.brep.protocol import load
+
     p = load(examples_dir / "camera.json")
     a, b = replay(p), replay(p)
     assert [s.Volume() for s in a] == [s.Volume() for s in b]
@@ -239,22 +272,40 @@ def test_bevel_profile_crossing_an_edge_is_refused_not_emptied(box):
         apply_operation(box, Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), bulging))
 
 
-@pytest.mark.parametrize("op,boolean,name", [
-    (Extrude(TOP, 5.0), Mode.ADD, "extrude"),
-    (Extrude(TOP, -5.0), Mode.SUBTRACT, "extrude"),
-    (Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), ((-14, -15, 10), (-16, -15, 10),
-                                                   (-20, -15, 8), (-20, -15, 6))),
-     Mode.SUBTRACT, "bevel"),
-    (AddSubPrism(TOP, square(4, LZ / 2), 3.0, Mode.INTERSECT), Mode.INTERSECT, "intersect prism"),
-    (Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, straight(4, 4, 5), Mode.SUBTRACT),
-     Mode.SUBTRACT, "subtract sweep"),
-])
+@pytest.mark.parametrize(
+    "op,boolean,name",
+    [
+        (Extrude(TOP, 5.0), Mode.ADD, "extrude"),
+        (Extrude(TOP, -5.0), Mode.SUBTRACT, "extrude"),
+        (
+            Bevel(
+                FRONT,
+                (-20, -15, 10),
+                (-20, 15, 10),
+                ((-14, -15, 10), (-16, -15, 10), (-20, -15, 8), (-20, -15, 6)),
+            ),
+            Mode.SUBTRACT,
+            "bevel",
+        ),
+        (
+            AddSubPrism(TOP, square(4, LZ / 2), 3.0, Mode.INTERSECT),
+            Mode.INTERSECT,
+            "intersect prism",
+        ),
+        (
+            Sweep(TOP, (0, 0, LZ / 2), 4.0, 4.0, 5.0, straight(4, 4, 5), Mode.SUBTRACT),
+            Mode.SUBTRACT,
+            "subtract sweep",
+        ),
+    ],
+)
 def test_every_operation_ends_in_the_boolean_it_names(op, boolean, name):
     assert (op.boolean, op.name) == (boolean, name)
 
 
 def test_a_resolved_face_taken_from_the_solid_is_what_resolving_its_reference_finds(box):
     from Sketch2CADWorkbench.brep.faces import ResolvedFace, face_ref_of, resolve_face
+
     for face in box.Faces():
         found, held = resolve_face(box, face_ref_of(face)), ResolvedFace.of(face)
         assert found.face.isSame(held.face) and found.shift == held.shift == 0.0
@@ -275,16 +326,22 @@ def test_an_operation_result_carries_its_solid_s_volume(box):
     assert out.volume == out.solid.Volume() == pytest.approx(BOX_VOLUME - 8 * 8 * 3, rel=REL)
 
 
-@pytest.mark.parametrize("mode,cadquery_op", [
-    (Mode.ADD, "fuse"), (Mode.SUBTRACT, "cut"), (Mode.INTERSECT, "intersect")])
+@pytest.mark.parametrize(
+    "mode,cadquery_op", [(Mode.ADD, "fuse"), (Mode.SUBTRACT, "cut"), (Mode.INTERSECT, "intersect")]
+)
 @pytest.mark.parametrize("compound", [False, True])
 def test_the_operators_boolean_gives_what_cadquery_s_gives(mode, cadquery_op, compound):
     """The OCCT options `boolean` sets change its cost, not its result, on a solid or a
     compound (whose shapes cadquery passes on in its place)."""
+
     def inputs():
-        body = make_box(Box((LX, LY, LZ))).cut(cq.Solid.makeCylinder(4, LZ * 2, cq.Vector(8, 0, -LZ)))
-        return (body if compound else body.Solids()[0]), \
-            cq.Solid.makeCone(9, 3, LZ, cq.Vector(-5, 2, 0))
+        body = make_box(Box((LX, LY, LZ))).cut(
+            cq.Solid.makeCylinder(4, LZ * 2, cq.Vector(8, 0, -LZ))
+        )
+        return (body if compound else body.Solids()[0]), cq.Solid.makeCone(
+            9, 3, LZ, cq.Vector(-5, 2, 0)
+        )
+
     body, tool = inputs()
     ours = boolean(body, tool, mode)
     body, tool = inputs()

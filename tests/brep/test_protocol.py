@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Protocol files round-trip, list readably, and reject every malformed field by name."""
+
 import copy
 import json
 from dataclasses import replace
@@ -70,23 +71,59 @@ BAD = [
     (["operations", 0, "type"], "loft", r"operations\[0\].type: expected one of"),
     (["operations", 0, "face"], ..., r"operations\[0\]: missing key 'face'"),
     (["operations", 0, "colour"], "red", r"operations\[0\].colour: unknown key"),
-    (["operations", 0, "face", "normal"], [0, 0, 0], r"operations\[0\].face.normal: expected a non-zero"),
+    (
+        ["operations", 0, "face", "normal"],
+        [0, 0, 0],
+        r"operations\[0\].face.normal: expected a non-zero",
+    ),
     (["operations", 0, "face", "normal"], [0, 1, 1], r"face.normal: expected a unit normal"),
-    (["operations", 0, "face", "point", 2], "x", r"operations\[0\].face.point\[2\]: expected a finite number, got \"x\""),
+    (
+        ["operations", 0, "face", "point", 2],
+        "x",
+        r"operations\[0\].face.point\[2\]: expected a finite number, got \"x\"",
+    ),
     (["operations", 0, "r0"], 0, r"operations\[0\].r0: expected a positive number, got 0"),
     (["operations", 0, "mode"], "xor", r"operations\[0\].mode: expected one of"),
-    (["operations", 0, "profile"], [[1, 2]], r"operations\[0\].profile: expected a list of 2 points"),
-    (["operations", 2, "polygon"], [[0, 0, 0], [1, 0, 0]], r"operations\[2\].polygon: expected a list of 3 to 6 points"),
-    (["operations", 2, "polygon", 0], [0, 0], r"operations\[2\].polygon\[0\]: expected a list of 3 numbers"),
+    (
+        ["operations", 0, "profile"],
+        [[1, 2]],
+        r"operations\[0\].profile: expected a list of 2 points",
+    ),
+    (
+        ["operations", 2, "polygon"],
+        [[0, 0, 0], [1, 0, 0]],
+        r"operations\[2\].polygon: expected a list of 3 to 6 points",
+    ),
+    (
+        ["operations", 2, "polygon", 0],
+        [0, 0],
+        r"operations\[2\].polygon\[0\]: expected a list of 3 numbers",
+    ),
     (["operations", 2, "d"], -6, r"operations\[2\].d: expected a positive number"),
     (["operations", 2, "d"], True, r"operations\[2\].d: expected a finite number, got true"),
-    (["operations", 4, "profile"], [[0, 0, 0]] * 3, r"operations\[4\].profile: expected a list of 4 points"),
-    (["operations", 4, "corner"], None, r"operations\[4\].corner: expected a list of 3 numbers, got null"),
+    (
+        ["operations", 4, "profile"],
+        [[0, 0, 0]] * 3,
+        r"operations\[4\].profile: expected a list of 4 points",
+    ),
+    (
+        ["operations", 4, "corner"],
+        None,
+        r"operations\[4\].corner: expected a list of 3 numbers, got null",
+    ),
     # found by a hostile tester: each was a traceback or was accepted
     (["version"], True, r"version: unsupported version \(this build reads 1 or 2\), got true"),
-    (["operations", 0, "type"], ["addsub"], r"operations\[0\].type: expected one of .*got \[\"addsub\"\]"),
+    (
+        ["operations", 0, "type"],
+        ["addsub"],
+        r"operations\[0\].type: expected one of .*got \[\"addsub\"\]",
+    ),
     (["operations", 0, "type"], {"a": 1}, r"operations\[0\].type: expected one of"),
-    (["base", "size", 0], 10 ** 400, r"base.size\[0\]: expected a finite number, got an integer of 401 digits"),
+    (
+        ["base", "size", 0],
+        10**400,
+        r"base.size\[0\]: expected a finite number, got an integer of 401 digits",
+    ),
     (["base", "size", 0], 1e300, r"base.size\[0\]: expected a side from 0.001 to 100000 mm"),
     (["base", "size", 2], 1e-9, r"base.size\[2\]: expected a side from 0.001"),
 ]
@@ -113,12 +150,17 @@ def test_extrude_by_zero_is_rejected(camera_dict):
         loads(json.dumps(bad))
 
 
-@pytest.mark.parametrize("text,message", [
-    ("", "not valid JSON"), ("{", "not valid JSON"), ("[]", "protocol: expected an object"),
-    ('{"format": "sketch2cad-protocol"}', "missing key"),
-    ("[" * 100000 + "]" * 100000, "nested too deeply"),
-    ('{"version": ' + "9" * 4301 + "}", "not a protocol: Exceeds the limit"),
-])
+@pytest.mark.parametrize(
+    "text,message",
+    [
+        ("", "not valid JSON"),
+        ("{", "not valid JSON"),
+        ("[]", "protocol: expected an object"),
+        ('{"format": "sketch2cad-protocol"}', "missing key"),
+        ("[" * 100000 + "]" * 100000, "nested too deeply"),
+        ('{"version": ' + "9" * 4301 + "}", "not a protocol: Exceeds the limit"),
+    ],
+)
 def test_broken_file_names_the_file(tmp_path, text, message):
     f = tmp_path / "broken.json"
     f.write_text(text)
@@ -136,6 +178,7 @@ def test_missing_and_binary_files_are_protocol_errors(tmp_path):
 
 def test_save_failure_keeps_the_previous_file(tmp_path, examples_dir, monkeypatch):
     from Sketch2CADWorkbench.brep import files
+
     f = tmp_path / "p.json"
     f.write_text("previous")
     p = load(examples_dir / "nut.json")
@@ -182,6 +225,7 @@ def test_dict_form_is_the_documented_schema(examples_dir):
 
 def test_a_per_operator_table_missing_an_operator_is_refused_when_made():
     from Sketch2CADWorkbench.brep.protocol import per_operator
+
     whole = {t: t.value for t in OperatorType}
     assert per_operator(whole, "whole") is whole
     with pytest.raises(TypeError, match=r"SOME_TABLE: .*missing \['sweep'\]"):
@@ -192,6 +236,7 @@ def test_a_per_operator_table_missing_an_operator_is_refused_when_made():
 
 def test_every_operator_has_a_dataclass_that_writes_what_it_reads(examples_dir):
     from Sketch2CADWorkbench.brep.protocol import OPERATIONS, operation_from_dict
+
     seen = set()
     for f in sorted(examples_dir.glob("*.json")):
         for op in load(f).operations:
@@ -205,6 +250,7 @@ def test_every_operator_has_a_dataclass_that_writes_what_it_reads(examples_dir):
 
 def test_a_curved_base_face_is_written_as_version_2_and_reads_back(examples_dir):
     from Sketch2CADWorkbench.brep.protocol import FaceRef, Surface, Sweep
+
     p = load(examples_dir / "camera.json")
     side = FaceRef((10.0, 0.0, 4.0), (1.0, 0.0, 0.0), Surface.CYLINDER)
     curved = p.append(Sweep(side, side.point, 1.0, 1.0, 2.0, ((1.0, 0.7), (1.0, 1.3))))
@@ -217,13 +263,21 @@ def test_a_curved_base_face_is_written_as_version_2_and_reads_back(examples_dir)
     assert all("surface" not in op["face"] for op in protocol_to_dict(p)["operations"])
 
 
-@pytest.mark.parametrize("version, surface, message", [
-    (1, "cylinder", r"operations\[0\].face.surface: a curved base face needs version 2"),
-    (2, "sphere", r"operations\[0\].face.surface: expected one of \['plane', 'cylinder', "
-                  r"'cone'\], got \"sphere\""),
-])
-def test_a_curved_face_the_version_cannot_hold_is_refused_by_name(camera_dict, version, surface,
-                                                                   message):
+@pytest.mark.parametrize(
+    "version, surface, message",
+    [
+        (1, "cylinder", r"operations\[0\].face.surface: a curved base face needs version 2"),
+        (
+            2,
+            "sphere",
+            r"operations\[0\].face.surface: expected one of \['plane', 'cylinder', "
+            r"'cone'\], got \"sphere\"",
+        ),
+    ],
+)
+def test_a_curved_face_the_version_cannot_hold_is_refused_by_name(
+    camera_dict, version, surface, message
+):
     camera_dict["version"] = version
     camera_dict["operations"][0]["face"]["surface"] = surface
     with pytest.raises(ProtocolError, match=message):

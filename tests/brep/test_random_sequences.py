@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Any sequence of in-range parameters ends in one valid solid or an OperationError, the
 same whether the base face is resolved or handed in."""
+
 import math
 
 import numpy as np
@@ -71,8 +72,7 @@ def test_random_sequence_ends_in_a_valid_solid_or_an_operation_error(data, size,
 
 @settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
 @given(st.data(), st.tuples(*[st.floats(5.0, 80.0)] * 3), st.integers(1, 3))
-def test_an_operation_given_its_base_face_builds_what_resolving_the_face_builds(data, size,
-                                                                                 length):
+def test_an_operation_given_its_base_face_builds_what_resolving_the_face_builds(data, size, length):
     """Data generation hands apply_operation the face it drew op.face from: the result,
     or the error, is the one resolving op.face gives."""
     solid = make_box(Box(size))

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad build` writes STEP for a good protocol and a clear error for a bad one."""
+
 import json
 import shutil
 import subprocess
@@ -46,8 +47,7 @@ def test_unbuildable_step_keeps_an_existing_output_file(tmp_path, examples_dir):
     assert (tmp_path / "keep.step").read_text() == (examples_dir / "nut.json").read_text()
 
 
-def test_an_output_that_is_the_protocol_is_refused_and_the_protocol_kept(tmp_path,
-                                                                        examples_dir):
+def test_an_output_that_is_the_protocol_is_refused_and_the_protocol_kept(tmp_path, examples_dir):
     p = tmp_path / "p.json"
     shutil.copy(examples_dir / "nut.json", p)
     before = p.read_bytes()
@@ -58,8 +58,7 @@ def test_an_output_that_is_the_protocol_is_refused_and_the_protocol_kept(tmp_pat
 
 
 def test_two_outputs_on_one_path_are_refused_before_any_work(tmp_path, examples_dir):
-    out = run("build", examples_dir / "nut.json", "--step", tmp_path / "x", "--png",
-              tmp_path / "x")
+    out = run("build", examples_dir / "nut.json", "--step", tmp_path / "x", "--png", tmp_path / "x")
     assert out.returncode == 2 and "--png" in out.stderr and "--step" in out.stderr
     assert not (tmp_path / "x").exists()
 

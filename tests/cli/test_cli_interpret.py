@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad interpret` never writes over the session it reads (the user's sketches), and
 replays each step with the choices saved in it."""
+
 import json
 import re
 import shutil
@@ -17,13 +18,25 @@ def test_an_output_on_the_session_is_refused_and_the_session_kept(tmp_path):
     shutil.copy(SESSION, s)
     before = s.read_bytes()
     for option in ("--protocol", "--step", "--png"):
-        out = subprocess.run([*CLI, "interpret", str(s), option, str(s)], capture_output=True,
-                             text=True, timeout=120)
+        out = subprocess.run(
+            [*CLI, "interpret", str(s), option, str(s)], capture_output=True, text=True, timeout=120
+        )
         assert out.returncode == 2 and "same file as SESSION" in out.stderr, out.stderr
         assert s.read_bytes() == before
-    out = subprocess.run([*CLI, "interpret", str(s), "--protocol", str(tmp_path / "x"),
-                          "--step", str(tmp_path / "x")], capture_output=True, text=True,
-                         timeout=120)
+    out = subprocess.run(
+        [
+            *CLI,
+            "interpret",
+            str(s),
+            "--protocol",
+            str(tmp_path / "x"),
+            "--step",
+            str(tmp_path / "x"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 2 and "--step" in out.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]
 
@@ -39,8 +52,12 @@ def test_the_replay_keeps_the_snaps_a_step_undid_undone_and_its_grid(tmp_path):
     for skip in ([], ["position"]):
         choices["skip_snaps"] = skip
         (tmp_path / "s.json").write_text(json.dumps(session))
-        out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
-                             text=True, timeout=600)
+        out = subprocess.run(
+            [*CLI, "interpret", str(tmp_path / "s.json")],
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
         assert out.returncode == 0, out.stderr
         outputs.append(out.stdout)
     assert "position snapped" in outputs[0] and "position snapped" not in outputs[1]
@@ -59,15 +76,29 @@ def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
     protocol["operations"] = protocol["operations"][:2]
     (tmp_path / "s.json").write_text(json.dumps(session))
     (tmp_path / "p.json").write_text(json.dumps(protocol))
-    base = [*CLI, "interpret", str(tmp_path / "s.json"), "--compare", str(tmp_path / "p.json"),
-            "--keep-going", "--regularize", "off"]
+    base = [
+        *CLI,
+        "interpret",
+        str(tmp_path / "s.json"),
+        "--compare",
+        str(tmp_path / "p.json"),
+        "--keep-going",
+        "--regularize",
+        "off",
+    ]
     ious, ends = {}, {}
     for extra in ([], ["--each-step"]):
         out = subprocess.run(base + extra, capture_output=True, text=True, timeout=600)
         assert out.returncode == 0, out.stderr
-        lines = [re.search(r"after step \d( \(this step alone\))?: ([0-9.]+)(; the session "
-                           r"so, every other step exact: ([0-9.]+))?$", line)
-                 for line in out.stdout.splitlines() if "volume IoU" in line]
+        lines = [
+            re.search(
+                r"after step \d( \(this step alone\))?: ([0-9.]+)(; the session "
+                r"so, every other step exact: ([0-9.]+))?$",
+                line,
+            )
+            for line in out.stdout.splitlines()
+            if "volume IoU" in line
+        ]
         assert all(lines) and all(bool(m[1]) == bool(extra) for m in lines)
         ious[bool(extra)] = [float(m[2]) for m in lines]
         ends[bool(extra)] = [m[4] and float(m[4]) for m in lines]
@@ -76,6 +107,10 @@ def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
     # the last step where that step alone ends
     assert ends[False] == [None, None] and ends[True][0] is None
     assert ends[True][1] == ious[True][1]
-    out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json"), "--each-step"],
-                         capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [*CLI, "interpret", str(tmp_path / "s.json"), "--each-step"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 2 and "--each-step needs --compare" in out.stderr

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad`: every command listed, and only the asked-for command's module loaded."""
+
 import subprocess
 import sys
 
@@ -15,15 +16,25 @@ print("LOADED", *sorted(m for m in ("torch", "cadquery", "vtk") if m in sys.modu
 
 
 def run(*args) -> str:
-    out = subprocess.run([sys.executable, "-c", CODE, *args], capture_output=True, text=True,
-                         timeout=300)
+    out = subprocess.run(
+        [sys.executable, "-c", CODE, *args], capture_output=True, text=True, timeout=300
+    )
     return out.stdout + out.stderr
 
 
 def test_help_lists_every_command_without_loading_the_heavy_libraries():
     text = run("--help")
-    for name in ("build", "demo", "datagen", "train", "eval", "interpret", "diagnose",
-                 "option-scan", "model-card"):
+    for name in (
+        "build",
+        "demo",
+        "datagen",
+        "train",
+        "eval",
+        "interpret",
+        "diagnose",
+        "option-scan",
+        "model-card",
+    ):
         assert f"    {name}" in text, name
     assert "LOADED\n" in text or text.rstrip().endswith("LOADED"), text
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Shared fixtures for the data generation tests: one renderer, one sample per operator."""
+
 import numpy as np
 import pytest
 
@@ -20,7 +21,14 @@ def per_operator(renderer):
     context of two operations."""
     out = {}
     for k, kind in enumerate(OperatorType):
-        out[kind] = [sample_on(Context(sample_sequence(np.random.default_rng([k, n]), n)),
-                               np.random.default_rng([k, n, 1]), 1, renderer, kind=kind)
-                     for n in (0, 2)]
+        out[kind] = [
+            sample_on(
+                Context(sample_sequence(np.random.default_rng([k, n]), n)),
+                np.random.default_rng([k, n, 1]),
+                1,
+                renderer,
+                kind=kind,
+            )
+            for n in (0, 2)
+        ]
     return out

@@ -2,6 +2,7 @@
 """`sketch2cad datagen --ray`: shards as Ray tasks on a local cluster make the process
 pool's bytes, survive a killed worker, and resume; without Ray the error says how to
 install it."""
+
 import json
 import os
 import signal
@@ -58,8 +59,9 @@ def test_ray_tasks_make_the_pools_bytes_after_a_killed_worker_and_resume(tmp_pat
     assert datagen("--out", tmp_path / "ray", *ARGS, "--workers", 2, "--ray") == 0
     assert "6 samples in" in capsys.readouterr().out
     assert (tmp_path / "ray" / "shard-00000.npz").stat().st_mtime_ns == kept
-    assert (tmp_path / "ray" / "shard-00001.json").read_bytes() == \
-        (tmp_path / "pool" / "shard-00001.json").read_bytes()
+    assert (tmp_path / "ray" / "shard-00001.json").read_bytes() == (
+        tmp_path / "pool" / "shard-00001.json"
+    ).read_bytes()
 
 
 def test_without_ray_the_error_says_how_to_install_it(tmp_path, capsys, monkeypatch):

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad datagen`: the same data with any worker count, resumable, with a preview;
 a killed worker is replaced, and bad input is refused saying why."""
+
 import contextlib
 import os
 import signal
@@ -63,8 +64,12 @@ def test_an_interrupted_run_resumes_with_the_same_data(one_worker, tmp_path, cap
 
 
 def test_a_folder_holding_another_data_set_is_refused(one_worker, capsys):
-    assert datagen("--out", one_worker, "--count", "14", "--seed", "4", "--shard-size", "8",
-                   "--workers", 1) == 2
+    assert (
+        datagen(
+            "--out", one_worker, "--count", "14", "--seed", "4", "--shard-size", "8", "--workers", 1
+        )
+        == 2
+    )
     assert "holds a different data set" in capsys.readouterr().err
     assert datagen("--out", one_worker, *ARGS, "--hidden-lines", "omit", "--workers", 1) == 2
     assert "holds a different data set" in capsys.readouterr().err
@@ -96,8 +101,23 @@ def test_the_manifest_records_the_regular_share_and_a_resume_must_match(tmp_path
 
 def test_a_cluster_shard_carries_the_regular_share(tmp_path):
     pool, task = tmp_path / "pool", tmp_path / "task"
-    assert datagen("--out", pool, "--count", 4, "--seed", 3, "--shard-size", 4,
-                   "--regular-share", 1, "--workers", 1) == 0
+    assert (
+        datagen(
+            "--out",
+            pool,
+            "--count",
+            4,
+            "--seed",
+            3,
+            "--shard-size",
+            4,
+            "--regular-share",
+            1,
+            "--workers",
+            1,
+        )
+        == 0
+    )
     task.mkdir()
     assert make_shard(str(task), 3, "1", "draw", 0, 4, 4, regular_share=1.0) == 0
     _same_shards(pool, task, shards=(0,))
@@ -166,7 +186,8 @@ def test_a_killed_worker_is_replaced_and_the_data_is_the_same(one_worker, tmp_pa
 
 
 def test_workers_that_keep_dying_stop_the_run_with_the_reason_keeping_shards_written(
-        one_worker, tmp_path, capsys):
+    one_worker, tmp_path, capsys
+):
     for f in one_worker.iterdir():  # shard 0 written by an earlier run; shard 1 to make
         if f.name != "manifest.json" and not f.name.startswith("shard-00001"):
             (tmp_path / f.name).write_bytes(f.read_bytes())

@@ -3,13 +3,11 @@
 of its context, builds there, and its labels name that face and the stroke parts; the
 bound that rejects candidates before their Booleans holds. A curved set takes the noise
 levels in turns with "mix", is the same for the same seed, and resumes by shard."""
+
 import numpy as np
 import pytest
 
 import datagen.curved
-from datagen.dataset import Dataset
-from Sketch2CADWorkbench.cli import main
-
 from datagen.curved import (
     change_bound_on_curved,
     curved_context,
@@ -17,11 +15,12 @@ from datagen.curved import (
     draw_kind,
     sample_on_curved,
 )
+from datagen.dataset import Dataset
 from datagen.generate import sample_rng
-from Sketch2CADWorkbench.brep.protocol import straight_profile
 from Sketch2CADWorkbench.brep.faces import OperationError, is_curved, model_scale
 from Sketch2CADWorkbench.brep.operators import apply_operation, operation_result, replay
-from Sketch2CADWorkbench.brep.protocol import Mode, OperatorType
+from Sketch2CADWorkbench.brep.protocol import Mode, OperatorType, straight_profile
+from Sketch2CADWorkbench.cli import main
 
 
 def test_a_curved_sample_stands_on_a_curved_face_of_its_context(renderer):
@@ -70,8 +69,20 @@ def test_a_curved_context_ends_in_an_added_cylinder_or_cone():
 
 
 def _curved(out, count, noise, seed=5) -> int:
-    return main(["datagen", "--curved", "--out", str(out), "--count", str(count),
-                 "--seed", str(seed), "--noise-level", noise])
+    return main(
+        [
+            "datagen",
+            "--curved",
+            "--out",
+            str(out),
+            "--count",
+            str(count),
+            "--seed",
+            str(seed),
+            "--noise-level",
+            noise,
+        ]
+    )
 
 
 def _arrays(folder):
@@ -107,8 +118,7 @@ def test_a_mixed_set_draws_the_samples_of_its_seed_each_at_its_turns_level(mixed
         assert np.array_equal(one[name][0], first[name][0]), name
 
 
-def test_a_curved_set_resumes_by_shard_with_the_same_bytes(mixed, tmp_path, monkeypatch,
-                                                           capsys):
+def test_a_curved_set_resumes_by_shard_with_the_same_bytes(mixed, tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(datagen.curved, "SHARD_SIZE", 2)
     for f in mixed.iterdir():
         (tmp_path / f.name).write_bytes(f.read_bytes())
@@ -120,6 +130,7 @@ def test_a_curved_set_resumes_by_shard_with_the_same_bytes(mixed, tmp_path, monk
     def counted(rng, level, renderer):
         made.append(level)
         return real(rng, level, renderer)
+
     monkeypatch.setattr(datagen.curved, "curved_sample", counted)
     assert _curved(tmp_path, 4, "mix") == 0
     assert made == [3, 1]  # samples 2 and 3 only

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sketch curves: the paper's curves per operator, with its labels and start/end order."""
+
 import cadquery as cq
 import numpy as np
 import pytest

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The data set reader returns what was written, sample by sample and shard by shard."""
+
 import json
 
 import numpy as np
@@ -9,9 +10,17 @@ from datagen.dataset import ARRAYS, FORMAT, VERSION, Dataset, write_shard
 
 
 def _manifest(folder, count, shard_size, shards, version=VERSION):
-    (folder / "manifest.json").write_text(json.dumps(
-        {"format": FORMAT, "version": version, "count": count, "shard_size": shard_size,
-         "shards": [f"shard-{k:05d}.npz" for k in range(shards)]}))
+    (folder / "manifest.json").write_text(
+        json.dumps(
+            {
+                "format": FORMAT,
+                "version": version,
+                "count": count,
+                "shard_size": shard_size,
+                "shards": [f"shard-{k:05d}.npz" for k in range(shards)],
+            }
+        )
+    )
 
 
 @pytest.fixture(scope="module")

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Generated samples: labels per operator, base face, context maps, view filter, determinism."""
+
 import numpy as np
 
 from datagen.generate import MESH_REL_TOLERANCE, PER_CONTEXT, generate_block, generate_sample
@@ -20,9 +21,12 @@ from Sketch2CADWorkbench.sketch.labels import (
     START,
 )
 
-LABELS = {OperatorType.EXTRUDE: {EXTRUDE_PROFILE, EXTRUDE_OFFSET},
-          OperatorType.BEVEL: {BEVEL_L_PRIME, BEVEL_L},
-          OperatorType.ADDSUB: {START, PROFILE, END}, OperatorType.SWEEP: {START, PROFILE, END}}
+LABELS = {
+    OperatorType.EXTRUDE: {EXTRUDE_PROFILE, EXTRUDE_OFFSET},
+    OperatorType.BEVEL: {BEVEL_L_PRIME, BEVEL_L},
+    OperatorType.ADDSUB: {START, PROFILE, END},
+    OperatorType.SWEEP: {START, PROFILE, END},
+}
 
 
 def _all(per_operator):
@@ -30,8 +34,10 @@ def _all(per_operator):
 
 
 def _dense(polyline: np.ndarray, step: float = 0.5) -> np.ndarray:
-    out = [np.linspace(a, b, max(int(np.linalg.norm(b - a) / step), 2))
-           for a, b in zip(polyline[:-1], polyline[1:])]
+    out = [
+        np.linspace(a, b, max(int(np.linalg.norm(b - a) / step), 2))
+        for a, b in zip(polyline[:-1], polyline[1:])
+    ]
     return np.concatenate(out)
 
 
@@ -73,8 +79,10 @@ def test_extrude_offset_pixels_follow_the_moved_face_not_the_original(per_operat
     for s in per_operator[OperatorType.EXTRUDE]:
         context = replay(s.context)[-1]
         rf = resolve_face(context, s.operation.face)
-        edges = [np.array([e.positionAt(t).toTuple() for t in np.linspace(0, 1, 16)])
-                 for e in rf.face.Edges()]
+        edges = [
+            np.array([e.positionAt(t).toTuple() for t in np.linspace(0, 1, 16)])
+            for e in rf.face.Edges()
+        ]
         moved = [s.camera.project(e + rf.normal * s.operation.d)[0] for e in edges]
         original = [s.camera.project(e)[0] for e in edges]
         pixels = np.nonzero((s.stroke_mask > 0) & (s.curve_label == EXTRUDE_OFFSET))
@@ -97,8 +105,9 @@ def test_the_relevant_curve_is_at_least_80_percent_visible(per_operator, rendere
     for s in _all(per_operator):
         context = replay(s.context)[-1]
         curves = operation_curves(context, s.operation, s.camera.direction)
-        against = apply_operation(context, s.operation) \
-            if s.op_type is OperatorType.EXTRUDE else context
+        against = (
+            apply_operation(context, s.operation) if s.op_type is OperatorType.EXTRUDE else context
+        )
         assert relevant_visibility(curves, s.camera, renderer.render(against, s.camera)) >= 0.8
 
 

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Regular operations (`--regular-share`): set as a designer sets them, on what the
 snapping snaps to; a share of 0 leaves the data as it was."""
+
 import numpy as np
 import pytest
 
@@ -45,8 +46,11 @@ def _drawn(kind: OperatorType, per_stage: int = 3):
 def _regular_centre(c: np.ndarray, targets) -> bool:
     """c (2D) on f's centre, on an earlier round feature's axis, or on a centre line a
     whole number of grid steps from the centre."""
-    if any(np.linalg.norm(c - p) < TOL for p, name in targets.points
-           if name in ("the face's centre", "the axis of an earlier round feature")):
+    if any(
+        np.linalg.norm(c - p) < TOL
+        for p, name in targets.points
+        if name in ("the face's centre", "the axis of an earlier round feature")
+    ):
         return True
     for _, d, name in targets.lines + [(None, a, "an axis") for a in targets.axes]:
         if name in ("the face's centre line", "an axis"):
@@ -64,8 +68,10 @@ def test_a_share_of_0_draws_nothing_so_the_data_is_unchanged():
     a, b = np.random.default_rng(5), np.random.default_rng(5)
     assert not is_regular(a, 0.0)
     assert a.random() == b.random()  # the generator did not move
-    assert sample_sequence(np.random.default_rng(9), 3, regular_share=0.0).protocol == \
-        sample_sequence(np.random.default_rng(9), 3).protocol
+    assert (
+        sample_sequence(np.random.default_rng(9), 3, regular_share=0.0).protocol
+        == sample_sequence(np.random.default_rng(9), 3).protocol
+    )
 
 
 def test_the_share_decides_how_many_operations_are_regular():

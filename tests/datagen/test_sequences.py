@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Random sequences: valid, deterministic, with the paper's type frequencies and sizes."""
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -19,7 +20,7 @@ from Sketch2CADWorkbench.brep.protocol import Box, Mode, OperatorType
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck))
-@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 4))
+@given(st.integers(0, 2**32 - 1), st.integers(1, 4))
 def test_every_sampled_protocol_replays_to_one_valid_solid(seed, length):
     seq = sample_sequence(np.random.default_rng(seed), length)
     assert len(seq.protocol.operations) == length
@@ -48,8 +49,12 @@ def test_last_operation_types_follow_1_1_4_2():
     rng = np.random.default_rng(1)
     draws = [draw_type(rng) for _ in range(8000)]
     share = {t: draws.count(t) / len(draws) for t in OperatorType}
-    for t, expected in ((OperatorType.EXTRUDE, 1 / 8), (OperatorType.BEVEL, 1 / 8),
-                        (OperatorType.ADDSUB, 4 / 8), (OperatorType.SWEEP, 2 / 8)):
+    for t, expected in (
+        (OperatorType.EXTRUDE, 1 / 8),
+        (OperatorType.BEVEL, 1 / 8),
+        (OperatorType.ADDSUB, 4 / 8),
+        (OperatorType.SWEEP, 2 / 8),
+    ):
         assert share[t] == pytest.approx(expected, abs=0.02)
 
 
@@ -68,8 +73,12 @@ def test_random_polygons_never_cross_themselves():
                 if (i, j) == (0, k - 1):
                     continue
                 a, b, c, d = q[i], q[(i + 1) % k], q[j], q[(j + 1) % k]
-                o = [_cross(b - a, c - a), _cross(b - a, d - a),
-                     _cross(d - c, a - c), _cross(d - c, b - c)]
+                o = [
+                    _cross(b - a, c - a),
+                    _cross(b - a, d - a),
+                    _cross(d - c, a - c),
+                    _cross(d - c, b - c),
+                ]
                 assert not (o[0] * o[1] < 0 and o[2] * o[3] < 0)
 
 
@@ -82,7 +91,8 @@ def test_the_change_bound_is_never_below_the_actual_volume_change():
         change = abs(drawn.result.volume - stage.volume)
         assert change_bound(drawn.op, drawn.face) >= change * (1 - 1e-6)
         assert drawn.result.solid.Volume() == pytest.approx(
-            apply_operation(stage.solid, drawn.op).Volume())
+            apply_operation(stage.solid, drawn.op).Volume()
+        )
 
 
 def test_sampled_operations_stand_on_the_face_they_name():
@@ -110,7 +120,11 @@ def test_random_centres_keep_their_margin_from_the_face_edges():
 def test_an_operation_drawn_with_a_condition_meets_it_and_builds():
     stage = Stage(make_box(Box((60.0, 50.0, 40.0))))
     for seed in range(4):
-        drawn = sample_operation(np.random.default_rng(seed), stage, OperatorType.SWEEP,
-                                 keep=lambda op: op.mode is Mode.SUBTRACT)
+        drawn = sample_operation(
+            np.random.default_rng(seed),
+            stage,
+            OperatorType.SWEEP,
+            keep=lambda op: op.mode is Mode.SUBTRACT,
+        )
         assert drawn.op.mode is Mode.SUBTRACT
         assert drawn.result.volume < stage.volume * (1 - MIN_VOLUME_CHANGE)

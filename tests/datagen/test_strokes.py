@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Freehand strokes: the paper's noise levels, smooth perturbation, and their maps."""
+
 import numpy as np
 import pytest
 
@@ -15,9 +16,10 @@ DIAGONAL = np.hypot(256, 256)
 def test_noise_levels_move_end_points_by_the_papers_share_of_the_diagonal(level):
     rng = np.random.default_rng(level)
     sigma = noise_sigma(level, 256, 256)
-    moved = np.array([[perturb(LINE, rng, sigma)[k] - LINE[k] for k in (0, -1)]
-                      for _ in range(400)]).reshape(-1, 2)
-    rms = np.sqrt(np.mean(np.sum(moved ** 2, axis=1)))
+    moved = np.array(
+        [[perturb(LINE, rng, sigma)[k] - LINE[k] for k in (0, -1)] for _ in range(400)]
+    ).reshape(-1, 2)
+    rms = np.sqrt(np.mean(np.sum(moved**2, axis=1)))
     assert rms == pytest.approx(NOISE_FRACTION[level] * DIAGONAL, rel=0.1)
 
 
@@ -45,9 +47,11 @@ def test_a_closed_curve_becomes_a_loop_whose_ends_need_not_meet():
 
 def test_strokes_follow_their_curves_and_carry_their_labels():
     camera = OrthoCamera((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0), 50.0)
-    curves = [Curve(np.array([[-30.0, -30, 0], [30, -30, 0]]), 1),
-              Curve(np.array([[-30.0, 30, 0], [30, 30, 0]]), 0),
-              Curve(np.array([[0.0, -20, 0], [0, 20, 0]]), 2)]
+    curves = [
+        Curve(np.array([[-30.0, -30, 0], [30, -30, 0]]), 1),
+        Curve(np.array([[-30.0, 30, 0], [30, 30, 0]]), 0),
+        Curve(np.array([[0.0, -20, 0], [0, 20, 0]]), 2),
+    ]
     strokes, labels = sketch_strokes(curves, camera, np.random.default_rng(7), 1)
     assert sorted(labels) == [0, 1, 2]
     for s, label in zip(strokes, labels):

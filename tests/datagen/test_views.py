@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Views: angles to the base face, natural up vectors, framing, and the occlusion filter."""
+
 import cadquery as cq
 import numpy as np
 import pytest
@@ -58,8 +59,7 @@ def _walled_plate() -> cq.Solid:
 
 
 @pytest.mark.parametrize("toward_the_wall, informative", [(False, True), (True, False)])
-def test_a_view_whose_base_curve_is_hidden_is_rejected(renderer, toward_the_wall,
-                                                       informative):
+def test_a_view_whose_base_curve_is_hidden_is_rejected(renderer, toward_the_wall, informative):
     """A prism sketched on the plate right behind the wall: from the open side its base is
     in full view; looking over the wall (70 degrees off the normal), the wall hides it."""
     solid = _walled_plate()
@@ -68,8 +68,7 @@ def test_a_view_whose_base_curve_is_hidden_is_rejected(renderer, toward_the_wall
     tilt = np.radians(70.0)
     d = np.array([0.0, np.sin(tilt) * (1 if toward_the_wall else -1), -np.cos(tilt)])
     curves = operation_curves(solid, op, d)
-    camera = frame_curves(np.concatenate([c.points for c in curves]), d, np.array([0, 0, 1.0]),
-                          2.0)
+    camera = frame_curves(np.concatenate([c.points for c in curves]), d, np.array([0, 0, 1.0]), 2.0)
     maps = renderer.render(solid, camera)
     assert is_informative(curves, camera, maps) is informative
     seen = relevant_visibility(curves, camera, maps)

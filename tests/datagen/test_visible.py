@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The lines a designer who leaves hidden lines out draws: what the view sees of the
 model after the operation, line by line (sketch/visible.py)."""
+
 import numpy as np
 import pytest
 
@@ -28,8 +29,11 @@ def seen(op, view, renderer):
 
 
 def length(curves, view, label):
-    return sum(float(np.linalg.norm(np.diff(view.project(c.points)[0], axis=0), axis=1).sum())
-               for c in curves if c.label == label)
+    return sum(
+        float(np.linalg.norm(np.diff(view.project(c.points)[0], axis=0), axis=1).sum())
+        for c in curves
+        if c.label == label
+    )
 
 
 def test_a_boss_shows_its_top_outline_whole_and_hides_part_of_its_base(view, renderer):

@@ -6,6 +6,7 @@ The scripts in scripts/ print "CHECK PASSED <name>" or "CHECK FAILED <name>" wit
 traceback for each check, and exit 1 if any failed (freecadcmd would exit 0 on an
 uncaught exception).
 """
+
 import os
 import shutil
 import signal
@@ -18,23 +19,37 @@ XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"]
 
 
 def freecad_env(tmp_path) -> dict:
-    env = dict(os.environ, LANG="C.UTF-8", SKETCH2CAD_ROOT=str(ROOT), SKETCH2CAD_TMP=str(tmp_path),
-               # as root, the Start page's web view needs these or FreeCAD exits
-               QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox", QTWEBENGINE_DISABLE_SANDBOX="1")
+    env = dict(
+        os.environ,
+        LANG="C.UTF-8",
+        SKETCH2CAD_ROOT=str(ROOT),
+        SKETCH2CAD_TMP=str(tmp_path),
+        # as root, the Start page's web view needs these or FreeCAD exits
+        QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox",
+        QTWEBENGINE_DISABLE_SANDBOX="1",
+    )
     env.pop("PYTHONPATH", None)  # FreeCAD's own path set-up, as a user would have it
     return env
 
 
-def run_script(script: str, tmp_path, gui: bool, timeout: int,
-         env: dict = None) -> subprocess.CompletedProcess:
+def run_script(
+    script: str, tmp_path, gui: bool, timeout: int, env: dict = None
+) -> subprocess.CompletedProcess:
     """Run the script (in `env`, default `_env(tmp_path)`); past `timeout` seconds FreeCAD
     (and Xvfb) are killed, and the output so far comes back with return code -9."""
     exe = "freecad" if gui else "freecadcmd"
     for tool in [exe] + (XVFB[:1] if gui else []):
         assert shutil.which(tool), f"{tool} is not installed (scripts/setup.sh installs it)"
     cmd = (XVFB if gui else []) + [exe, str(SCRIPTS / script)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env or freecad_env(tmp_path), cwd=tmp_path, start_new_session=True)
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env or freecad_env(tmp_path),
+        cwd=tmp_path,
+        start_new_session=True,
+    )
     try:
         out, err = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -52,7 +67,9 @@ def print_figures(out: subprocess.CompletedProcess) -> None:
 # FreeCAD 1.0 moves its old Start workbench's settings on the first start of a user config
 # and says so in the report view; the checks' processes end by os._exit, which never saves
 # that it is done. A user's config has done it once: so does the test's, before the GUI runs.
-PRIME_USER_CONFIG = ("import FreeCAD\n"
-                     "FreeCAD.ParamGet('User parameter:BaseApp/Preferences/Mod/Start')"
-                     ".SetBool('Migration2024Complete', True)\n"
-                     "FreeCAD.saveParameter()\n")
+PRIME_USER_CONFIG = (
+    "import FreeCAD\n"
+    "FreeCAD.ParamGet('User parameter:BaseApp/Preferences/Mod/Start')"
+    ".SetBool('Migration2024Complete', True)\n"
+    "FreeCAD.saveParameter()\n"
+)

@@ -1,17 +1,27 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The FreeCAD document level, in freecadcmd: the feature tree a CAD user edits."""
+
 import pytest
 
 pytestmark = pytest.mark.freecad
 
-CHECKS = ["startup", "addon_metadata", "tree_from_protocol", "edit_and_recompute",
-          "bevel_follows_an_edit_of_an_earlier_extrude", "sweep_profile_follows_its_radii",
-          "unbuildable_value_puts_only_that_feature_in_error",
-          "save_fcstd", "interpret_session_inside_freecad", "step_export_and_brep_transfer",
-          "features_are_named_as_freecad_users_read_them",
-          "parameters_are_quantities_in_the_users_units", "step_part_is_named_after_the_model",
-          "a_step_read_again_replaces_its_feature_in_place",
-          "steps_on_curved_faces_expose_their_parameters_follow_edits_and_export"]
+CHECKS = [
+    "startup",
+    "addon_metadata",
+    "tree_from_protocol",
+    "edit_and_recompute",
+    "bevel_follows_an_edit_of_an_earlier_extrude",
+    "sweep_profile_follows_its_radii",
+    "unbuildable_value_puts_only_that_feature_in_error",
+    "save_fcstd",
+    "interpret_session_inside_freecad",
+    "step_export_and_brep_transfer",
+    "features_are_named_as_freecad_users_read_them",
+    "parameters_are_quantities_in_the_users_units",
+    "step_part_is_named_after_the_model",
+    "a_step_read_again_replaces_its_feature_in_place",
+    "steps_on_curved_faces_expose_their_parameters_follow_edits_and_export",
+]
 
 
 @pytest.fixture(scope="module")
@@ -42,9 +52,12 @@ def test_fcstd_saved_by_freecad_0_20_and_1_1_opens_and_recomputes(reopen_run, as
     assert_passed(reopen_run, "reopen_fcstd_saved_by_other_versions")
 
 
-def test_fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names(reopen_run,
-                                                                            assert_passed):
-    assert_passed(reopen_run, "fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names")
+def test_fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names(
+    reopen_run, assert_passed
+):
+    assert_passed(
+        reopen_run, "fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names"
+    )
 
 
 def test_every_check_ran(document_run, assert_all_ran):

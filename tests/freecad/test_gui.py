@@ -1,25 +1,34 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The workbench in FreeCAD's GUI, on a virtual X screen (see scripts/gui_session.py)."""
+
 import re
 
 import pytest
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 
-CHECKS = ["startup_printed_nothing", "workbench_loads_quietly", "new_model_is_one_undo_step",
-          "view_camera_matches_freecads_projection", "strokes_captured_from_mouse_events",
-          "sketch_step_adds_one_undoable_feature",
-          "sketching_in_a_perspective_view_switches_it_to_orthographic",
-          "a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one",
-          "holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes",
-          "load_protocol_errors_change_nothing", "load_protocol_is_one_undo_step",
-          "save_protocol_round_trip", "export_step_command", "replay_command_rebuilds_step_by_step",
-          "fcstd_reopens_with_view_providers",
-          "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
-          "sketch_panel_fits_the_default_combo_view",
-          "sketch_panel_reads_in_the_users_units_and_names_follow_the_offset",
-          "preferences_page_is_shown_and_its_values_are_used",
-          "closing_documents_after_sketching_keeps_freecad_running"]
+CHECKS = [
+    "startup_printed_nothing",
+    "workbench_loads_quietly",
+    "new_model_is_one_undo_step",
+    "view_camera_matches_freecads_projection",
+    "strokes_captured_from_mouse_events",
+    "sketch_step_adds_one_undoable_feature",
+    "sketching_in_a_perspective_view_switches_it_to_orthographic",
+    "a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one",
+    "holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes",
+    "load_protocol_errors_change_nothing",
+    "load_protocol_is_one_undo_step",
+    "save_protocol_round_trip",
+    "export_step_command",
+    "replay_command_rebuilds_step_by_step",
+    "fcstd_reopens_with_view_providers",
+    "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
+    "sketch_panel_fits_the_default_combo_view",
+    "sketch_panel_reads_in_the_users_units_and_names_follow_the_offset",
+    "preferences_page_is_shown_and_its_values_are_used",
+    "closing_documents_after_sketching_keeps_freecad_running",
+]
 
 
 @pytest.fixture(scope="module")

@@ -1,13 +1,16 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Impossible values typed into the features' properties, in freecadcmd (see
 scripts/value_checks.py)."""
+
 import pytest
 from freecad_process import print_figures
 
 pytestmark = pytest.mark.freecad
 
-CHECKS = ["impossible_values_are_refused_naming_the_property_and_lose_nothing",
-          "a_huge_face_normal_is_a_direction_not_a_zero_vector"]
+CHECKS = [
+    "impossible_values_are_refused_naming_the_property_and_lose_nothing",
+    "a_huge_face_normal_is_a_direction_not_a_zero_vector",
+]
 
 
 @pytest.fixture(scope="module")

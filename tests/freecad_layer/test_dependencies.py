@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The dependency installer behind the workbench's Install button and scripts/setup.sh
 (its FreeCAD-free part; the real install runs in tests/freecad/test_addon_install.py)."""
+
 import os
 import shlex
 import subprocess
@@ -28,7 +29,8 @@ def with_torch(tmp_path: Path, version: str) -> str:
     site = tmp_path / "site"
     (site / f"torch-{version}.dist-info").mkdir(parents=True)
     (site / f"torch-{version}.dist-info" / "METADATA").write_text(
-        f"Metadata-Version: 2.1\nName: torch\nVersion: {version}\n")
+        f"Metadata-Version: 2.1\nName: torch\nVersion: {version}\n"
+    )
     return fake_python(tmp_path, f'PYTHONPATH={shlex.quote(str(site))} exec "$PY" "$@"')
 
 
@@ -48,8 +50,10 @@ def test_requirements_come_from_pyproject_with_the_extras_asked_for():
 
 def test_missing_names_what_this_interpreter_cannot_import(tmp_path, monkeypatch):
     pyproject = tmp_path / "pyproject.toml"
-    pyproject.write_text('[project]\ndependencies = ["numpy>=1", "no-such-package-s2c==1.0", '
-                         '"opencv-contrib-python-headless"]\n')
+    pyproject.write_text(
+        '[project]\ndependencies = ["numpy>=1", "no-such-package-s2c==1.0", '
+        '"opencv-contrib-python-headless"]\n'
+    )
     monkeypatch.setattr(deps, "PYPROJECT", str(pyproject))
     monkeypatch.setattr(deps.requirements, "__defaults__", ((), str(pyproject)))
     assert deps.missing() == ["no-such-package-s2c"]  # cv2 is imported as cv2
@@ -57,8 +61,9 @@ def test_missing_names_what_this_interpreter_cannot_import(tmp_path, monkeypatch
 
 def test_find_python_is_an_interpreter_of_this_version():
     python = deps.find_python()
-    out = subprocess.run([python, "-c", "import sys; print(sys.version_info[:2])"],
-                         capture_output=True, text=True)
+    out = subprocess.run(
+        [python, "-c", "import sys; print(sys.version_info[:2])"], capture_output=True, text=True
+    )
     assert out.stdout.strip() == str(tuple(sys.version_info[:2]))
 
 
@@ -75,21 +80,31 @@ def test_without_a_usable_torch_the_cpu_build_is_asked_for(tmp_path):
     assert any(deps.distribution(r) == "torch" for r in plan.requirements)
     if sys.platform != "darwin":
         assert plan.torch_index == deps.CPU_TORCH_INDEX
-        assert ["--extra-index-url", deps.CPU_TORCH_INDEX] == \
-            plan.pip_command("X")[plan.pip_command("X").index("--extra-index-url"):][:2]
-    pinned = deps.plan(str(tmp_path / "deps"), python=old_torch,
-                       torch_spec="torch==2.13.0", torch_index="")
-    assert "torch==2.13.0" in pinned.requirements and "--extra-index-url" not in \
-        pinned.pip_command("X")
+        assert ["--extra-index-url", deps.CPU_TORCH_INDEX] == plan.pip_command("X")[
+            plan.pip_command("X").index("--extra-index-url") :
+        ][:2]
+    pinned = deps.plan(
+        str(tmp_path / "deps"), python=old_torch, torch_spec="torch==2.13.0", torch_index=""
+    )
+    assert "torch==2.13.0" in pinned.requirements and "--extra-index-url" not in pinned.pip_command(
+        "X"
+    )
 
 
 def installing_python(tmp_path: Path, fail: bool) -> str:
     """A python whose `-m pip install ... --target DIR` makes DIR/fakepkg, or fails."""
-    return fake_python(tmp_path, (
-        'case "$*" in *"-m pip install"*) ;; *) exec "$PY" "$@";; esac\n'
-        + ('echo "ERROR: No matching distribution found for cadquery"; exit 1\n' if fail else
-           'while [ "$1" != "--target" ]; do shift; done\n'
-           'mkdir -p "$2/fakepkg" && echo ok > "$2/fakepkg/__init__.py"; echo Successfully installed')))
+    return fake_python(
+        tmp_path,
+        (
+            'case "$*" in *"-m pip install"*) ;; *) exec "$PY" "$@";; esac\n'
+            + (
+                'echo "ERROR: No matching distribution found for cadquery"; exit 1\n'
+                if fail
+                else 'while [ "$1" != "--target" ]; do shift; done\n'
+                'mkdir -p "$2/fakepkg" && echo ok > "$2/fakepkg/__init__.py"; echo Successfully installed'
+            )
+        ),
+    )
 
 
 def test_install_replaces_the_folder_only_when_pip_succeeded(tmp_path):
@@ -114,7 +129,11 @@ def test_install_replaces_the_folder_only_when_pip_succeeded(tmp_path):
 
 
 def test_the_manual_command_is_one_a_shell_runs_as_is(tmp_path):
-    plan = deps.InstallPlan("/usr/bin/python3.11", str(tmp_path / "my deps"),
-                            ["torch>=2.6,<3", "vtk"], torch_index=deps.CPU_TORCH_INDEX)
+    plan = deps.InstallPlan(
+        "/usr/bin/python3.11",
+        str(tmp_path / "my deps"),
+        ["torch>=2.6,<3", "vtk"],
+        torch_index=deps.CPU_TORCH_INDEX,
+    )
     argv = shlex.split(deps.manual_command(plan))
     assert argv == plan.pip_command(plan.target)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The workbench's networks load once, in the background, and whoever needs them waits
 for that load (freecad_layer/networks.py; the GUI side: tests/freecad/test_responsiveness.py)."""
+
 import threading
 
 import pytest
@@ -12,8 +13,12 @@ from Sketch2CADWorkbench.freecad_layer import networks
 def fresh(monkeypatch):
     """networks with nothing loaded, and a stand-in load that waits for `gate` and fails
     as many times as `failures` says."""
-    for name, value in (("_thread", None), ("_predictor", None), ("_error", None),
-                        ("_seconds", None)):
+    for name, value in (
+        ("_thread", None),
+        ("_predictor", None),
+        ("_error", None),
+        ("_seconds", None),
+    ):
         monkeypatch.setattr(networks, name, value)
     gate, calls, failures = threading.Event(), [], []
 

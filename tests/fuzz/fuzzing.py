@@ -11,6 +11,7 @@ message), "crash" (anything else: a traceback), "invalid" (an accepted result th
 not one valid solid), "changed" (the caller's solid changed), "broken" (a reader saw a
 partial file), "leftover" (temporaries a later write did not clean).
 """
+
 from __future__ import annotations
 
 import copy
@@ -38,9 +39,31 @@ from Sketch2CADWorkbench.inference.session import SessionError, load_session
 ROOT = Path(__file__).resolve().parents[2]
 CLEAN = (ProtocolError, SessionError, OperationError, ValueError)
 # What a hostile file puts where a value belongs.
-NASTY = [None, True, False, "x", "", [], {}, [[]], -1, 0, 1, -1e300, 1e300, 1e-300, 1e-12,
-         10 ** 400, 2 ** 63, [0, 0, 0], [1e300, 1e300, 0], [0, 0, -1], {"type": "box"},
-         ["addsub"], "NaN"]
+NASTY = [
+    None,
+    True,
+    False,
+    "x",
+    "",
+    [],
+    {},
+    [[]],
+    -1,
+    0,
+    1,
+    -1e300,
+    1e300,
+    1e-300,
+    1e-12,
+    10**400,
+    2**63,
+    [0, 0, 0],
+    [1e300, 1e300, 0],
+    [0, 0, -1],
+    {"type": "box"},
+    ["addsub"],
+    "NaN",
+]
 
 
 @dataclass
@@ -59,9 +82,12 @@ class Tally:
 
     def line(self, name: str) -> str:
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-        return (f"{name}: " + ", ".join(f"{k} {v}" for k, v in sorted(self.counts.items()))
-                + f"; worst {self.worst_s:.2f} s ({self.worst_case[:60]}); peak RSS "
-                  f"{peak:.0f} MB")
+        return (
+            f"{name}: "
+            + ", ".join(f"{k} {v}" for k, v in sorted(self.counts.items()))
+            + f"; worst {self.worst_s:.2f} s ({self.worst_case[:60]}); peak RSS "
+            f"{peak:.0f} MB"
+        )
 
 
 def _leaves(node, path=()):
@@ -82,7 +108,7 @@ def mutate(doc: dict, rng: random.Random) -> str:
         return "[" * rng.choice([10, 1000, 100000]) + "]" * 3
     text_cut = json.dumps(doc)
     if kind < 0.1:
-        return text_cut[:rng.randrange(len(text_cut))]
+        return text_cut[: rng.randrange(len(text_cut))]
     bad = copy.deepcopy(doc)
     paths = [p for p in _leaves(bad) if p]
     path = rng.choice(paths)
@@ -115,8 +141,9 @@ def _classify(fn, case: str) -> tuple[str, float, str]:
 def _mutated(examples: str, n: int, seed: int, read) -> Tally:
     """n mutations of the examples/<examples> files, each given to read(text, i)."""
     rng, tally = random.Random(seed), Tally()
-    docs = [json.loads(p.read_text())
-            for p in sorted((ROOT / "examples" / examples).glob("*.json"))]
+    docs = [
+        json.loads(p.read_text()) for p in sorted((ROOT / "examples" / examples).glob("*.json"))
+    ]
     for i in range(n):
         text = mutate(rng.choice(docs), rng)
         tally.add(*_classify(lambda: read(text, i), f"{examples} {i}"))
@@ -136,6 +163,7 @@ def malformed_sessions(n: int, seed: int) -> Tally:
         def read(text: str, i: int) -> None:
             path.write_text(text)
             load_session(path)
+
         return _mutated("sessions", n, seed, read)
 
 
@@ -148,21 +176,27 @@ def random_strokes(n: int, seed: int, predictor=None) -> Tally:
     from Sketch2CADWorkbench.inference.weights import load_predictor
     from Sketch2CADWorkbench.render.frustum import fit_camera
     from Sketch2CADWorkbench.render.maps import MapRenderer
+
     predictor = predictor or load_predictor()
     renderer, rng, tally = MapRenderer(), np.random.default_rng(seed), Tally()
     for i in range(n):
         solid = make_box(random_box(rng))
         cam = fit_camera(solid, view_direction(rng, np.array([0.0, 0.0, 1.0])))
         k = int(rng.choice([1, 2, 4, 8, 30]))
-        strokes = [np.cumsum(rng.normal(0, rng.choice([0.0, 3.0, 20.0]),
-                                        (int(rng.integers(2, 40)), 2)), axis=0)
-                   + rng.uniform(0, 256, 2) for _ in range(k)]
+        strokes = [
+            np.cumsum(
+                rng.normal(0, rng.choice([0.0, 3.0, 20.0]), (int(rng.integers(2, 40)), 2)), axis=0
+            )
+            + rng.uniform(0, 256, 2)
+            for _ in range(k)
+        ]
         before = to_brep_text(solid)
         t = time.perf_counter()
         try:
             got = interpret(solid, strokes, cam, predictor, renderer)
-            outcome = ("invalid" if not got.solid.isValid() else
-                       "flagged" if got.doubtful else "accepted")
+            outcome = (
+                "invalid" if not got.solid.isValid() else "flagged" if got.doubtful else "accepted"
+            )
         except (InterpretError, OperationError) as e:
             outcome = "clean" if str(e) else "crash"
         except Exception as e:  # noqa: BLE001
@@ -215,8 +249,12 @@ def concurrent_writers(seconds: float) -> Tally:
     with tempfile.TemporaryDirectory() as tmp:
         target = Path(tmp) / "p.json"
         loads(src.read_text()).save(target)
-        writers = [subprocess.Popen([sys.executable, "-c", WRITER, str(src), str(target)],
-                                    stderr=subprocess.PIPE) for _ in range(2)]
+        writers = [
+            subprocess.Popen(
+                [sys.executable, "-c", WRITER, str(src), str(target)], stderr=subprocess.PIPE
+            )
+            for _ in range(2)
+        ]
         end = time.monotonic() + seconds
         while time.monotonic() < end:
             try:

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The full fuzzing campaigns, with their counts (docs/NOTES.md quotes them):
 
-    .bin/python tests/fuzz/run.py [--protocols 300] [--sessions 300] [--strokes 1000]
-        [--kills 36] [--concurrent-seconds 20] [--seed 0]
+.bin/python tests/fuzz/run.py [--protocols 300] [--sessions 300] [--strokes 1000]
+    [--kills 36] [--concurrent-seconds 20] [--seed 0]
 """
+
 import argparse
 import sys
 import time
@@ -23,11 +24,13 @@ def main() -> int:
     p.add_argument("--seed", type=int, default=0)
     a = p.parse_args()
     t0 = time.perf_counter()
-    tallies = [("malformed protocols", fuzzing.malformed_protocols(a.protocols, a.seed)),
-               ("malformed sessions", fuzzing.malformed_sessions(a.sessions, a.seed)),
-               ("killed writers", fuzzing.killed_writers(a.kills, a.seed)),
-               ("concurrent writers", fuzzing.concurrent_writers(a.concurrent_seconds)),
-               ("random strokes", fuzzing.random_strokes(a.strokes, a.seed))]
+    tallies = [
+        ("malformed protocols", fuzzing.malformed_protocols(a.protocols, a.seed)),
+        ("malformed sessions", fuzzing.malformed_sessions(a.sessions, a.seed)),
+        ("killed writers", fuzzing.killed_writers(a.kills, a.seed)),
+        ("concurrent writers", fuzzing.concurrent_writers(a.concurrent_seconds)),
+        ("random strokes", fuzzing.random_strokes(a.strokes, a.seed)),
+    ]
     bad = 0
     for name, t in tallies:
         print(t.line(name))

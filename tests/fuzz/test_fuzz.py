@@ -2,12 +2,16 @@
 """Small seeded fuzzing campaigns (the full ones: tests/fuzz/run.py): every malformed
 protocol or session is a clean error or valid; no stroke set crashes, changes the model
 or yields an invalid solid; killed and concurrent writers never leave a broken file."""
+
 import fuzzing
 
 
 def _no_failures(tally):
-    bad = {k: tally.counts[k] for k in ("crash", "invalid", "changed", "broken", "leftover")
-           if tally.counts[k]}
+    bad = {
+        k: tally.counts[k]
+        for k in ("crash", "invalid", "changed", "broken", "leftover")
+        if tally.counts[k]
+    }
     assert not bad, (bad, tally.crashes)
 
 

@@ -11,6 +11,7 @@ leaves the hidden lines out draws the parts of lines the model after the hole le
 view see (`hidden_lines=False`), and those differ. Used by tests/inference/test_holes.py and by
 `scripts/hole_rate.py`, which prints the rates for more holes.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -46,8 +47,9 @@ class DrawnHole:
     result: cq.Solid
 
 
-def designer_holes(count: int, seed: int, renderer: MapRenderer,
-                   hidden_lines: bool) -> Iterator[DrawnHole]:
+def designer_holes(
+    count: int, seed: int, renderer: MapRenderer, hidden_lines: bool
+) -> Iterator[DrawnHole]:
     """`count` holes, each a function of (seed, its index), drawn with every line
     (`hidden_lines`) or only with what the view sees."""
     made, index = 0, 0
@@ -69,8 +71,9 @@ def designer_holes(count: int, seed: int, renderer: MapRenderer,
             continue
         if stage.volume - result.Volume() < MIN_VOLUME_CHANGE * stage.volume:
             continue  # a hole that removes next to nothing is no hole to draw
-        sample = view_sample(rng, context, Drawn(op, face, Stage(result)), 1, renderer,
-                             hidden_lines=hidden_lines)
+        sample = view_sample(
+            rng, context, Drawn(op, face, Stage(result)), 1, renderer, hidden_lines=hidden_lines
+        )
         if sample is None:
             continue
         made += 1
@@ -103,8 +106,9 @@ def seen_errors(hole: DrawnHole, renderer: MapRenderer) -> tuple[float, float] |
     return out[0], out[1]
 
 
-def read_as_the_hole(hole: DrawnHole, predictor, renderer: MapRenderer,
-                     option: Mode | None = None) -> tuple[str, Mode | None]:
+def read_as_the_hole(
+    hole: DrawnHole, predictor, renderer: MapRenderer, option: Mode | None = None
+) -> tuple[str, Mode | None]:
     """How the pipeline reads the hole's strokes, with the designer's Boolean choice
     `option` (None: no choice).
 
@@ -114,15 +118,21 @@ def read_as_the_hole(hole: DrawnHole, predictor, renderer: MapRenderer,
         the reading names as fitting as well, or None).
     """
     try:
-        got = interpret(hole.solid, hole.strokes, hole.camera, predictor, renderer,
-                        InterpretOptions(regularize=False, option=option))
+        got = interpret(
+            hole.solid,
+            hole.strokes,
+            hole.camera,
+            predictor,
+            renderer,
+            InterpretOptions(regularize=False, option=option),
+        )
     except InterpretError as e:
         return f"refused: {e}", None
     op = got.operations[0]
     if got.op_type is not OperatorType.ADDSUB or op.mode is not Mode.SUBTRACT:
         mode = getattr(op, "mode", None)
-        return f"read as {got.op_type.value}" + (f" ({mode.value})" if mode else ""), \
-            got.other_option
+        return f"read as {got.op_type.value}" + (
+            f" ({mode.value})" if mode else ""
+        ), got.other_option
     iou = volume_iou(got.solid, hole.result)
-    return ("" if iou >= READ_IOU else f"a subtraction with volume IoU {iou:.2f}"), \
-        got.other_option
+    return ("" if iou >= READ_IOU else f"a subtraction with volume IoU {iou:.2f}"), got.other_option

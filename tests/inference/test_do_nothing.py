@@ -2,8 +2,10 @@
 """A reading that would not change the model is never offered as the step, a face the
 user cannot see from the sketch view comes after the ones they can, and a hole whose face
 the networks get wrong is still cut into the face it is drawn on (#17 item 2)."""
+
 import numpy as np
 import pytest
+from test_interpret import TOP, Oracle, sketch, view
 
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import resolve_face
@@ -19,14 +21,12 @@ from Sketch2CADWorkbench.inference.interpret import (
 )
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
-from test_interpret import TOP, Oracle, sketch, view
-
 BOSS_TOP = FaceRef((-12.5, 0.0, 20.0), (0.0, 0.0, 1.0))
-HOLE = AddSubPrism(TOP, ((3, -5, 10), (13, -5, 10), (13, 5, 10), (3, 5, 10)), 4.0,
-                   Mode.SUBTRACT)
+HOLE = AddSubPrism(TOP, ((3, -5, 10), (13, -5, 10), (13, 5, 10), (3, 5, 10)), 4.0, Mode.SUBTRACT)
 # the same outline on the block's top plane: it cuts only air
-IN_THE_AIR = AddSubPrism(BOSS_TOP, ((3, -5, 20), (13, -5, 20), (13, 5, 20), (3, 5, 20)), 4.0,
-                         Mode.SUBTRACT)
+IN_THE_AIR = AddSubPrism(
+    BOSS_TOP, ((3, -5, 20), (13, -5, 20), (13, 5, 20), (3, 5, 20)), 4.0, Mode.SUBTRACT
+)
 
 
 @pytest.fixture(scope="module")
@@ -38,8 +38,9 @@ def renderer():
 def stepped():
     """A 40 x 30 x 20 box with a 15 mm wide block standing 10 mm on its top's left end."""
     box = make_box(Box((40, 30, 20)))
-    block = AddSubPrism(TOP, ((-20, -15, 10), (-5, -15, 10), (-5, 15, 10), (-20, 15, 10)),
-                        10.0, Mode.ADD)
+    block = AddSubPrism(
+        TOP, ((-20, -15, 10), (-5, -15, 10), (-5, 15, 10), (-20, 15, 10)), 10.0, Mode.ADD
+    )
     return apply_operation(box, block)
 
 
@@ -65,6 +66,7 @@ class SaysBossTop(Oracle):
     def segment(self, inputs, op_type):
         face, curve = super().segment(inputs, op_type)
         from Sketch2CADWorkbench.inference.interpret import to_context
+
         strokes = [self.view.project(p)[0] for p in self.strokes3d]
         ids = to_context(self.solid, strokes, self.view, self.renderer).maps.face_id
         top = resolve_face(self.solid, BOSS_TOP).face
@@ -74,12 +76,19 @@ class SaysBossTop(Oracle):
 
 @pytest.mark.parametrize("option", [None, Mode.SUBTRACT])
 def test_a_hole_whose_face_the_networks_get_wrong_is_cut_where_it_is_drawn(
-        stepped, renderer, option):
+    stepped, renderer, option
+):
     cam = view()
     pts, labels = sketch(stepped, HOLE, cam)
     oracle = SaysBossTop(stepped, HOLE, pts, labels, cam, renderer)
-    got = interpret(stepped, [cam.project(p)[0] for p in pts], cam, oracle, renderer,
-                    InterpretOptions(regularize=False, option=option))
+    got = interpret(
+        stepped,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        oracle,
+        renderer,
+        InterpretOptions(regularize=False, option=option),
+    )
     assert not leaves_unchanged(stepped, got.solid)
     assert volume_iou(got.solid, apply_operation(stepped, HOLE)) > 0.97
 
@@ -87,23 +96,25 @@ def test_a_hole_whose_face_the_networks_get_wrong_is_cut_where_it_is_drawn(
 def _hole_drawn(stepped, renderer):
     cam = view()
     pts, labels = sketch(stepped, HOLE, cam)
-    return [cam.project(p)[0] for p in pts], cam, Oracle(stepped, HOLE, pts, labels, cam,
-                                                         renderer)
+    return [cam.project(p)[0] for p in pts], cam, Oracle(stepped, HOLE, pts, labels, cam, renderer)
 
 
-def test_a_reading_that_would_change_nothing_is_refused_saying_so(
-        stepped, renderer, monkeypatch):
+def test_a_reading_that_would_change_nothing_is_refused_saying_so(stepped, renderer, monkeypatch):
     strokes, cam, oracle = _hole_drawn(stepped, renderer)
     # every face reads as the cut into the air (as the GUI check saw on a face above)
-    monkeypatch.setattr(pipeline, "_fit_on_face",
-                        lambda solid, kind, index, *a: [(IN_THE_AIR, index, [0] * len(strokes))])
+    monkeypatch.setattr(
+        pipeline,
+        "_fit_on_face",
+        lambda solid, kind, index, *a: [(IN_THE_AIR, index, [0] * len(strokes))],
+    )
     with pytest.raises(InterpretError, match="would leave the model as it is"):
         interpret(stepped, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
 
 
 @pytest.mark.parametrize("option", [None, Mode.SUBTRACT])  # the designer chose subtract
 def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
-        stepped, renderer, monkeypatch, option):
+    stepped, renderer, monkeypatch, option
+):
     # drawn in the air beside the block, at its top's height; F says the block's top
     cam = view()
     pts, labels = sketch(stepped, IN_THE_AIR, cam)
@@ -118,8 +129,14 @@ def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
 
     monkeypatch.setattr(pipeline, "_fit_on_face", the_air_on_the_blocks_top)
     try:
-        got = interpret(stepped, strokes, cam, oracle, renderer,
-                        InterpretOptions(regularize=False, option=option))
+        got = interpret(
+            stepped,
+            strokes,
+            cam,
+            oracle,
+            renderer,
+            InterpretOptions(regularize=False, option=option),
+        )
     except InterpretError as e:
         assert "would leave the model as it is" in str(e)
     else:  # another face's reading, which does change the model

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A prism's drawing as a corner graph: the labellings its strokes allow."""
+
 import numpy as np
 import pytest
-
 from drawing_fixtures import SIZE, prism_drawing
+
 from Sketch2CADWorkbench.inference.drawing import prism_labellings
 
 
@@ -17,8 +18,7 @@ def test_a_noisy_prism_drawing_allows_its_own_labelling(n):
     # drawn exactly, a triangle's, pentagon's or hexagon's graph splits one way into two
     # outlines and the profiles, a quadrilateral's (a cube's graph) three ways; each
     # outline as start or as end
-    assert len(prism_labellings(prism_drawing(n, 0, noise=0.0)[0], SIZE)) == \
-        (6 if n == 4 else 2)
+    assert len(prism_labellings(prism_drawing(n, 0, noise=0.0)[0], SIZE)) == (6 if n == 4 else 2)
 
 
 def test_strokes_that_draw_no_prism_allow_no_labelling():

@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Structured heads: tokens per stroke and per face, decoding, painting back into F and C,
 the predictor the interpret pipeline can call, and the head's checkpoints."""
+
 import numpy as np
 import pytest
 import torch
 import torch.nn.functional as F
+from drawing_fixtures import prism_drawing
 
 from datagen.strokes import stroke_maps
-from drawing_fixtures import prism_drawing
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.inference.heads import (
     POINTS,
@@ -16,6 +17,7 @@ from Sketch2CADWorkbench.inference.heads import (
     HeadConfig,
     StructuredPredictor,
     StructureHead,
+    _Polylines,
     choose,
     collate,
     count_fits,
@@ -30,7 +32,6 @@ from Sketch2CADWorkbench.inference.heads import (
     save_head,
     stroke_geometry,
     tokens,
-    _Polylines,
 )
 from Sketch2CADWorkbench.inference.models import ModelConfig, Sketch2CADNet, save_checkpoint
 from Sketch2CADWorkbench.sketch.labels import BEVEL_L, BEVEL_L_PRIME, CLASSES, END, PROFILE, START
@@ -43,8 +44,11 @@ def _scene():
     face_id = np.full((SIZE, SIZE), -1, np.int16)
     face_id[4:28, 4:16] = 3
     face_id[4:28, 16:28] = 7
-    strokes = [np.array([[6.0, 8.0], [14.0, 8.0]]), np.array([[6.0, 8.0], [6.0, 24.0]]),
-               np.array([[20.0, 10.0], [26.0, 20.0], [21.0, 25.0]])]
+    strokes = [
+        np.array([[6.0, 8.0], [14.0, 8.0]]),
+        np.array([[6.0, 8.0], [6.0, 24.0]]),
+        np.array([[20.0, 10.0], [26.0, 20.0], [21.0, 25.0]]),
+    ]
     return face_id, strokes
 
 
@@ -76,9 +80,18 @@ def test_a_face_token_holds_its_area_centroid_and_spread(net):
     c = feature_channels(net)
     for fid, token in zip(t.face_ids.tolist(), t.face):
         ys, xs = np.nonzero(face_id == fid)
-        geo = token[c:c + 5].numpy()
-        assert np.allclose(geo, [len(xs) / SIZE ** 2, xs.mean() / SIZE, ys.mean() / SIZE,
-                                 xs.std() / SIZE, ys.std() / SIZE], atol=1e-6)
+        geo = token[c : c + 5].numpy()
+        assert np.allclose(
+            geo,
+            [
+                len(xs) / SIZE**2,
+                xs.mean() / SIZE,
+                ys.mean() / SIZE,
+                xs.std() / SIZE,
+                ys.std() / SIZE,
+            ],
+            atol=1e-6,
+        )
 
 
 def test_a_face_token_counts_the_unets_f_votes_on_it(net):
@@ -92,7 +105,7 @@ def test_a_face_token_counts_the_unets_f_votes_on_it(net):
     for fid, token in zip(t.face_ids.tolist(), t.face):
         on = face_id == fid
         share = votes[:, on].sum(1) / on.sum()
-        assert np.allclose(token[c + 5:c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
+        assert np.allclose(token[c + 5 : c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
 
 
 def test_a_face_token_holds_its_normal_as_seen_in_the_image(net):
@@ -113,8 +126,11 @@ def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
     # the tokens never upsample the coarser decoder maps (factors 4, 2 and 1 here): they
     # must read what pooling F.interpolate's upsampled maps would
     torch.manual_seed(4)
-    net = Sketch2CADNet(ModelConfig(image_size=SIZE, internal_size=SIZE // 2,
-                                    widths=(4, 6, 8, 8), classifier_hidden=8)).eval()
+    net = Sketch2CADNet(
+        ModelConfig(
+            image_size=SIZE, internal_size=SIZE // 2, widths=(4, 6, 8, 8), classifier_hidden=8
+        )
+    ).eval()
     face_id, strokes = _scene()
     face_id[face_id < 0] = 9  # a face along the border, where the upsampling clamps
     x = torch.rand(1, 5, SIZE, SIZE, generator=torch.Generator().manual_seed(5))
@@ -123,8 +139,9 @@ def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
         t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
         i = SIZE // 2
         assert sorted({m.shape[-1] for m in u.maps}) == [i // 4, i // 2, i]
-        up = torch.cat([F.interpolate(m, size=(i, i), mode="bilinear", align_corners=False)
-                        for m in u.maps], 1)[0]                                  # (C, I, I)
+        up = torch.cat(
+            [F.interpolate(m, size=(i, i), mode="bilinear", align_corners=False) for m in u.maps], 1
+        )[0]  # (C, I, I)
         c = up.shape[0]
         ys, xs = np.divmod(np.arange(SIZE * SIZE), SIZE)
         cells = up[:, ys * i // SIZE, xs * i // SIZE]  # each full-size pixel's cell
@@ -133,15 +150,18 @@ def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
             assert torch.allclose(token[:c], cells[:, on].mean(1), atol=1e-5)
         pts = _Polylines.of(strokes).resample(POINTS)
         grid = torch.from_numpy((2 * pts / SIZE - 1).astype(np.float32))[None]
-        at = F.grid_sample(up[None], grid, mode="bilinear", padding_mode="border",
-                           align_corners=False)[0]                               # (C, S, P)
+        at = F.grid_sample(
+            up[None], grid, mode="bilinear", padding_mode="border", align_corners=False
+        )[0]  # (C, S, P)
         assert torch.allclose(t.stroke[:, :c], at.mean(2).T, atol=1e-5)
-        assert torch.allclose(t.stroke[:, c:2 * c], at.amax(2).T, atol=1e-5)
+        assert torch.allclose(t.stroke[:, c : 2 * c], at.amax(2).T, atol=1e-5)
 
 
 def test_a_stroke_token_holds_its_centroid_ends_chord_and_arc():
-    strokes = [np.array([[4.0, 8.0], [4.0, 0.0], [0.0, 0.0]]),  # drawn right to left
-               np.array([[16.0, 16.0]])]                           # a dot
+    strokes = [
+        np.array([[4.0, 8.0], [4.0, 0.0], [0.0, 0.0]]),  # drawn right to left
+        np.array([[16.0, 16.0]]),
+    ]  # a dot
     geo = stroke_geometry(strokes, np.array([[0.0, 1.0], [0.0, 0.0]]), SIZE)
     assert geo.shape == (2, 14)
     px = geo[:, :10] * SIZE  # centroid, ends, (cos 2a, sin 2a), chord, arc; in pixels
@@ -161,8 +181,11 @@ def test_a_stroke_reads_the_same_drawn_either_way(net):
     backward = _tokens(net, [s[::-1] for s in strokes], face_id)
     assert torch.allclose(forward.stroke, backward.stroke, atol=1e-5)
     normal = np.array([[0.3, 0.4]] * len(strokes))
-    assert np.allclose(stroke_geometry(strokes, normal, SIZE),
-                       stroke_geometry([s[::-1] for s in strokes], normal, SIZE), atol=1e-6)
+    assert np.allclose(
+        stroke_geometry(strokes, normal, SIZE),
+        stroke_geometry([s[::-1] for s in strokes], normal, SIZE),
+        atol=1e-6,
+    )
 
 
 def test_a_sketch_without_faces_in_view_still_gives_stroke_tokens(net):
@@ -178,14 +201,15 @@ def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1)).eval()
     cls, roles, faces = head(*collate([a, b]))
     assert cls.shape == (2, 4) and roles.shape == (2, 3, sum(ROLES))
-    assert torch.isinf(faces[1, len(b.face):]).all() and torch.isfinite(faces[0]).all()
+    assert torch.isinf(faces[1, len(b.face) :]).all() and torch.isfinite(faces[0]).all()
 
 
 def test_the_head_reads_a_batch_alike_in_training_and_in_inference(net):
     face_id, strokes = _scene()
     batch = collate([_tokens(net, strokes, face_id), _tokens(net, strokes[1:], face_id)])
-    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=2,
-                                    dropout=0.0))
+    head = StructureHead(
+        HeadConfig(channels=feature_channels(net), width=16, layers=2, dropout=0.0)
+    )
     with torch.no_grad():
         head.end_bias.weight.normal_()
         head.face_bias.weight.normal_()
@@ -218,8 +242,11 @@ def test_a_bevel_gets_exactly_one_profile_l():
 
 def test_a_prism_gets_n_start_n_profile_n_end_strokes():
     # the head reads the far outline of a 3-sided prism half as start: the counts fix it
-    probs = torch.tensor([[0.9, 0.05, 0.05]] * 3 + [[0.1, 0.8, 0.1]] * 3
-                         + [[0.6, 0.0, 0.4], [0.55, 0.0, 0.45], [0.2, 0.0, 0.8]])
+    probs = torch.tensor(
+        [[0.9, 0.05, 0.05]] * 3
+        + [[0.1, 0.8, 0.1]] * 3
+        + [[0.6, 0.0, 0.4], [0.55, 0.0, 0.45], [0.2, 0.0, 0.8]]
+    )
     addsub = CLASSES.index(OperatorType.ADDSUB)
     assert [int(v) for v in probs.argmax(1)].count(START) == 5
     assert decode_roles(probs, addsub) == [START] * 3 + [PROFILE] * 3 + [END] * 3
@@ -227,8 +254,7 @@ def test_a_prism_gets_n_start_n_profile_n_end_strokes():
 
 def test_a_sweep_gets_one_start_two_profiles_one_end():
     probs = torch.tensor([[0.7, 0.2, 0.1], [0.1, 0.8, 0.1], [0.2, 0.7, 0.1], [0.6, 0.1, 0.3]])
-    assert decode_roles(probs, CLASSES.index(OperatorType.SWEEP)) == [START, PROFILE,
-                                                                       PROFILE, END]
+    assert decode_roles(probs, CLASSES.index(OperatorType.SWEEP)) == [START, PROFILE, PROFILE, END]
 
 
 def test_counts_no_drawing_has_keep_each_strokes_likeliest_role():
@@ -244,7 +270,7 @@ def test_the_class_token_says_which_drawings_have_that_many_strokes(net):
     assert fits[OperatorType.EXTRUDE] == (1, 1, 1) and fits[OperatorType.BEVEL] == (1, 0, 0)
     assert fits[OperatorType.SWEEP] == (0, 1, 0) and fits[OperatorType.ADDSUB] == (0, 0, 1)
     face_id, strokes = _scene()
-    assert _tokens(net, strokes, face_id).cls[-len(CLASSES):].tolist() == count_fits(3)
+    assert _tokens(net, strokes, face_id).cls[-len(CLASSES) :].tolist() == count_fits(3)
 
 
 def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
@@ -312,8 +338,9 @@ def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path)
         f, c = p.segment(x2, op)
         roles = p.stroke_roles(x2, op)
         assert roles.shape == (3, ROLES[CLASSES.index(op)])
-        assert np.array_equal(c, paint_curve(strokes, decode_roles(torch.from_numpy(roles),
-                                                                   CLASSES.index(op)), SIZE))
+        assert np.array_equal(
+            c, paint_curve(strokes, decode_roles(torch.from_numpy(roles), CLASSES.index(op)), SIZE)
+        )
         faces = p.face_probabilities(x2, op)
         assert set(faces) == {3, 7} and abs(sum(faces.values()) - 1) < 1e-5
         best = max(faces, key=faces.get)
@@ -347,7 +374,7 @@ def _logits(probs: list[list[float]], op: int) -> torch.Tensor:
     """(S, 10) role logits whose operator-op probabilities are `probs`."""
     out = torch.full((len(probs), sum(ROLES)), -30.0)
     off = sum(ROLES[:op])
-    out[:, off:off + ROLES[op]] = torch.tensor(probs).log()
+    out[:, off : off + ROLES[op]] = torch.tensor(probs).log()
     return out
 
 
@@ -355,9 +382,11 @@ def test_a_prism_is_read_as_its_drawing_allows():
     # the head's likeliest roles take a side edge for an outline side and that side for a
     # side edge; counts alone keep that (3 of each), the drawing's corners do not
     addsub = CLASSES.index(OperatorType.ADDSUB)
-    strokes, truth = prism_drawing(3, 0, shift=(0.0, -70.0))   # the end outline above
-    probs = [[0.8, 0.1, 0.1] if t == START else [0.1, 0.8, 0.1] if t == PROFILE
-             else [0.1, 0.1, 0.8] for t in truth]
+    strokes, truth = prism_drawing(3, 0, shift=(0.0, -70.0))  # the end outline above
+    probs = [
+        [0.8, 0.1, 0.1] if t == START else [0.1, 0.8, 0.1] if t == PROFILE else [0.1, 0.1, 0.8]
+        for t in truth
+    ]
     s, p = truth.index(START), truth.index(PROFILE)
     probs[s], probs[p] = [0.3, 0.6, 0.1], [0.6, 0.3, 0.1]
     faces = torch.tensor([[0.0] * 4, [0.0] * 4])
@@ -372,8 +401,12 @@ def test_the_end_outline_lies_from_the_start_along_the_chosen_faces_normal():
     sweep = CLASSES.index(OperatorType.SWEEP)
     t = np.linspace(0, 2 * np.pi, 40)
     ring = np.stack([30 * np.cos(t), 10 * np.sin(t)], 1)
-    strokes = [ring + (128, 180), np.array([[98.0, 180.0], [98.0, 100.0]]),
-               np.array([[158.0, 180.0], [158.0, 100.0]]), ring + (128, 100)]
+    strokes = [
+        ring + (128, 180),
+        np.array([[98.0, 180.0], [98.0, 100.0]]),
+        np.array([[158.0, 180.0], [158.0, 100.0]]),
+        ring + (128, 100),
+    ]
     sure = [[0.9, 0.05, 0.05], [0.05, 0.9, 0.05], [0.05, 0.9, 0.05], [0.05, 0.05, 0.9]]
     faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.5]])
     c = choose(_logits(sure, sweep), faces, sweep, strokes, _two_normals(), 256)
@@ -393,12 +426,12 @@ def test_a_bevels_copy_lies_from_its_profile_along_the_crease_down_the_chosen_fa
     # with the upper stroke as l is read instead
     bevel = CLASSES.index(OperatorType.BEVEL)
     x = np.linspace(-20.0, 20.0, 20)
-    arc = np.stack([120.0 + x, 90.0 + 0.02 * x ** 2], 1)
-    strokes = [arc, arc + (0.0, 80.0)]                   # l on top, l' 80 px below it
+    arc = np.stack([120.0 + x, 90.0 + 0.02 * x**2], 1)
+    strokes = [arc, arc + (0.0, 80.0)]  # l on top, l' 80 px below it
     normals = np.array([[0.0, -0.8], [-0.57, 0.57]])
-    lower_as_l = [[0.6, 0.4], [0.3, 0.7]]               # (l', l) probabilities per stroke
+    lower_as_l = [[0.6, 0.4], [0.3, 0.7]]  # (l', l) probabilities per stroke
     faces = torch.tensor([[0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
     alone = choose(_logits(lower_as_l, bevel), faces, bevel, strokes, np.zeros((2, 2)), 256)
-    assert alone.roles == [BEVEL_L_PRIME, BEVEL_L] and alone.face == 1   # head-on: no tie
+    assert alone.roles == [BEVEL_L_PRIME, BEVEL_L] and alone.face == 1  # head-on: no tie
     c = choose(_logits(lower_as_l, bevel), faces, bevel, strokes, normals, 256)
     assert c.roles == [BEVEL_L, BEVEL_L_PRIME] and c.face == 0

@@ -4,6 +4,7 @@
 generator's synthesis with level-1 wobble (tests/inference/holes.py), with subtract
 chosen in the panel. Without a choice a hole and a boss standing on its rim draw the
 same lines (paper, Fig. 5b): `scripts/hole_rate.py` prints both rates for more holes."""
+
 from holes import designer_holes, read_as_the_hole
 
 from Sketch2CADWorkbench.brep.protocol import Mode
@@ -13,7 +14,10 @@ from Sketch2CADWorkbench.render.maps import MapRenderer
 
 def test_nine_of_ten_holes_drawn_with_subtract_chosen_are_read_as_those_holes():
     predictor, renderer = load_predictor(), MapRenderer()
-    missed = [why for hole in designer_holes(10, seed=17001, renderer=renderer,
-                                                         hidden_lines=True)
-              for why, _ in [read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)] if why]
+    missed = [
+        why
+        for hole in designer_holes(10, seed=17001, renderer=renderer, hidden_lines=True)
+        for why, _ in [read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)]
+        if why
+    ]
     assert len(missed) <= 1, missed

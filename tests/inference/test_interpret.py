@@ -5,6 +5,7 @@ The stand-in returns the ground-truth base face and curve maps in the context vi
 pipeline itself frames, so these tests check everything but the networks: framing,
 rendering, counting, fitting, the B-rep operation, symmetry and the error path.
 """
+
 import subprocess
 import sys
 from dataclasses import replace
@@ -84,8 +85,9 @@ class Oracle:
         ctx = self.context()
         face = resolve_face(self.solid, self.op.face).face
         index = next(i for i, f in enumerate(self.solid.Faces()) if f.isSame(face))
-        curve = rasterize(ctx.strokes, ctx.camera.width, ctx.camera.height,
-                          [float(l) for l in self.labels])
+        curve = rasterize(
+            ctx.strokes, ctx.camera.width, ctx.camera.height, [float(l) for l in self.labels]
+        )
         return (ctx.maps.face_id == index).astype(np.float32), curve
 
 
@@ -130,8 +132,12 @@ def front_bevel():
     """A box and a round of radius 6 at its front face's top right corner."""
     front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
     k = 0.5523  # quarter-circle Bezier handle
-    arc = ((14.0, -15.0, 10.0), (14.0 + 6 * k, -15.0, 10.0), (20.0, -15.0, 4.0 + 6 * k),
-           (20.0, -15.0, 4.0))
+    arc = (
+        (14.0, -15.0, 10.0),
+        (14.0 + 6 * k, -15.0, 10.0),
+        (20.0, -15.0, 4.0 + 6 * k),
+        (20.0, -15.0, 4.0),
+    )
     return make_box(Box((40, 30, 20))), Bevel(front, (20.0, -15.0, 10.0), (20.0, 15.0, 10.0), arc)
 
 
@@ -140,8 +146,14 @@ def test_a_bevel_stands_on_the_face_its_profile_is_drawn_on_whatever_f_says(rend
     cam = view()
     pts, labels = sketch(box, op, cam)
     wrong_face = Oracle(box, replace(op, face=TOP), pts, labels, cam, renderer)
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam, wrong_face, renderer,
-                    InterpretOptions(regularize=False))
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        wrong_face,
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
@@ -151,14 +163,23 @@ def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_s
     box, op = front_bevel()
     cam = view()
     pts, labels = sketch(box, op, cam)
-    strokes = [cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
-               for p, label in zip(pts, labels)]
+    strokes = [
+        cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
+        for p, label in zip(pts, labels)
+    ]
     ctx = to_context(box, strokes, cam, renderer)
     (drawn_l,) = [s for s, label in zip(ctx.strokes, labels) if label == BEVEL_L]
-    assert face_at(box, interpret_module.face_under_stroke(drawn_l, ctx.maps.face_id)) \
-        .normalAt().toTuple() == pytest.approx((0, 0, 1))
-    got = interpret(box, strokes, cam, Oracle(box, op, pts, labels, cam, renderer), renderer,
-                    InterpretOptions(regularize=False))
+    assert face_at(
+        box, interpret_module.face_under_stroke(drawn_l, ctx.maps.face_id)
+    ).normalAt().toTuple() == pytest.approx((0, 0, 1))
+    got = interpret(
+        box,
+        strokes,
+        cam,
+        Oracle(box, op, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert got.operations[0].face.normal == pytest.approx((0, -1, 0))
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
@@ -173,9 +194,14 @@ def test_when_the_classifiers_choice_does_not_fit_the_next_operator_is_read(rend
         def classify(self, inputs):
             return np.array([0.7, 0.05, 0.2, 0.05])
 
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
-                    SaysExtrude(box, op, pts, labels, cam, renderer), renderer,
-                    InterpretOptions(regularize=False))
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        SaysExtrude(box, op, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert got.op_type is OperatorType.ADDSUB
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
 
@@ -192,20 +218,29 @@ def test_a_prism_is_read_as_a_prism_however_sure_the_classifier_is_of_a_sweep(re
         def classify(self, inputs):
             return np.array([0.0004, 1e-8, 0.0034, 0.9962])
 
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
-                    SaysSweep(box, op, pts, labels, cam, renderer), renderer,
-                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        SaysSweep(box, op, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False, option=Mode.SUBTRACT),
+    )
     assert got.op_type is OperatorType.ADDSUB
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.97
 
 
-@pytest.mark.parametrize("first_px, p_extrude, kept", [
-    (53.0, 0.45, OperatorType.EXTRUDE),  # a doubtful sweep gives way to a likely near fit
-    (53.0, 0.005, OperatorType.SWEEP),   # ... not to an unlikely one (random strokes)
-    (2.9, 0.45, OperatorType.SWEEP),     # a good first reading is not replaced by a worse
-])
-def test_a_doubtful_reading_gives_way_only_to_a_likely_near_fit(monkeypatch, first_px,
-                                                                  p_extrude, kept):
+@pytest.mark.parametrize(
+    "first_px, p_extrude, kept",
+    [
+        (53.0, 0.45, OperatorType.EXTRUDE),  # a doubtful sweep gives way to a likely near fit
+        (53.0, 0.005, OperatorType.SWEEP),  # ... not to an unlikely one (random strokes)
+        (2.9, 0.45, OperatorType.SWEEP),  # a good first reading is not replaced by a worse
+    ],
+)
+def test_a_doubtful_reading_gives_way_only_to_a_likely_near_fit(
+    monkeypatch, first_px, p_extrude, kept
+):
     # level-3 sample 119 of seed 30003: extrusion or sweep at 0.5 each; the sweep, read
     # first, lay 53 px from the strokes, the extrusion 3.4 px (just past GOOD_FIT_PX)
     error_px = {OperatorType.SWEEP: first_px, OperatorType.EXTRUDE: 3.4}
@@ -223,9 +258,17 @@ def test_a_doubtful_reading_gives_way_only_to_a_likely_near_fit(monkeypatch, fir
     probs[CLASSES.index(OperatorType.EXTRUDE)] = p_extrude
     probs[CLASSES.index(OperatorType.SWEEP)] = 1.0 - p_extrude
     read = []
-    _read_operators(None, [OperatorType.SWEEP, OperatorType.EXTRUDE], probs, Segments(),
-                    SimpleNamespace(inputs=None), InterpretOptions(), {"networks": 0.0, "fitting": 0.0}, [],
-                    read)
+    _read_operators(
+        None,
+        [OperatorType.SWEEP, OperatorType.EXTRUDE],
+        probs,
+        Segments(),
+        SimpleNamespace(inputs=None),
+        InterpretOptions(),
+        {"networks": 0.0, "fitting": 0.0},
+        [],
+        read,
+    )
     assert min(read, key=lambda r: r[0])[1] is kept
 
 
@@ -243,8 +286,13 @@ def test_when_the_face_map_ranks_the_base_face_second_the_extrusion_is_still_fou
             side = ids == int(others.argmax())  # the biggest other face in view
             return np.where(side, 0.9, 0.45 * top).astype(np.float32), curve
 
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam,
-                    SideFaceFirst(box, op, pts, labels, cam, renderer), renderer)
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        SideFaceFirst(box, op, pts, labels, cam, renderer),
+        renderer,
+    )
     (fitted,) = got.operations
     assert fitted.face.normal == pytest.approx((0, 0, 1))
     assert fitted.d == pytest.approx(9.0, abs=0.5)
@@ -275,8 +323,11 @@ def top_extrusion_on_its_face(renderer):
 def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
     box, op, ctx = top_extrusion(renderer)
     calls = []
-    monkeypatch.setattr(interpret_module, "sketch_distances",
-                        lambda *a, **k: calls.append(a) or sketch_distances(*a, **k))
+    monkeypatch.setattr(
+        interpret_module,
+        "sketch_distances",
+        lambda *a, **k: calls.append(a) or sketch_distances(*a, **k),
+    )
     first = ctx.sketch_distances(box, op)
     assert ctx.sketch_distances(box, op) is first and len(calls) == 1
     for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes)):
@@ -289,8 +340,9 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
 def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, monkeypatch):
     box, op, ctx = top_extrusion(renderer)
     resolved = []
-    monkeypatch.setattr(interpret_module, "resolve_face",
-                        lambda *a: resolved.append(a) or resolve_face(*a))
+    monkeypatch.setattr(
+        interpret_module, "resolve_face", lambda *a: resolved.append(a) or resolve_face(*a)
+    )
     for d in (9.0, 4.0, -3.0):
         ctx.sketch_distances(box, Extrude(TOP, d))
     assert len(resolved) == 1
@@ -323,7 +375,8 @@ def top_prism(renderer):
 
 @pytest.mark.parametrize("off_px, refined_count", [(3.0, 1), (0.0, 2)])
 def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
-        renderer, monkeypatch, off_px, refined_count):
+    renderer, monkeypatch, off_px, refined_count
+):
     box, op, labels, ctx, index, curve = top_prism(renderer)
     # a second reading of the roles, which fits a prism off_px off the strokes: 3 px is
     # beyond REFINE_WITHIN of the first (within a pixel of them), 0 px within it
@@ -336,8 +389,9 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
 
     refined, refine = [], PrismFit.refined
     monkeypatch.setattr(PrismFit, "refined", lambda fit: refined.append(fit) or refine(fit))
-    fits = interpret_module._fit_by_roles(fit, OperatorType.ADDSUB, box, index, curve, ctx,
-                                          InterpretOptions())
+    fits = interpret_module._fit_by_roles(
+        fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions()
+    )
     assert len(fits) == 2 and len(refined) == refined_count
     assert fits[0][0] in [refine(f) for f in refined]  # the first is a refined one
     assert volume_iou(apply_operation(box, fits[0][0]), apply_operation(box, op)) > 0.97
@@ -351,25 +405,36 @@ def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, m
 
     monkeypatch.setattr(interpret_module, "stroke_roles", no_other_reading)
     scored = []
-    monkeypatch.setattr(interpret_module, "sketch_distances",
-                        lambda *a, **k: scored.append(a[1]) or sketch_distances(*a, **k))
+    monkeypatch.setattr(
+        interpret_module,
+        "sketch_distances",
+        lambda *a, **k: scored.append(a[1]) or sketch_distances(*a, **k),
+    )
     ((fitted, _, _),) = interpret_module._fit_by_roles(
-        lambda *a: prism_fit(*a[:4], labels, a[5]), OperatorType.ADDSUB, box, index, curve,
-        ctx, InterpretOptions())
+        lambda *a: prism_fit(*a[:4], labels, a[5]),
+        OperatorType.ADDSUB,
+        box,
+        index,
+        curve,
+        ctx,
+        InterpretOptions(),
+    )
     assert scored == [fitted]  # the refined prism only
     assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
 
 
 def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
-        renderer, monkeypatch):
+    renderer, monkeypatch
+):
     box, op, labels, ctx, index, curve = top_prism(renderer)
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
     monkeypatch.setattr(interpret_module, "stroke_roles", lambda *a, **k: other)
     undrawable = []
 
     def fit(solid, face, camera, strokes, roles, option):
-        got = prism_fit(solid, face, camera, [s + 3.0 * (roles == other) for s in strokes],
-                        labels, option)
+        got = prism_fit(
+            solid, face, camera, [s + 3.0 * (roles == other) for s in strokes], labels, option
+        )
         if roles == other:
             undrawable.append(got.operation)
         return got
@@ -380,13 +445,13 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
         return sketch_distances(solid, op, *args, **kwargs)
 
     monkeypatch.setattr(interpret_module, "sketch_distances", distances)
-    ((fitted, _, _),) = interpret_module._fit_by_roles(fit, OperatorType.ADDSUB, box, index,
-                                                       curve, ctx, InterpretOptions())
+    ((fitted, _, _),) = interpret_module._fit_by_roles(
+        fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions()
+    )
     assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
 
 
-def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
-        renderer, monkeypatch):
+def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(renderer, monkeypatch):
     box, ctx, top, _, curve = top_extrusion_on_its_face(renderer)
     ids = ctx.maps.face_id
     side = ids == int(np.bincount(ids[(ids >= 0) & (top == 0)]).argmax())
@@ -407,8 +472,9 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(
     monkeypatch.setattr(interpret_module, "fit_extrude", fit_extrude)
     no_polygon_reading(monkeypatch)
     monkeypatch.setattr(interpret_module, "sketch_distances", distances)
-    got = interpret_module.read_operation(box, OperatorType.EXTRUDE, face_prob, curve, ctx,
-                                          InterpretOptions())
+    got = interpret_module.read_operation(
+        box, OperatorType.EXTRUDE, face_prob, curve, ctx, InterpretOptions()
+    )
     assert got.op.face.normal == pytest.approx((0, 0, 1))
     assert got.op.d == pytest.approx(9.0, abs=0.5)
 
@@ -431,8 +497,11 @@ def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeyp
 
 def test_an_extrusion_read_by_its_ends_far_from_the_outline_is_refused(renderer, monkeypatch):
     box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
-    monkeypatch.setattr(interpret_module, "fit_extrude_by_ends",
-                        lambda solid, face, *args: Extrude(face_ref_of(face), 30.0))
+    monkeypatch.setattr(
+        interpret_module,
+        "fit_extrude_by_ends",
+        lambda solid, face, *args: Extrude(face_ref_of(face), 30.0),
+    )
     fits = interpret_module._fit_extrude_on_face(box, index, curve, ctx, InterpretOptions())
     assert fits[0][0].d == pytest.approx(9.0, abs=0.5)  # the line search's reading
 
@@ -444,7 +513,8 @@ def no_polygon_reading(monkeypatch):
 
 @pytest.mark.parametrize("by_ends, by_closeness", [(12.0, 9.0), (9.0, 12.0)])
 def test_of_an_extrusions_two_readings_the_one_that_explains_the_strokes_comes_first(
-        renderer, monkeypatch, by_ends, by_closeness):
+    renderer, monkeypatch, by_ends, by_closeness
+):
     box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
     def fit_extrude(solid, face, camera, offset, sides, end_weight=None):
@@ -479,7 +549,8 @@ TOP_SWEEP = Sweep(TOP, (4.0, -2.0, 10.0), 6.0, 4.0, 9.0, ((6.0, 3.0), (4.0, 6.0)
 
 @pytest.mark.parametrize("refined_d, refined_first", [(12.0, False), (9.0, True)])
 def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
-        renderer, monkeypatch, refined_d, refined_first):
+    renderer, monkeypatch, refined_d, refined_first
+):
     box, _, ctx, index, _, curve = drawn_on_top(renderer, TOP_SWEEP)
     fitted = []
 
@@ -489,10 +560,14 @@ def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
         return got
 
     # the straight reading far off (d 30), after both
-    monkeypatch.setattr(SweepFit, "refined", lambda got, straight=False: replace(
-        got.operation, d=30.0 if straight else refined_d))
-    fits = interpret_module._fit_by_roles(fit, OperatorType.SWEEP, box, index, curve, ctx,
-                                          InterpretOptions())
+    monkeypatch.setattr(
+        SweepFit,
+        "refined",
+        lambda got, straight=False: replace(got.operation, d=30.0 if straight else refined_d),
+    )
+    fits = interpret_module._fit_by_roles(
+        fit, OperatorType.SWEEP, box, index, curve, ctx, InterpretOptions()
+    )
     assert [op in fitted for op, _, _ in fits[:2]] == [not refined_first, refined_first]
     assert {op.d for op, _, _ in fits[:2]} == {refined_d, fitted[0].d}
     assert fits[2][0].d == 30.0
@@ -500,8 +575,9 @@ def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
 
 def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, monkeypatch):
     box, _, ctx, _, face_prob, curve = drawn_on_top(renderer, TOP_SWEEP)
-    monkeypatch.setattr(SweepFit, "refined",
-                        lambda got, straight=False: replace(got.operation, d=9.0))
+    monkeypatch.setattr(
+        SweepFit, "refined", lambda got, straight=False: replace(got.operation, d=9.0)
+    )
     build = interpret_module.apply_operation
 
     def apply_operation(solid, op, face=None):  # OCCT refuses the refined profile
@@ -510,8 +586,9 @@ def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, mon
         return build(solid, op, face)
 
     monkeypatch.setattr(interpret_module, "apply_operation", apply_operation)
-    got = interpret_module.read_operation(box, OperatorType.SWEEP, face_prob, curve, ctx,
-                                          InterpretOptions())
+    got = interpret_module.read_operation(
+        box, OperatorType.SWEEP, face_prob, curve, ctx, InterpretOptions()
+    )
     assert got.op.d != 9.0 and got.op.d == pytest.approx(9.0, abs=0.5)
     assert got.result is not None
 
@@ -519,8 +596,9 @@ def test_a_refined_sweep_that_does_not_build_leaves_the_fitted_one(renderer, mon
 def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
     # pipe session step 1: a profile stroke's wobble, fitted as a bulge that the joint
     # refinement keeps, made the cylinder's radii and length up for it
-    cylinder = Sweep(TOP, (4.0, -2.0, 10.0), 5.0, 5.0, 9.0, straight_profile(5.0, 5.0, 9.0),
-                     Mode.ADD)
+    cylinder = Sweep(
+        TOP, (4.0, -2.0, 10.0), 5.0, 5.0, 9.0, straight_profile(5.0, 5.0, 9.0), Mode.ADD
+    )
     box = make_box(Box((40, 30, 20)))
     cam = view()
     pts, labels = sketch(box, cylinder, cam)
@@ -534,11 +612,13 @@ def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
     ctx = oracle.context()
     face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
     index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
-    fits = interpret_module._fit_by_roles(sweep_fit, OperatorType.SWEEP, box, index, curve,
-                                          ctx, InterpretOptions())
+    fits = interpret_module._fit_by_roles(
+        sweep_fit, OperatorType.SWEEP, box, index, curve, ctx, InterpretOptions()
+    )
     first = fits[0][0]
     assert np.array(first.profile) == pytest.approx(
-        np.array(straight_profile(first.r0, first.r1, first.d)), abs=1e-6)
+        np.array(straight_profile(first.r0, first.r1, first.d)), abs=1e-6
+    )
     assert (first.r0, first.r1, first.d) == pytest.approx((5.0, 5.0, 9.0), abs=0.02)
     # the bulged readings stay readings
     assert any(abs(op.profile[0][0] - op.r0) > 0.5 for op, _, _ in fits[1:])
@@ -547,8 +627,9 @@ def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
 def test_snapping_asks_whether_the_strokes_still_fit_a_feature_moved(renderer, monkeypatch):
     op = AddSubPrism(TOP, ((6, -5, 10), (14, -5, 10), (14, 5, 10), (6, 5, 10)), 6.0, Mode.ADD)
     box, _, ctx, _, face_prob, curve = drawn_on_top(renderer, op)
-    reading = interpret_module.read_operation(box, OperatorType.ADDSUB, face_prob, curve, ctx,
-                                              InterpretOptions())
+    reading = interpret_module.read_operation(
+        box, OperatorType.ADDSUB, face_prob, curve, ctx, InterpretOptions()
+    )
     asked = []
 
     def regularize(solid, op, face, view, step, tol, skip, strokes):
@@ -570,8 +651,9 @@ def test_mirror_option_adds_the_reflected_prism(renderer):
     cam = view()
     pts, labels = sketch(box, op, cam)
     oracle = Oracle(box, op, pts, labels, cam, renderer)
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer,
-                    InterpretOptions(symmetry="x"))
+    got = interpret(
+        box, [cam.project(p)[0] for p in pts], cam, oracle, renderer, InterpretOptions(symmetry="x")
+    )
     assert len(got.operations) == 2
     bb = got.solid.BoundingBox()
     assert bb.zmax == pytest.approx(16.0, abs=0.5)
@@ -593,8 +675,9 @@ def test_a_meaningless_sketch_is_refused_and_the_solid_kept(renderer):
 
 def test_interpret_command_rejects_a_broken_session(tmp_path):
     (tmp_path / "s.json").write_text('{"format": "sketch2cad-session", "version": 1}')
-    out = subprocess.run([*CLI, "interpret", str(tmp_path / "s.json")], capture_output=True,
-                         text=True, timeout=120)
+    out = subprocess.run(
+        [*CLI, "interpret", str(tmp_path / "s.json")], capture_output=True, text=True, timeout=120
+    )
     assert out.returncode == 2 and "s.json: session: missing key" in out.stderr
 
 
@@ -603,13 +686,18 @@ def test_a_bevel_is_found_when_the_curve_map_takes_the_offset_profile_for_the_pr
     cam = view()
     pts, labels = sketch(box, op, cam)
     swapped = Oracle(box, op, pts, [1 - label for label in labels], cam, renderer)
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam, swapped, renderer,
-                    InterpretOptions(regularize=False))
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        swapped,
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
-def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer_chose(
-        renderer):
+def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer_chose(renderer):
     box = make_box(Box((40, 30, 20)))
     low = AddSubPrism(TOP, ((-6, -5, 10), (2, -5, 10), (2, 3, 10), (-6, 3, 10)), 4.0, Mode.ADD)
     tall = replace(low, d=30.0)  # its top, slid back along the view onto f's plane, leaves f
@@ -620,17 +708,24 @@ def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer
         strokes = [cam.project(p)[0] for p in pts]
         got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
         assert got.operations[0].mode is Mode.ADD and got.other_option is other
-    chosen = interpret(box, strokes, cam, oracle, renderer,
-                       InterpretOptions(regularize=False, option=Mode.ADD))
+    chosen = interpret(
+        box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False, option=Mode.ADD)
+    )
     assert chosen.other_option is None
 
 
-@pytest.mark.parametrize("strokes,message", [
-    ([np.array([[100.0, 100.0], [100.0, 100.0]])], "span less than 3.0 pixels"),
-    ([np.array([[0.0, 0.0], [5.0, 5.0]])] * 201, "201 strokes: one operation takes at most 200"),
-    ([np.array([[0.0, 0.0], [np.nan, 5.0]])], "not a finite number"),
-    ([], "no strokes"),
-])
+@pytest.mark.parametrize(
+    "strokes,message",
+    [
+        ([np.array([[100.0, 100.0], [100.0, 100.0]])], "span less than 3.0 pixels"),
+        (
+            [np.array([[0.0, 0.0], [5.0, 5.0]])] * 201,
+            "201 strokes: one operation takes at most 200",
+        ),
+        ([np.array([[0.0, 0.0], [np.nan, 5.0]])], "not a finite number"),
+        ([], "no strokes"),
+    ],
+)
 def test_a_sketch_no_operation_can_be_read_from_is_refused_at_once(strokes, message):
     with pytest.raises(InterpretError, match=message):
         check_sketch(strokes)
@@ -640,13 +735,15 @@ def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged
     from dataclasses import replace as with_
 
     from Sketch2CADWorkbench.inference.interpret import DOUBT, Interpretation, SketchFit
+
     ok = SketchFit(**{k: 0.0 for k in SketchFit.MEASURES if k != "confidence"}, confidence=1.0)
     ok = with_(ok, **{k: v for k, v in DOUBT.items() if k != "confidence"})
     base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None, fit=ok)
     assert not base.doubtful and base.doubt() == ""
     for name, limit in DOUBT.items():
-        far = with_(base, fit=with_(ok, **{name: limit - 0.2 if name == "confidence"
-                                           else limit + 0.2}))
+        far = with_(
+            base, fit=with_(ok, **{name: limit - 0.2 if name == "confidence" else limit + 0.2})
+        )
         assert far.doubtful and far.fit.passed() == [name]
         assert far.doubt().startswith("the strokes do not look much like this bevel: ")
 
@@ -655,8 +752,12 @@ def off_centre_boss(renderer):
     """A square boss drawn 0.4 mm off a box's top face's centre, 7.3 mm tall: the box,
     the camera, the strokes and a stand-in for the networks."""
     box = make_box(Box((40, 30, 20)))
-    op = AddSubPrism(TOP, ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0),
-                           (-4.6, 5.0, 10.0)), 7.3, Mode.ADD)
+    op = AddSubPrism(
+        TOP,
+        ((-4.6, -5.0, 10.0), (5.4, -5.0, 10.0), (5.4, 5.0, 10.0), (-4.6, 5.0, 10.0)),
+        7.3,
+        Mode.ADD,
+    )
     cam = view()
     pts, labels = sketch(box, op, cam)
     return box, cam, [cam.project(p)[0] for p in pts], Oracle(box, op, pts, labels, cam, renderer)
@@ -670,15 +771,22 @@ def test_a_reading_records_its_snaps_and_one_can_be_undone(renderer):
     (snapped,) = got.operations
     assert np.mean(snapped.polygon, axis=0)[:2] == pytest.approx((0, 0), abs=1e-6)
     assert snapped.d == pytest.approx(7.0)
-    undone = interpret(box, strokes, cam, oracle, renderer,
-                       InterpretOptions(snap_step=1.0, skip_snaps=frozenset({"position"})))
+    undone = interpret(
+        box,
+        strokes,
+        cam,
+        oracle,
+        renderer,
+        InterpretOptions(snap_step=1.0, skip_snaps=frozenset({"position"})),
+    )
     assert "position" not in [s.key for s in undone.snaps]
     assert np.mean(undone.operations[0].polygon, axis=0)[0] == pytest.approx(0.4, abs=0.3)
     assert undone.operations[0].d == pytest.approx(7.0)
 
 
 def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
-        renderer, monkeypatch):
+    renderer, monkeypatch
+):
     box, cam, strokes, oracle = off_centre_boss(renderer)
     snapped = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
     assert snapped.snaps and not snapped.unsnapped
@@ -686,6 +794,7 @@ def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
     def off_the_face(solid, fitted, face, view, step, tol, skip, fits):  # OCCT refuses it
         lifted = tuple((x, y, z + 5.0) for x, y, z in fitted.polygon)
         return Regularized(replace(fitted, polygon=lifted), snapped.snaps)
+
     monkeypatch.setattr(interpret_module, "regularize_operation", off_the_face)
     got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(snap_step=1.0))
     drawn = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
@@ -698,15 +807,20 @@ def test_a_reading_whose_snapped_shape_does_not_build_stays_as_drawn_saying_why(
 def test_a_bevel_along_a_whole_edge_the_plane_halves_is_not_mirrored_onto_itself():
     box = make_box(Box((40, 30, 20)))
     # the front face's top-right corner rounded through the whole depth (y = -15 to 15)
-    op = Bevel(FaceRef((0, -15, 0), (0, -1, 0)), (20, -15, 10), (20, 15, 10),
-               ((16, -15, 10), (18.2, -15, 10), (20, -15, 8.2), (20, -15, 6)))
+    op = Bevel(
+        FaceRef((0, -15, 0), (0, -1, 0)),
+        (20, -15, 10),
+        (20, 15, 10),
+        ((16, -15, 10), (18.2, -15, 10), (20, -15, 8.2), (20, -15, 6)),
+    )
     alone = apply_operation(box, op)
     ops, result = apply_with_symmetry(box, op, "y")
     assert ops == (op,) and result.Volume() == pytest.approx(alone.Volume(), rel=1e-9)
     ops, result = apply_with_symmetry(box, op, "x")  # the other side's edge: mirrored
     assert len(ops) == 2
-    assert box.Volume() - result.Volume() == pytest.approx(2 * (box.Volume() - alone.Volume()),
-                                                           rel=1e-6)
+    assert box.Volume() - result.Volume() == pytest.approx(
+        2 * (box.Volume() - alone.Volume()), rel=1e-6
+    )
 
 
 def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(renderer):
@@ -714,9 +828,17 @@ def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(r
     # onto the plate behind it along the view rays: the reading there stands where the
     # designer could not see (its base centre behind the post's top), whatever F says.
     plate = make_box(Box((70.0, 70.0, 10.0)))
-    post = apply_operation(plate, Sweep(FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
-                                        (0.0, 0.0, 5.0), 3.0, 3.0, 60.0,
-                                        ((3.0, 20.0), (3.0, 40.0))))
+    post = apply_operation(
+        plate,
+        Sweep(
+            FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+            (0.0, 0.0, 5.0),
+            3.0,
+            3.0,
+            60.0,
+            ((3.0, 20.0), (3.0, 40.0)),
+        ),
+    )
     top = FaceRef((0.0, 0.0, 65.0), (0.0, 0.0, 1.0))
     shade = Sweep(top, (0.0, 0.0, 65.0), 8.0, 25.0, 25.0, ((12.0, 10.0), (22.0, 18.0)))
     d = np.array([-0.44, -0.23, -0.87])
@@ -727,30 +849,46 @@ def test_a_shade_drawn_around_a_posts_top_stands_on_it_not_on_the_plate_behind(r
         def segment(self, inputs, op_type):
             _, curve = super().segment(inputs, op_type)
             ids = self.context().maps.face_id
-            plate_top = next(i for i, f in enumerate(self.solid.Faces())
-                             if f.geomType() == "PLANE" and f.Center().z == pytest.approx(5.0))
+            plate_top = next(
+                i
+                for i, f in enumerate(self.solid.Faces())
+                if f.geomType() == "PLANE" and f.Center().z == pytest.approx(5.0)
+            )
             return (ids == plate_top).astype(np.float32), curve
 
-    got = interpret(post, [cam.project(p)[0] for p in pts], cam,
-                    PlateFirst(post, shade, pts, labels, cam, renderer), renderer,
-                    InterpretOptions(regularize=False))
+    got = interpret(
+        post,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        PlateFirst(post, shade, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     (fitted,) = got.operations
     assert fitted.face.point[2] == pytest.approx(65.0)
     assert np.asarray(fitted.center)[:2] == pytest.approx((0.0, 0.0), abs=0.5)
     assert volume_iou(got.solid, apply_operation(post, shade)) > 0.95
 
 
-def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_another(
-        renderer):
+def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_another(renderer):
     # examples/sessions/pipe.json step 3: a bore drawn down a post, the classifier sure of
     # an extrusion (p 0.9997, sweep 0.0003); the designer chose subtract, a primitive's
     box = make_box(Box((40, 30, 10)))
-    post = apply_operation(box, Sweep(FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
-                                      (0.0, 0.0, 5.0), 8.0, 8.0, 40.0,
-                                      ((8.0, 40 / 3), (8.0, 80 / 3))))
+    post = apply_operation(
+        box,
+        Sweep(
+            FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+            (0.0, 0.0, 5.0),
+            8.0,
+            8.0,
+            40.0,
+            ((8.0, 40 / 3), (8.0, 80 / 3)),
+        ),
+    )
     top = FaceRef((0.0, 0.0, 45.0), (0.0, 0.0, 1.0))
-    bore = Sweep(top, (0.0, 0.0, 45.0), 6.0, 6.0, 40.0, ((6.0, 40 / 3), (6.0, 80 / 3)),
-                 Mode.SUBTRACT)
+    bore = Sweep(
+        top, (0.0, 0.0, 45.0), 6.0, 6.0, 40.0, ((6.0, 40 / 3), (6.0, 80 / 3)), Mode.SUBTRACT
+    )
     cam = view()
     pts, labels = sketch(post, bore, cam)
 
@@ -760,8 +898,14 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
 
     strokes = [cam.project(p)[0] for p in pts]
     oracle = SaysExtrude(post, bore, pts, labels, cam, renderer)
-    got = interpret(post, strokes, cam, oracle, renderer,
-                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    got = interpret(
+        post,
+        strokes,
+        cam,
+        oracle,
+        renderer,
+        InterpretOptions(regularize=False, option=Mode.SUBTRACT),
+    )
     assert got.op_type is OperatorType.SWEEP
     assert volume_iou(got.solid, apply_operation(post, bore)) > 0.97
     unchosen = interpret(post, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
@@ -771,9 +915,14 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
     op = Extrude(top, -10.0)
     pts, labels = sketch(post, op, cam)
     with pytest.raises(InterpretError, match="with subtract chosen, only prisms and sweeps"):
-        interpret(post, [cam.project(p)[0] for p in pts], cam,
-                  SaysExtrude(post, op, pts, labels, cam, renderer), renderer,
-                  InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+        interpret(
+            post,
+            [cam.project(p)[0] for p in pts],
+            cam,
+            SaysExtrude(post, op, pts, labels, cam, renderer),
+            renderer,
+            InterpretOptions(regularize=False, option=Mode.SUBTRACT),
+        )
 
 
 def test_a_slot_seen_nearly_along_its_length_with_subtract_chosen_is_the_slot(renderer):
@@ -783,14 +932,19 @@ def test_a_slot_seen_nearly_along_its_length_with_subtract_chosen_is_the_slot(re
     # nothing, and the slot's own roles are the step. The curve map calls every stroke
     # a profile, as the shipped networks' did on the bolt session's slot.
     box = make_box(Box((40, 30, 20)))
-    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0,
-                     Mode.SUBTRACT)
+    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0, Mode.SUBTRACT)
     d = np.array([-0.51, 0.02, -0.86])
     cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 30.0, 800, 600)
     pts, labels = sketch(box, op, cam)
     oracle = Oracle(box, op, pts, [1] * len(labels), cam, renderer)
-    got = interpret(box, [cam.project(p)[0] for p in pts], cam, oracle, renderer,
-                    InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        oracle,
+        renderer,
+        InterpretOptions(regularize=False, option=Mode.SUBTRACT),
+    )
     (fitted,) = got.operations
     assert isinstance(fitted, AddSubPrism) and len(fitted.polygon) == 4
     assert fitted.d == pytest.approx(3.0, abs=0.2)
@@ -809,33 +963,48 @@ def _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch):
     cam = OrthoCamera((0.0, 0.0, 6.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 40.0, 800, 600)
     pts, labels = sketch(bar, boss, cam)
     rule = sweep_fitting.choose_option
-    monkeypatch.setattr(sweep_fitting, "choose_option",
-                        lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a))
+    monkeypatch.setattr(
+        sweep_fitting, "choose_option", lambda *a: Mode.SUBTRACT if a[-1] is None else rule(*a)
+    )
     return bar, top, boss, cam, pts, labels
 
 
 def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
-        renderer, monkeypatch):
+    renderer, monkeypatch
+):
     # test-l1 (seed 10001) sample 174: a boss read as the hole its lines also draw (paper
     # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
     # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
     # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
     bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     strokes = [cam.project(p)[0] for p in pts]
-    got = interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
-                    renderer, InterpretOptions(regularize=False))
+    got = interpret(
+        bar,
+        strokes,
+        cam,
+        Oracle(bar, boss, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert got.op_type is OperatorType.SWEEP and got.operations[0].mode is Mode.ADD
     assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97
     assert got.other_option is None  # the hole it was first read as is no choice to offer
     # the designer's own choice is never overruled: subtract chosen, the split is refused
     with pytest.raises(InterpretError, match="falls apart"):
-        interpret(bar, strokes, cam, Oracle(bar, boss, pts, labels, cam, renderer),
-                  renderer, InterpretOptions(regularize=False, option=Mode.SUBTRACT))
+        interpret(
+            bar,
+            strokes,
+            cam,
+            Oracle(bar, boss, pts, labels, cam, renderer),
+            renderer,
+            InterpretOptions(regularize=False, option=Mode.SUBTRACT),
+        )
 
 
 @pytest.mark.parametrize("decoy", ["post in view", "boss out of view"])
 def test_the_other_boolean_of_a_reading_that_builds_nothing_outranks_a_worse_one_that_builds(
-        renderer, monkeypatch, decoy):
+    renderer, monkeypatch, decoy
+):
     # heldout-l1c sample 1078: the best reading (a hole) built nothing, and a reading 80 px
     # off the strokes on another face, which built, was taken before the boss its lines
     # also draw was tried. Here: the bar's boss read as a hole (the +/- rule made to say
@@ -845,17 +1014,31 @@ def test_the_other_boolean_of_a_reading_that_builds_nothing_outranks_a_worse_one
     bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     end = FaceRef((30.0, 0.0, 0.0), (1.0, 0.0, 0.0))
     faces = bar.Faces()
-    top_i, end_i = (next(i for i, f in enumerate(faces)
-                         if f.isSame(resolve_face(bar, ref).face)) for ref in (top, end))
-    far = Sweep(top, (22.0, 0.0, 2.0), 1.5, 1.5, 3.0, ((1.5, 1.0), (1.5, 2.0))) \
-        if decoy == "post in view" else \
-        Sweep(end, (30.0, 0.0, 0.0), 1.5, 1.5, 40.0, ((1.5, 13.0), (1.5, 27.0)))
+    top_i, end_i = (
+        next(i for i, f in enumerate(faces) if f.isSame(resolve_face(bar, ref).face))
+        for ref in (top, end)
+    )
+    far = (
+        Sweep(top, (22.0, 0.0, 2.0), 1.5, 1.5, 3.0, ((1.5, 1.0), (1.5, 2.0)))
+        if decoy == "post in view"
+        else Sweep(end, (30.0, 0.0, 0.0), 1.5, 1.5, 40.0, ((1.5, 13.0), (1.5, 27.0)))
+    )
     fit_on_face = interpret_module._fit_on_face
     monkeypatch.setattr(interpret_module, "candidate_faces", lambda *a: [top_i, end_i])
-    monkeypatch.setattr(interpret_module, "_fit_on_face", lambda solid, op_type, index, *a: (
-        [(far, end_i, labels)] if index == end_i else fit_on_face(solid, op_type, index, *a)))
-    got = interpret(bar, [cam.project(p)[0] for p in pts], cam,
-                    Oracle(bar, boss, pts, labels, cam, renderer), renderer,
-                    InterpretOptions(regularize=False))
+    monkeypatch.setattr(
+        interpret_module,
+        "_fit_on_face",
+        lambda solid, op_type, index, *a: (
+            [(far, end_i, labels)] if index == end_i else fit_on_face(solid, op_type, index, *a)
+        ),
+    )
+    got = interpret(
+        bar,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        Oracle(bar, boss, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
     assert got.operations[0].mode is Mode.ADD and got.operations[0].face == top
     assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97

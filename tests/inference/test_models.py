@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The network: shapes, the input check, checkpoints, and the paper's losses."""
+
 import pytest
 import torch
 import torch.nn.functional as F
@@ -35,11 +36,13 @@ def test_forward_and_backward_give_the_documented_shapes_and_reach_every_paramet
     assert pooled.shape == (3, 5, i, i)
     logits, f, c = model(pooled)
     assert logits.shape == (3, 4) and f.shape == (3, 4, i, i) and c.shape == (3, 4, i, i)
-    loss = sum(loss_terms(model, (logits, f, c), op, face, curve, mask,
-                          class_weights(torch.tensor([1, 1, 4, 2]))))
+    loss = sum(
+        loss_terms(
+            model, (logits, f, c), op, face, curve, mask, class_weights(torch.tensor([1, 1, 4, 2]))
+        )
+    )
     loss.backward()
-    assert all(p.grad is not None and torch.isfinite(p.grad).all()
-               for p in model.parameters())
+    assert all(p.grad is not None and torch.isfinite(p.grad).all() for p in model.parameters())
 
 
 def test_predict_returns_probabilities_and_maps_at_the_full_input_size(tiny_config):
@@ -59,11 +62,14 @@ def test_the_default_model_maps_256_inputs_to_256_outputs():
     assert probs.shape == (1, 4) and f.shape == c.shape == (1, 4, 256, 256)
 
 
-@pytest.mark.parametrize("shape, hint", [
-    ((5, 32, 32), "x[None]"),
-    ((2, 3, 32, 32), "got (2, 3, 32, 32)"),
-    ((2, 5, 16, 16), "pooled maps: call forward"),
-])
+@pytest.mark.parametrize(
+    "shape, hint",
+    [
+        ((5, 32, 32), "x[None]"),
+        ((2, 3, 32, 32), "got (2, 3, 32, 32)"),
+        ((2, 5, 16, 16), "pooled maps: call forward"),
+    ],
+)
 def test_a_wrong_input_shape_says_what_is_expected_and_what_to_do(tiny_config, shape, hint):
     model = Sketch2CADNet(tiny_config)
     with pytest.raises(ValueError, match=r"\(B, 5, 32, 32\) holding S, D, N") as err:
@@ -86,8 +92,9 @@ def test_a_checkpoint_rebuilds_an_identical_model_from_the_file_alone(tiny_confi
     save_checkpoint(tmp_path / "net.pt", model, note="hello")
     back, ckpt = load_checkpoint(tmp_path / "net.pt")
     assert back.config == tiny_config and ckpt["note"] == "hello"
-    assert all(torch.equal(a, b) for a, b in zip(model.state_dict().values(),
-                                                 back.state_dict().values()))
+    assert all(
+        torch.equal(a, b) for a, b in zip(model.state_dict().values(), back.state_dict().values())
+    )
     x = _batch(tiny_config, seed=5)[0]
     for a, b in zip(model.predict(x), back.predict(x)):
         assert torch.equal(a, b)
@@ -133,14 +140,14 @@ def _full_size_config():
 def test_the_losses_are_the_papers_formulas():
     model = Sketch2CADNet(_full_size_config())
     logits = torch.tensor([[2.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
-    f = torch.zeros(2, 4, 8, 8)                      # F = sigmoid(0) = 0.5 everywhere
+    f = torch.zeros(2, 4, 8, 8)  # F = sigmoid(0) = 0.5 everywhere
     c = torch.ones(2, 4, 8, 8)
     op = torch.tensor([0, 2])
-    face = torch.ones(2, 8, 8)                       # (F - F~)^2 = 0.25 at every pixel
+    face = torch.ones(2, 8, 8)  # (F - F~)^2 = 0.25 at every pixel
     mask = torch.zeros(2, 8, 8)
-    mask[:, 0, :4] = 1                               # 4 stroke pixels per sample
+    mask[:, 0, :4] = 1  # 4 stroke pixels per sample
     curve = torch.zeros(2, 8, 8)
-    curve[1, 0, :2] = 2                              # errors 1, 1, 1, 1 and 1, 1, 1, 1
+    curve[1, 0, :2] = 2  # errors 1, 1, 1, 1 and 1, 1, 1, 1
     weights = torch.tensor([0.4, 0.4, 0.1, 0.1])
     cls, fl, cl = loss_terms(model, (logits, f, c), op, face, curve, mask, weights)
     nll = -F.log_softmax(logits, 1)[[0, 1], [0, 2]]
@@ -152,27 +159,46 @@ def test_the_losses_are_the_papers_formulas():
 def test_the_dice_term_makes_a_missed_small_face_cost_as_much_as_a_missed_large_one():
     model = Sketch2CADNet(_full_size_config())
     logits, c = torch.zeros(2, 4), torch.zeros(2, 4, 8, 8)
-    f = torch.full((2, 4, 8, 8), -20.0)               # F = 0: both faces missed entirely
+    f = torch.full((2, 4, 8, 8), -20.0)  # F = 0: both faces missed entirely
     face = torch.zeros(2, 8, 8)
-    face[0, :1, :2] = 1                               # 2 pixels
-    face[1, :6, :6] = 1                               # 36 pixels
-    args = (torch.tensor([0, 0]), face, torch.zeros(2, 8, 8), torch.zeros(2, 8, 8),
-            torch.full((4,), 0.25))
+    face[0, :1, :2] = 1  # 2 pixels
+    face[1, :6, :6] = 1  # 36 pixels
+    args = (
+        torch.tensor([0, 0]),
+        face,
+        torch.zeros(2, 8, 8),
+        torch.zeros(2, 8, 8),
+        torch.full((4,), 0.25),
+    )
+
     def face_terms(dice):  # per sample: a batch of one each
-        return [float(loss_terms(model, (logits[k:k + 1], f[k:k + 1], c[k:k + 1]),
-                                 *(a[k:k + 1] for a in args[:4]), args[4], face_dice=dice)[1])
-                for k in (0, 1)]
+        return [
+            float(
+                loss_terms(
+                    model,
+                    (logits[k : k + 1], f[k : k + 1], c[k : k + 1]),
+                    *(a[k : k + 1] for a in args[:4]),
+                    args[4],
+                    face_dice=dice,
+                )[1]
+            )
+            for k in (0, 1)
+        ]
+
     mse_small, mse_large = face_terms(0.0)
     dice_small, dice_large = face_terms(1.0)
-    assert mse_small < mse_large / 10                 # the paper's term barely sees it
+    assert mse_small < mse_large / 10  # the paper's term barely sees it
     assert dice_small - mse_small > 0.6 and dice_large - mse_large > 0.9
 
 
 def test_the_curve_loss_sees_stroke_pixels_only():
     model = Sketch2CADNet(_full_size_config())
     g = torch.Generator().manual_seed(0)
-    logits, f, c = torch.randn(2, 4, generator=g), torch.randn(2, 4, 8, 8, generator=g), \
-        torch.randn(2, 4, 8, 8, generator=g)
+    logits, f, c = (
+        torch.randn(2, 4, generator=g),
+        torch.randn(2, 4, 8, 8, generator=g),
+        torch.randn(2, 4, 8, 8, generator=g),
+    )
     op = torch.tensor([1, 3])
     face = (torch.rand(2, 8, 8, generator=g) > 0.5).float()
     mask = (torch.rand(2, 8, 8, generator=g) > 0.7).float()
@@ -185,8 +211,12 @@ def test_the_curve_loss_sees_stroke_pixels_only():
     after = loss_terms(model, (logits, f, c2), op, face, curve2, mask, weights)
     assert torch.equal(before[2], after[2])
     on = (mask > 0)[:, None].expand_as(c)
-    assert not torch.equal(before[2], loss_terms(model, (logits, f, torch.where(on, c + 1, c)),
-                                                 op, face, curve, mask, weights)[2])
+    assert not torch.equal(
+        before[2],
+        loss_terms(model, (logits, f, torch.where(on, c + 1, c)), op, face, curve, mask, weights)[
+            2
+        ],
+    )
 
 
 def test_only_the_true_operators_heads_get_the_segmentation_loss(tiny_config):
@@ -195,8 +225,9 @@ def test_only_the_true_operators_heads_get_the_segmentation_loss(tiny_config):
     logits, f, c = model(model.pool(x))
     f.retain_grad()
     c.retain_grad()
-    _, fl, cl = loss_terms(model, (logits, f, c), torch.tensor([2]), face, curve, mask,
-                           torch.full((4,), 0.25))
+    _, fl, cl = loss_terms(
+        model, (logits, f, c), torch.tensor([2]), face, curve, mask, torch.full((4,), 0.25)
+    )
     (fl + cl).backward()
     assert f.grad[0, 2].abs().sum() > 0 and c.grad[0, 2].abs().sum() > 0
     assert f.grad[0, [0, 1, 3]].abs().sum() == 0 and c.grad[0, [0, 1, 3]].abs().sum() == 0
@@ -205,7 +236,7 @@ def test_only_the_true_operators_heads_get_the_segmentation_loss(tiny_config):
 def test_pooling_keeps_one_pixel_strokes_and_averages_depth(tiny_config):
     model = Sketch2CADNet(tiny_config)
     x = torch.zeros(1, 5, 32, 32)
-    x[0, 0, 7, :] = 1        # a one-pixel line on an odd row
+    x[0, 0, 7, :] = 1  # a one-pixel line on an odd row
     x[0, 1, :2, :2] = torch.tensor([[0.0, 0.4], [0.4, 0.8]])
     p = model.pool(x)
     assert torch.equal(p[0, 0, 3], torch.ones(16)) and p[0, 0].sum() == 16

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Session files round-trip and reject malformed input, naming the field."""
+
 import copy
 import json
 
@@ -24,11 +25,20 @@ CAM = OrthoCamera((0, 0, 0), (0.5, 0.6, -0.62), (0, 0, 1), 40.0, 400, 300)
 
 def session():
     strokes = [np.array([[10.0, 20.0], [30.5, 40.25], [50, 45]]), np.array([[1, 2], [3, 4.0]])]
-    return Session(Box((40, 30, 20)), [
-        SketchStep(CAM, strokes),
-        SketchStep(CAM, strokes[:1], InterpretOptions(False, Mode.SUBTRACT, "x")),
-        SketchStep(CAM, strokes, InterpretOptions(snap_step=0.5, snap_px=8.0,
-                                                  skip_snaps=frozenset({"position", "d"})))])
+    return Session(
+        Box((40, 30, 20)),
+        [
+            SketchStep(CAM, strokes),
+            SketchStep(CAM, strokes[:1], InterpretOptions(False, Mode.SUBTRACT, "x")),
+            SketchStep(
+                CAM,
+                strokes,
+                InterpretOptions(
+                    snap_step=0.5, snap_px=8.0, skip_snaps=frozenset({"position", "d"})
+                ),
+            ),
+        ],
+    )
 
 
 def test_session_round_trips_through_a_file(tmp_path):
@@ -66,8 +76,11 @@ def test_the_snaps_undone_and_the_grid_are_kept_for_the_replay(tmp_path):
     s = session()
     s.save(tmp_path / "s.json")
     choices = load_session(tmp_path / "s.json").steps[2].choices
-    assert (choices.snap_step, choices.snap_px, choices.skip_snaps) == \
-        (0.5, 8.0, frozenset({"position", "d"}))
+    assert (choices.snap_step, choices.snap_px, choices.skip_snaps) == (
+        0.5,
+        8.0,
+        frozenset({"position", "d"}),
+    )
 
 
 def test_a_step_with_default_snapping_is_written_as_before_the_snap_choices(tmp_path):
@@ -75,28 +88,58 @@ def test_a_step_with_default_snapping_is_written_as_before_the_snap_choices(tmp_
     assert set(session().to_dict()["steps"][0]["choices"]) == {"option", "symmetry", "regularize"}
 
 
-@pytest.mark.parametrize("mutate,message", [
-    (lambda d: d.update(format="x"), "format: expected 'sketch2cad-session'"),
-    (lambda d: d.update(version=2), "version: unsupported"),
-    (lambda d: d["steps"][0].update(strokes=[]), r"steps\[0\].strokes: expected a non-empty list"),
-    (lambda d: d["steps"][0]["strokes"][0].__setitem__(1, [1]),
-     r"steps\[0\].strokes\[0\]\[1\]: expected a list of 2 numbers"),
-    (lambda d: d["steps"][0]["strokes"].__setitem__(1, [[1, 2]]),
-     r"steps\[0\].strokes\[1\]: expected a list of at least 2 points"),
-    (lambda d: d["steps"][1]["camera"].update(width=3.5), r"steps\[1\].camera.width: expected an integer"),
-    (lambda d: d["steps"][1]["camera"].update(up=[0.5, 0.6, -0.62]), r"steps\[1\].camera: camera up"),
-    (lambda d: d["steps"][1]["camera"].update(scale=-1), r"steps\[1\].camera: camera scale must be positive"),
-    (lambda d: d["steps"][1]["choices"].update(symmetry="w"), r"steps\[1\].choices.symmetry: expected null"),
-    (lambda d: d["steps"][1]["choices"].update(option="both"), r"steps\[1\].choices.option"),
-    (lambda d: d["steps"][1]["choices"].update(regularize="yes"), r"regularize: expected true or false"),
-    (lambda d: d["steps"][0].update(extra=1), r"steps\[0\].extra: unknown key"),
-    (lambda d: d["steps"][2]["choices"].update(snap_step=-1), r"steps\[2\].choices.snap_step"),
-    (lambda d: d["steps"][2]["choices"].update(snap_px=0), r"steps\[2\].choices.snap_px"),
-    (lambda d: d["steps"][2]["choices"].update(snap_px="5"), r"steps\[2\].choices.snap_px"),
-    (lambda d: d["steps"][2]["choices"].update(skip_snaps=["nope"]),
-     r"steps\[2\].choices.skip_snaps: expected a list of snap kinds"),
-    (lambda d: d["steps"][2]["choices"].update(skip_snaps=[["d"]]), r"steps\[2\].choices.skip_snaps"),
-])
+@pytest.mark.parametrize(
+    "mutate,message",
+    [
+        (lambda d: d.update(format="x"), "format: expected 'sketch2cad-session'"),
+        (lambda d: d.update(version=2), "version: unsupported"),
+        (
+            lambda d: d["steps"][0].update(strokes=[]),
+            r"steps\[0\].strokes: expected a non-empty list",
+        ),
+        (
+            lambda d: d["steps"][0]["strokes"][0].__setitem__(1, [1]),
+            r"steps\[0\].strokes\[0\]\[1\]: expected a list of 2 numbers",
+        ),
+        (
+            lambda d: d["steps"][0]["strokes"].__setitem__(1, [[1, 2]]),
+            r"steps\[0\].strokes\[1\]: expected a list of at least 2 points",
+        ),
+        (
+            lambda d: d["steps"][1]["camera"].update(width=3.5),
+            r"steps\[1\].camera.width: expected an integer",
+        ),
+        (
+            lambda d: d["steps"][1]["camera"].update(up=[0.5, 0.6, -0.62]),
+            r"steps\[1\].camera: camera up",
+        ),
+        (
+            lambda d: d["steps"][1]["camera"].update(scale=-1),
+            r"steps\[1\].camera: camera scale must be positive",
+        ),
+        (
+            lambda d: d["steps"][1]["choices"].update(symmetry="w"),
+            r"steps\[1\].choices.symmetry: expected null",
+        ),
+        (lambda d: d["steps"][1]["choices"].update(option="both"), r"steps\[1\].choices.option"),
+        (
+            lambda d: d["steps"][1]["choices"].update(regularize="yes"),
+            r"regularize: expected true or false",
+        ),
+        (lambda d: d["steps"][0].update(extra=1), r"steps\[0\].extra: unknown key"),
+        (lambda d: d["steps"][2]["choices"].update(snap_step=-1), r"steps\[2\].choices.snap_step"),
+        (lambda d: d["steps"][2]["choices"].update(snap_px=0), r"steps\[2\].choices.snap_px"),
+        (lambda d: d["steps"][2]["choices"].update(snap_px="5"), r"steps\[2\].choices.snap_px"),
+        (
+            lambda d: d["steps"][2]["choices"].update(skip_snaps=["nope"]),
+            r"steps\[2\].choices.skip_snaps: expected a list of snap kinds",
+        ),
+        (
+            lambda d: d["steps"][2]["choices"].update(skip_snaps=[["d"]]),
+            r"steps\[2\].choices.skip_snaps",
+        ),
+    ],
+)
 def test_malformed_session_names_field_and_value(mutate, message):
     d = copy.deepcopy(session().to_dict())
     mutate(d)

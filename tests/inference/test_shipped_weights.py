@@ -5,6 +5,7 @@ A small set is generated afresh (a seed no training or evaluation set used) and 
 shipped weights must stay above weights/thresholds.json: the model card's level-1
 figures less a margin for the small sample. A regression cannot land silently.
 """
+
 import json
 import subprocess
 import sys
@@ -26,11 +27,27 @@ CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytes
 
 def test_shipped_weights_meet_the_model_cards_thresholds(tmp_path):
     assert DEFAULT_WEIGHTS.is_file(), "the package must ship trained weights"
-    assert DEFAULT_WEIGHTS.stat().st_size < 25 * 2 ** 20
+    assert DEFAULT_WEIGHTS.stat().st_size < 25 * 2**20
     limits = json.loads((WEIGHTS_DIR / "thresholds.json").read_text())
-    out = subprocess.run([*CLI, "datagen", "--out", str(tmp_path), "--count", "96", "--seed",
-                          "9090", "--noise-level", "1", "--workers", "2"],
-                         capture_output=True, text=True, timeout=900)
+    out = subprocess.run(
+        [
+            *CLI,
+            "datagen",
+            "--out",
+            str(tmp_path),
+            "--count",
+            "96",
+            "--seed",
+            "9090",
+            "--noise-level",
+            "1",
+            "--workers",
+            "2",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert out.returncode == 0, out.stderr[-2000:]
     result, _ = evaluate(tmp_path, None, latency_runs=5)
     assert result["classification_accuracy"] >= limits["classification_accuracy"]
@@ -45,7 +62,7 @@ def test_the_shipped_head_reads_the_shipped_unets_features_and_is_the_default():
     # the model card ships it (docs/NOTES.md, stop 22: end to end at least as well)
     head = torch.load(WEIGHTS_DIR / HEAD_NAME, map_location="cpu", weights_only=False)
     assert head["unet_sha256"] == sha256_of(DEFAULT_WEIGHTS)
-    assert (WEIGHTS_DIR / HEAD_NAME).stat().st_size < 5 * 2 ** 20
+    assert (WEIGHTS_DIR / HEAD_NAME).stat().st_size < 5 * 2**20
     assert isinstance(load_predictor(), StructuredPredictor)
 
 
@@ -54,21 +71,43 @@ def test_the_shipped_sessions_rebuild_the_models_they_were_drawn_from():
     # shipped weights every step is read, and the model stays close to the intended one
     root = Path(__file__).resolve().parents[2] / "examples"
     for name in ("camera", "hammer", "mixer"):
-        out = subprocess.run([*CLI, "interpret", str(root / "sessions" / f"{name}.json"),
-                              "--compare", str(root / "protocols" / f"{name}.json")],
-                             capture_output=True, text=True, timeout=300)
+        out = subprocess.run(
+            [
+                *CLI,
+                "interpret",
+                str(root / "sessions" / f"{name}.json"),
+                "--compare",
+                str(root / "protocols" / f"{name}.json"),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
         assert out.returncode == 0, out.stderr[-2000:]
-        ious = [float(line.rsplit(":", 1)[1]) for line in out.stdout.splitlines()
-                if "volume IoU with" in line]
-        assert len(ious) == len(json.loads((root / "sessions" / f"{name}.json").read_text())
-                                ["steps"])
+        ious = [
+            float(line.rsplit(":", 1)[1])
+            for line in out.stdout.splitlines()
+            if "volume IoU with" in line
+        ]
+        assert len(ious) == len(
+            json.loads((root / "sessions" / f"{name}.json").read_text())["steps"]
+        )
         assert min(ious) >= 0.7, (name, ious)
 
 
 def test_compare_needs_one_operation_per_step(tmp_path):
     root = Path(__file__).resolve().parents[2] / "examples"
-    out = subprocess.run([*CLI, "interpret", str(root / "sessions" / "camera.json"),
-                          "--compare", str(root / "protocols" / "hammer.json")],
-                         capture_output=True, text=True, timeout=300)
+    out = subprocess.run(
+        [
+            *CLI,
+            "interpret",
+            str(root / "sessions" / "camera.json"),
+            "--compare",
+            str(root / "protocols" / "hammer.json"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert out.returncode == 2
     assert "hammer.json: 5 operations for 7 sketched steps" in out.stderr

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The predictor the interpret pipeline uses: weights from disk, one pass per sketch."""
+
 import numpy as np
 import pytest
 import torch
@@ -38,14 +39,14 @@ def test_the_predictor_classifies_and_segments_from_one_pass(tiny_config, tmp_pa
 
 def test_a_garbage_weights_file_is_a_clean_error_naming_it(tmp_path):
     from Sketch2CADWorkbench.inference.models import load_checkpoint
+
     bad = tmp_path / "bad.pt"
     bad.write_bytes(bytes(range(256)) * 10)
     with pytest.raises(ValueError, match="bad.pt: not a readable sketch2cad-net checkpoint"):
         load_checkpoint(bad)
 
 
-def test_a_head_beside_the_weights_loads_with_them_and_only_for_that_unet(tiny_config,
-                                                                         tmp_path):
+def test_a_head_beside_the_weights_loads_with_them_and_only_for_that_unet(tiny_config, tmp_path):
     from Sketch2CADWorkbench.inference.heads import (
         HeadConfig,
         StructuredPredictor,
@@ -54,6 +55,7 @@ def test_a_head_beside_the_weights_loads_with_them_and_only_for_that_unet(tiny_c
         save_head,
         sha256_of,
     )
+
     net = Sketch2CADNet(tiny_config)
     unet = tmp_path / weights.WEIGHTS_NAME
     save_checkpoint(unet, net)

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Shared renderer and shapes for the render tests (one offscreen window for them all)."""
+
 import cadquery as cq
 import numpy as np
 import pytest
@@ -47,7 +48,12 @@ def oblique():
 @pytest.fixture(scope="session")
 def face_of():
     """face_of(solid, normal): index in solid.Faces() of the planar face with that normal."""
+
     def find(solid, normal) -> int:
-        return next(i for i, f in enumerate(solid.Faces()) if f.geomType() == "PLANE"
-                    and np.dot(f.normalAt().toTuple(), normal) > 0.999)
+        return next(
+            i
+            for i, f in enumerate(solid.Faces())
+            if f.geomType() == "PLANE" and np.dot(f.normalAt().toTuple(), normal) > 0.999
+        )
+
     return find

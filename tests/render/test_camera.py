@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The camera's checks on its vectors: what a session or the FreeCAD view hands it."""
+
 import numpy as np
 import pytest
 
@@ -30,8 +31,7 @@ def test_the_basis_is_made_once_and_cannot_be_changed_by_a_caller():
     cam = OrthoCamera((1.0, 2.0, 3.0), (0.6, 0.9, -1.2), (0, 0, 1), 45.0)
     r, u, f = cam.basis()
     assert cam.basis()[0] is r
-    np.testing.assert_allclose(np.stack([r, u, f]) @ np.stack([r, u, f]).T, np.eye(3),
-                               atol=1e-12)
+    np.testing.assert_allclose(np.stack([r, u, f]) @ np.stack([r, u, f]).T, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(np.cross(f, u), r)
     with pytest.raises(ValueError):
         u *= 2.0

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Cameras: the context frustum twice the sketch's box, and framing a shape."""
+
 import numpy as np
 import pytest
 
@@ -31,8 +32,9 @@ def test_context_camera_of_a_dot_still_has_a_finite_window():
 @pytest.mark.parametrize("direction", [(1, 1, -1), (0, 0, -1), (-0.3, 1, 0.2)])
 def test_fit_camera_frames_the_whole_box_with_the_margin(renderer, box, direction):
     margin = 1.1
-    cam = fit_camera(box, direction, (0, 1, 0) if direction == (0, 0, -1) else (0, 0, 1),
-                     margin, (200, 150))
+    cam = fit_camera(
+        box, direction, (0, 1, 0) if direction == (0, 0, -1) else (0, 0, 1), margin, (200, 150)
+    )
     fg = renderer.render(box, cam).face_id >= 0
     assert not fg[0].any() and not fg[-1].any() and not fg[:, 0].any() and not fg[:, -1].any()
     rows, cols = np.flatnonzero(fg.any(axis=1)), np.flatnonzero(fg.any(axis=0))
@@ -53,7 +55,9 @@ def test_fit_camera_accepts_a_mesh_or_a_bounding_box(box, box_size):
 
 def test_the_image_of_a_vector_is_the_same_pixel_shift_wherever_it_starts():
     d = np.array([0.3, -1.0, -0.6])
-    cam = OrthoCamera((5.0, 2.0, 1.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 40.0, 320, 200)
+    cam = OrthoCamera(
+        (5.0, 2.0, 1.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 40.0, 320, 200
+    )
     v = np.array([3.0, -1.0, 2.0])
     for p in (np.zeros(3), np.array([12.0, -7.0, 30.0])):
         shift = cam.project(np.stack([p, p + v]))[0]

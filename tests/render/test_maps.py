@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Context maps are exact where callers rely on them: pixels, face IDs, depths, normals."""
+
 import os
 import subprocess
 import sys
@@ -18,7 +19,8 @@ def corners(size):
 
 
 def test_top_down_view_shows_the_top_face_on_exactly_the_pixels_it_covers(
-        renderer, box, box_size, face_of):
+    renderer, box, box_size, face_of
+):
     # Off-centre and non-square, so the box edges fall between pixel centres.
     cam = OrthoCamera((1.3, -0.7, 0.0), (0, 0, -1), (0, 1, 0), 23.0, 128, 100)
     m = renderer.render(box, cam)
@@ -27,8 +29,9 @@ def test_top_down_view_shows_the_top_face_on_exactly_the_pixels_it_covers(
     y0, y1 = px[:, 1].min(), px[:, 1].max()
     xc, yc = np.meshgrid(np.arange(128) + 0.5, np.arange(100) + 0.5)
     inside = (xc > x0) & (xc < x1) & (yc > y0) & (yc < y1)
-    clear = (np.minimum(np.abs(xc - x0), np.abs(xc - x1)) > 1e-3) & \
-        (np.minimum(np.abs(yc - y0), np.abs(yc - y1)) > 1e-3)
+    clear = (np.minimum(np.abs(xc - x0), np.abs(xc - x1)) > 1e-3) & (
+        np.minimum(np.abs(yc - y0), np.abs(yc - y1)) > 1e-3
+    )
     fg = m.face_id >= 0
     assert np.array_equal(fg[clear], inside[clear])
     assert set(np.unique(m.face_id[fg])) == {face_of(box, (0, 0, 1))}
@@ -45,11 +48,11 @@ def test_top_down_view_shows_the_top_face_on_exactly_the_pixels_it_covers(
 
 
 def test_oblique_view_shows_the_three_faces_turned_to_the_camera_with_their_normals(
-        renderer, box, oblique):
+    renderer, box, oblique
+):
     m = renderer.render(box, oblique)
     r, u, f = oblique.basis()
-    facing = {i for i, face in enumerate(box.Faces())
-              if np.dot(face.normalAt().toTuple(), f) < 0}
+    facing = {i for i, face in enumerate(box.Faces()) if np.dot(face.normalAt().toTuple(), f) < 0}
     assert len(facing) == 3
     assert set(np.unique(m.face_id)) - {-1} == facing
     for i in facing:
@@ -60,7 +63,8 @@ def test_oblique_view_shows_the_three_faces_turned_to_the_camera_with_their_norm
 
 
 def test_a_point_on_a_visible_face_has_that_face_and_its_depth_at_its_pixel(
-        renderer, box, box_size, oblique):
+    renderer, box, box_size, oblique
+):
     m = renderer.render(box, oblique)
     margin = 2 * oblique.pixel_size  # keep away from edges: a pixel is 0.27 mm here
     rng = np.random.default_rng(1)
@@ -87,14 +91,15 @@ def test_a_point_on_a_visible_face_has_that_face_and_its_depth_at_its_pixel(
 
 
 def test_box_edges_in_the_face_id_map_lie_within_a_pixel_of_their_projection(
-        renderer, box, box_size, oblique, face_of):
+    renderer, box, box_size, oblique, face_of
+):
     m = renderer.render(box, oblique)
     lx, ly, lz = box_size / 2
     top, right, front = (face_of(box, n) for n in ((0, 0, 1), (1, 0, 0), (0, -1, 0)))
     corner = np.array([[lx, -ly, lz]])  # where the three visible faces meet
-    (cx, cy), = oblique.project(corner)[0]
+    ((cx, cy),) = oblique.project(corner)[0]
     i, j = int(cx), int(cy)
-    assert set(np.unique(m.face_id[j - 1:j + 2, i - 1:i + 2])) == {top, right, front}
+    assert set(np.unique(m.face_id[j - 1 : j + 2, i - 1 : i + 2])) == {top, right, front}
     # Along the top / +x crease, the pixels one pixel to either side see the two faces.
     t = np.linspace(-ly + 1, ly - 1, 25)
     edge = np.stack([np.full_like(t, lx), t, np.full_like(t, lz)], 1)
@@ -110,7 +115,8 @@ def test_box_edges_in_the_face_id_map_lie_within_a_pixel_of_their_projection(
 
 
 def test_depth_is_view_depth_mapped_linearly_farthest_zero_closest_one(
-        renderer, box, box_size, oblique):
+    renderer, box, box_size, oblique
+):
     m = renderer.render(box, oblique)
     fg = m.face_id >= 0
     vd = m.view_depth[fg].astype(np.float64)
@@ -134,7 +140,7 @@ def test_curved_faces_get_smooth_normals(renderer, cylinder):
     rows = slice(int(128 - 8 / cam.pixel_size), int(128 + 8 / cam.pixel_size))
     keep = np.abs(x) < 0.95 * radius  # away from the faceted silhouette
     s = x[keep] / radius
-    expected = np.stack([s, np.zeros_like(s), np.sqrt(1 - s ** 2)]) + 1.0
+    expected = np.stack([s, np.zeros_like(s), np.sqrt(1 - s**2)]) + 1.0
     got = m.normal[:, rows][:, :, keep]
     # Flat triangles would be off by half a segment angle (about 0.1 here).
     assert np.abs(got - expected[:, None, :]).max() < 0.02
@@ -157,32 +163,38 @@ def test_one_renderer_serves_many_meshes_and_sizes(renderer, box, cylinder, obli
 
 
 def test_a_solid_and_its_mesh_render_the_same_faces(renderer, box, oblique):
-    assert np.array_equal(renderer.render(box, oblique).face_id,
-                          renderer.render(tessellate(box), oblique).face_id)
+    assert np.array_equal(
+        renderer.render(box, oblique).face_id, renderer.render(tessellate(box), oblique).face_id
+    )
 
 
 def test_rendering_without_a_display_prints_nothing():
-    code = ("from Sketch2CADWorkbench.brep.operators import make_box\n"
-            "from Sketch2CADWorkbench.brep.protocol import Box\n"
-            "from Sketch2CADWorkbench.render.camera import OrthoCamera\n"
-            "from Sketch2CADWorkbench.render.maps import MapRenderer\n"
-            "import numpy as np\n"
-            "cam = OrthoCamera((0, 0, 0), (0, 0, -1), (0, 1, 0), 10.0, 32, 32)\n"
-            "m = MapRenderer().render(make_box(Box((4.0, 4.0, 4.0))), cam)\n"
-            "c = (np.arange(32) + 0.5 - 16) * cam.pixel_size\n"
-            "k = (np.abs(c) < 2.0).sum()\n"
-            "assert k > 0 and (m.face_id >= 0).sum() == k * k\n")
+    code = (
+        "from Sketch2CADWorkbench.brep.operators import make_box\n"
+        "from Sketch2CADWorkbench.brep.protocol import Box\n"
+        "from Sketch2CADWorkbench.render.camera import OrthoCamera\n"
+        "from Sketch2CADWorkbench.render.maps import MapRenderer\n"
+        "import numpy as np\n"
+        "cam = OrthoCamera((0, 0, 0), (0, 0, -1), (0, 1, 0), 10.0, 32, 32)\n"
+        "m = MapRenderer().render(make_box(Box((4.0, 4.0, 4.0))), cam)\n"
+        "c = (np.arange(32) + 0.5 - 16) * cam.pixel_size\n"
+        "k = (np.abs(c) < 2.0).sum()\n"
+        "assert k > 0 and (m.face_id >= 0).sum() == k * k\n"
+    )
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
-                         timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120
+    )
     assert run.returncode == 0, run.stderr
     assert run.stdout == "" and run.stderr == ""
 
 
-@pytest.mark.parametrize("direction", [(-0.7, 1.0, -1.1), (0.3, 1.0, -1e-4)],
-                         ids=["oblique", "grazing-top"])
+@pytest.mark.parametrize(
+    "direction", [(-0.7, 1.0, -1.1), (0.3, 1.0, -1e-4)], ids=["oblique", "grazing-top"]
+)
 def test_every_pixel_holds_the_depth_of_its_face_plane_at_the_pixel_centre(
-        renderer, box, direction):
+    renderer, box, direction
+):
     d = np.array(direction) / np.linalg.norm(direction)
     cam = OrthoCamera((0.5, -0.25, 0.0), tuple(d), (0, 0, 1), 30.0, 160, 160)
     m = renderer.render(box, cam)
@@ -206,8 +218,13 @@ def test_a_sliver_seen_almost_edge_on_keeps_exact_depths(renderer):
     px = np.array([[2.0, 10.5], [60.0, 10.505], [60.0, 10.495]])
     depth = np.array([0.0, 100.0, 130.0])
     normal = np.tile(-np.array(cam.basis()[2]), (3, 1))
-    mesh = FaceMesh(cam.unproject(px, depth), np.array([[0, 1, 2]], np.int32),
-                    np.zeros(1, np.int32), normal[:1], normal)
+    mesh = FaceMesh(
+        cam.unproject(px, depth),
+        np.array([[0, 1, 2]], np.int32),
+        np.zeros(1, np.int32),
+        normal[:1],
+        normal,
+    )
     m = renderer.render(mesh, cam)
     rows, cols = np.nonzero(m.face_id == 0)
     assert len(cols) >= 20 and np.all(rows == 10)

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Tessellation: every face, its index, outward normals, and curves within tolerance."""
+
 import cadquery as cq
 import numpy as np
 import pytest

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Stroke rasterisation: the polyline's pixels, its value, 8-connected, later wins."""
+
 import numpy as np
 import pytest
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Occlusion tests against the rendered depth: hidden, seen, edges, outside the image."""
+
 import numpy as np
 
 from Sketch2CADWorkbench.render.visibility import visible, visible_fraction
@@ -22,15 +23,15 @@ def box_edges(size, n=30):
 
 
 def test_a_point_behind_the_box_is_hidden_and_one_on_the_top_face_is_seen(
-        renderer, box, box_size, oblique):
+    renderer, box, box_size, oblique
+):
     m = renderer.render(box, oblique)
     tol = 1e-3 * np.linalg.norm(box_size)
     top, under = [0.0, 0.0, box_size[2] / 2], [0.0, 0.0, -box_size[2] / 2 - 1.0]
     assert visible(np.array([top, under]), oblique, m, tol).tolist() == [True, False]
 
 
-def test_edges_between_visible_faces_and_on_the_outline_are_seen(renderer, box, box_size,
-                                                                  oblique):
+def test_edges_between_visible_faces_and_on_the_outline_are_seen(renderer, box, box_size, oblique):
     m = renderer.render(box, oblique)
     pts = box_edges(box_size)
     # An edge shows when one of its two faces turns to the camera.

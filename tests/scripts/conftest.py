@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The scripts are files, not modules of a package: each test loads the one it tests."""
+
 import importlib.util
 from pathlib import Path
 

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/extrusion_bound.py: one line per set, a pooled line over several, and a clear
 refusal of a folder that is not a generated set."""
+
 import json
 from pathlib import Path
 

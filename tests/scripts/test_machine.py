@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/machine.py: every benchmark's first line says how fast the host runs now, so
 that figures from a slower moment are not taken for slower code."""
+
 import math
 
 

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/make_sessions.py: the example sessions are read as their designer would have the
 workbench set, regularization on with the grid their protocol was designed on."""
+
 import json
 from pathlib import Path
 
@@ -14,8 +15,7 @@ def test_a_protocol_with_half_millimetres_was_designed_on_a_half_millimetre_grid
     assert grid('{"size": [80.0, 20.0, 20.0], "profile": [[6.0, 0.0], [5.6667, 30.6667]]}') == 1.0
 
 
-def test_every_example_session_step_reads_with_regularization_on_its_designers_grid(
-        load_script):
+def test_every_example_session_step_reads_with_regularization_on_its_designers_grid(load_script):
     grid = load_script("make_sessions").designer_grid
     sessions = sorted((EXAMPLES / "sessions").glob("*.json"))
     assert len(sessions) == 6

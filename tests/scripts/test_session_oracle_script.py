@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """scripts/session_oracle.py: a line per session and per step, the figures in JSON, and
 clear refusals of files that are not there or do not belong together."""
+
 import json
 
 import pytest
@@ -15,7 +16,8 @@ def files(tmp_path):
     protocol = Protocol(BASE, [POST, BOSS])
     protocol.save(tmp_path / "post.protocol.json")
     Session(BASE, [sketched_step(protocol, k, sigma=3.0, seed=k) for k in range(2)]).save(
-        tmp_path / "post.json")
+        tmp_path / "post.json"
+    )
     return tmp_path / "post.json", tmp_path / "post.protocol.json"
 
 
@@ -30,12 +32,14 @@ def test_each_step_and_the_end_are_printed_and_written(load_script, files, tmp_p
     assert figures["steps"][0]["strokes"] == 12
     k = figures["weakest_step"]
     assert f"step {k} alone ends it at {figures['weakest_session_iou']:.3f} at best" in text
-    assert figures["weakest_session_iou"] == max(figures["steps"][k - 1]["session_iou"],
-                                                 figures["steps"][k - 1]["snapped_session_iou"])
+    assert figures["weakest_session_iou"] == max(
+        figures["steps"][k - 1]["session_iou"], figures["steps"][k - 1]["snapped_session_iou"]
+    )
 
 
-def test_a_missing_file_and_a_protocol_of_another_length_are_named(load_script, files,
-                                                                   tmp_path, capsys):
+def test_a_missing_file_and_a_protocol_of_another_length_are_named(
+    load_script, files, tmp_path, capsys
+):
     script = load_script("session_oracle")
     with pytest.raises(SystemExit, match="missing.json"):
         script.main([str(files[0]), str(tmp_path / "missing.json")])

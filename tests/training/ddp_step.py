@@ -5,6 +5,7 @@ process's own), saving rank 0's loss terms and gradient to OUT.
 
 Usage: [torchrun --nproc_per_node=N] ddp_step.py DATA OUT
 """
+
 import sys
 from pathlib import Path
 
@@ -16,17 +17,26 @@ from training.train import Run, TrainSettings, train_step
 
 
 def main(data: Path, out: Path) -> None:
-    settings = TrainSettings(steps=1, batch_size=16, threads=1, flip=True,
-                             model=ModelConfig(internal_size=16, widths=(8, 16, 32)))
+    settings = TrainSettings(
+        steps=1,
+        batch_size=16,
+        threads=1,
+        flip=True,
+        model=ModelConfig(internal_size=16, widths=(8, 16, 32)),
+    )
     ranks = distributed.from_environment("cpu")
     try:
         run = Run(data, out, settings, ranks)
         run.model.eval()
         terms = train_step(run, run.next_batch(run.order(0)))
         if ranks.main:
-            torch.save({"terms": torch.stack([t.detach() for t in terms]),
-                        "grad": torch.cat([p.grad.flatten() for p in run.model.parameters()])},
-                       out / "step.pt")
+            torch.save(
+                {
+                    "terms": torch.stack([t.detach() for t in terms]),
+                    "grad": torch.cat([p.grad.flatten() for p in run.model.parameters()]),
+                },
+                out / "step.pt",
+            )
     finally:
         distributed.close(ranks)
 

@@ -3,6 +3,7 @@
 step's gradient is the single process's with the same global batch, the ranks end with
 the same weights, a run trains as one process does, and it resumes from rank 0's
 checkpoint."""
+
 import json
 import subprocess
 import sys
@@ -22,8 +23,22 @@ from training.data import load_pooled
 from training.distributed import Ranks, epoch_order
 
 TOLERANCE = 0.15
-ARGS = ["--batch-size", "8", "--lr", "0.01", "--warmup-steps", "5", "--threads", "2",
-        "--internal-size", "16", "--widths", "8", "16", "32"]
+ARGS = [
+    "--batch-size",
+    "8",
+    "--lr",
+    "0.01",
+    "--warmup-steps",
+    "5",
+    "--threads",
+    "2",
+    "--internal-size",
+    "16",
+    "--widths",
+    "8",
+    "16",
+    "32",
+]
 
 
 def _train(data, out, *args) -> int:
@@ -31,8 +46,7 @@ def _train(data, out, *args) -> int:
 
 
 def _events(out):
-    return [json.loads(r) for r in (out / "log.jsonl").read_text().splitlines()
-            if '"event"' in r]
+    return [json.loads(r) for r in (out / "log.jsonl").read_text().splitlines() if '"event"' in r]
 
 
 def _loss(model, data_dir, out) -> float:
@@ -56,11 +70,11 @@ def test_the_ranks_deal_out_one_order_as_one_process_takes_it():
 def test_a_step_in_two_processes_has_the_gradient_of_one_process(tiny_data, tmp_path):
     # eval mode: batch-norm statistics and dropout masks are each process's own
     step = Path(__file__).with_name("ddp_step.py")
-    torchrun = [sys.executable, "-m", "torch.distributed.run", "--standalone",
-                "--nproc_per_node=2"]
+    torchrun = [sys.executable, "-m", "torch.distributed.run", "--standalone", "--nproc_per_node=2"]
     for out, launch in ((tmp_path / "one", []), (tmp_path / "two", torchrun)):
-        subprocess.run([*(launch or [sys.executable]), str(step), str(tiny_data), str(out)],
-                       check=True)
+        subprocess.run(
+            [*(launch or [sys.executable]), str(step), str(tiny_data), str(out)], check=True
+        )
     one, two = (torch.load(tmp_path / d / "step.pt") for d in ("one", "two"))
     assert torch.allclose(one["terms"], two["terms"], rtol=1e-5)
     assert float((one["grad"] - two["grad"]).norm()) < 1e-5 * float(one["grad"].norm())
@@ -91,9 +105,22 @@ def test_two_processes_train_as_one_and_resume(tiny_data, tmp_path):
     assert _events(tmp_path / "two")[-1]["step"] == steps + 3
 
 
-def test_a_batch_that_does_not_divide_among_the_processes_is_refused(tiny_data, tmp_path,
-                                                                      capsys):
-    assert main(["train", "--data", str(tiny_data), "--out", str(tmp_path), "--nproc", "3",
-                 "--batch-size", "8"]) == 2
+def test_a_batch_that_does_not_divide_among_the_processes_is_refused(tiny_data, tmp_path, capsys):
+    assert (
+        main(
+            [
+                "train",
+                "--data",
+                str(tiny_data),
+                "--out",
+                str(tmp_path),
+                "--nproc",
+                "3",
+                "--batch-size",
+                "8",
+            ]
+        )
+        == 2
+    )
     assert "multiple of --nproc 3" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())

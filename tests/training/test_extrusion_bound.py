@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The extrusion bound: what the strokes' tips tell of d, and how sure the best reading is."""
+
 from types import SimpleNamespace
 
 import numpy as np
@@ -20,16 +21,20 @@ def _sample(d_drawn: float, direction, d_true: float = 12.0):
     box = make_box(base)
     camera = fit_camera(box, direction)
     curves = operation_curves(box, Extrude(TOP, d_drawn), camera.direction)
-    return SimpleNamespace(context=Protocol(base), operation=Extrude(TOP, d_true),
-                           camera=camera, noise_level=1,
-                           strokes=[camera.project(c.points)[0] for c in curves],
-                           stroke_parts=[int(c.label) for c in curves])
+    return SimpleNamespace(
+        context=Protocol(base),
+        operation=Extrude(TOP, d_true),
+        camera=camera,
+        noise_level=1,
+        strokes=[camera.project(c.points)[0] for c in curves],
+        stroke_parts=[int(c.label) for c in curves],
+    )
 
 
 def test_the_oracle_reads_d_from_the_tips_drawn_at_the_moved_corners():
     exact = extrusion_bound(_sample(12.0, (1.0, 0.6, -1.0)))
     assert exact.d_ml == pytest.approx(12.0, abs=1e-6) and exact.ml_recovered
-    assert exact.tips >= 4                              # every seen moved corner counts
+    assert exact.tips >= 4  # every seen moved corner counts
     long = extrusion_bound(_sample(14.0, (1.0, 0.6, -1.0)))  # the hand drew 2 mm more
     assert long.d_ml == pytest.approx(14.0, abs=1e-6)
     assert long.sd == pytest.approx(exact.sd, rel=0.3)  # the same view, as sure
@@ -45,8 +50,27 @@ def test_a_view_that_foreshortens_the_extrusion_leaves_the_best_reading_less_sur
 
 def test_a_set_reports_the_bound_beside_the_oracles_rate(tmp_path):
     from Sketch2CADWorkbench.cli import main
-    assert main(["datagen", "--out", str(tmp_path), "--count", "24", "--seed", "5",
-                 "--noise-level", "1", "--workers", "1", "--shard-size", "8"]) == 0
+
+    assert (
+        main(
+            [
+                "datagen",
+                "--out",
+                str(tmp_path),
+                "--count",
+                "24",
+                "--seed",
+                "5",
+                "--noise-level",
+                "1",
+                "--workers",
+                "1",
+                "--shard-size",
+                "8",
+            ]
+        )
+        == 0
+    )
     got = bound_of_set(tmp_path)
     assert got["n"] >= 1, got
     for key in ("oracle_ml_rate", "best_decision_rate", "expected_bound"):

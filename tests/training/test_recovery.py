@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """End-to-end recovery: the fitting stage alone, fed the ground truth, rebuilds the operation."""
+
 from types import SimpleNamespace
 
 import pytest
@@ -15,8 +16,26 @@ from training.recovery import RECOVERY_IOU, recovery, strokes_favour, the_other_
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory):
     out = tmp_path_factory.mktemp("gen")
-    assert main(["datagen", "--out", str(out), "--count", "16", "--seed", "5",
-                 "--noise-level", "1", "--workers", "1", "--shard-size", "8"]) == 0
+    assert (
+        main(
+            [
+                "datagen",
+                "--out",
+                str(out),
+                "--count",
+                "16",
+                "--seed",
+                "5",
+                "--noise-level",
+                "1",
+                "--workers",
+                "1",
+                "--shard-size",
+                "8",
+            ]
+        )
+        == 0
+    )
     return out
 
 
@@ -49,8 +68,26 @@ def test_a_prism_read_with_the_wrong_boolean_is_recovered_by_the_named_flip(tmp_
     # seed 6, sample 7 (found by a scan): from its one parallel view the fitting alone
     # reads this prism with the wrong Boolean (paper Fig. 5b) and names the other one,
     # which recovers it; so the rate with the flip is above the strict rate
-    assert main(["datagen", "--out", str(tmp_path), "--count", "8", "--seed", "6",
-                 "--noise-level", "1", "--workers", "1", "--shard-size", "8"]) == 0
+    assert (
+        main(
+            [
+                "datagen",
+                "--out",
+                str(tmp_path),
+                "--count",
+                "8",
+                "--seed",
+                "6",
+                "--noise-level",
+                "1",
+                "--workers",
+                "1",
+                "--shard-size",
+                "8",
+            ]
+        )
+        == 0
+    )
     r = recovery(tmp_path, None, 8, oracle=True)["per_operator"]["addsub"]
     assert r["recovery_n"] and r["recovery_rate"] < r["recovery_rate_with_flip"], r
     assert r["other_option_share"] > 0
@@ -61,18 +98,23 @@ def _drawn(op, direction):
     return box, SimpleNamespace(operation=op, camera=fit_camera(box, direction))
 
 
-@pytest.mark.parametrize("mode, centre, expected", [
-    (Mode.SUBTRACT, (0.0, 0.0), True),    # the boss on its rim stands on the top face
-    (Mode.ADD, (0.0, 0.0), False),        # the pipeline reads a boss as a boss
-    (Mode.SUBTRACT, (-16.0, 0.0), False),  # its rim boss would stand off the face
-    (Mode.ADD, (-20.0, 0.0), True),       # half off the face; the hole its top rims is on it
-])
+@pytest.mark.parametrize(
+    "mode, centre, expected",
+    [
+        (Mode.SUBTRACT, (0.0, 0.0), True),  # the boss on its rim stands on the top face
+        (Mode.ADD, (0.0, 0.0), False),  # the pipeline reads a boss as a boss
+        (Mode.SUBTRACT, (-16.0, 0.0), False),  # its rim boss would stand off the face
+        (Mode.ADD, (-20.0, 0.0), True),  # half off the face; the hole its top rims is on it
+    ],
+)
 def test_the_strict_ceiling_counts_the_primitives_the_other_boolean_draws(mode, centre, expected):
     x, y = centre
-    prism = AddSubPrism(FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),
-                        tuple((x + dx, y + dy, 10.0)
-                              for dx, dy in ((-3, -3), (3, -3), (3, 3), (-3, 3))),
-                        8.0, mode)
+    prism = AddSubPrism(
+        FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),
+        tuple((x + dx, y + dy, 10.0) for dx, dy in ((-3, -3), (3, -3), (3, 3), (-3, 3))),
+        8.0,
+        mode,
+    )
     box, sample = _drawn(prism, (1.0, 0.6, -1.0))  # a far outline lies 8 mm towards +-x
     assert the_other_boolean_draws_it(box, sample) is expected
 
@@ -85,12 +127,14 @@ def _strokes_of(box, op, camera):
 def test_a_miss_counts_against_the_strokes_only_when_they_lie_nearer_the_reading():
     face = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
     square = tuple((dx, dy, 10.0) for dx, dy in ((-5, -5), (5, -5), (5, 5), (-5, 5)))
-    truth, reading = AddSubPrism(face, square, 8.0, Mode.ADD), AddSubPrism(face, square, 12.0,
-                                                                           Mode.ADD)
+    truth, reading = (
+        AddSubPrism(face, square, 8.0, Mode.ADD),
+        AddSubPrism(face, square, 12.0, Mode.ADD),
+    )
     box, sample = _drawn(truth, (1.0, 0.6, -1.0))
     sample.strokes = _strokes_of(box, reading, sample.camera)  # the hand drew 12 mm
     assert strokes_favour(box, reading, sample)
-    sample.strokes = _strokes_of(box, truth, sample.camera)    # the hand drew 8 mm
+    sample.strokes = _strokes_of(box, truth, sample.camera)  # the hand drew 8 mm
     assert not strokes_favour(box, reading, sample)
 
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Training: the loss goes down, runs resume exactly, the data pipeline is faithful."""
+
 import json
 
 import numpy as np
@@ -20,8 +21,18 @@ from training.train import TrainSettings, train
 
 
 def _settings(cfg, steps, **kw):
-    return TrainSettings(steps=steps, batch_size=8, lr=1e-2, warmup_steps=5, threads=1,
-                         checkpoint_minutes=60.0, log_every=5, val_fraction=0.25, model=cfg, **kw)
+    return TrainSettings(
+        steps=steps,
+        batch_size=8,
+        lr=1e-2,
+        warmup_steps=5,
+        threads=1,
+        checkpoint_minutes=60.0,
+        log_every=5,
+        val_fraction=0.25,
+        model=cfg,
+        **kw,
+    )
 
 
 def _loss_on(model, data_dir, out):
@@ -54,7 +65,8 @@ def test_a_few_steps_reduce_the_loss_and_leave_the_run_files(tiny_config, tiny_d
 
 
 def test_a_run_interrupted_and_resumed_ends_exactly_where_an_uninterrupted_one_does(
-        tiny_config, tiny_data, tmp_path, monkeypatch):
+    tiny_config, tiny_data, tmp_path, monkeypatch
+):
     whole = train(tiny_data, tmp_path / "whole", _settings(tiny_config, 12))
     calls = []
 
@@ -72,23 +84,25 @@ def test_a_run_interrupted_and_resumed_ends_exactly_where_an_uninterrupted_one_d
     a, _ = load_checkpoint(whole)
     b, ckpt = load_checkpoint(resumed)
     assert ckpt["trained_steps"] == 12
-    assert all(torch.equal(p, q) for p, q in zip(a.state_dict().values(),
-                                                 b.state_dict().values()))
-    events = [json.loads(line) for line in (tmp_path / "split" / "log.jsonl").read_text()
-              .splitlines() if '"event"' in line]
+    assert all(torch.equal(p, q) for p, q in zip(a.state_dict().values(), b.state_dict().values()))
+    events = [
+        json.loads(line)
+        for line in (tmp_path / "split" / "log.jsonl").read_text().splitlines()
+        if '"event"' in line
+    ]
     assert [e["what"] for e in events] == ["start", "interrupted", "resume", "end"]
 
 
-def test_resuming_on_another_data_set_is_refused(tiny_config, tiny_data, tmp_path,
-                                                 write_dataset):
+def test_resuming_on_another_data_set_is_refused(tiny_config, tiny_data, tmp_path, write_dataset):
     train(tiny_data, tmp_path / "run", _settings(tiny_config, 2))
     other = write_dataset(tmp_path / "other", 24, 8, seed=3)
     with pytest.raises(ValueError, match="another data set"):
         train(other, tmp_path / "run", _settings(tiny_config, 4))
 
 
-def test_the_pooled_batch_matches_the_models_pooling_of_the_stored_maps(tiny_config, tiny_data,
-                                                                       tmp_path):
+def test_the_pooled_batch_matches_the_models_pooling_of_the_stored_maps(
+    tiny_config, tiny_data, tmp_path
+):
     model = Sketch2CADNet(tiny_config)
     ds = Dataset(tiny_data)
     data = load_pooled(ds, model, tmp_path)
@@ -102,8 +116,9 @@ def test_the_pooled_batch_matches_the_models_pooling_of_the_stored_maps(tiny_con
     assert op.tolist() == a["op_type"][:4].tolist()
 
 
-def test_a_mirrored_sample_is_the_pooled_mirror_image_with_normal_x_negated(tiny_config,
-                                                                           tiny_data, tmp_path):
+def test_a_mirrored_sample_is_the_pooled_mirror_image_with_normal_x_negated(
+    tiny_config, tiny_data, tmp_path
+):
     model = Sketch2CADNet(tiny_config)
     ds = Dataset(tiny_data)
     data = load_pooled(ds, model, tmp_path)
@@ -112,8 +127,9 @@ def test_a_mirrored_sample_is_the_pooled_mirror_image_with_normal_x_negated(tiny
     fg = full[:, 2:].sum(1) > 0
     full[:, 2] = torch.where(fg, 2 - full[:, 2], 0)  # n_x -> -n_x on the foreground
     assert torch.allclose(x, model.pool(full), atol=1.5 / 127.5)
-    assert torch.equal(face, torch.from_numpy(ds.shard_arrays(0)["face_label"][:4]).float()
-                       .flip(-1))
+    assert torch.equal(
+        face, torch.from_numpy(ds.shard_arrays(0)["face_label"][:4]).float().flip(-1)
+    )
 
 
 def test_the_validation_split_keeps_contexts_whole():
@@ -124,9 +140,29 @@ def test_the_validation_split_keeps_contexts_whole():
 def test_the_train_command_runs_and_reports_a_missing_data_set(tiny_data, tmp_path, capsys):
     assert main(["train", "--data", str(tmp_path / "nothing"), "--out", str(tmp_path / "r")]) == 2
     assert "no manifest.json" in capsys.readouterr().err
-    assert main(["train", "--data", str(tiny_data), "--out", str(tmp_path / "run"), "--steps",
-                 "3", "--batch-size", "4", "--threads", "1", "--internal-size", "16",
-                 "--widths", "4", "8"]) == 0
+    assert (
+        main(
+            [
+                "train",
+                "--data",
+                str(tiny_data),
+                "--out",
+                str(tmp_path / "run"),
+                "--steps",
+                "3",
+                "--batch-size",
+                "4",
+                "--threads",
+                "1",
+                "--internal-size",
+                "16",
+                "--widths",
+                "4",
+                "8",
+            ]
+        )
+        == 0
+    )
     _, ckpt = load_checkpoint(tmp_path / "run" / "sketch2cad_net.pt")
     assert ckpt["config"]["internal_size"] == 16 and ckpt["trained_steps"] == 3
     assert np.isfinite(ckpt["validation"]["cls"])

@@ -2,15 +2,16 @@
 """Training the structured heads: they learn stroke roles and the base face on the frozen
 U-Net's features, resume after an epoch, train on the union of several data sets, and are
 scored beside the U-Net with the paper's metrics on the same samples."""
+
 import json
 import shutil
 
 import numpy as np
 import pytest
 import torch
+from network_fixtures import SIZE, synthetic_record
 
 from datagen.dataset import FORMAT, VERSION, Record, write_shard
-from network_fixtures import SIZE, synthetic_record
 from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.inference.heads import (
     HeadConfig,
@@ -50,26 +51,47 @@ def stroke_data(tmp_path_factory):
     ops = [0, 1, 2, 2, 2, 2, 3, 3]
     records = [_with_strokes(synthetic_record(rng, ops[i % 8], 1)) for i in range(64)]
     for k in range(2):
-        write_shard(folder, k, records[32 * k:32 * (k + 1)])
-    (folder / "manifest.json").write_text(json.dumps(
-        {"format": FORMAT, "version": VERSION, "count": 64, "seed": 0, "noise": "1",
-         "image_size": SIZE, "shard_size": 32, "per_context": 4,
-         "shards": ["shard-00000.npz", "shard-00001.npz"]}))
+        write_shard(folder, k, records[32 * k : 32 * (k + 1)])
+    (folder / "manifest.json").write_text(
+        json.dumps(
+            {
+                "format": FORMAT,
+                "version": VERSION,
+                "count": 64,
+                "seed": 0,
+                "noise": "1",
+                "image_size": SIZE,
+                "shard_size": 32,
+                "per_context": 4,
+                "shards": ["shard-00000.npz", "shard-00001.npz"],
+            }
+        )
+    )
     torch.manual_seed(0)
     from Sketch2CADWorkbench.inference.models import ModelConfig
-    net = Sketch2CADNet(ModelConfig(image_size=SIZE, internal_size=SIZE // 2,
-                                    widths=(8, 16, 32), classifier_hidden=8))
+
+    net = Sketch2CADNet(
+        ModelConfig(
+            image_size=SIZE, internal_size=SIZE // 2, widths=(8, 16, 32), classifier_hidden=8
+        )
+    )
     save_checkpoint(folder / "unet.pt", net)
     return folder
 
 
 def _settings(epochs):
-    return HeadSettings(epochs=epochs, batch_size=16, lr=3e-3, threads=1,
-                        head=HeadConfig(width=32, layers=1, dropout=0.0))
+    return HeadSettings(
+        epochs=epochs,
+        batch_size=16,
+        lr=3e-3,
+        threads=1,
+        head=HeadConfig(width=32, layers=1, dropout=0.0),
+    )
 
 
 def test_targets_follow_the_labels(stroke_data):
     from Sketch2CADWorkbench.inference.weights import load_model
+
     model, _ = load_model(stroke_data / "unet.pt")
     items = extract(stroke_data, model, limit=40)
     assert len(items) == 40
@@ -105,27 +127,48 @@ def test_a_rerun_resumes_after_the_last_epoch(stroke_data, tmp_path, capsys):
 
 
 def test_the_command_prints_both_rows(stroke_data, tmp_path, capsys):
-    code = main(["train-head", "--data", str(stroke_data), "--out", str(tmp_path / "run"),
-                 "--weights", str(stroke_data / "unet.pt"), "--epochs", "1", "--width", "16",
-                 "--layers", "1", "--eval", str(stroke_data), "--json", str(tmp_path / "s.json")])
+    code = main(
+        [
+            "train-head",
+            "--data",
+            str(stroke_data),
+            "--out",
+            str(tmp_path / "run"),
+            "--weights",
+            str(stroke_data / "unet.pt"),
+            "--epochs",
+            "1",
+            "--width",
+            "16",
+            "--layers",
+            "1",
+            "--eval",
+            str(stroke_data),
+            "--json",
+            str(tmp_path / "s.json"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0 and "unet   cls" in out and "head   cls" in out
     assert set(json.loads((tmp_path / "s.json").read_text())[str(stroke_data)]) >= {"unet", "head"}
 
 
 def test_the_command_says_what_is_missing(tmp_path, capsys):
-    assert main(["train-head", "--data", str(tmp_path / "none"), "--out",
-                 str(tmp_path / "run")]) == 2
+    assert (
+        main(["train-head", "--data", str(tmp_path / "none"), "--out", str(tmp_path / "run")]) == 2
+    )
     assert "sketch2cad train-head: error" in capsys.readouterr().err
 
 
 def test_runs_sharing_a_token_cache_read_the_unet_once(stroke_data, tmp_path, monkeypatch):
     import training.heads as th
+
     cache = tmp_path / "tokens"
     train_head(stroke_data, tmp_path / "a", _settings(1), stroke_data / "unet.pt", cache)
 
     def no_unet(*args, **kwargs):
         raise AssertionError("the U-Net ran again")
+
     monkeypatch.setattr(th, "_sample_tokens", no_unet)
     train_head(stroke_data, tmp_path / "b", _settings(1), stroke_data / "unet.pt", cache)
     other = tmp_path / "other-unet.pt"  # another U-Net's features are not reused
@@ -145,21 +188,58 @@ def test_eval_scores_a_shipped_heads_choices_beside_the_unets_maps(stroke_data, 
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     save_head(run / HEAD_NAME, head)
     out = tmp_path / "m.json"
-    assert main(["eval", "--data", str(stroke_data), "--weights", str(run), "--json", str(out),
-                 "--limit", "16", "--latency-runs", "2", "--recovery", "0"]) == 0
+    assert (
+        main(
+            [
+                "eval",
+                "--data",
+                str(stroke_data),
+                "--weights",
+                str(run),
+                "--json",
+                str(out),
+                "--limit",
+                "16",
+                "--latency-runs",
+                "2",
+                "--recovery",
+                "0",
+            ]
+        )
+        == 0
+    )
     r = json.loads(out.read_text())
     assert r["structured"]["n"] == 16 and 0 <= r["structured"]["classification_accuracy"] <= 1
     for name, d in r["structured"]["per_operator"].items():
         if d["n"]:
             assert 0 <= d["face_iou"] <= 1 and 0 <= d["curve_accuracy"] <= 1, name
     (run / HEAD_NAME).unlink()
-    assert main(["eval", "--data", str(stroke_data), "--weights", str(run), "--json", str(out),
-                 "--limit", "16", "--latency-runs", "2", "--recovery", "0"]) == 0
+    assert (
+        main(
+            [
+                "eval",
+                "--data",
+                str(stroke_data),
+                "--weights",
+                str(run),
+                "--json",
+                str(out),
+                "--limit",
+                "16",
+                "--latency-runs",
+                "2",
+                "--recovery",
+                "0",
+            ]
+        )
+        == 0
+    )
     assert "structured" not in json.loads(out.read_text())
 
 
-def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(stroke_data, tmp_path,
-                                                                    monkeypatch):
+def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(
+    stroke_data, tmp_path, monkeypatch
+):
     # scoring the shipped head beside the U-Net's maps costs no second pass of the U-Net
     run = tmp_path / "run"
     run.mkdir()
@@ -168,10 +248,24 @@ def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(stroke_data, 
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     calls = []
     original = Sketch2CADNet.features
-    monkeypatch.setattr(Sketch2CADNet, "features",
-                        lambda self, x: calls.append(len(x)) or original(self, x))
-    args = ["eval", "--data", str(stroke_data), "--weights", str(run), "--json",
-            str(tmp_path / "m.json"), "--limit", "48", "--latency-runs", "2", "--recovery", "0"]
+    monkeypatch.setattr(
+        Sketch2CADNet, "features", lambda self, x: calls.append(len(x)) or original(self, x)
+    )
+    args = [
+        "eval",
+        "--data",
+        str(stroke_data),
+        "--weights",
+        str(run),
+        "--json",
+        str(tmp_path / "m.json"),
+        "--limit",
+        "48",
+        "--latency-runs",
+        "2",
+        "--recovery",
+        "0",
+    ]
     assert main(args) == 0
     alone = sum(calls)
     save_head(run / HEAD_NAME, head)
@@ -179,8 +273,7 @@ def test_eval_reads_the_head_from_the_unets_one_pass_over_the_data(stroke_data, 
     assert main(args) == 0
     assert sum(calls) == alone  # 48 samples and the timed sketches
     r = json.loads((tmp_path / "m.json").read_text())
-    assert r["structured"] == evaluate_head(stroke_data, run / HEAD_NAME, run,
-                                            limit=48)["head"]
+    assert r["structured"] == evaluate_head(stroke_data, run / HEAD_NAME, run, limit=48)["head"]
 
 
 def test_several_data_sets_train_one_head_on_their_union(stroke_data, tmp_path, capsys):
@@ -189,11 +282,29 @@ def test_several_data_sets_train_one_head_on_their_union(stroke_data, tmp_path, 
     for name in ("shard-00000.npz", "shard-00000.json"):
         shutil.copy(stroke_data / name, other / name)
     manifest = json.loads((stroke_data / "manifest.json").read_text())
-    (other / "manifest.json").write_text(json.dumps(
-        {**manifest, "count": 32, "seed": 7, "shards": ["shard-00000.npz"]}))
-    code = main(["train-head", "--data", str(stroke_data), str(other), "--out",
-                 str(tmp_path / "run"), "--weights", str(stroke_data / "unet.pt"),
-                 "--epochs", "1", "--width", "16", "--layers", "1", "--count", "40"])
+    (other / "manifest.json").write_text(
+        json.dumps({**manifest, "count": 32, "seed": 7, "shards": ["shard-00000.npz"]})
+    )
+    code = main(
+        [
+            "train-head",
+            "--data",
+            str(stroke_data),
+            str(other),
+            "--out",
+            str(tmp_path / "run"),
+            "--weights",
+            str(stroke_data / "unet.pt"),
+            "--epochs",
+            "1",
+            "--width",
+            "16",
+            "--layers",
+            "1",
+            "--count",
+            "40",
+        ]
+    )
     assert code == 0
     _, ckpt = load_head(tmp_path / "run" / HEAD_NAME)
     assert ckpt["train_samples"] == 40 + 32  # the first 40 of one, all 32 of the other
@@ -203,6 +314,7 @@ def test_several_data_sets_train_one_head_on_their_union(stroke_data, tmp_path, 
     # the union's items are each set's, in order
     from Sketch2CADWorkbench.inference.weights import load_model
     from training.heads import training_items
+
     model, _ = load_model(stroke_data / "unet.pt")
     items, _ = training_items([stroke_data, other], model, tmp_path / "run" / "tokens", 40)
     alone = extract(other, model)
@@ -212,7 +324,21 @@ def test_several_data_sets_train_one_head_on_their_union(stroke_data, tmp_path, 
 def test_two_training_sets_of_one_name_are_refused(stroke_data, tmp_path, capsys):
     twin = tmp_path / "x" / stroke_data.name
     shutil.copytree(stroke_data, twin)
-    assert main(["train-head", "--data", str(stroke_data), str(twin), "--out",
-                 str(tmp_path / "run"), "--weights", str(stroke_data / "unet.pt"),
-                 "--epochs", "1"]) == 2
+    assert (
+        main(
+            [
+                "train-head",
+                "--data",
+                str(stroke_data),
+                str(twin),
+                "--out",
+                str(tmp_path / "run"),
+                "--weights",
+                str(stroke_data / "unet.pt"),
+                "--epochs",
+                "1",
+            ]
+        )
+        == 2
+    )
     assert "distinct folder names" in capsys.readouterr().err

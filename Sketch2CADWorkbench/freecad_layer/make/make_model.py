@@ -4,6 +4,7 @@
 These work with or without the GUI (commands and tests share them); view providers are
 attached only when FreeCAD.GuiUp.
 """
+
 import FreeCAD
 
 from ...brep.protocol import Box, Operation, Protocol, per_operator
@@ -16,13 +17,15 @@ from ..objects.sweep import SweepFeature
 
 FEATURE_OF_OPERATION = per_operator(
     {cls.OPERATION.type: cls for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature)},
-    "FEATURE_OF_OPERATION")
+    "FEATURE_OF_OPERATION",
+)
 DEFAULT_BOX = Box((40.0, 30.0, 20.0))
 
 
 def _view(obj) -> None:
     if FreeCAD.GuiUp:
         from ..viewproviders.view_feature import ViewProviderSketch2CAD
+
         ViewProviderSketch2CAD(obj.ViewObject)
 
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Bevel: corner c of face f rounded by profile l along the crease c -> c'."""
+
 import FreeCAD
 
 from ...brep.protocol import Bevel
@@ -10,10 +11,12 @@ ALL_KINDS.append("Bevel")
 PROFILE = "Profile l"
 # l's four control points, each a position in the user's units (FreeCAD has no list of
 # lengths)
-PROFILE_POINTS = (("ProfileStart", "l: the profile's start, on one edge of f at c"),
-                  ("ProfileControl1", "l: the profile's first inner control point"),
-                  ("ProfileControl2", "l: the profile's second inner control point"),
-                  ("ProfileEnd", "l: the profile's end, on the other edge of f at c"))
+PROFILE_POINTS = (
+    ("ProfileStart", "l: the profile's start, on one edge of f at c"),
+    ("ProfileControl1", "l: the profile's first inner control point"),
+    ("ProfileControl2", "l: the profile's second inner control point"),
+    ("ProfileEnd", "l: the profile's end, on the other edge of f at c"),
+)
 
 
 class BevelFeature(OperationFeature):
@@ -23,8 +26,13 @@ class BevelFeature(OperationFeature):
 
     def add_operation_properties(self, obj) -> None:
         retype(obj, "Corner", "App::PropertyPosition", GROUP, "c: the corner of f to round")
-        retype(obj, "OppositeCorner", "App::PropertyPosition", GROUP,
-               "c': the other end of the crease from c")
+        retype(
+            obj,
+            "OppositeCorner",
+            "App::PropertyPosition",
+            GROUP,
+            "c': the other end of the crease from c",
+        )
         for name, tip in PROFILE_POINTS:
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyPosition", name, PROFILE, tip)
@@ -40,12 +48,18 @@ class BevelFeature(OperationFeature):
 
     @classmethod
     def reading(cls, op: Bevel) -> str:
-        return (f"Bevel: the corner at {point(op.corner)} rounded along the edge to "
-                f"{point(op.opposite)}, {cls.on_face(op.face)}")
+        return (
+            f"Bevel: the corner at {point(op.corner)} rounded along the edge to "
+            f"{point(op.opposite)}, {cls.on_face(op.face)}"
+        )
 
     def operation(self, obj) -> Bevel:
-        return Bevel(self.face(obj), tup(obj.Corner), tup(obj.OppositeCorner),
-                     tuple(tup(getattr(obj, name)) for name, _ in PROFILE_POINTS))
+        return Bevel(
+            self.face(obj),
+            tup(obj.Corner),
+            tup(obj.OppositeCorner),
+            tuple(tup(getattr(obj, name)) for name, _ in PROFILE_POINTS),
+        )
 
     def set_operation(self, obj, op: Bevel) -> None:
         super().set_operation(obj, op)

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The base box every Sketch2CAD model starts from."""
+
 from ...brep.protocol import Box
 from .checks import box_side
 from .feature import Feature
@@ -24,4 +25,5 @@ class BoxFeature(Feature):
 
     def solid(self, obj):
         from ...brep.operators import make_box
+
         return make_box(self.box(obj))

@@ -7,6 +7,7 @@ cannot see are a feature's raw properties: a NaN or infinite number (OCCT answer
 not planar" or an empty message), and the base box's sides, which the protocol loader
 bounds (brep/fields.py) but the Box feature handed to OCCT unchecked.
 """
+
 import math
 
 import FreeCAD
@@ -50,6 +51,8 @@ def box_side(obj, prop: str) -> float:
     value = getattr(obj, prop)
     side = float(getattr(value, "Value", value))
     if not MIN_BOX_MM <= side <= MAX_BOX_MM:
-        raise ValueError(f"{obj.Label}: {prop} = {side:g} mm; a side of the box must be from "
-                         f"{MIN_BOX_MM:g} to {MAX_BOX_MM:g} mm")
+        raise ValueError(
+            f"{obj.Label}: {prop} = {side:g} mm; a side of the box must be from "
+            f"{MIN_BOX_MM:g} to {MAX_BOX_MM:g} mm"
+        )
     return side

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Extrude: face f moved along its normal by d; a Pad outwards, a Pocket inwards."""
+
 from ...brep.protocol import Extrude
 from ..units import length
 from .feature import ALL_KINDS, GROUP, OperationFeature, mm
@@ -16,8 +17,12 @@ class ExtrudeFeature(OperationFeature):
 
     def add_operation_properties(self, obj) -> None:
         if "Offset" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyDistance", "Offset", GROUP,
-                            "d: how far face f moves along its normal (negative: a pocket)")
+            obj.addProperty(
+                "App::PropertyDistance",
+                "Offset",
+                GROUP,
+                "d: how far face f moves along its normal (negative: a pocket)",
+            )
 
     @classmethod
     def kind_of(cls, op: Extrude) -> str:
@@ -29,8 +34,10 @@ class ExtrudeFeature(OperationFeature):
     @classmethod
     def reading(cls, op: Extrude) -> str:
         way = "out" if op.d >= 0 else "in"
-        return f"{cls.kind_of(op)}: the face moved {way} by {length(abs(op.d))}, " \
-               f"{cls.on_face(op.face)}"
+        return (
+            f"{cls.kind_of(op)}: the face moved {way} by {length(abs(op.d))}, "
+            f"{cls.on_face(op.face)}"
+        )
 
     def operation(self, obj) -> Extrude:
         return Extrude(self.face(obj), mm(obj.Offset))

@@ -8,6 +8,7 @@ exception's message as its status (tree icon, report view), and the later featur
 into error after it (FailurePropagation); every feature keeps its property values, so
 the user can fix the value.
 """
+
 import re
 
 import FreeCAD
@@ -131,36 +132,61 @@ class OperationFeature(Feature):
     KIND_PROPERTIES = ()  # the properties whose value changes the kind (Pad or Pocket...)
 
     def add_properties(self, obj) -> None:
-        obj.addProperty("App::PropertyLink", "Base", BASE,
-                        "The previous feature; this operation applies to its solid")
+        obj.addProperty(
+            "App::PropertyLink",
+            "Base",
+            BASE,
+            "The previous feature; this operation applies to its solid",
+        )
         self.add_face_properties(obj)
         self.add_operation_properties(obj)
         self.add_record_properties(obj)
 
     def add_face_properties(self, obj) -> None:
-        retype(obj, "FacePoint", "App::PropertyPosition", FACE,
-               "A point inside the base face f; the face is looked up again on every "
-               "recompute, so it follows edits of earlier steps")
+        retype(
+            obj,
+            "FacePoint",
+            "App::PropertyPosition",
+            FACE,
+            "A point inside the base face f; the face is looked up again on every "
+            "recompute, so it follows edits of earlier steps",
+        )
         if "FaceNormal" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyVector", "FaceNormal", FACE,
-                            "The outward normal of the base face f (normalised when used)")
+            obj.addProperty(
+                "App::PropertyVector",
+                "FaceNormal",
+                FACE,
+                "The outward normal of the base face f (normalised when used)",
+            )
         if "FaceSurface" not in obj.PropertiesList:  # files of earlier versions: planar
-            obj.addProperty("App::PropertyEnumeration", "FaceSurface", FACE,
-                            "The surface f lies on: a plane, or a cylinder's or cone's side "
-                            "(then the step stands on the tangent plane at FacePoint)")
+            obj.addProperty(
+                "App::PropertyEnumeration",
+                "FaceSurface",
+                FACE,
+                "The surface f lies on: a plane, or a cylinder's or cone's side "
+                "(then the step stands on the tangent plane at FacePoint)",
+            )
             obj.FaceSurface = [s.value for s in Surface]
 
     def add_record_properties(self, obj) -> None:
         """The paper's operator (read only) and the sketch the step was read from."""
         if "Operator" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyString", "Operator", BASE,
-                            "The paper's operator this step is (Sketch2CAD's protocol)")
+            obj.addProperty(
+                "App::PropertyString",
+                "Operator",
+                BASE,
+                "The paper's operator this step is (Sketch2CAD's protocol)",
+            )
             obj.setEditorMode("Operator", 1)
         if "SketchStep" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyString", "SketchStep", SKETCH,
-                            "The strokes, view and choices the step was read from (JSON, "
-                            "as a step of a session file); double-click the feature to "
-                            "read them again")
+            obj.addProperty(
+                "App::PropertyString",
+                "SketchStep",
+                SKETCH,
+                "The strokes, view and choices the step was read from (JSON, "
+                "as a step of a session file); double-click the feature to "
+                "read them again",
+            )
             obj.setEditorMode("SketchStep", 2)
 
     def migrate(self, obj) -> None:
@@ -205,9 +231,11 @@ class OperationFeature(Feature):
     def onChanged(self, obj, prop):
         # Undo, redo and file loading restore the label and the operator themselves; the
         # view provider changes the icon (ViewProviderSketch2CAD.updateData).
-        if prop in self.KIND_PROPERTIES and "Operator" in obj.PropertiesList \
-                and not (obj.Document.Restoring or obj.Document.Transacting
-                         or "Restore" in obj.State):
+        if (
+            prop in self.KIND_PROPERTIES
+            and "Operator" in obj.PropertiesList
+            and not (obj.Document.Restoring or obj.Document.Transacting or "Restore" in obj.State)
+        ):
             self.update_kind(obj)
 
     def add_operation_properties(self, obj) -> None:
@@ -239,6 +267,7 @@ class OperationFeature(Feature):
 
     def solid(self, obj):
         from ...brep.operators import apply_operation
+
         if obj.Base is None:
             raise ValueError(f"{obj.Label}: no Base feature to apply the operation to")
         if obj.Base.Shape.isNull() or not obj.Base.isValid():
@@ -273,11 +302,12 @@ class FailurePropagation:
 
     def slotRecomputedDocument(self, doc):
         from ..queries import features, find_models
+
         for model in find_models(doc):
             chain = features(model)
             failed = next((i for i, o in enumerate(chain) if not o.isValid()), None)
             if failed is not None:
-                for obj in chain[failed + 1:]:
+                for obj in chain[failed + 1 :]:
                     if obj.isValid():
                         obj.recompute()
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The Sketch2CAD model: a group holding the base box and the operations in order."""
+
 from .feature import BASE, Proxy
 
 

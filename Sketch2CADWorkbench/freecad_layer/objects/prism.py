@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Add/subtract prism: polygon c on face f extruded by d, combined by the option o; a Boss
 when it adds, a Hole when it subtracts."""
+
 import FreeCAD
 
 from ...brep.protocol import AddSubPrism, Mode
@@ -8,11 +9,17 @@ from ..units import length, point
 from .feature import ALL_KINDS, GROUP, CombinedFeature, mm, retype, tup, vec
 
 MODES = [m.value for m in Mode]
-MODE_TIP = ("o: add (union, outwards), subtract (difference, inwards), intersect, or "
-            "replace (keep only the primitive)")
+MODE_TIP = (
+    "o: add (union, outwards), subtract (difference, inwards), intersect, or "
+    "replace (keep only the primitive)"
+)
 POLYGON = "Polygon c"
-PRISM_KINDS = {Mode.ADD: "Boss", Mode.SUBTRACT: "Hole", Mode.INTERSECT: "PrismCommon",
-               Mode.REPLACE: "PrismOnly"}
+PRISM_KINDS = {
+    Mode.ADD: "Boss",
+    Mode.SUBTRACT: "Hole",
+    Mode.INTERSECT: "PrismCommon",
+    Mode.REPLACE: "PrismOnly",
+}
 ALL_KINDS.extend(PRISM_KINDS.values())
 MAX_VERTICES = 6
 
@@ -47,9 +54,11 @@ class PrismFeature(CombinedFeature):
 
     @classmethod
     def reading(cls, op: AddSubPrism) -> str:
-        return (f"{cls.kind_of(op)} ({op.mode.value}): a {len(op.polygon)}-sided prism "
-                f"{length(op.d)} long {cls.on_face(op.face)}; vertices "
-                + ", ".join(point(p) for p in op.polygon))
+        return (
+            f"{cls.kind_of(op)} ({op.mode.value}): a {len(op.polygon)}-sided prism "
+            f"{length(op.d)} long {cls.on_face(op.face)}; vertices "
+            + ", ".join(point(p) for p in op.polygon)
+        )
 
     def polygon(self, obj) -> list:
         """The polygon's vertices (FreeCAD vectors, mm), in order."""
@@ -61,8 +70,13 @@ class PrismFeature(CombinedFeature):
     def set_polygon(self, obj, points) -> None:
         """Set the vertices, adding or removing Vertex properties to match their number."""
         for i, p in enumerate(points):
-            retype(obj, vertex_name(i), "App::PropertyPosition", POLYGON,
-                   f"c: vertex {i + 1} of the base polygon on face f")
+            retype(
+                obj,
+                vertex_name(i),
+                "App::PropertyPosition",
+                POLYGON,
+                f"c: vertex {i + 1} of the base polygon on face f",
+            )
             setattr(obj, vertex_name(i), vec(p))
         i = len(points)
         while vertex_name(i) in obj.PropertiesList:
@@ -70,8 +84,9 @@ class PrismFeature(CombinedFeature):
             i += 1
 
     def operation(self, obj) -> AddSubPrism:
-        return AddSubPrism(self.face(obj), tuple(tup(p) for p in self.polygon(obj)),
-                           mm(obj.Length), Mode(obj.Mode))
+        return AddSubPrism(
+            self.face(obj), tuple(tup(p) for p in self.polygon(obj)), mm(obj.Length), Mode(obj.Mode)
+        )
 
     def set_operation(self, obj, op: AddSubPrism) -> None:
         super().set_operation(obj, op)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep: the solid of revolution of profile c_p between circles c0 and c1; a Revolution
 when it adds, a Groove when it subtracts (as PartDesign names solids of revolution)."""
+
 import math
 
 from ...brep.protocol import Mode, Sweep, retuned_profile
@@ -12,8 +13,12 @@ TUNED = ("Radius0", "Radius1", "Offset")
 PROFILE = "Profile c_p"
 # c_p's two inner control points as (r, h): distance from the axis and height above c0
 INNER = (("Control1Radius", "Control1Height"), ("Control2Radius", "Control2Height"))
-SWEEP_KINDS = {Mode.ADD: "Revolution", Mode.SUBTRACT: "Groove",
-               Mode.INTERSECT: "RevolutionCommon", Mode.REPLACE: "RevolutionOnly"}
+SWEEP_KINDS = {
+    Mode.ADD: "Revolution",
+    Mode.SUBTRACT: "Groove",
+    Mode.INTERSECT: "RevolutionCommon",
+    Mode.REPLACE: "RevolutionOnly",
+}
 ALL_KINDS.extend(SWEEP_KINDS.values())
 
 
@@ -30,25 +35,38 @@ class SweepFeature(CombinedFeature):
 
     def add_operation_properties(self, obj) -> None:
         retype(obj, "Center", "App::PropertyPosition", GROUP, "Centre of c0 on face f")
-        for name, tip in (("Radius0", "r0: radius of c0"), ("Radius1", "r1: radius of c1"),
-                          ("Offset", "d: distance from c0's centre to c1's along the axis")):
+        for name, tip in (
+            ("Radius0", "r0: radius of c0"),
+            ("Radius1", "r1: radius of c1"),
+            ("Offset", "d: distance from c0's centre to c1's along the axis"),
+        ):
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyLength", name, GROUP, tip)
         for i, (r, h) in enumerate(INNER, 1):
             if r not in obj.PropertiesList:
-                obj.addProperty("App::PropertyDistance", r, PROFILE,
-                                f"c_p: inner control point {i}'s distance from the axis")
-                obj.addProperty("App::PropertyDistance", h, PROFILE,
-                                f"c_p: inner control point {i}'s height above c0")
+                obj.addProperty(
+                    "App::PropertyDistance",
+                    r,
+                    PROFILE,
+                    f"c_p: inner control point {i}'s distance from the axis",
+                )
+                obj.addProperty(
+                    "App::PropertyDistance",
+                    h,
+                    PROFILE,
+                    f"c_p: inner control point {i}'s height above c0",
+                )
         if "Mode" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Mode", GROUP, MODE_TIP)
             obj.Mode = MODES
 
     @classmethod
     def reading(cls, op: Sweep) -> str:
-        return (f"{cls.kind_of(op)} ({op.mode.value}): radius {length(op.r0)} to "
-                f"{length(op.r1)} over {length(op.d)}, centred at {point(op.center)} "
-                f"{cls.on_face(op.face)}")
+        return (
+            f"{cls.kind_of(op)} ({op.mode.value}): radius {length(op.r0)} to "
+            f"{length(op.r1)} over {length(op.d)}, centred at {point(op.center)} "
+            f"{cls.on_face(op.face)}"
+        )
 
     def inner(self, obj) -> tuple:
         """c_p's inner control points as ((r, h), (r, h)) in mm."""
@@ -60,8 +78,15 @@ class SweepFeature(CombinedFeature):
             setattr(obj, h, float(hv))
 
     def operation(self, obj) -> Sweep:
-        return Sweep(self.face(obj), tup(obj.Center), mm(obj.Radius0), mm(obj.Radius1),
-                     mm(obj.Offset), self.inner(obj), Mode(obj.Mode))
+        return Sweep(
+            self.face(obj),
+            tup(obj.Center),
+            mm(obj.Radius0),
+            mm(obj.Radius1),
+            mm(obj.Offset),
+            self.inner(obj),
+            Mode(obj.Mode),
+        )
 
     def set_operation(self, obj, op: Sweep) -> None:
         self._tuning = True  # these values are a whole operation: nothing to retune
@@ -77,8 +102,11 @@ class SweepFeature(CombinedFeature):
 
     def onChanged(self, obj, prop):
         super().onChanged(obj, prop)
-        if prop not in TUNED or getattr(self, "_tuning", False) \
-                or not all(hasattr(obj, p) for p in TUNED + INNER[1] + ("Mode",)):
+        if (
+            prop not in TUNED
+            or getattr(self, "_tuning", False)
+            or not all(hasattr(obj, p) for p in TUNED + INNER[1] + ("Mode",))
+        ):
             return
         last = getattr(self, "_last", None)
         now = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))

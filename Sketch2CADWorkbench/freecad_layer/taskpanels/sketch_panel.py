@@ -4,6 +4,7 @@ the reading and its preview shown (in the user's units), the designer's choices,
 or discard. The same panel re-opens a sketched step (double-click in the tree): its
 strokes are shown again in the view they were drawn in, and OK applies the new reading
 to that step."""
+
 import json
 
 import FreeCAD
@@ -28,22 +29,32 @@ def tr(text: str) -> str:
 
 
 def _call(function: str, target: str, op: Operation, sketch: str) -> str:
-    return (f"{MAKE}.{function}({target}, Sketch2CADWorkbench.brep.protocol.operation_from_dict("
-            f"{operation_to_dict(op)!r}){f', sketch={sketch!r}' if sketch else ''})")
+    return (
+        f"{MAKE}.{function}({target}, Sketch2CADWorkbench.brep.protocol.operation_from_dict("
+        f"{operation_to_dict(op)!r}){f', sketch={sketch!r}' if sketch else ''})"
+    )
 
 
 def add_operation_command(model, op: Operation, sketch: str = "") -> str:
     """The console line that appends `op` to `model` (make_model.add_operation), with the
     sketch it was read from (JSON, see add_operation)."""
-    return _call("add_operation", f"FreeCAD.getDocument({model.Document.Name!r})"
-                 f".getObject({model.Name!r})", op, sketch)
+    return _call(
+        "add_operation",
+        f"FreeCAD.getDocument({model.Document.Name!r}).getObject({model.Name!r})",
+        op,
+        sketch,
+    )
 
 
 def replace_operation_command(obj, op: Operation, sketch: str = "") -> str:
     """The console line that makes the feature `obj` stand for `op`
     (make_model.replace_operation)."""
-    return _call("replace_operation", f"FreeCAD.getDocument({obj.Document.Name!r})"
-                 f".getObject({obj.Name!r})", op, sketch)
+    return _call(
+        "replace_operation",
+        f"FreeCAD.getDocument({obj.Document.Name!r}).getObject({obj.Name!r})",
+        op,
+        sketch,
+    )
 
 
 def set_view_camera(view, cam) -> None:
@@ -93,17 +104,29 @@ class SketchPanel:
             self._open_feature()
         if loading():  # started with the workbench (freecad_layer/networks.py)
             self.text.setHtml(tr("<i>Loading networks…</i> You can draw meanwhile."))
-            when_loaded(lambda: self.text.toPlainText().startswith(tr("Loading networks"))
-                        and self.text.setHtml(tr("Networks ready.")), self.text)
+            when_loaded(
+                lambda: (
+                    self.text.toPlainText().startswith(tr("Loading networks"))
+                    and self.text.setHtml(tr("Networks ready."))
+                ),
+                self.text,
+            )
 
     def _build_form(self):
         w = QtGui.QWidget()
-        title = tr("Sketch2CAD sketch") if self.feature is None else \
-            tr("Sketch2CAD: edit {}").format(self.feature.Label)
+        title = (
+            tr("Sketch2CAD sketch")
+            if self.feature is None
+            else tr("Sketch2CAD: edit {}").format(self.feature.Label)
+        )
         w.setWindowTitle(title)
         lay = QtGui.QVBoxLayout(w)
-        hint = QtGui.QLabel(tr("Draw the operation's strokes over the model (left drag), "
-                               "then press Enter or Interpret. Esc cancels."))
+        hint = QtGui.QLabel(
+            tr(
+                "Draw the operation's strokes over the model (left drag), "
+                "then press Enter or Interpret. Esc cancels."
+            )
+        )
         hint.setWordWrap(True)  # else its one long line widens the panel past the combo view
         lay.addWidget(hint)
         self.regularize = QtGui.QCheckBox(tr("Regularize (snap and rectify)"))
@@ -117,8 +140,9 @@ class SketchPanel:
         form.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
         form.addRow(tr("Boolean"), self.option)
         form.addRow(tr("Mirror"), self.symmetry)
-        self.symmetry.setToolTip(tr("Also add the mirror image through the model's "
-                                    "mid-plane normal to this axis"))
+        self.symmetry.setToolTip(
+            tr("Also add the mirror image through the model's mid-plane normal to this axis")
+        )
         lay.addLayout(form)
         lay.addWidget(self.regularize)
         buttons = QtGui.QHBoxLayout()
@@ -153,6 +177,7 @@ class SketchPanel:
         """Show the step's strokes in the view they were drawn in, its choices in the
         panel, the solid it applies to, and read the strokes again."""
         from ...inference.session import step_from_dict
+
         obj = self.feature
         # FreeCAD's tree opens an "Edit" transaction on a double-click: the step's own
         # transaction is opened by OK, and Cancel leaves no undo step (showing the solid
@@ -160,9 +185,13 @@ class SketchPanel:
         if FreeCAD.getActiveTransaction():
             FreeCAD.closeActiveTransaction(True)
         if not obj.SketchStep:
-            self.text.setHtml(tr("<b>{} keeps no strokes</b> (it came from a protocol). "
-                                 "Draw new strokes to replace it, or edit its values in "
-                                 "the property editor.").format(obj.Label))
+            self.text.setHtml(
+                tr(
+                    "<b>{} keeps no strokes</b> (it came from a protocol). "
+                    "Draw new strokes to replace it, or edit its values in "
+                    "the property editor."
+                ).format(obj.Label)
+            )
             step = None
         else:
             step = step_from_dict(json.loads(obj.SketchStep))
@@ -175,8 +204,10 @@ class SketchPanel:
             self.regularize.blockSignals(True)
             self.regularize.setChecked(c.regularize)
             self.regularize.blockSignals(False)
-            for box, value in ((self.option, c.option.value if c.option else "auto"),
-                               (self.symmetry, c.symmetry or "none")):
+            for box, value in (
+                (self.option, c.option.value if c.option else "auto"),
+                (self.symmetry, c.symmetry or "none"),
+            ):
                 box.blockSignals(True)
                 box.setCurrentIndex(box.findText(value))
                 box.blockSignals(False)
@@ -195,13 +226,16 @@ class SketchPanel:
 
     def options(self):
         from ...inference.interpret import InterpretOptions
+
         opt = self.option.currentText()
         sym = self.symmetry.currentText()
-        return InterpretOptions(self.regularize.isChecked(),
-                                None if opt == "auto" else Mode(opt),
-                                None if sym == "none" else sym,
-                                snap_step=snap_step(),
-                                skip_snaps=frozenset(self.skipped))
+        return InterpretOptions(
+            self.regularize.isChecked(),
+            None if opt == "auto" else Mode(opt),
+            None if sym == "none" else sym,
+            snap_step=snap_step(),
+            skip_snaps=frozenset(self.skipped),
+        )
 
     def undo_snap(self, key: str) -> None:
         """Read the strokes again without the snap `key` (a SNAP_KINDS key)."""
@@ -245,46 +279,63 @@ class SketchPanel:
             return
         options = self.options()
         if loading():
-            self.text.setHtml(tr("<i>Loading networks…</i> The reading follows when they "
-                                 "are ready."))
+            self.text.setHtml(
+                tr("<i>Loading networks…</i> The reading follows when they are ready.")
+            )
             self.text.repaint()  # the imports and predictor() below wait for the load
         from ...inference.interpret import InterpretError, interpret
         from ...inference.session import SketchStep
         from ..make.make_model import FEATURE_OF_OPERATION
+
         try:
             solid = self._base_solid()
             networks = predictor()
             use_network_threads(networks)
             r = interpret(solid, strokes, camera, networks, options=options)
         except (InterpretError, ValueError, FileNotFoundError) as e:
-            self.text.setHtml(f"<b style='color:#b00'>{tr('Not interpreted:')}</b> {e}<br>"
-                              + tr("Nothing was changed. Add or clear strokes and try again."))
+            self.text.setHtml(
+                f"<b style='color:#b00'>{tr('Not interpreted:')}</b> {e}<br>"
+                + tr("Nothing was changed. Add or clear strokes and try again.")
+            )
             return
         self.result, self.step = r, SketchStep(camera, strokes, options)
         probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
-        lines = "".join(f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>"
-                        for op in r.operations)
+        lines = "".join(
+            f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>" for op in r.operations
+        )
         other = ""
         if r.other_option is not None:  # a boss and a hole that draw the same lines
-            other = "<p>" + tr("The strokes read just as well as <b>{0}</b>: from this view "
-                               "its primitive draws the same lines. Set Boolean to {0} if "
-                               "that was meant.").format(r.other_option.value) + "</p>"
+            other = (
+                "<p>"
+                + tr(
+                    "The strokes read just as well as <b>{0}</b>: from this view "
+                    "its primitive draws the same lines. Set Boolean to {0} if "
+                    "that was meant."
+                ).format(r.other_option.value)
+                + "</p>"
+            )
         if r.doubtful:
             other += f"<p style='color:#b60'><b>{tr('Warning:')}</b> {r.doubt()}.</p>"
         if r.unsnapped:
             other += f"<p>{tr('Not snapped:')} {r.unsnapped}.</p>"
-        done = tr("OK adds it to the model.") if self.feature is None else \
-            tr("OK applies it to {}.").format(self.feature.Label)
+        done = (
+            tr("OK adds it to the model.")
+            if self.feature is None
+            else tr("OK applies it to {}.").format(self.feature.Label)
+        )
         first = r.operations[0]
         kind = FEATURE_OF_OPERATION[first.type].kind_of(first)
-        self.text.setHtml(f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
-                          f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}")
+        self.text.setHtml(
+            f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
+            f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}"
+        )
         self.preview.show(to_part(r.solid))
         self._show_snaps(r.snaps)
 
     def sketch_json(self) -> str:
         """The strokes, view and choices of the current reading, as a session step."""
         from ...inference.session import step_to_dict
+
         return json.dumps(step_to_dict(self.step))
 
     def clear(self):
@@ -311,8 +362,11 @@ class SketchPanel:
                     o.ViewObject.Visibility = self.shown[o.Name]
             self.model.Tip.ViewObject.Visibility = True
         FreeCADGui.Control.closeDialog()
-        if reset_edit and self.feature is not None \
-                and FreeCADGui.ActiveDocument.getInEdit() is not None:
+        if (
+            reset_edit
+            and self.feature is not None
+            and FreeCADGui.ActiveDocument.getInEdit() is not None
+        ):
             FreeCADGui.ActiveDocument.resetEdit()
 
     def accept(self):
@@ -324,8 +378,10 @@ class SketchPanel:
         ops = list(self.result.operations)
         if self.feature is not None and len(ops) > 1 and self.model.Tip != self.feature:
             # a mirror image read with an edited step would go in the middle of the model
-            error(tr("Cannot apply the edit"), tr("Only the last step can get a mirror "
-                                                  "image; set Mirror to none"))
+            error(
+                tr("Cannot apply the edit"),
+                tr("Only the last step can get a mirror image; set Mirror to none"),
+            )
             return False
         name = tr("Sketch2CAD sketch") if self.feature is None else tr("Edit sketch step")
         try:
@@ -334,8 +390,9 @@ class SketchPanel:
                 FreeCADGui.addModule(MAKE)
                 FreeCADGui.addModule("Sketch2CADWorkbench.brep.protocol")
                 if self.feature is not None:
-                    FreeCADGui.doCommand(replace_operation_command(self.feature, ops.pop(0),
-                                                                   sketch))
+                    FreeCADGui.doCommand(
+                        replace_operation_command(self.feature, ops.pop(0), sketch)
+                    )
                 for op in ops:
                     FreeCADGui.doCommand(add_operation_command(self.model, op, sketch))
                 FreeCADGui.doCommand(f"FreeCAD.getDocument({self.doc.Name!r}).recompute()")

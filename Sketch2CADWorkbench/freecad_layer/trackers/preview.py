@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The see-through preview of a reading over the 3D view."""
+
 from pivy import coin
 
 # Blue, see-through: unlike FreeCAD's green selection, yellow pre-selection and the
@@ -43,8 +44,7 @@ def _mesh_node(shape, tolerance: float = 0.1):
     coords = coin.SoCoordinate3()
     coords.point.setValues(0, len(points), [(p.x, p.y, p.z) for p in points])
     faces = coin.SoIndexedFaceSet()
-    faces.coordIndex.setValues(0, 4 * len(triangles),
-                               [i for tri in triangles for i in (*tri, -1)])
+    faces.coordIndex.setValues(0, 4 * len(triangles), [i for tri in triangles for i in (*tri, -1)])
     group.addChild(coords)
     group.addChild(faces)
     return group

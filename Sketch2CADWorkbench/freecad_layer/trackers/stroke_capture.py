@@ -20,6 +20,7 @@ Each stroke point is kept in world coordinates, on the camera's focal plane at t
 it was drawn. `result()` projects them with the camera of that moment, so zooming or
 panning between strokes keeps them where they were drawn over the model.
 """
+
 import numpy as np
 from pivy import coin
 from PySide import QtCore, QtGui
@@ -68,7 +69,8 @@ class StrokeCapture:
         for widget in self.widgets:
             widget.installEventFilter(self.filter)
         self.compressing = QtGui.QApplication.testAttribute(
-            QtCore.Qt.AA_CompressHighFrequencyEvents)
+            QtCore.Qt.AA_CompressHighFrequencyEvents
+        )
 
     def _world(self, pixel) -> np.ndarray:
         """A core pixel (origin top-left) as the world point under it on the focal plane (mm)."""
@@ -93,8 +95,7 @@ class StrokeCapture:
     def release(self) -> None:
         """The left button went up: the stroke ends (a click is not a stroke)."""
         self.drawing = False
-        QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
-                                        self.compressing)
+        QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents, self.compressing)
         if len(self.strokes[-1]) < 2:
             self.strokes.pop()
         self.redraw()
@@ -140,8 +141,9 @@ class StrokeCapture:
         # ("already deleted") to a later view whose widget reuses the address
         self.widgets = ()
         if self.drawing:  # removed with the button down: Qt merges moves again
-            QtGui.QApplication.setAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents,
-                                            self.compressing)
+            QtGui.QApplication.setAttribute(
+                QtCore.Qt.AA_CompressHighFrequencyEvents, self.compressing
+            )
             self.drawing = False
         graph, root = self.graph, self.root
         QtCore.QTimer.singleShot(0, lambda: graph.removeChild(root))
@@ -165,8 +167,10 @@ class _EventFilter(QtCore.QObject):
         if isinstance(widget, QtGui.QAbstractScrollArea):
             return False  # the view itself: mouse events are the viewport's
         # a quick second stroke begins with a double-click event, not FreeCAD's double-click
-        if kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick) \
-                and event.button() == QtCore.Qt.LeftButton:
+        if (
+            kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick)
+            and event.button() == QtCore.Qt.LeftButton
+        ):
             c.press(_pixel(widget, event))
             return True
         if kind == QtCore.QEvent.MouseMove and c.drawing:

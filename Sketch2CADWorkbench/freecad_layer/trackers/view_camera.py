@@ -5,6 +5,7 @@ Coin reports mouse positions in integer pixels with the origin at the bottom-lef
 device-independent pixels with the origin at the top-left; the core's pixels are device
 pixels with the origin at the top-left corner and pixel centres at +0.5.
 """
+
 import numpy as np
 from pivy import coin
 
@@ -26,8 +27,10 @@ def view_camera(view) -> OrthoCamera:
     """
     cam = view.getCameraNode()
     if not isinstance(cam, coin.SoOrthographicCamera):
-        raise ValueError("the 3D view is perspective; Sketch2CAD needs an orthographic view "
-                         "(View > Orthographic view)")
+        raise ValueError(
+            "the 3D view is perspective; Sketch2CAD needs an orthographic view "
+            "(View > Orthographic view)"
+        )
     w, h = view.getSize()
     rot = cam.orientation.getValue()
     direction = rot.multVec(coin.SbVec3f(0, 0, -1)).getValue()
@@ -36,9 +39,14 @@ def view_camera(view) -> OrthoCamera:
     # view's height when it is wider than tall, and its width otherwise. (FreeCAD 0.20's
     # view.getPointOnScreen ignores the second case; the rendered image does not.)
     visible_height = cam.height.getValue() * max(1.0, h / w)
-    return OrthoCamera(tuple(map(float, cam.position.getValue().getValue())),
-                       tuple(map(float, direction)), tuple(map(float, up)),
-                       visible_height / 2.0, int(w), int(h))
+    return OrthoCamera(
+        tuple(map(float, cam.position.getValue().getValue())),
+        tuple(map(float, direction)),
+        tuple(map(float, up)),
+        visible_height / 2.0,
+        int(w),
+        int(h),
+    )
 
 
 def to_pixels(points, height: int) -> np.ndarray:

@@ -2,11 +2,17 @@
 """One view provider for all Sketch2CAD objects: the tree icon follows the object's kind
 (Pad or Pocket, Boss or Hole...), and double-clicking a sketched step opens its Sketch
 panel with its strokes, as PartDesign reopens a Pad's panel."""
+
 from ..icons import icon_path
 
-ICON_OF_TYPE = {"Sketch2CAD::Model": "Model", "Sketch2CAD::Box": "Box",
-                "Sketch2CAD::Extrude": "Pad", "Sketch2CAD::Bevel": "Bevel",
-                "Sketch2CAD::AddSubPrism": "Boss", "Sketch2CAD::Sweep": "Revolution"}
+ICON_OF_TYPE = {
+    "Sketch2CAD::Model": "Model",
+    "Sketch2CAD::Box": "Box",
+    "Sketch2CAD::Extrude": "Pad",
+    "Sketch2CAD::Bevel": "Bevel",
+    "Sketch2CAD::AddSubPrism": "Boss",
+    "Sketch2CAD::Sweep": "Revolution",
+}
 EDIT = 0  # FreeCAD's default edit mode; 1 (Transform) and the others are FreeCAD's own
 
 
@@ -42,6 +48,7 @@ class ViewProviderSketch2CAD:
         """A sketched step opens its Sketch panel; the model and the box do nothing (their
         Placement is not theirs to move, so no Transform dragger)."""
         import FreeCADGui
+
         if self._editable(vobj) and not FreeCADGui.Control.activeDialog():
             FreeCADGui.ActiveDocument.setEdit(vobj.Object, EDIT)
         return True
@@ -52,8 +59,10 @@ class ViewProviderSketch2CAD:
         from PySide import QtGui
 
         from ..translate import translate
-        action = QtGui.QAction(QtGui.QIcon(icon_path("Sketch")),
-                               translate("Sketch2CAD", "Edit sketch step"), menu)
+
+        action = QtGui.QAction(
+            QtGui.QIcon(icon_path("Sketch")), translate("Sketch2CAD", "Edit sketch step"), menu
+        )
         action.triggered.connect(lambda: self.doubleClicked(vobj))
         menu.addAction(action)
 
@@ -65,6 +74,7 @@ class ViewProviderSketch2CAD:
         from ..gui_helpers import error
         from ..taskpanels.sketch_panel import SketchPanel
         from ..translate import translate
+
         view = FreeCADGui.ActiveDocument.ActiveView
         if view.getCameraType() != "Orthographic":  # as the Sketch command does
             view.setCameraType("Orthographic")

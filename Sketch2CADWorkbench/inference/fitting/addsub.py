@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Add/subtract regression: N-gon, option, base polygon and length d (paper, Sec. 4.2)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -52,10 +53,10 @@ class PrismFit:
     length against all of them (`refine.py`), which costs more than the rest of the fit:
     a caller that weighs several readings of the strokes refines only the one it keeps."""
 
-    operation: AddSubPrism      # as fitted, unrefined
-    base: np.ndarray            # (N, 2) its base polygon c on f, context pixels
-    step: np.ndarray            # (2,) image displacement of 1 mm along its direction, pixels
-    strokes: list[np.ndarray]   # every stroke of the prism (start, profile, end)
+    operation: AddSubPrism  # as fitted, unrefined
+    base: np.ndarray  # (N, 2) its base polygon c on f, context pixels
+    step: np.ndarray  # (2,) image displacement of 1 mm along its direction, pixels
+    strokes: list[np.ndarray]  # every stroke of the prism (start, profile, end)
     face: cq.Face
     camera: OrthoCamera
     frame: FaceFrame
@@ -73,21 +74,36 @@ class PrismFit:
         for base, d in (prism_from_ends(*refined, self.step, self.strokes), refined):
             if d > 0 and is_simple(base) and _shortest_side(base) >= MIN_SIDE_PX:
                 base3d = back_project(self.camera, self.face, self.frame, base)
-                return AddSubPrism(self.operation.face,
-                                   tuple(tuple(map(float, p)) for p in base3d), float(d),
-                                   self.operation.mode)
+                return AddSubPrism(
+                    self.operation.face,
+                    tuple(tuple(map(float, p)) for p in base3d),
+                    float(d),
+                    self.operation.mode,
+                )
         return self.operation
 
 
-def fit_prism(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], option: Mode | None = None) -> AddSubPrism:
+def fit_prism(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    labels: list[int],
+    option: Mode | None = None,
+) -> AddSubPrism:
     """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2):
     `prism_fit`, refined (`PrismFit.refined`). Same arguments and errors."""
     return prism_fit(solid, face, camera, strokes, labels, option).refined()
 
 
-def prism_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], option: Mode | None = None) -> PrismFit:
+def prism_fit(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    labels: list[int],
+    option: Mode | None = None,
+) -> PrismFit:
     """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2),
     up to the joint refinement.
 
@@ -112,15 +128,17 @@ def prism_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
     n = len(groups[1])
     if not 3 <= n <= 6:
-        raise FitError(f"a prism needs 3 to 6 profile strokes (one per side edge); "
-                       f"{n} were recognised")
+        raise FitError(
+            f"a prism needs 3 to 6 profile strokes (one per side edge); {n} were recognised"
+        )
     starts, ends = profile_ends(groups[1], groups[0], groups[2])
     poly_s = _simple_fit(starts, groups[0])
     poly_e = _simple_fit(ends, groups[2])
     frame = option_frame(face, camera, starts, ends)  # on a curved f: the corners drawn
     scale = model_scale(solid)
-    mode = choose_option(face, frame, camera, _outline_samples(poly_s),
-                         _outline_samples(poly_e), option)
+    mode = choose_option(
+        face, frame, camera, _outline_samples(poly_s), _outline_samples(poly_e), option
+    )
     base, other = (poly_s, groups[2]) if mode is not Mode.SUBTRACT else (poly_e, groups[0])
     if not is_simple(base):
         raise FitError("the base outline crosses itself")
@@ -132,14 +150,17 @@ def prism_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     base3d = back_project(camera, face, frame, base)
     direction = frame.normal * mode.sign
     closed = np.concatenate([base3d, base3d[:1]])
-    edge_pts = np.concatenate([np.linspace(closed[i], closed[i + 1], 24)
-                               for i in range(len(base3d))])
+    edge_pts = np.concatenate(
+        [np.linspace(closed[i], closed[i + 1], 24) for i in range(len(base3d))]
+    )
     field = DistanceField(stroke_pixels(other, (camera.height, camera.width)))
     cands = search_range(scale, 0.0075, 1.5)
     d, err = line_search(edge_pts, direction, camera, field, cands)
     if err > MAX_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
-    op = AddSubPrism(face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d),
-                     float(d), mode)
-    return PrismFit(op, base, camera.image_of(direction), groups[0] + groups[1] + groups[2],
-                    face, camera, frame)
+    op = AddSubPrism(
+        face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d), float(d), mode
+    )
+    return PrismFit(
+        op, base, camera.image_of(direction), groups[0] + groups[1] + groups[2], face, camera, frame
+    )

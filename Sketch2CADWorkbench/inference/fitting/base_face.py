@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The base face f by counting (paper, "Operator regression")."""
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -13,8 +14,9 @@ MIN_PIXELS = 20
 ON_FACE_SHARE = 0.6
 
 
-def rank_base_faces(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape,
-                    curved: bool = False) -> list[int]:
+def rank_base_faces(
+    face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape, curved: bool = False
+) -> list[int]:
     """Planar faces in view, best first, by the paper's counting of the face map.
 
     Rank by sum over pixels with Id = f_i of [F > 0.5] (the paper's f* is the first),
@@ -63,8 +65,9 @@ def select_base_face(face_prob: np.ndarray, face_id: np.ndarray, solid: cq.Shape
     """
     ranked = rank_base_faces(face_prob, face_id, solid)
     if not ranked:
-        raise FitError("no face of the model was recognised under the sketch; draw on a "
-                       "visible face")
+        raise FitError(
+            "no face of the model was recognised under the sketch; draw on a visible face"
+        )
     return solid.Faces()[ranked[0]]
 
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Bevel regression: profile l, corner c and opposite corner c' (paper, "Bevel regression")."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -26,8 +27,9 @@ EDGE_TOL = 0.08
 INNER_SPAN = 0.9
 
 
-def _corner_for(ends: np.ndarray, edges, camera: OrthoCamera, scale: float
-                ) -> tuple[np.ndarray, tuple[float, float], tuple]:
+def _corner_for(
+    ends: np.ndarray, edges, camera: OrthoCamera, scale: float
+) -> tuple[np.ndarray, tuple[float, float], tuple]:
     """The corner c of f whose two edges best hold the stroke's two ends, in the image.
 
     For every vertex shared by two straight edges of f, each stroke end (pixels; (2, 2),
@@ -39,7 +41,7 @@ def _corner_for(ends: np.ndarray, edges, camera: OrthoCamera, scale: float
     """
     best = None
     for i, (a0, a1) in enumerate(edges):
-        for j, (b0, b1) in enumerate(edges[i + 1:], i + 1):
+        for j, (b0, b1) in enumerate(edges[i + 1 :], i + 1):
             for p in (a0, a1):
                 for q in (b0, b1):
                     if np.linalg.norm(p - q) > 1e-6 * scale:
@@ -76,7 +78,7 @@ def _inside_corner(ctrl: np.ndarray, c: np.ndarray) -> np.ndarray:
     convex hull property keeps the whole curve in with it.
     """
     out = ctrl.copy()
-    axes = np.stack([ctrl[0] - c, ctrl[3] - c], 1)                         # (2, 2)
+    axes = np.stack([ctrl[0] - c, ctrl[3] - c], 1)  # (2, 2)
     if abs(np.linalg.det(axes)) < 1e-12 * max(float(np.abs(axes).max()), 1e-12) ** 2:
         return out  # ends in line with c: no parallelogram (place_bevel refuses it)
     st = np.clip(np.linalg.solve(axes, (ctrl[1:3] - c).T), 0.0, INNER_SPAN)  # (2, 2): s, t
@@ -89,10 +91,10 @@ class BevelFit:
     """A bevel read from its profile stroke, before the refinement of l against all the
     strokes (`refine.refine_bevel`)."""
 
-    operation: Bevel            # as fitted, unrefined
-    image: BevelImage           # how l and l' move in the image with its parameters
-    x: np.ndarray               # (6,) the parameters as fitted
-    frame: FaceFrame            # f's frame, in which l is fitted
+    operation: Bevel  # as fitted, unrefined
+    image: BevelImage  # how l and l' move in the image with its parameters
+    x: np.ndarray  # (6,) the parameters as fitted
+    frame: FaceFrame  # f's frame, in which l is fitted
 
     def refined(self, strokes: list[np.ndarray]) -> Bevel:
         """The operation with l's ends (along their edges) and inner control points
@@ -104,15 +106,17 @@ class BevelFit:
         return Bevel(op.face, op.corner, op.opposite, tuple(tuple(map(float, p)) for p in ctrl))
 
 
-def fit_bevel(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-              profile_stroke: np.ndarray) -> Bevel:
+def fit_bevel(
+    solid: cq.Shape, face: cq.Face, camera: OrthoCamera, profile_stroke: np.ndarray
+) -> Bevel:
     """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane:
     `bevel_fit`'s operation. Same arguments and errors."""
     return bevel_fit(solid, face, camera, profile_stroke).operation
 
 
-def bevel_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-              profile_stroke: np.ndarray) -> BevelFit:
+def bevel_fit(
+    solid: cq.Shape, face: cq.Face, camera: OrthoCamera, profile_stroke: np.ndarray
+) -> BevelFit:
     """Fit l as a cubic Bezier to the profile stroke back-projected onto f's plane, up to
     the refinement against all the strokes.
 
@@ -137,15 +141,30 @@ def bevel_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     corner, at, edges = _corner_for(stroke[[0, -1]], line_edges(face), camera, scale)
     opposite = crease_end(solid, corner, frame.normal, 1e-6 * scale)
     if opposite is None:
-        raise FitError("bevel: the corner has no edge running into the solid along the face "
-                       "normal, so there is no crease to round")
+        raise FitError(
+            "bevel: the corner has no edge running into the solid along the face "
+            "normal, so there is no crease to round"
+        )
     (a0, a1), (b0, b1) = (frame.to_2d(np.stack(e)) for e in edges)
-    ctrl2 = fit_bezier(frame.to_2d(pts), a0 + at[0] * (a1 - a0), b0 + at[1] * (b1 - b0),
-                       corner=frame.to_2d(corner)[0], span=INNER_SPAN)
-    op = Bevel(face_ref_of(face), tuple(map(float, corner)), tuple(map(float, opposite)),
-               tuple(tuple(map(float, p)) for p in frame.to_3d(ctrl2)))
+    ctrl2 = fit_bezier(
+        frame.to_2d(pts),
+        a0 + at[0] * (a1 - a0),
+        b0 + at[1] * (b1 - b0),
+        corner=frame.to_2d(corner)[0],
+        span=INNER_SPAN,
+    )
+    op = Bevel(
+        face_ref_of(face),
+        tuple(map(float, corner)),
+        tuple(map(float, opposite)),
+        tuple(tuple(map(float, p)) for p in frame.to_3d(ctrl2)),
+    )
     origin = camera.project(frame.origin[None])[0][0]
-    image = BevelImage(origin, np.stack([camera.image_of(frame.u), camera.image_of(frame.v)], 1),
-                       np.stack([a0, a1]), np.stack([b0, b1]),
-                       camera.image_of(np.subtract(opposite, corner)))
+    image = BevelImage(
+        origin,
+        np.stack([camera.image_of(frame.u), camera.image_of(frame.v)], 1),
+        np.stack([a0, a1]),
+        np.stack([b0, b1]),
+        camera.image_of(np.subtract(opposite, corner)),
+    )
     return BevelFit(op, image, np.concatenate([at, ctrl2[1], ctrl2[2]]), frame)

@@ -4,8 +4,8 @@
 All 2D quantities are in the context camera's pixels (render/camera.py convention);
 3D quantities are world millimetres.
 """
-from __future__ import annotations
 
+from __future__ import annotations
 
 import cadquery as cq
 import cv2
@@ -14,7 +14,6 @@ from scipy.optimize import linear_sum_assignment, lsq_linear
 
 from ...brep.geometry import arc_lengths, bezier, resample_every, resample_polyline
 from ...render.camera import OrthoCamera
-
 
 # A stroke longer than this many times its extent is a loop (a circle drawn once around:
 # about pi; a line or a profile curve: 1 to 1.3). Its ends' gap does not tell: the
@@ -50,8 +49,9 @@ def sample_map(img: np.ndarray, pts: np.ndarray) -> np.ndarray:
     return img[j, i]
 
 
-def classify_strokes(strokes: list[np.ndarray], curve: np.ndarray,
-                     thresholds: tuple[float, ...]) -> list[int]:
+def classify_strokes(
+    strokes: list[np.ndarray], curve: np.ndarray, thresholds: tuple[float, ...]
+) -> list[int]:
     """Each stroke's class by counting (paper, "Add/subtract regression").
 
     A sample point of a stroke votes for class k when the curve map C there falls in
@@ -89,14 +89,19 @@ def loop_distances(points: np.ndarray, loop: np.ndarray) -> np.ndarray:
     """Each point's distance (K,) to a closed polyline (M, 2)."""
     a, b = loop, np.roll(loop, -1, axis=0)
     ab = b - a
-    t = np.clip(np.einsum("kmj,mj->km", points[:, None] - a[None], ab)
-                / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
+    t = np.clip(
+        np.einsum("kmj,mj->km", points[:, None] - a[None], ab)
+        / np.maximum((ab * ab).sum(axis=1), 1e-12),
+        0.0,
+        1.0,
+    )
     near = a[None] + t[..., None] * ab[None]
     return np.linalg.norm(points[:, None] - near, axis=2).min(axis=1)
 
 
-def match_ends(curve_ends: np.ndarray, stroke_ends: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def match_ends(
+    curve_ends: np.ndarray, stroke_ends: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Which open curve each open stroke draws, and which way: the one-to-one matching
     with the least sum of squared gaps between their ends (the hand the data generator
     models, datagen/strokes.py: a curve drawn as one stroke whose two ends miss the
@@ -147,8 +152,9 @@ class DistanceField:
             raise FitError("no stroke pixels to match")
         # OpenCV's exact (DIST_MASK_PRECISE) Euclidean transform: scipy's equal to 1e-6 px,
         # 4x slower on a 256 x 256 map; one is made for every reading scored.
-        self.dt = cv2.distanceTransform((~target).astype(np.uint8), cv2.DIST_L2,
-                                        cv2.DIST_MASK_PRECISE)
+        self.dt = cv2.distanceTransform(
+            (~target).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE
+        )
         self.h, self.w = target.shape
 
     def __call__(self, pts: np.ndarray) -> np.ndarray:
@@ -170,11 +176,16 @@ class DistanceField:
 SIDE_SAMPLES = np.linspace(0.15, 0.85, 8)  # along a side edge, away from its noisy ends
 
 
-def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
-                field: DistanceField, candidates: np.ndarray,
-                sides: tuple[np.ndarray, np.ndarray, DistanceField] | None = None,
-                ends: np.ndarray | None = None, end_weight: float = 0.0
-                ) -> tuple[float, float]:
+def line_search(
+    points: np.ndarray,
+    direction: np.ndarray,
+    camera: OrthoCamera,
+    field: DistanceField,
+    candidates: np.ndarray,
+    sides: tuple[np.ndarray, np.ndarray, DistanceField] | None = None,
+    ends: np.ndarray | None = None,
+    end_weight: float = 0.0,
+) -> tuple[float, float]:
     """The offset t minimising the mean distance of projected (points + t * direction).
 
     `direction` is one vector (3,) or one per point (P, 3) (a curved face moves along
@@ -192,21 +203,21 @@ def line_search(points: np.ndarray, direction: np.ndarray, camera: OrthoCamera,
         (best t refined between its neighbours by a parabola, its mean distance in px,
         the ends' term left out).
     """
-    base, _ = camera.project(points)                                 # (P, 2)
-    step2d = _images_of(camera, points, direction)                   # (P or 1, 2) px per t
-    pos = base[None, :, :] + candidates[:, None, None] * step2d      # (K, P, 2)
-    scores = field(pos).mean(axis=1)                                 # (K,)
+    base, _ = camera.project(points)  # (P, 2)
+    step2d = _images_of(camera, points, direction)  # (P or 1, 2) px per t
+    pos = base[None, :, :] + candidates[:, None, None] * step2d  # (K, P, 2)
+    scores = field(pos).mean(axis=1)  # (K,)
     ranked = scores
     if sides is not None:
         corners, corner_direction, side_field = sides
-        c2d, _ = camera.project(corners)                             # (V, 2)
-        c_step = _images_of(camera, corners, corner_direction)       # (V or 1, 2)
-        frac = (candidates[:, None] * SIDE_SAMPLES[None, :])         # (K, S)
+        c2d, _ = camera.project(corners)  # (V, 2)
+        c_step = _images_of(camera, corners, corner_direction)  # (V or 1, 2)
+        frac = candidates[:, None] * SIDE_SAMPLES[None, :]  # (K, S)
         spos = c2d[None, :, None, :] + frac[:, None, :, None] * c_step[None, :, None, :]
         ranked = scores = (scores + side_field(spos).mean(axis=(1, 2))) / 2
         if ends is not None and len(ends) and end_weight > 0:
-            tips = ends.reshape(-1, 2)                                      # (E, 2)
-            moved = c2d[None] + candidates[:, None, None] * c_step[None]     # (K, V, 2)
+            tips = ends.reshape(-1, 2)  # (E, 2)
+            moved = c2d[None] + candidates[:, None, None] * c_step[None]  # (K, V, 2)
             drawn = np.concatenate([np.broadcast_to(c2d, moved.shape), moved], axis=1)
             gaps = np.linalg.norm(drawn[:, :, None] - tips[None, None], axis=3)  # (K, 2V, E)
             apart = (gaps.min(axis=2).mean(axis=1) + gaps.min(axis=1).mean(axis=1)) / 2
@@ -230,8 +241,9 @@ def _images_of(camera: OrthoCamera, points: np.ndarray, direction: np.ndarray) -
     return camera.project(points + direction)[0] - camera.project(points)[0]
 
 
-def search_range(scale: float, lo: float = -1.5, hi: float = 1.5,
-                 step: float = 0.0075) -> np.ndarray:
+def search_range(
+    scale: float, lo: float = -1.5, hi: float = 1.5, step: float = 0.0075
+) -> np.ndarray:
     """The paper's line-search candidates for a model of diagonal `scale` (mm)."""
     n = int(round((hi - lo) / step)) + 1
     return np.linspace(lo, hi, n) * scale
@@ -246,9 +258,14 @@ def edge_samples(face: cq.Face, spacing: float) -> np.ndarray:
     return np.array(pts)
 
 
-def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,
-               iterations: int = 4, corner: np.ndarray | None = None,
-               span: float = 1.0) -> np.ndarray:
+def fit_bezier(
+    points: np.ndarray,
+    start: np.ndarray,
+    end: np.ndarray,
+    iterations: int = 4,
+    corner: np.ndarray | None = None,
+    span: float = 1.0,
+) -> np.ndarray:
     """A cubic Bezier from `start` to `end` fitting `points` (K, D) in least squares.
 
     The inner control points are solved linearly for chord-length parameters, which
@@ -264,16 +281,19 @@ def fit_bezier(points: np.ndarray, start: np.ndarray, end: np.ndarray,
     t = d / d[-1] if d[-1] > 0 else np.linspace(0, 1, len(p))
     ctrl = np.stack([start, start + (end - start) / 3, start + 2 * (end - start) / 3, end])
     for _ in range(iterations):
-        b1, b2 = 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t ** 2
-        rhs = p - np.outer((1 - t) ** 3, start) - np.outer(t ** 3, end)
+        b1, b2 = 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2
+        rhs = p - np.outer((1 - t) ** 3, start) - np.outer(t**3, end)
         a = np.stack([b1, b2], axis=1)
         if corner is None:
             sol, *_ = np.linalg.lstsq(a, rhs, rcond=None)
         else:  # unknowns (s1, t1, s2, t2); each point's residual is linear in them
-            axes = np.stack([start - corner, end - corner])                  # (2, D)
+            axes = np.stack([start - corner, end - corner])  # (2, D)
             basis = (a[:, :, None, None] * axes[None, None]).reshape(len(p), 4, -1)
-            st = lsq_linear(basis.transpose(0, 2, 1).reshape(-1, 4),
-                            (rhs - (b1 + b2)[:, None] * corner).ravel(), bounds=(0.0, span)).x
+            st = lsq_linear(
+                basis.transpose(0, 2, 1).reshape(-1, 4),
+                (rhs - (b1 + b2)[:, None] * corner).ravel(),
+                bounds=(0.0, span),
+            ).x
             sol = corner + st.reshape(2, 2) @ axes
         ctrl = np.stack([start, sol[0], sol[1], end])
         dense_t = np.linspace(0, 1, 201)

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Extrude regression: the offset d of face f by line search (paper, "Extrude regression")."""
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -54,10 +55,15 @@ RIM_SAMPLES = 48
 REF_GRID = (73, 7)
 
 
-def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-                offset_strokes: list[np.ndarray],
-                profile_strokes: list[np.ndarray] | None = None,
-                end_weight: float = END_WEIGHT, at: float | None = None) -> Extrude:
+def fit_extrude(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    offset_strokes: list[np.ndarray],
+    profile_strokes: list[np.ndarray] | None = None,
+    end_weight: float = END_WEIGHT,
+    at: float | None = None,
+) -> Extrude:
     """Find d such that the edges of f moved by d * n_f match the offset-curve strokes.
 
     The paper matches the moved edges to the offset curve only; when side-edge strokes
@@ -88,8 +94,9 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
         raise FitError("extrude: no stroke was recognised as the moved face's outline")
     curved = is_curved(face)
     if not curved and abs(float(FaceFrame.of(face).normal @ camera.basis()[2])) > HEAD_ON_COS:
-        raise FitError("extrude: the face is seen head-on, so its offset cannot be read; "
-                       "turn the view")
+        raise FitError(
+            "extrude: the face is seen head-on, so its offset cannot be read; turn the view"
+        )
     scale = model_scale(solid)
     field = DistanceField(stroke_pixels(offset_strokes, (camera.height, camera.width)))
     perimeter = sum(e.Length() for e in face.Edges())
@@ -105,25 +112,38 @@ def fit_extrude(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     cands = cands[np.abs(cands) > 1e-9] if at is None else np.array([at])  # d = 0: no op
     sides = None
     if profile_strokes and len(corners):
-        sides = (corners, corner_direction,
-                 DistanceField(stroke_pixels(profile_strokes, (camera.height, camera.width))))
+        sides = (
+            corners,
+            corner_direction,
+            DistanceField(stroke_pixels(profile_strokes, (camera.height, camera.width))),
+        )
     # the strokes' ends lie at corners only where f's outline is a polygon (a disk's
     # outline is one loop, its sides are silhouettes ending nowhere near its seam vertex)
     polygon = all(e.geomType() == "LINE" for e in face.Edges())
-    drawn = offset_strokes + [s for s in profile_strokes or ()
-                              if not any(s is o for o in offset_strokes)]
-    d, err = line_search(points, direction, camera, field, cands, sides,
-                         open_ends(drawn) if polygon else None, end_weight)
+    drawn = offset_strokes + [
+        s for s in profile_strokes or () if not any(s is o for o in offset_strokes)
+    ]
+    d, err = line_search(
+        points,
+        direction,
+        camera,
+        field,
+        cands,
+        sides,
+        open_ends(drawn) if polygon else None,
+        end_weight,
+    )
     if err > MAX_MISMATCH_PX:
-        raise FitError(f"extrude: no offset of the face matches the strokes (closest is "
-                       f"{err:.1f} px off on average)")
+        raise FitError(
+            f"extrude: no offset of the face matches the strokes (closest is "
+            f"{err:.1f} px off on average)"
+        )
     if abs(d) < 1e-6 * scale:
         raise FitError("extrude: the strokes lie on the face itself (offset 0)")
     return Extrude(_facing_ref(face, camera) if curved else face_ref_of(face), float(d))
 
 
-def _within_shrink(cands: np.ndarray, surface: CurvedSurface, points: np.ndarray
-                   ) -> np.ndarray:
+def _within_shrink(cands: np.ndarray, surface: CurvedSurface, points: np.ndarray) -> np.ndarray:
     """The candidate offsets that shrink the side (points of it) by less than MAX_SHRINK
     of its smallest radius (a cone's narrow end)."""
     radius = float(np.min(surface.radius_at(points)))
@@ -135,15 +155,20 @@ def _facing_ref(face: cq.Face, camera: OrthoCamera) -> FaceRef:
     names it, and this one is where the designer sees it."""
     u0, u1, v0, v1 = face.uvBounds()
     adaptor = face._geomAdaptor()
-    grid = np.array([adaptor.Value(u, v).Coord()
-                     for u in np.linspace(u0, u1, REF_GRID[0])
-                     for v in np.linspace(v0, v1, REF_GRID[1])[1:-1]])  # off the rims
+    grid = np.array(
+        [
+            adaptor.Value(u, v).Coord()
+            for u in np.linspace(u0, u1, REF_GRID[0])
+            for v in np.linspace(v0, v1, REF_GRID[1])[1:-1]
+        ]
+    )  # off the rims
     facing = CurvedSurface.of(face).normals(grid) @ np.asarray(camera.basis()[2], float)
     return face_ref_at(face, grid[int(np.argmin(facing))])
 
 
-def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-                    strokes: list[np.ndarray]) -> Extrude | None:
+def _curved_by_ends(
+    solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray]
+) -> Extrude | None:
     """d of a curved f's radial offset from what the hand leaves of its strokes, as the
     session oracle reads it (training/session_oracle.py): an open stroke (the seam, a
     side edge at a corner) by its two ends, each paired with the open curve whose ends
@@ -160,8 +185,14 @@ def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     opened, moves, rims = [], [], []
     for edge in face.Edges():
         if edge.IsClosed():
-            rims.append(np.array([edge.positionAt(t).toTuple()
-                                  for t in np.linspace(0, 1, RIM_SAMPLES, endpoint=False)]))
+            rims.append(
+                np.array(
+                    [
+                        edge.positionAt(t).toTuple()
+                        for t in np.linspace(0, 1, RIM_SAMPLES, endpoint=False)
+                    ]
+                )
+            )
         else:
             opened.append([edge.positionAt(t).toTuple() for t in (0.0, 1.0)])
             moves.append((1.0, 1.0))
@@ -191,8 +222,12 @@ def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
             r, c, swapped = match_ends(curve_ends, ends)
             total += float(((curve_ends[c[:, None], end_order(swapped)] - ends[r]) ** 2).sum())
         if loops and rims:
-            dist = np.array([[(loop_distances(q, at + d * by) ** 2).sum() for at, by in rim_images]
-                             for q in loops])
+            dist = np.array(
+                [
+                    [(loop_distances(q, at + d * by) ** 2).sum() for at, by in rim_images]
+                    for q in loops
+                ]
+            )
             r, c = linear_sum_assignment(dist)
             total += LOOP_WEIGHT * float(dist[r, c].sum())
         return total
@@ -205,8 +240,11 @@ def _curved_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     scores = [cost(float(d)) for d in cands]
     k = int(np.argmin(scores))
     lo, hi = cands[max(k - 1, 0)], cands[min(k + 1, len(cands) - 1)]
-    d = float(minimize_scalar(cost, bounds=(lo, hi), method="bounded").x) if hi > lo \
+    d = (
+        float(minimize_scalar(cost, bounds=(lo, hi), method="bounded").x)
+        if hi > lo
         else float(cands[k])
+    )
     if abs(d) < 1e-6 * model_scale(solid):
         return None
     return Extrude(_facing_ref(face, camera), d)
@@ -218,9 +256,13 @@ def offset_from_ends(tips: np.ndarray, corners_px: np.ndarray, step: np.ndarray)
     return float(((tips - corners_px) @ step).sum() / (len(tips) * (step @ step)))
 
 
-def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
-                        offset_strokes: list[np.ndarray], profile_strokes: list[np.ndarray]
-                        ) -> Extrude | None:
+def fit_extrude_by_ends(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    offset_strokes: list[np.ndarray],
+    profile_strokes: list[np.ndarray],
+) -> Extrude | None:
     """d from the strokes' ends, each stroke read as the line it draws: a side edge from a
     corner c_i of f to its moved copy c_i + d n_f, an offset stroke from one moved corner
     to the next along f's outline.
@@ -253,12 +295,16 @@ def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     if step @ step < 1e-12:
         return None
     index_of = {tuple(np.round(c, 6)): i for i, c in enumerate(corners)}
-    edges = np.array([(index_of[tuple(np.round(a, 6))], index_of[tuple(np.round(b, 6))])
-                      for a, b in line_edges(face)])
+    edges = np.array(
+        [
+            (index_of[tuple(np.round(a, 6))], index_of[tuple(np.round(b, 6))])
+            for a, b in line_edges(face)
+        ]
+    )
     c2d = camera.project(corners)[0]
     sides = np.array([(q[0], q[-1]) for q in profile_strokes], float).reshape(-1, 2, 2)
     outline = np.array([(q[0], q[-1]) for q in offset_strokes], float).reshape(-1, 2, 2)
-    cap = TIP_CAP_PX ** 2
+    cap = TIP_CAP_PX**2
 
     def sq(points: np.ndarray, tips: np.ndarray) -> np.ndarray:
         """Squared distances (..., V, S) of points (..., V, 2) to tips (S, 2)."""
@@ -267,15 +313,17 @@ def fit_extrude_by_ends(solid: cq.Shape, face: cq.Face, camera: OrthoCamera,
     def costs(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Per candidate d (K,): each stroke's best cost (K, S) and the index of its
         best (line, direction) pairing (K, S), sides then outline strokes."""
-        moved = c2d[None] + d[:, None, None] * step                       # (K, V, 2)
-        base = sq(c2d, sides[:, 0])[None], sq(c2d, sides[:, 1])[None]      # (1, V, S)
-        up = sq(moved, sides[:, 1]), sq(moved, sides[:, 0])                # (K, V, S)
+        moved = c2d[None] + d[:, None, None] * step  # (K, V, 2)
+        base = sq(c2d, sides[:, 0])[None], sq(c2d, sides[:, 1])[None]  # (1, V, S)
+        up = sq(moved, sides[:, 1]), sq(moved, sides[:, 0])  # (K, V, S)
         side = np.concatenate([base[0] + up[0], base[1] + up[1]], axis=1)  # (K, 2V, S)
         i, j = edges[:, 0], edges[:, 1]
-        a, b = sq(moved, outline[:, 0]), sq(moved, outline[:, 1])          # (K, V, S)
+        a, b = sq(moved, outline[:, 0]), sq(moved, outline[:, 1])  # (K, V, S)
         line = np.concatenate([a[:, i] + b[:, j], a[:, j] + b[:, i]], axis=1)  # (K, 2E, S)
-        return (np.concatenate([side.min(1), line.min(1)], axis=1),
-                np.concatenate([side.argmin(1), line.argmin(1)], axis=1))
+        return (
+            np.concatenate([side.min(1), line.min(1)], axis=1),
+            np.concatenate([side.argmin(1), line.argmin(1)], axis=1),
+        )
 
     cands = search_range(model_scale(solid))
     d = float(cands[int(np.argmin(np.minimum(costs(cands)[0], cap).sum(1)))])

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Fitting N-gons to sketched outlines in the image (paper: ICP from profile end points)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -29,21 +30,25 @@ def fit_polygon(initial: np.ndarray, strokes: list[np.ndarray], iterations: int 
     pts = np.concatenate([resample(s) for s in strokes])
     for _ in range(iterations):
         # every sample against every side at once: the nearest point of the side
-        ab = np.roll(poly, -1, axis=0) - poly                                   # (N, 2)
-        rel = pts[:, None, :] - poly[None]                                      # (M, N, 2)
-        t = np.clip(np.einsum("mnk,nk->mn", rel, ab) / np.maximum((ab * ab).sum(1), 1e-12),
-                    0.0, 1.0)
+        ab = np.roll(poly, -1, axis=0) - poly  # (N, 2)
+        rel = pts[:, None, :] - poly[None]  # (M, N, 2)
+        t = np.clip(
+            np.einsum("mnk,nk->mn", rel, ab) / np.maximum((ab * ab).sum(1), 1e-12), 0.0, 1.0
+        )
         gap = rel - t[..., None] * ab[None]
         side = np.einsum("mnk,mnk->mn", gap, gap).argmin(axis=1)
         # each side's line: its samples' centroid and principal axis, from their 2 x 2
         # covariance in closed form (the axis at angle atan2(2 sxy, sxx - syy) / 2)
         count = np.bincount(side, minlength=n)
         has = count >= 3
-        mean = np.stack([np.bincount(side, pts[:, k], n) for k in (0, 1)], 1) / \
-            np.maximum(count, 1)[:, None]
+        mean = (
+            np.stack([np.bincount(side, pts[:, k], n) for k in (0, 1)], 1)
+            / np.maximum(count, 1)[:, None]
+        )
         q = pts - mean[side]
-        sxx, syy, sxy = (np.bincount(side, w, n) for w in (q[:, 0] ** 2, q[:, 1] ** 2,
-                                                           q[:, 0] * q[:, 1]))
+        sxx, syy, sxy = (
+            np.bincount(side, w, n) for w in (q[:, 0] ** 2, q[:, 1] ** 2, q[:, 0] * q[:, 1])
+        )
         angle = 0.5 * np.arctan2(2 * sxy, sxx - syy)
         axis = np.stack([np.cos(angle), np.sin(angle)], 1)
         # vertex i where sides i - 1 and i meet (c0 + s a0 = c1 + r a1), unless either has
@@ -62,8 +67,11 @@ def is_simple(poly: np.ndarray) -> bool:
     return crossing_sides(poly) is None
 
 
-def profile_ends(profile_strokes: list[np.ndarray], start_strokes: list[np.ndarray],
-                 end_strokes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def profile_ends(
+    profile_strokes: list[np.ndarray],
+    start_strokes: list[np.ndarray],
+    end_strokes: list[np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
     """Split the profile strokes' end points into the start set and the end set.
 
     Of each profile stroke's two ends, the one nearer to the start outline's samples

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """What add/subtract prisms and sweeps share: the base face's outline and the +/- option."""
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -35,14 +36,28 @@ def fraction_on_face(face: cq.Face, pts3d: np.ndarray, tol: float) -> float:
     return float(np.mean(points_on_face(face, pts3d, tol)))
 
 
-def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
-                  tol: float, grid: int = 16) -> float:
+def covered_share(
+    face: cq.Face,
+    frame: FaceFrame,
+    camera: OrthoCamera,
+    outline: np.ndarray,
+    tol: float,
+    grid: int = 16,
+) -> float:
     """The share of f's area inside an outline (K, 2 pixels) back-projected onto f's plane:
     how much of f a primitive with that base outline would stand on."""
     # f's box, not its vertices: a disc (a post's top) has one vertex
     b = face.BoundingBox()
-    bb = frame.to_2d(np.array([(x, y, z) for x in (b.xmin, b.xmax) for y in (b.ymin, b.ymax)
-                               for z in (b.zmin, b.zmax)]))
+    bb = frame.to_2d(
+        np.array(
+            [
+                (x, y, z)
+                for x in (b.xmin, b.xmax)
+                for y in (b.ymin, b.ymax)
+                for z in (b.zmin, b.zmax)
+            ]
+        )
+    )
     lo, hi = bb.min(axis=0), bb.max(axis=0)
     u, v = np.meshgrid(np.linspace(lo[0], hi[0], grid), np.linspace(lo[1], hi[1], grid))
     pts = frame.to_3d(np.stack([u.ravel(), v.ravel()], axis=1))
@@ -52,23 +67,38 @@ def covered_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline:
     return float(np.mean(MplPath(outline).contains_points(camera.project(on_f)[0])))
 
 
-def _outline_share(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
-             tol: float) -> float:
+def _outline_share(
+    face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray, tol: float
+) -> float:
     """The share of the outline's samples and centre that back-project onto f."""
-    return fraction_on_face(face, camera.back_project_to_plane(
-        np.concatenate([outline, outline.mean(axis=0)[None]]), frame.origin, frame.normal), tol)
+    return fraction_on_face(
+        face,
+        camera.back_project_to_plane(
+            np.concatenate([outline, outline.mean(axis=0)[None]]), frame.origin, frame.normal
+        ),
+        tol,
+    )
 
 
-def stands_on_face(face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray,
-                   tol: float) -> bool:
+def stands_on_face(
+    face: cq.Face, frame: FaceFrame, camera: OrthoCamera, outline: np.ndarray, tol: float
+) -> bool:
     """Whether a primitive with this base outline (K, 2 pixels) could stand on f: a
     quarter of the outline back-projects onto f, or its region covers half of f."""
-    return (_outline_share(face, frame, camera, outline, tol) >= MOSTLY_FRACTION
-            or covered_share(face, frame, camera, outline, tol) >= COVER_FRACTION)
+    return (
+        _outline_share(face, frame, camera, outline, tol) >= MOSTLY_FRACTION
+        or covered_share(face, frame, camera, outline, tol) >= COVER_FRACTION
+    )
 
 
-def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
-                  start_2d: np.ndarray, end_2d: np.ndarray, forced: Mode | None) -> Mode:
+def choose_option(
+    face: cq.Face,
+    frame: FaceFrame,
+    camera: OrthoCamera,
+    start_2d: np.ndarray,
+    end_2d: np.ndarray,
+    forced: Mode | None,
+) -> Mode:
     """The +/- option: + when the start outline lies on f, else - when the end one does.
 
     Start and end are ordered along n_f, so for an addition the start outline is on f
@@ -92,8 +122,10 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
     if forced is not None:
         if stands_on_face(face, frame, camera, outlines[forced is Mode.SUBTRACT], tol):
             return forced
-        raise FitError(f"the {forced.value} option needs its base outline on the base face, "
-                       "and it is not there")
+        raise FitError(
+            f"the {forced.value} option needs its base outline on the base face, "
+            "and it is not there"
+        )
     on = [_outline_share(face, frame, camera, o, tol) for o in outlines]
     if on[0] >= ON_FACE_FRACTION:
         return Mode.ADD
@@ -104,8 +136,10 @@ def choose_option(face: cq.Face, frame: FaceFrame, camera: OrthoCamera,
         return Mode.ADD if covered[0] >= covered[1] else Mode.SUBTRACT
     if max(on) >= MOSTLY_FRACTION:
         return Mode.ADD if on[0] >= on[1] else Mode.SUBTRACT
-    raise FitError("neither the start nor the end outline meets the base face, so the "
-                   "sketch matches no addition or subtraction")
+    raise FitError(
+        "neither the start nor the end outline meets the base face, so the "
+        "sketch matches no addition or subtraction"
+    )
 
 
 def base_centre(op: AddSubPrism | Sweep) -> np.ndarray:
@@ -122,8 +156,9 @@ def far_outline(op: AddSubPrism | Sweep, frame: FaceFrame) -> np.ndarray:
     if isinstance(op, AddSubPrism):
         poly = np.array(op.polygon, float)
         closed = np.concatenate([poly, poly[:1]])
-        edges = [np.linspace(closed[i], closed[i + 1], 16, endpoint=False)
-                 for i in range(len(poly))]
+        edges = [
+            np.linspace(closed[i], closed[i + 1], 16, endpoint=False) for i in range(len(poly))
+        ]
         return np.concatenate(edges) + shift
     t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
     centre = frame.to_2d(np.array(op.center, float))[0]
@@ -135,8 +170,9 @@ def far_outline_share(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Swee
     """The share of the primitive's far outline (and its centre) that, back-projected
     along the view onto f's plane, lies on f."""
     frame = FaceFrame.of(face)
-    return _outline_share(face, frame, camera, camera.project(far_outline(op, frame))[0],
-                          on_face_tolerance(camera))
+    return _outline_share(
+        face, frame, camera, camera.project(far_outline(op, frame))[0], on_face_tolerance(camera)
+    )
 
 
 def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep) -> bool:
@@ -153,5 +189,6 @@ def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Swee
     if op.mode not in (Mode.ADD, Mode.SUBTRACT):
         return False
     frame = FaceFrame.of(face)
-    return stands_on_face(face, frame, camera, camera.project(far_outline(op, frame))[0],
-                          on_face_tolerance(camera))
+    return stands_on_face(
+        face, frame, camera, camera.project(far_outline(op, frame))[0], on_face_tolerance(camera)
+    )

@@ -46,6 +46,7 @@ sees it too. Held-out bevels read with l fitted alone, then with the refined l b
 it (the one that explains the strokes better kept): level 3, 111 -> 116 of 140 recovered;
 level 1, 144 -> 149 of 151 (docs/NOTES.md, stop 31).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -56,10 +57,10 @@ from scipy.spatial import cKDTree
 
 from .common import end_order, match_ends, open_ends, resample
 
-ROBUST_PX = 2.0         # residuals beyond about this many pixels count linearly, not squared
-EDGE_SAMPLES = 8        # points per prism edge for the edge-to-stroke distances
-STROKE_STEP_PX = 3.0    # spacing of the stroke points
-MAX_EVALUATIONS = 30    # of the residuals; the fit starts close, so few are needed
+ROBUST_PX = 2.0  # residuals beyond about this many pixels count linearly, not squared
+EDGE_SAMPLES = 8  # points per prism edge for the edge-to-stroke distances
+STROKE_STEP_PX = 3.0  # spacing of the stroke points
+MAX_EVALUATIONS = 30  # of the residuals; the fit starts close, so few are needed
 # Each end gap's residual is scaled by this times the square root of the stroke points
 # per end, so that the ends outweigh closeness: with 3, held-out level-3 add/sub prisms
 # and sweeps read closer on average than with 0, 0.3, 1 or 10 (docs/NOTES.md, stop 30).
@@ -100,8 +101,9 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return length, v / np.maximum(length, 1e-12)[..., None]
 
 
-def _matched_end_rows(x: np.ndarray, step: np.ndarray, ends: np.ndarray
-                      ) -> tuple[np.ndarray, np.ndarray]:
+def _matched_end_rows(
+    x: np.ndarray, step: np.ndarray, ends: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The open strokes' ends matched to the ends of the prism's edges at x (its base
     vertices, pixels, then d; `match_ends`), and what those edge ends are in x: linear,
     so rows @ x gives them, two ends of x and y per matched stroke.
@@ -112,10 +114,10 @@ def _matched_end_rows(x: np.ndarray, step: np.ndarray, ends: np.ndarray
     n = (len(x) - 1) // 2
     a, b = prism_edges(x[:-1].reshape(n, 2), x[-1] * step)
     r, c, swapped = match_ends(np.stack([a, b], axis=1), ends)
-    which = end_order(swapped)                                          # (M, 2): a or b
+    which = end_order(swapped)  # (M, 2): a or b
     ia, ib, sa, sb = _layout(n)
-    vertex = np.stack([ia, ib], axis=1)[c[:, None], which]              # base vertex
-    shifted = np.stack([sa, sb], axis=1)[c[:, None], which]             # moved by d?
+    vertex = np.stack([ia, ib], axis=1)[c[:, None], which]  # base vertex
+    shifted = np.stack([sa, sb], axis=1)[c[:, None], which]  # moved by d?
     rows = np.zeros((len(r), 2, 2, 2 * n + 1))
     m = np.arange(len(r))
     for k in (0, 1):
@@ -125,8 +127,13 @@ def _matched_end_rows(x: np.ndarray, step: np.ndarray, ends: np.ndarray
     return r, rows.reshape(-1, 2 * n + 1)
 
 
-def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray],
-                 end_weight: float = END_WEIGHT) -> tuple[np.ndarray, float]:
+def refine_prism(
+    base: np.ndarray,
+    d: float,
+    step: np.ndarray,
+    strokes: list[np.ndarray],
+    end_weight: float = END_WEIGHT,
+) -> tuple[np.ndarray, float]:
     """Move a prism's base polygon and length together to fit all its strokes.
 
     Args:
@@ -158,8 +165,9 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
         # edge's two ends in proportion to where the nearest point sits (t)
         ab = b - a
         rel = drawn[:, None, :] - a[None]
-        t = np.clip(np.einsum("msk,sk->ms", rel, ab) / np.maximum((ab * ab).sum(axis=1), 1e-12),
-                    0.0, 1.0)
+        t = np.clip(
+            np.einsum("msk,sk->ms", rel, ab) / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0
+        )
         gap = a[None] + t[..., None] * ab[None] - drawn[:, None, :]
         j = np.argmin(np.linalg.norm(gap, axis=2), axis=1)
         tm = t[rows_m, j]
@@ -170,8 +178,7 @@ def refine_prism(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.
         _, u2 = _unit(q - drawn[k])
         res = np.concatenate([d1, weight * d2])
         jac = np.zeros((len(res), 2 * n + 1))
-        for rows, seg, tt, u in ((rows_m, j, tm, u1),
-                                 (rows_q, seg_of_sample, t_edge, weight * u2)):
+        for rows, seg, tt, u in ((rows_m, j, tm, u1), (rows_q, seg_of_sample, t_edge, weight * u2)):
             wa, wb = (1.0 - tt)[:, None] * u, tt[:, None] * u
             for c in (0, 1):  # one (row, column) pair per statement: += is safe
                 jac[rows, 2 * ia[seg] + c] += wa[:, c]
@@ -202,13 +209,21 @@ def _robust_least_squares(evaluate, x0: np.ndarray, **options) -> np.ndarray:
             cache[key] = evaluate(x)
         return cache[key]
 
-    return least_squares(lambda x: cached(x)[0], x0, jac=lambda x: cached(x)[1],
-                         loss="soft_l1", f_scale=ROBUST_PX, max_nfev=MAX_EVALUATIONS,
-                         ftol=1e-4, xtol=1e-4, **options).x
+    return least_squares(
+        lambda x: cached(x)[0],
+        x0,
+        jac=lambda x: cached(x)[1],
+        loss="soft_l1",
+        f_scale=ROBUST_PX,
+        max_nfev=MAX_EVALUATIONS,
+        ftol=1e-4,
+        xtol=1e-4,
+        **options,
+    ).x
 
 
-CIRCLE_SAMPLES = 96     # points per circle of a sweep for the distances both ways
-PROFILE_SAMPLES = 32    # points per profile line
+CIRCLE_SAMPLES = 96  # points per circle of a sweep for the distances both ways
+PROFILE_SAMPLES = 32  # points per profile line
 
 
 @dataclass(frozen=True)
@@ -242,21 +257,27 @@ class SweepImage:
         ring = np.cos(t)[:, None] * self.side + np.sin(t)[:, None] * self.other  # (T, 2)
         zero = np.zeros_like(ring)
         at = [np.broadcast_to(v, ring.shape) for v in (self.side, self.other)]
-        circles = [np.stack(at + [ring, zero, zero], axis=2),
-                   np.stack(at + [zero, ring, np.broadcast_to(self.axis, ring.shape)], axis=2)]
+        circles = [
+            np.stack(at + [ring, zero, zero], axis=2),
+            np.stack(at + [zero, ring, np.broadcast_to(self.axis, ring.shape)], axis=2),
+        ]
         s = np.linspace(0.0, 1.0, PROFILE_SAMPLES)[:, None]
-        bend = 3 * s * (1 - s) ** 2 * self.bulge[0] + 3 * s ** 2 * (1 - s) * self.bulge[1]
+        bend = 3 * s * (1 - s) ** 2 * self.bulge[0] + 3 * s**2 * (1 - s) * self.bulge[1]
         lines, shifts = [], [np.zeros((2 * CIRCLE_SAMPLES, 2))]
         for sign in (1.0, -1.0):
             at = [np.broadcast_to(v, (len(s), 2)) for v in (self.side, self.other)]
-            lines.append(np.stack(at + [sign * (1 - s) * self.side, sign * s * self.side,
-                                        s * self.axis], axis=2))
+            lines.append(
+                np.stack(
+                    at + [sign * (1 - s) * self.side, sign * s * self.side, s * self.axis], axis=2
+                )
+            )
             shifts.append(sign * bend[:, :1] * self.side + bend[:, 1:] * self.axis)
         return np.concatenate(circles + lines), self.origin + np.concatenate(shifts)
 
 
-def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
-                 end_weight: float = END_WEIGHT) -> np.ndarray:
+def refine_sweep(
+    image: SweepImage, x: np.ndarray, strokes: list[np.ndarray], end_weight: float = END_WEIGHT
+) -> np.ndarray:
     """Move a sweep's centre, radii and offset together to fit all its strokes, its
     profile keeping its fitted shape (`SweepImage`): refined with the rest, the profile's
     control points followed the noise of short profile strokes (heldout-l3's 48 sweeps:
@@ -274,14 +295,25 @@ def refine_sweep(image: SweepImage, x: np.ndarray, strokes: list[np.ndarray],
     size = max(float(x0[2]), float(x0[3]))
     low = np.array([-np.inf, -np.inf, 1e-3 * size, 1e-3 * size, 1e-3 * x0[4]])
     first = 2 * CIRCLE_SAMPLES + np.array([0, PROFILE_SAMPLES])  # the profile lines' rows
-    return _refine_affine(*image.samples(), np.stack([first, first + PROFILE_SAMPLES - 1], 1),
-                          strokes, np.maximum(x0, low + 1e-9 * size), end_weight,
-                          bounds=(low, np.inf))
+    return _refine_affine(
+        *image.samples(),
+        np.stack([first, first + PROFILE_SAMPLES - 1], 1),
+        strokes,
+        np.maximum(x0, low + 1e-9 * size),
+        end_weight,
+        bounds=(low, np.inf),
+    )
 
 
-def _refine_affine(jac_k: np.ndarray, const: np.ndarray, line_ends: np.ndarray,
-                   strokes: list[np.ndarray], x0: np.ndarray, end_weight: float,
-                   **options) -> np.ndarray:
+def _refine_affine(
+    jac_k: np.ndarray,
+    const: np.ndarray,
+    line_ends: np.ndarray,
+    strokes: list[np.ndarray],
+    x0: np.ndarray,
+    end_weight: float,
+    **options,
+) -> np.ndarray:
     """The parameters x that bring curves whose samples move affinely with them (sample
     k at jac_k[k] @ x + const[k], pixels) and the strokes closest to each other, both
     ways, with the open curves' ends (`line_ends`: (L, 2) their first and last sample)
@@ -294,17 +326,18 @@ def _refine_affine(jac_k: np.ndarray, const: np.ndarray, line_ends: np.ndarray,
     end_weight = end_weight * np.sqrt(len(drawn) / max(4 * len(ends), 1))
 
     def evaluate(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        q = jac_k @ p + const                               # (K, 2) curve samples
-        d1, j = cKDTree(q).query(drawn)                     # stroke point -> curve
+        q = jac_k @ p + const  # (K, 2) curve samples
+        d1, j = cKDTree(q).query(drawn)  # stroke point -> curve
         _, u1 = _unit(q[j] - drawn)
-        d2, m = tree.query(q)                               # curve -> stroke point
+        d2, m = tree.query(q)  # curve -> stroke point
         _, u2 = _unit(q - drawn[m])
         res = np.concatenate([d1, weight * d2])
-        jac = np.concatenate([np.einsum("mc,mcp->mp", u1, jac_k[j]),
-                              weight * np.einsum("kc,kcp->kp", u2, jac_k)])
+        jac = np.concatenate(
+            [np.einsum("mc,mcp->mp", u1, jac_k[j]), weight * np.einsum("kc,kcp->kp", u2, jac_k)]
+        )
         if end_weight > 0 and len(ends):
             r, c, swapped = match_ends(q[line_ends], ends)
-            rows = line_ends[c[:, None], end_order(swapped)]           # (M, 2)
+            rows = line_ends[c[:, None], end_order(swapped)]  # (M, 2)
             res = np.concatenate([res, end_weight * (q[rows] - ends[r]).ravel()])
             jac = np.concatenate([jac, end_weight * jac_k[rows].reshape(-1, n)])
         return res, jac
@@ -312,8 +345,8 @@ def _refine_affine(jac_k: np.ndarray, const: np.ndarray, line_ends: np.ndarray,
     return _robust_least_squares(evaluate, x0, **options)
 
 
-BEZIER_SAMPLES = 32     # points per bevel profile (l and l') for the distances both ways
-EDGE_MARGIN = 0.02      # l's ends stay this share of their edge's length off its ends
+BEZIER_SAMPLES = 32  # points per bevel profile (l and l') for the distances both ways
+EDGE_MARGIN = 0.02  # l's ends stay this share of their edge's length off its ends
 
 
 @dataclass(frozen=True)
@@ -349,20 +382,26 @@ class BevelImage:
         """(K, 2, 6) J and (K, 2) c: curve sample k lies at J[k] @ x + c[k] (pixels),
         l's BEZIER_SAMPLES first, then l''s."""
         s = np.linspace(0.0, 1.0, BEZIER_SAMPLES)
-        b = np.stack([(1 - s) ** 3, 3 * s * (1 - s) ** 2, 3 * s ** 2 * (1 - s), s ** 3], 1)
+        b = np.stack([(1 - s) ** 3, 3 * s * (1 - s) ** 2, 3 * s**2 * (1 - s), s**3], 1)
         m = self.to_image
         a0, a1 = self.edge_a
         b0, b1 = self.edge_b
-        jac = np.concatenate([b[:, :1, None] * (m @ (a1 - a0))[None, :, None],
-                              b[:, 3:, None] * (m @ (b1 - b0))[None, :, None],
-                              b[:, 1, None, None] * m[None], b[:, 2, None, None] * m[None]],
-                             axis=2)                                      # (S, 2, 6)
+        jac = np.concatenate(
+            [
+                b[:, :1, None] * (m @ (a1 - a0))[None, :, None],
+                b[:, 3:, None] * (m @ (b1 - b0))[None, :, None],
+                b[:, 1, None, None] * m[None],
+                b[:, 2, None, None] * m[None],
+            ],
+            axis=2,
+        )  # (S, 2, 6)
         const = self.origin + b[:, :1] * (m @ a0) + b[:, 3:] * (m @ b0)
         return np.concatenate([jac, jac]), np.concatenate([const, const + self.crease])
 
 
-def refine_bevel(image: BevelImage, x: np.ndarray, strokes: list[np.ndarray],
-                 end_weight: float = END_WEIGHT) -> np.ndarray:
+def refine_bevel(
+    image: BevelImage, x: np.ndarray, strokes: list[np.ndarray], end_weight: float = END_WEIGHT
+) -> np.ndarray:
     """Move a bevel's profile l, its ends sliding along their edges of f, to fit l and
     l' to all the strokes (beyond the paper, which fits l to one stroke: l' draws the
     same curve moved along the crease, so a second stroke sees it too).
@@ -381,13 +420,20 @@ def refine_bevel(image: BevelImage, x: np.ndarray, strokes: list[np.ndarray],
     # an end's parameter moves it by its edge's length, a control point's by 1 mm
     lengths = [float(np.linalg.norm(e[1] - e[0])) for e in (image.edge_a, image.edge_b)]
     scale = np.array([1.0 / max(v, 1e-9) for v in lengths] + [1.0] * 4)
-    return _refine_affine(*image.samples(), np.array([[0, last], [last + 1, 2 * last + 1]]),
-                          strokes, np.clip(np.asarray(x, float), low, high), end_weight,
-                          bounds=(low, high), x_scale=scale)
+    return _refine_affine(
+        *image.samples(),
+        np.array([[0, last], [last + 1, 2 * last + 1]]),
+        strokes,
+        np.clip(np.asarray(x, float), low, high),
+        end_weight,
+        bounds=(low, high),
+        x_scale=scale,
+    )
 
 
-def prism_from_ends(base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray],
-                    rounds: int = 3) -> tuple[np.ndarray, float]:
+def prism_from_ends(
+    base: np.ndarray, d: float, step: np.ndarray, strokes: list[np.ndarray], rounds: int = 3
+) -> tuple[np.ndarray, float]:
     """A prism's base polygon and length read from its open strokes' ends alone.
 
     Under the hand the generator models, an open stroke's ends are its curve's ends
@@ -412,6 +458,7 @@ def prism_from_ends(base: np.ndarray, d: float, step: np.ndarray, strokes: list[
     hold = HOLD_WEIGHT * np.diag(np.r_[np.ones(2 * n), np.linalg.norm(step)])
     for _ in range(rounds):
         r, rows = _matched_end_rows(x, step, ends)
-        x = np.linalg.lstsq(np.concatenate([rows, hold]),
-                            np.concatenate([ends[r].ravel(), hold @ x]), rcond=None)[0]
+        x = np.linalg.lstsq(
+            np.concatenate([rows, hold]), np.concatenate([ends[r].ravel(), hold @ x]), rcond=None
+        )[0]
     return x[:-1].reshape(n, 2), float(x[-1])

@@ -21,6 +21,7 @@ with a boss); earlier features' sizes (edge lengths, radii); and multiples of th
 grid step. Every snap applied is returned as a `Snap`, and any of them can be left out
 (`skip`) to undo it.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -103,8 +104,14 @@ def equalize(poly: np.ndarray) -> np.ndarray:
         b = (sides[1] + sides[3]) / 2
         if abs(a - b) <= LENGTH_TOL * (a + b) / 2:
             a = b = (a + b) / 2
-        local = np.array([[-a / 2, -sign * b / 2], [a / 2, -sign * b / 2],
-                          [a / 2, sign * b / 2], [-a / 2, sign * b / 2]])
+        local = np.array(
+            [
+                [-a / 2, -sign * b / 2],
+                [a / 2, -sign * b / 2],
+                [a / 2, sign * b / 2],
+                [-a / 2, sign * b / 2],
+            ]
+        )
     else:
         radius = sides.mean() / (2 * np.sin(np.pi / n))
         # First side along +x, on the side of the centre that keeps the orientation.
@@ -179,8 +186,14 @@ GRID_ALONG = 0.5
 
 # What a snap changed, as the Sketch panel names it; also the keys `skip` takes.
 SNAP_KINDS = {
-    "shape": "shape", "align": "direction", "size": "side lengths", "position": "position",
-    "profile": "profile", "radii": "radii", "r0": "base radius", "r1": "far radius",
+    "shape": "shape",
+    "align": "direction",
+    "size": "side lengths",
+    "position": "position",
+    "profile": "profile",
+    "radii": "radii",
+    "r0": "base radius",
+    "r1": "far radius",
     "d": "length",
 }
 
@@ -201,8 +214,10 @@ class Snap:
     def describe(self) -> str:
         """One line for the user; values are shown for points and lengths, not for
         whole outlines (shape, direction, profile)."""
+
         def fmt(v: tuple[float, ...]) -> str:
             return ", ".join(f"{x:.4g}" for x in v)
+
         text = f"{SNAP_KINDS[self.key]} snapped to {self.target}"
         if len(self.before) <= 2:
             text += f": ({fmt(self.before)}) -> ({fmt(self.after)}) mm"
@@ -236,8 +251,15 @@ class Regularized:
 class _Snapper:
     """Pixel lengths in the view, and the snaps applied so far."""
 
-    def __init__(self, frame: FaceFrame, view: OrthoCamera, tol_px: float, step: float,
-                 skip: frozenset[str], strokes: StrokeFit | None = None):
+    def __init__(
+        self,
+        frame: FaceFrame,
+        view: OrthoCamera,
+        tol_px: float,
+        step: float,
+        skip: frozenset[str],
+        strokes: StrokeFit | None = None,
+    ):
         self.frame, self.view, self.tol, self.step, self.skip = frame, view, tol_px, step, skip
         self.strokes = strokes
         self.snaps: list[Snap] = []
@@ -252,12 +274,23 @@ class _Snapper:
         return self.px(vec2[0] * self.frame.u + vec2[1] * self.frame.v)
 
     def record(self, key: str, target: str, before, after) -> None:
-        self.snaps.append(Snap(key, target, tuple(map(float, np.atleast_1d(before))),
-                               tuple(map(float, np.atleast_1d(after)))))
+        self.snaps.append(
+            Snap(
+                key,
+                target,
+                tuple(map(float, np.atleast_1d(before))),
+                tuple(map(float, np.atleast_1d(after))),
+            )
+        )
 
-    def length(self, key: str, value: float, direction: np.ndarray,
-               sizes: list[tuple[float, str]],
-               rebuilt: Callable[[float], Operation] | None = None) -> float:
+    def length(
+        self,
+        key: str,
+        value: float,
+        direction: np.ndarray,
+        sizes: list[tuple[float, str]],
+        rebuilt: Callable[[float], Operation] | None = None,
+    ) -> float:
         """`value` (mm, its sign kept) snapped to the closest earlier size within the
         tolerance, seen as a change along `direction` (3D unit), or else rounded to the
         grid step: the designer chose that resolution, so it applies at any zoom (never
@@ -272,8 +305,11 @@ class _Snapper:
             grid = (abs(on_grid - mag), on_grid, f"the {self.step:g} mm grid")
         best = grid
         for size, name in sizes:
-            if size > 0 and self.px(abs(size - mag) * direction) <= self.tol \
-                    and (best is None or abs(size - mag) < best[0]):
+            if (
+                size > 0
+                and self.px(abs(size - mag) * direction) <= self.tol
+                and (best is None or abs(size - mag) < best[0])
+            ):
                 best = (abs(size - mag), size, name)
         if grid is not None and best is grid and rebuilt is not None:
             best = self._round(mag, grid, direction, rebuilt, float(np.sign(value) or 1.0))
@@ -283,9 +319,14 @@ class _Snapper:
         self.record(key, best[2], value, new)
         return new
 
-    def _round(self, mag: float, grid: tuple[float, float, str], direction: np.ndarray,
-               rebuilt: Callable[[float], Operation], sign: float
-               ) -> tuple[float, float, str]:
+    def _round(
+        self,
+        mag: float,
+        grid: tuple[float, float, str],
+        direction: np.ndarray,
+        rebuilt: Callable[[float], Operation],
+        sign: float,
+    ) -> tuple[float, float, str]:
         """The multiple of a round step (ROUND_STEPS, coarsest first, each a multiple of
         the grid step) nearest `mag`, when `mag` is at least ROUND_MIN steps long, the
         multiple lies within FIT_REACH times the tolerance of it, and the strokes fit
@@ -296,9 +337,12 @@ class _Snapper:
         at_grid = None
         for q in ROUND_STEPS:
             value = q * round(mag / q)
-            if abs(q / self.step - round(q / self.step)) > 1e-9 or mag < ROUND_MIN * q \
-                    or abs(value - grid[1]) < 1e-9 \
-                    or self.px(abs(value - mag) * direction) > FIT_REACH * self.tol:
+            if (
+                abs(q / self.step - round(q / self.step)) > 1e-9
+                or mag < ROUND_MIN * q
+                or abs(value - grid[1]) < 1e-9
+                or self.px(abs(value - mag) * direction) > FIT_REACH * self.tol
+            ):
                 continue
             if at_grid is None:
                 at_grid = self.strokes.distance(rebuilt(sign * grid[1]))
@@ -307,8 +351,12 @@ class _Snapper:
                 return abs(value - mag), value, f"a round {q:g} mm, where the strokes fit as well"
         return grid
 
-    def position(self, anchors: np.ndarray, targets: SnapTargets,
-                 moved: Callable[[np.ndarray], Operation] | None = None) -> np.ndarray:
+    def position(
+        self,
+        anchors: np.ndarray,
+        targets: SnapTargets,
+        moved: Callable[[np.ndarray], Operation] | None = None,
+    ) -> np.ndarray:
         """The translation (2D) that puts one of the anchors on the closest target point
         within the tolerance, unless a target line lies much closer (POINT_OVER_LINE_PX);
         failing that, on up to two non-parallel target lines; and,
@@ -349,16 +397,24 @@ class _Snapper:
                     move, names, free = move + shift, names + [name2], []
                     break
             # two lines meeting on a target point (a face's centre lines) name that point
-            names = next(([name] for p, name in targets.points if not free and np.min(
-                np.linalg.norm(anchors + move - p, axis=1)) < 1e-6), names)
+            names = next(
+                (
+                    [name]
+                    for p, name in targets.points
+                    if not free and np.min(np.linalg.norm(anchors + move - p, axis=1)) < 1e-6
+                ),
+                names,
+            )
         if self.step > 0 and free:
             moved = False
             for d in free:  # slide along d until an anchor's offset is on the grid
                 g = max(targets.axes, key=lambda g: abs(g @ d))
                 if abs(g @ d) < GRID_ALONG:
                     continue  # around a curved f, where no grid runs
-                rest = [(self.step * round(t / self.step) - t) / (g @ d) * d
-                        for t in ((anchors + move - targets.origin) @ g)]
+                rest = [
+                    (self.step * round(t / self.step) - t) / (g @ d) * d
+                    for t in ((anchors + move - targets.origin) @ g)
+                ]
                 shift = min(rest, key=lambda r: float(np.linalg.norm(r)))
                 if self.px2(shift) <= self.tol:
                     move, moved = move + shift, moved or np.linalg.norm(shift) > 1e-9
@@ -368,9 +424,9 @@ class _Snapper:
             self.record("position", " and ".join(names), anchors[0], anchors[0] + move)
         return move
 
-    def _fitting_point(self, anchors: np.ndarray, targets: SnapTargets,
-                       moved: Callable[[np.ndarray], Operation]
-                       ) -> tuple[float, np.ndarray, str] | None:
+    def _fitting_point(
+        self, anchors: np.ndarray, targets: SnapTargets, moved: Callable[[np.ndarray], Operation]
+    ) -> tuple[float, np.ndarray, str] | None:
         """The nearest target point beyond the tolerance (within FIT_REACH times it) that
         the strokes fit the feature moved onto (`moved(move)`), if any."""
         far = []
@@ -409,16 +465,16 @@ def _snap_rectangle_sides(poly: np.ndarray, s: _Snapper, sizes) -> np.ndarray:
     nb = probe.length("size", b, ub[0] * s.frame.u + ub[1] * s.frame.v, sizes)
     if not probe.snaps:
         return poly
-    s.record("size", " and ".join(dict.fromkeys(sn.target for sn in probe.snaps)),
-             (a, b), (na, nb))
+    s.record("size", " and ".join(dict.fromkeys(sn.target for sn in probe.snaps)), (a, b), (na, nb))
     local = poly - c
     return c + np.outer(local @ ua * na / a, ua) + np.outer(local @ ub * nb / b, ub)
 
 
 def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extrude:
     """d snaps to an earlier size or the grid."""
-    return replace(op, d=s.length("d", op.d, s.frame.normal, targets.sizes,
-                                  lambda d: replace(op, d=d)))
+    return replace(
+        op, d=s.length("d", op.d, s.frame.normal, targets.sizes, lambda d: replace(op, d=d))
+    )
 
 
 def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
@@ -436,9 +492,12 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
         if key not in s.skip:
             new = rectify(poly)
             if np.max(np.linalg.norm(new - poly, axis=1)) > 1e-9:
-                s.record(key, {"shape": "equal angles and sides",
-                               "align": "a face edge's direction"}[key],
-                         poly.ravel(), new.ravel())
+                s.record(
+                    key,
+                    {"shape": "equal angles and sides", "align": "a face edge's direction"}[key],
+                    poly.ravel(),
+                    new.ravel(),
+                )
                 poly = new
     if _is_rectangle(poly):
         poly = _snap_rectangle_sides(poly, s, targets.sizes)
@@ -449,8 +508,9 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
 
     move = s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets, moved)
     op = moved(move)
-    return replace(op, d=s.length("d", op.d, frame.normal, targets.sizes,
-                                  lambda d: replace(op, d=d)))
+    return replace(
+        op, d=s.length("d", op.d, frame.normal, targets.sizes, lambda d: replace(op, d=d))
+    )
 
 
 def best_line(op: Sweep) -> tuple[float, float]:
@@ -481,40 +541,60 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
     if straight and "profile" not in s.skip:
         line = best_line(op)
         chord = np.array(straight_profile(*line, d))
-        if min(line) > 0 and np.max(np.abs(np.r_[mid.ravel(), r0, r1]
-                                           - np.r_[chord.ravel(), line])) > 1e-9:
-            s.record("profile", "a straight line (a cone)", (r0, r1, *mid.ravel()),
-                     (*line, *chord.ravel()))
+        if (
+            min(line) > 0
+            and np.max(np.abs(np.r_[mid.ravel(), r0, r1] - np.r_[chord.ravel(), line])) > 1e-9
+        ):
+            s.record(
+                "profile",
+                "a straight line (a cone)",
+                (r0, r1, *mid.ravel()),
+                (*line, *chord.ravel()),
+            )
             r0, r1 = line
             op = replace(op, r0=r0, r1=r1, profile=tuple(tuple(map(float, p)) for p in chord))
     radial = frame.u  # radii change the rim's size in f's plane
-    if straight and "radii" not in s.skip and 0 < abs(r0 - r1) <= LENGTH_TOL * (r0 + r1) / 2 \
-            and s.px(abs(r0 - r1) / 2 * radial) <= s.tol:
+    if (
+        straight
+        and "radii" not in s.skip
+        and 0 < abs(r0 - r1) <= LENGTH_TOL * (r0 + r1) / 2
+        and s.px(abs(r0 - r1) / 2 * radial) <= s.tol
+    ):
         r = (r0 + r1) / 2
         s.record("radii", "each other (a cylinder)", (r0, r1), (r, r))
         op = op.retuned(r, r)
     c = frame.to_2d(np.array(op.center, float))[0]
-    c = c + s.position(c[None], targets,
-                       lambda move: replace(op, center=tuple(map(float, frame.to_3d(c + move)[0]))))
+    c = c + s.position(
+        c[None],
+        targets,
+        lambda move: replace(op, center=tuple(map(float, frame.to_3d(c + move)[0]))),
+    )
     op = replace(op, center=tuple(map(float, frame.to_3d(c)[0])))
     if op.r0 == op.r1:
         r = s.length("r0", op.r0, radial, targets.radii, lambda r: op.retuned(r, r))
         op = op.retuned(r, r)
     else:
         r0 = s.length("r0", op.r0, radial, targets.radii, lambda r: op.retuned(r0=r))
-        op = op.retuned(r0, s.length("r1", op.r1, radial, targets.radii,
-                                     lambda r: op.retuned(r0, r)))
+        op = op.retuned(
+            r0, s.length("r1", op.r1, radial, targets.radii, lambda r: op.retuned(r0, r))
+        )
     return op.retuned(d=s.length("d", op.d, n, targets.sizes, lambda d: op.retuned(d=d)))
 
 
-_REGULARIZE = per_operator({OperatorType.EXTRUDE: _regularize_extrude,
-                            OperatorType.BEVEL: _regularize_bevel,
-                            OperatorType.ADDSUB: _regularize_prism,
-                            OperatorType.SWEEP: _regularize_sweep}, "_REGULARIZE")
+_REGULARIZE = per_operator(
+    {
+        OperatorType.EXTRUDE: _regularize_extrude,
+        OperatorType.BEVEL: _regularize_bevel,
+        OperatorType.ADDSUB: _regularize_prism,
+        OperatorType.SWEEP: _regularize_sweep,
+    },
+    "_REGULARIZE",
+)
 
 
-def hand_tolerance(snap_px: float, misfit_px: float, context: OrthoCamera,
-                   view: OrthoCamera) -> float:
+def hand_tolerance(
+    snap_px: float, misfit_px: float, context: OrthoCamera, view: OrthoCamera
+) -> float:
     """The snapping tolerance (view pixels) for a reading: `snap_px`, or HAND_SNAP times
     its misfit when larger.
 
@@ -527,10 +607,16 @@ def hand_tolerance(snap_px: float, misfit_px: float, context: OrthoCamera,
     return max(snap_px, HAND_SNAP * misfit_px * context.pixel_size / view.pixel_size)
 
 
-def regularize_operation(solid: cq.Shape, op: Operation, face: cq.Face, view: OrthoCamera,
-                         step: float = 0.0, tol_px: float = SNAP_PX,
-                         skip: frozenset[str] = frozenset(),
-                         strokes: StrokeFit | None = None) -> Regularized:
+def regularize_operation(
+    solid: cq.Shape,
+    op: Operation,
+    face: cq.Face,
+    view: OrthoCamera,
+    step: float = 0.0,
+    tol_px: float = SNAP_PX,
+    skip: frozenset[str] = frozenset(),
+    strokes: StrokeFit | None = None,
+) -> Regularized:
     """Rectify a fitted operation and snap it to what its strokes are close to.
 
     Args:

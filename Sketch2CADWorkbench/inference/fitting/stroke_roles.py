@@ -7,6 +7,7 @@ the start outline (lower along n_f) and the end outline. This reads those roles 
 the strokes alone, so that a curve map that mixes them up (the networks trained on
 this machine's budget often do) need not lose a clear sketch.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -85,9 +86,15 @@ def _ordered(strokes: list[np.ndarray], a: int, b: int, n2: np.ndarray) -> tuple
     return (START, END) if float(ca @ n2) <= float(cb @ n2) else (END, START)
 
 
-def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera,
-                 prism: bool, same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX),
-                 sides: int | None = None, group: int = 0) -> list[int]:
+def stroke_roles(
+    strokes: list[np.ndarray],
+    frame: FaceFrame,
+    camera: OrthoCamera,
+    prism: bool,
+    same_chord: tuple[float, float] | None = (SAME_CHORD, SAME_CHORD_PX),
+    sides: int | None = None,
+    group: int = 0,
+) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
     Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
@@ -129,13 +136,16 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
         length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
         span = float(np.linalg.norm(chord))
         along, across = abs(float(chord @ n2)), abs(float(chord[0] * n2[1] - chord[1] * n2[0]))
-        if span > CLOSED_SHARE * length and across < along and \
-                across <= tan_max * along + PROFILE_SLACK_PX:
+        if (
+            span > CLOSED_SHARE * length
+            and across < along
+            and across <= tan_max * along + PROFILE_SLACK_PX
+        ):
             chords[k] = (p[0], p[-1]) if chord @ n2 >= 0 else (p[-1], p[0])
     if prism and chords and same_chord is not None:
         share, px = same_chord
         keys = list(chords)
-        vec = np.array([chords[k][1] - chords[k][0] for k in keys])         # (m, 2)
+        vec = np.array([chords[k][1] - chords[k][0] for k in keys])  # (m, 2)
         # the largest group of chords alike (each within share of one's length plus px);
         # a k-d tree counts each chord's neighbours without comparing every pair
         radii = share * np.linalg.norm(vec, axis=1) + px
@@ -192,13 +202,15 @@ def stroke_roles(strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamer
             # a closed outline passes through all the profile ends of its side: a short
             # sweep's two ellipses cross each other, so one nearest point would not do
             q = cKDTree(resample(np.asarray(strokes[k], float)))
-            roles[k] = START if q.query(starts[near])[0].sum() <= \
-                q.query(ends[near])[0].sum() else END
+            roles[k] = (
+                START if q.query(starts[near])[0].sum() <= q.query(ends[near])[0].sum() else END
+            )
     return [int(r) for r in roles]
 
 
-def _near_profiles(strokes: list[np.ndarray], closed: list[int], starts: np.ndarray,
-                   ends: np.ndarray) -> list[slice | np.ndarray]:
+def _near_profiles(
+    strokes: list[np.ndarray], closed: list[int], starts: np.ndarray, ends: np.ndarray
+) -> list[slice | np.ndarray]:
     """For each closed stroke, the profiles its role is judged on: all of them, in their
     order, when there are at most NEAR_PROFILES; else the NEAR_PROFILES whose middles lie
     nearest the stroke's centre."""

@@ -11,6 +11,7 @@ outline on f, `face_frame` finds p_f under the base outline and T there, `back_p
 carries the base outline's pixels onto the surface and then along n_f onto T, and
 `face_ref` names f for the protocol.
 """
+
 from __future__ import annotations
 
 import cadquery as cq
@@ -29,7 +30,6 @@ from ...brep.geometry import plane_basis
 from ...brep.protocol import FaceRef
 from ...render.camera import OrthoCamera
 from .common import FitError
-
 
 # A ray that misses the curved f by at most this many pixels still meets it (a corner
 # drawn past a cylinder's outline or rim by the hand; level-1 profile strokes end up to
@@ -50,8 +50,7 @@ def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.n
     scale = model_scale(face)
     slack = max(1e-3 * scale, SURFACE_SLACK_PX * camera.pixel_size)
     centre_depth = float((np.array(face.Center().toTuple()) - origins[0]) @ forward)
-    k, hit_t, entering = surface.roots(origins, forward, centre_depth - scale,
-                                       centre_depth + scale)
+    k, hit_t, entering = surface.roots(origins, forward, centre_depth - scale, centre_depth + scale)
     # a convex face looks at the viewer where the ray enters the surface, a concave one
     # (a bore's wall) where it leaves it
     facing = entering == surface.convex
@@ -70,8 +69,9 @@ def surface_hits(camera: OrthoCamera, pixels: np.ndarray, face: cq.Face) -> np.n
     return out
 
 
-def _grazing(surface: CurvedSurface, origins: np.ndarray, forward: np.ndarray
-             ) -> tuple[np.ndarray, np.ndarray]:
+def _grazing(
+    surface: CurvedSurface, origins: np.ndarray, forward: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """For rays (origins (K, 3), one direction) that miss the surface, so pass outside
     it: the surface point at the height and on the side of each ray's closest approach
     to the axis (the point of the surface's outline it passes nearest: exactly on a
@@ -120,8 +120,9 @@ def _frame_under(face: cq.Face, hits: np.ndarray) -> FaceFrame:
     return FaceFrame(np.asarray(at.point, float), n, *plane_basis(n))
 
 
-def option_frame(face: cq.Face, camera: OrthoCamera, start: np.ndarray, end: np.ndarray
-                 ) -> FaceFrame:
+def option_frame(
+    face: cq.Face, camera: OrthoCamera, start: np.ndarray, end: np.ndarray
+) -> FaceFrame:
     """The plane the +/- option is read in (`primitive.choose_option`): f's own plane if
     f is planar; on a curved f, T under whichever of the start and end outlines (pixels
     (K, 2)) lies on f the more, the base one. The other stands off f, in the air or at a
@@ -138,8 +139,9 @@ def option_frame(face: cq.Face, camera: OrthoCamera, start: np.ndarray, end: np.
     return _frame_under(face, hits[1] if on[1] > on[0] else hits[0])
 
 
-def back_project(camera: OrthoCamera, face: cq.Face, frame: FaceFrame,
-                 pixels: np.ndarray) -> np.ndarray:
+def back_project(
+    camera: OrthoCamera, face: cq.Face, frame: FaceFrame, pixels: np.ndarray
+) -> np.ndarray:
     """Base-outline pixels (K, 2) as points (K, 3) of the step's plane (`face_frame`): on
     a planar f where their rays meet it; on a curved f where their rays meet the surface,
     carried along n_f onto the tangent plane T (the base polygon c, or c0's centre).
@@ -155,8 +157,9 @@ def back_project(camera: OrthoCamera, face: cq.Face, frame: FaceFrame,
     return hits - np.outer((hits - frame.origin) @ frame.normal, frame.normal)
 
 
-def check_circle_on_surface(face: cq.Face, frame: FaceFrame, centre: np.ndarray,
-                            radius: float) -> None:
+def check_circle_on_surface(
+    face: cq.Face, frame: FaceFrame, centre: np.ndarray, radius: float
+) -> None:
     """On a curved f, refuse a circle of T (a sweep's c0: centre (3,), radius mm) that
     reaches past the surface's side, where the lines along n_f from it miss f (the
     generator cannot draw it, nor the operator build it).
@@ -169,8 +172,7 @@ def check_circle_on_surface(face: cq.Face, frame: FaceFrame, centre: np.ndarray,
     t = np.linspace(0, 2 * np.pi, 32, endpoint=False)
     ring = centre + radius * (np.outer(np.cos(t), frame.u) + np.outer(np.sin(t), frame.v))
     if np.isnan(CurvedSurface.of(face).crossings(ring, frame.normal, model_scale(face))).any():
-        raise FitError("the base circle reaches past the side of the curved face it stands "
-                       "on")
+        raise FitError("the base circle reaches past the side of the curved face it stands on")
 
 
 def face_ref(face: cq.Face, frame: FaceFrame) -> FaceRef:
@@ -178,5 +180,8 @@ def face_ref(face: cq.Face, frame: FaceFrame) -> FaceRef:
     n_f there and its surface's kind."""
     if not is_curved(face):
         return face_ref_of(face)
-    return FaceRef(tuple(float(c) for c in frame.origin), tuple(float(c) for c in frame.normal),
-                   CurvedSurface.of(face).kind)
+    return FaceRef(
+        tuple(float(c) for c in frame.origin),
+        tuple(float(c) for c in frame.normal),
+        CurvedSurface.of(face).kind,
+    )

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep regression: circles from ellipses, offset, profile plane and Bezier (paper, Sec. 4.2)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -52,19 +53,22 @@ def fit_ellipse(strokes: list[np.ndarray]) -> Ellipse:
     return Ellipse(np.array([cx, cy]), float(a), float(b), float(theta))
 
 
-def _offset_along_axis(camera: OrthoCamera, c0: np.ndarray, axis: np.ndarray,
-                       target: np.ndarray) -> float:
+def _offset_along_axis(
+    camera: OrthoCamera, c0: np.ndarray, axis: np.ndarray, target: np.ndarray
+) -> float:
     """t >= 0 minimising |project(c0 + t axis) - target| (the line search's exact optimum)."""
     p0 = camera.project(c0[None])[0][0]
     step = camera.image_of(axis)
     if step @ step < 1e-6:
-        raise FitError("sweep: the axis points at the viewer, so its length cannot be read; "
-                       "turn the view")
+        raise FitError(
+            "sweep: the axis points at the viewer, so its length cannot be read; turn the view"
+        )
     return float((target - p0) @ step / (step @ step))
 
 
-def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.ndarray,
-                axis: np.ndarray) -> np.ndarray | None:
+def _profile_rh(
+    camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.ndarray, axis: np.ndarray
+) -> np.ndarray | None:
     """The stroke's points as (r, h) in the plane through the axis that faces the view
     (where the generator draws c_p, `sketch.curves.sweep_curves`), on the stroke's side
     of the axis. (The paper's plane through the axis and the stroke's foot lifted onto
@@ -87,8 +91,9 @@ def _profile_rh(camera: OrthoCamera, stroke: np.ndarray, base: Ellipse, c0: np.n
     return np.stack([rel @ side, rel @ axis], axis=1)
 
 
-def _sweep(face: FaceRef, c0: np.ndarray, r0: float, r1: float, d: float, mid: np.ndarray,
-           mode: Mode) -> Sweep:
+def _sweep(
+    face: FaceRef, c0: np.ndarray, r0: float, r1: float, d: float, mid: np.ndarray, mode: Mode
+) -> Sweep:
     """The Sweep of these parameters, its profile's inner control points `mid` (2, 2)
     kept off the axis and between the circles' planes: heights past d (or below 0) fold
     its surface of revolution back over the far circle (OCCT: an invalid solid), while
@@ -96,8 +101,15 @@ def _sweep(face: FaceRef, c0: np.ndarray, r0: float, r1: float, d: float, mid: n
     mid = np.array(mid, float)
     mid[:, 0] = np.maximum(mid[:, 0], 0.05 * min(r0, r1))
     mid[:, 1] = np.clip(mid[:, 1], 0.0, d)
-    return Sweep(face, tuple(map(float, c0)), float(r0), float(r1), float(d),
-                 tuple(tuple(map(float, p)) for p in mid), mode)
+    return Sweep(
+        face,
+        tuple(map(float, c0)),
+        float(r0),
+        float(r1),
+        float(d),
+        tuple(tuple(map(float, p)) for p in mid),
+        mode,
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,12 +119,12 @@ class SweepFit:
     prism, a caller that weighs several readings of the strokes refines only those it
     may keep."""
 
-    operation: Sweep            # as fitted, unrefined
-    image: SweepImage           # how its curves move in the image with its parameters
-    side: np.ndarray            # (3,) the unit vectors of the image's `side` and `other`
+    operation: Sweep  # as fitted, unrefined
+    image: SweepImage  # how its curves move in the image with its parameters
+    side: np.ndarray  # (3,) the unit vectors of the image's `side` and `other`
     other: np.ndarray
-    strokes: list[np.ndarray]   # every stroke of the sweep (circles and profiles)
-    curved: bool                # f is curved: the base circle follows the surface
+    strokes: list[np.ndarray]  # every stroke of the sweep (circles and profiles)
+    curved: bool  # f is curved: the base circle follows the surface
 
     @property
     def straight(self) -> bool:
@@ -130,22 +142,35 @@ class SweepFit:
         if self.curved:
             return replace(op, profile=straight_profile(op.r0, op.r1, op.d)) if straight else op
         image = replace(self.image, bulge=np.zeros((2, 2))) if straight else self.image
-        a, b, r0, r1, d = refine_sweep(image, np.array([0.0, 0.0, op.r0, op.r1, op.d]),
-                                       self.strokes)
+        a, b, r0, r1, d = refine_sweep(
+            image, np.array([0.0, 0.0, op.r0, op.r1, op.d]), self.strokes
+        )
         c0 = np.asarray(op.center, float) + a * self.side + b * self.other
         mid = np.array(straight_profile(r0, r1, d)) + image.bulge
         return _sweep(op.face, c0, r0, r1, d, mid, op.mode)
 
 
-def fit_sweep(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], option: Mode | None = None) -> Sweep:
+def fit_sweep(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    labels: list[int],
+    option: Mode | None = None,
+) -> Sweep:
     """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1):
     `sweep_fit`, refined (`SweepFit.refined`). Same arguments and errors."""
     return sweep_fit(solid, face, camera, strokes, labels, option).refined()
 
 
-def sweep_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list[np.ndarray],
-              labels: list[int], option: Mode | None = None) -> SweepFit:
+def sweep_fit(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    labels: list[int],
+    option: Mode | None = None,
+) -> SweepFit:
     """Fit a swept solid to circle outlines (start 0 / end 2) and profile strokes (1), up
     to the joint refinement.
 
@@ -175,8 +200,9 @@ def sweep_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
     axis = frame.normal * mode.sign
     d = _offset_along_axis(camera, c0, axis, far.center)
     if d <= 1e-4 * scale:
-        raise FitError("sweep: the far circle does not lie beyond the base circle along "
-                       "the face normal")
+        raise FitError(
+            "sweep: the far circle does not lie beyond the base circle along the face normal"
+        )
     r0, r1 = base.a * camera.pixel_size, far.a * camera.pixel_size
     check_circle_on_surface(face, frame, c0, r0)
     inner = []
@@ -187,15 +213,23 @@ def sweep_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, strokes: list
             r, h = ctrl[1:3, 0], ctrl[1:3, 1]
             # a profile that leaves the band between the circles, or swings far out, is
             # a stroke back-projected badly (a short sweep seen obliquely), not a shape
-            if np.all((h >= -PROFILE_SLACK * d) & (h <= (1 + PROFILE_SLACK) * d)
-                      & (r > 0) & (r <= PROFILE_MAX_R * max(r0, r1))):
+            if np.all(
+                (h >= -PROFILE_SLACK * d)
+                & (h <= (1 + PROFILE_SLACK) * d)
+                & (r > 0)
+                & (r <= PROFILE_MAX_R * max(r0, r1))
+            ):
                 inner.append(ctrl[1:3])
     # no profile drawn: the straight one
     mid = np.mean(inner, axis=0) if inner else np.array(straight_profile(r0, r1, d))
     op = _sweep(face_ref(face, frame), c0, r0, r1, d, mid, mode)
     side = silhouette_side(axis, np.asarray(camera.direction, float))
     other = np.cross(axis, side)
-    image = SweepImage(camera.project(c0[None])[0][0], camera.image_of(side),
-                       camera.image_of(other), camera.image_of(axis),
-                       np.array(op.profile) - np.array(straight_profile(r0, r1, d)))
+    image = SweepImage(
+        camera.project(c0[None])[0][0],
+        camera.image_of(side),
+        camera.image_of(other),
+        camera.image_of(axis),
+        np.array(op.profile) - np.array(straight_profile(r0, r1, d)),
+    )
     return SweepFit(op, image, side, other, groups[0] + groups[1] + groups[2], is_curved(face))

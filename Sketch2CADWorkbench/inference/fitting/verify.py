@@ -14,6 +14,7 @@ displaced, and its ends tell where the curve's ends are. The readings of one ope
 are therefore ranked by `reading_score`, closeness plus how far the strokes' ends lie
 from the ends of the curves they draw (`end_gaps`).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -37,7 +38,6 @@ from .common import (
     stroke_pixels,
 )
 
-
 # Readings are ranked by closeness plus this times the rms gap between the strokes' ends
 # and their curves' (`reading_score`): a pixel at an end weighs a pixel of closeness.
 # Held-out level-3 add/sub and sweeps read alike with 0, 0.3 and 1, worse with 3 (sweeps'
@@ -51,8 +51,8 @@ class DrawnStrokes:
     field to them, each made once (when first asked for) for all the readings of one
     sketch."""
 
-    strokes: list[np.ndarray]   # pixel polylines of the camera the readings are seen in
-    shape: tuple[int, int]      # that camera's (height, width)
+    strokes: list[np.ndarray]  # pixel polylines of the camera the readings are seen in
+    shape: tuple[int, int]  # that camera's (height, width)
 
     @cached_property
     def samples(self) -> np.ndarray:
@@ -70,10 +70,14 @@ class DrawnStrokes:
         return DistanceField(stroke_pixels(self.strokes, self.shape))
 
 
-def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
-                     strokes: list[np.ndarray] | DrawnStrokes, seen: ContextMaps | None = None,
-                     face: ResolvedFace | None = None
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def sketch_distances(
+    solid: cq.Shape,
+    op: Operation,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray] | DrawnStrokes,
+    seen: ContextMaps | None = None,
+    face: ResolvedFace | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Distances (pixels) from the strokes' samples to op's projected curves, from the
     curves' samples to the strokes, and between the open strokes' ends and the ends of
     the open curves they draw (`end_gaps`).
@@ -96,9 +100,11 @@ def sketch_distances(solid: cq.Shape, op: Operation, camera: OrthoCamera,
     if not target.any():  # no curve seen, or every one outside the image
         return np.full(len(drawn.samples), np.inf), np.full(1, np.inf), np.zeros(0)
     ideal = np.concatenate([resample(p) for p in pixels])
-    return (DistanceField(target)(drawn.samples),
-            drawn.field(ideal),
-            end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends))
+    return (
+        DistanceField(target)(drawn.samples),
+        drawn.field(ideal),
+        end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends),
+    )
 
 
 def end_gaps(curves: list[np.ndarray], ends: np.ndarray) -> np.ndarray:
@@ -113,12 +119,17 @@ def end_gaps(curves: list[np.ndarray], ends: np.ndarray) -> np.ndarray:
     """
     heads = np.array([[c[0], c[-1]] for c in curves], float).reshape(-1, 2, 2)
     rows, cols, swapped = match_ends(heads, ends)
-    meant = heads[cols[:, None], end_order(swapped)]                   # (M, 2, 2)
+    meant = heads[cols[:, None], end_order(swapped)]  # (M, 2, 2)
     return np.linalg.norm(ends[rows] - meant, axis=2).ravel()
 
 
-def reprojection_error(solid: cq.Shape, op: Operation, camera: OrthoCamera,
-                       strokes: list[np.ndarray], seen: ContextMaps | None = None) -> float:
+def reprojection_error(
+    solid: cq.Shape,
+    op: Operation,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    seen: ContextMaps | None = None,
+) -> float:
     """Symmetric mean distance (pixels) between the strokes and op's projected curves
     (with `seen`, the parts of them the view sees: `sketch_distances`)."""
     return mean_distance(sketch_distances(solid, op, camera, strokes, seen))
@@ -134,5 +145,6 @@ def reading_score(distances: tuple[np.ndarray, np.ndarray, np.ndarray]) -> float
     """How well a reading explains the strokes (pixels, lower is better): the symmetric
     mean distance plus END_WEIGHT times the rms of the end gaps (`sketch_distances`)."""
     ends = distances[2]
-    return mean_distance(distances) + (END_WEIGHT * float(np.sqrt(np.mean(ends ** 2)))
-                                       if len(ends) else 0.0)
+    return mean_distance(distances) + (
+        END_WEIGHT * float(np.sqrt(np.mean(ends**2))) if len(ends) else 0.0
+    )

@@ -6,6 +6,7 @@ holding its Install command and the report view saying what to run by hand. That
 shows the dialog again; its Install button is pressed (buttons are pressed as a user
 would, by a timer while the dialog runs); the workbench then comes up whole, without a
 restart."""
+
 import os
 import sys
 import time
@@ -28,6 +29,7 @@ def app():
 @check
 def loaded_from_the_addon_folder_with_nothing_installed():
     import Sketch2CADWorkbench
+
     mod = os.path.join(FreeCAD.getUserAppDataDir(), "Mod")
     assert os.path.realpath(Sketch2CADWorkbench.__file__).startswith(os.path.realpath(mod))
     assert not os.path.exists(dependencies.folder()), dependencies.folder()
@@ -56,8 +58,11 @@ def report_view() -> str:
 
 def toolbar_actions() -> list:
     toolbar = FreeCADGui.getMainWindow().findChild(QtGui.QToolBar, "Sketch2CAD")
-    return [a.text() for a in toolbar.actions() if a.isVisible() and not a.isSeparator()] \
-        if toolbar is not None and toolbar.isVisible() else []
+    return (
+        [a.text() for a in toolbar.actions() if a.isVisible() and not a.isSeparator()]
+        if toolbar is not None and toolbar.isVisible()
+        else []
+    )
 
 
 @check
@@ -90,8 +95,10 @@ def the_install_command_installs_through_the_dialog():
 @check
 def the_workbench_is_whole_without_a_restart():
     import cadquery
+
     assert cadquery.__file__.startswith(dependencies.folder()), cadquery.__file__
     from Sketch2CADWorkbench.commands import COMMANDS
+
     assert set(COMMANDS) <= set(FreeCADGui.listCommands())
     assert "New model" in toolbar_actions() and "Sketch an operation" in toolbar_actions()
     FreeCAD.newDocument("addon")
@@ -99,6 +106,7 @@ def the_workbench_is_whole_without_a_restart():
     for _ in range(5):
         app().processEvents()
     from Sketch2CADWorkbench.freecad_layer.queries import find_models
+
     (model,) = find_models(FreeCAD.ActiveDocument)
     assert model.Tip.Shape.isValid() and model.Tip.Shape.Volume > 0
 

@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Document-level checks, run by test_document.py in one freecadcmd process."""
+
 import json
 import os
-from dataclasses import replace
 import sys
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
 import FreeCAD  # noqa: E402
@@ -41,8 +42,10 @@ def startup():
     import cadquery  # noqa: F401
     import freecad
     import numpy
+
     assert "Sketch2CADWorkbench.freecad_layer.env" in sys.modules, "Init.py did not bootstrap"
     from Sketch2CADWorkbench.freecad_layer import dependencies
+
     assert numpy.__file__.startswith(dependencies.folder()), (numpy.__file__, dependencies.folder())
     assert all("Sketch2CADWorkbench" not in p for p in freecad.__path__), freecad.__path__
 
@@ -61,6 +64,7 @@ def addon_metadata():
     init_gui = open(os.path.join(ROOT, wb.Subdirectory, "InitGui.py")).read()
     assert f"class {wb.Classname}(Workbench)" in init_gui
     from Sketch2CADWorkbench.freecad_layer.icons import ICONS
+
     for name in os.listdir(ICONS):
         assert ET.parse(os.path.join(ICONS, name)).getroot().tag.endswith("svg"), name
 
@@ -106,11 +110,20 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
     # the new top, every feature saying Valid; the bevel now moves to the new corner
     from Sketch2CADWorkbench.brep.operators import locate_bevel
     from Sketch2CADWorkbench.brep.protocol import Bevel, Box, Extrude, FaceRef, Protocol
+
     top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
     front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
-    bevel = Bevel(front, (20.0, -15.0, 19.535), (20.0, 15.0, 19.535),
-                  ((20.0, -15.0, 14.535), (20.0, -15.0, 17.285), (17.25, -15.0, 19.535),
-                   (15.0, -15.0, 19.535)))
+    bevel = Bevel(
+        front,
+        (20.0, -15.0, 19.535),
+        (20.0, 15.0, 19.535),
+        (
+            (20.0, -15.0, 14.535),
+            (20.0, -15.0, 17.285),
+            (17.25, -15.0, 19.535),
+            (15.0, -15.0, 19.535),
+        ),
+    )
     p = Protocol(Box((40.0, 30.0, 20.0)), (Extrude(top, 9.535), bevel))
     doc = FreeCAD.newDocument("follow")
     model = make_model_from_protocol(doc, p)
@@ -119,8 +132,10 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
     extrude.Offset = 15.0
     doc.recompute()
     assert not failed_features(model), [o.State for o in features(model)]
-    assert close(extrude.Shape.Volume - bev.Shape.Volume, removed), (removed, extrude.Shape.Volume
-                                                                      - bev.Shape.Volume)
+    assert close(extrude.Shape.Volume - bev.Shape.Volume, removed), (
+        removed,
+        extrude.Shape.Volume - bev.Shape.Volume,
+    )
     assert close(bev.Shape.BoundBox.ZMax, 25.0), bev.Shape.BoundBox
     at = locate_bevel(from_part(extrude.Shape), bev.Proxy.operation(bev))
     assert close(at.corner[2], 25.0) and close(at.profile[3][2], 25.0), at
@@ -139,8 +154,9 @@ def sweep_profile_follows_its_radii():
     sweep.Radius1 = op.r1 * 1.5
     want = op.retuned(r1=op.r1 * 1.5)
     got = sweep.Proxy.operation(sweep)
-    assert isinstance(got, Sweep) and all(close(a, b, 1e-9) for a, b in
-                                          zip(sum(got.profile, ()), sum(want.profile, ()))), got
+    assert isinstance(got, Sweep) and all(
+        close(a, b, 1e-9) for a, b in zip(sum(got.profile, ()), sum(want.profile, ()))
+    ), got
     doc.recompute()
     assert not failed_features(model)
     assert_matches_core(model, protocol_from_model(model))
@@ -161,17 +177,22 @@ def unbuildable_value_puts_only_that_feature_in_error():
     assert failed_features(model) == chain[3:], [o.State for o in chain]
     assert "Invalid" in prism.State, prism.State
     assert "3 to 6 vertices" in prism.getStatusString(), prism.getStatusString()
-    assert all(f"its Base {chain[i - 1].Label} failed to build" in chain[i].getStatusString()
-               for i in range(4, len(chain))), [o.getStatusString() for o in chain]
+    assert all(
+        f"its Base {chain[i - 1].Label} failed to build" in chain[i].getStatusString()
+        for i in range(4, len(chain))
+    ), [o.getStatusString() for o in chain]
     assert len(prism.Proxy.polygon(prism)) == 2  # the user's value stays, for them to fix
     assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3]))
     assert [o.Proxy.operation(o) for o in chain[4:]] == later  # nothing after it is lost
     # export and save refuse, naming the broken step; the files are not touched
     # (Save protocol runs the same refuse_failed_steps first: commands/protocol.py)
     from Sketch2CADWorkbench.freecad_layer.queries import refuse_failed_steps
+
     step = os.path.join(TMP, "error.step")
-    for attempt in (lambda: export_step(model, step),
-                    lambda: refuse_failed_steps(model, "saving the protocol")):
+    for attempt in (
+        lambda: export_step(model, step),
+        lambda: refuse_failed_steps(model, "saving the protocol"),
+    ):
         try:
             attempt()
             raise AssertionError("went on with a failed step")
@@ -210,12 +231,12 @@ def interpret_session_inside_freecad():
     from Sketch2CADWorkbench.inference.session import load_session
     from Sketch2CADWorkbench.inference.weights import load_predictor
     from Sketch2CADWorkbench.render.maps import MapRenderer
+
     session = load_session(os.path.join(ROOT, "examples", "sessions", "camera.json"))
     predictor, renderer = load_predictor(), MapRenderer()
     protocol, solid = Protocol(session.base), make_box(session.base)
     for step in session.steps:
-        got = interpret(solid, step.strokes, step.camera, predictor, renderer,
-                        step.choices)
+        got = interpret(solid, step.strokes, step.camera, predictor, renderer, step.choices)
         for op in got.operations:
             protocol = protocol.append(op)
         solid = got.solid
@@ -257,16 +278,31 @@ def features_are_named_as_freecad_users_read_them():
     doc = FreeCAD.newDocument("names")
     model = make_model_from_protocol(doc, example("hammer"))
     chain = features(model)
-    assert [o.Label for o in chain] == ["Box", "Revolution", "Bevel", "Pad", "Hole",
-                                        "Revolution001"], [o.Label for o in chain]
-    assert [o.Operator for o in chain[1:]] == ["AddSweepShape", "Bevel", "Extrude",
-                                               "SubtractPolyhedron", "AddSweepShape"]
+    assert [o.Label for o in chain] == [
+        "Box",
+        "Revolution",
+        "Bevel",
+        "Pad",
+        "Hole",
+        "Revolution001",
+    ], [o.Label for o in chain]
+    assert [o.Operator for o in chain[1:]] == [
+        "AddSweepShape",
+        "Bevel",
+        "Extrude",
+        "SubtractPolyhedron",
+        "AddSweepShape",
+    ]
     assert all(o.getEditorMode("Operator") == ["ReadOnly"] for o in chain[1:])
     pad, hole = chain[3], chain[4]
     pad.Offset = -2.0  # the sign of the offset makes it a pocket
     hole.Mode = "add"  # the Boolean makes it a boss
     assert (pad.Label, pad.Operator, hole.Label, hole.Operator) == (
-        "Pocket", "Extrude", "Boss", "AddPolyhedron"), (pad.Label, hole.Label, hole.Operator)
+        "Pocket",
+        "Extrude",
+        "Boss",
+        "AddPolyhedron",
+    ), (pad.Label, hole.Label, hole.Operator)
     hole.Label = "Handle slot"  # the user's name stays when the Boolean flips back
     hole.Mode = "subtract"
     assert (hole.Label, hole.Operator) == ("Handle slot", "SubtractPolyhedron")
@@ -281,11 +317,16 @@ LENGTHS = {"App::PropertyLength", "App::PropertyDistance", "App::PropertyPositio
 @check
 def parameters_are_quantities_in_the_users_units():
     from Sketch2CADWorkbench.freecad_layer.make.make_model import FEATURE_OF_OPERATION
+
     doc = FreeCAD.newDocument("units")
     model = make_model_from_protocol(doc, example("hammer"))
     for o in features(model):
-        own = [n for n in o.PropertiesList if o.getGroupOfProperty(n) not in
-               ("Base", "Sketch", "") and n not in ("Placement", "Shape", "Label", "Label2")]
+        own = [
+            n
+            for n in o.PropertiesList
+            if o.getGroupOfProperty(n) not in ("Base", "Sketch", "")
+            and n not in ("Placement", "Shape", "Label", "Label2")
+        ]
         unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
         # a normal has no unit, the Boolean and the kind of surface are choices
         assert set(unitless) <= {"FaceNormal", "FaceSurface", "Mode"}, (o.Label, unitless)
@@ -296,7 +337,8 @@ def parameters_are_quantities_in_the_users_units():
             text = FEATURE_OF_OPERATION[op.type].reading(op)
             assert " in" in text and " mm" not in text and "f[n=" not in text, text
         pad = FEATURE_OF_OPERATION[example("hammer").operations[2].type].reading(
-            example("hammer").operations[2])
+            example("hammer").operations[2]
+        )
         assert pad.startswith("Pad: the face moved out by 0.20 in"), pad
     finally:
         FreeCAD.Units.setSchema(schema)
@@ -305,6 +347,7 @@ def parameters_are_quantities_in_the_users_units():
 @check
 def step_part_is_named_after_the_model():
     import Import
+
     doc = FreeCAD.newDocument("named")
     model = make_model_from_protocol(doc, example("nut"), label="Hex nut")
     path = os.path.join(TMP, "hex-nut.step")
@@ -323,6 +366,7 @@ def a_step_read_again_replaces_its_feature_in_place():
     its place, the later steps rebased on it."""
     from Sketch2CADWorkbench.brep.protocol import Extrude
     from Sketch2CADWorkbench.freecad_layer.make.make_model import replace_operation
+
     p = example("mixer")
     doc = FreeCAD.newDocument("replace")
     model = make_model_from_protocol(doc, p)
@@ -350,8 +394,10 @@ def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
     assert not failed_features(model) and protocol_from_model(model) == p
     assert_matches_core(model, p)
     branch = chain[4]
-    assert (branch.FaceSurface, branch.Label) == ("cylinder", "Revolution001"), \
-        (branch.FaceSurface, branch.Label)
+    assert (branch.FaceSurface, branch.Label) == ("cylinder", "Revolution001"), (
+        branch.FaceSurface,
+        branch.Label,
+    )
     assert chain[2].FaceSurface == "cylinder" and chain[2].Label == "Pad"
     # a wider pipe: the steps on its side move out with it; a longer branch
     for name in ("Radius0", "Radius1"):
@@ -364,8 +410,10 @@ def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
     assert_matches_core(model, edited)
     # the branch's end and the pad's top stand out from the wider wall (r 13 + 1 mm)
     assert close(model.Tip.Shape.BoundBox.XMax, 14.0 + 30.0), model.Tip.Shape.BoundBox
-    assert any(close(f.CenterOfMass.y, -14.0 - 3.0) and f.normalAt(0, 0).y < -0.999
-               for f in chain[6].Shape.Faces), "the pad's top did not move out"
+    assert any(
+        close(f.CenterOfMass.y, -14.0 - 3.0) and f.normalAt(0, 0).y < -0.999
+        for f in chain[6].Shape.Faces
+    ), "the pad's top did not move out"
     path = os.path.join(TMP, "pipe.step")
     export_step(model, path)
     read = Part.read(path)

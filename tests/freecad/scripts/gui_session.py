@@ -2,6 +2,7 @@
 """GUI checks, run by test_gui.py in FreeCAD on a virtual X screen: the workbench loads
 quietly, its commands work (with undo and error messages), the view camera converts, and
 strokes are captured from real mouse and key events."""
+
 import json
 import os
 import re
@@ -43,14 +44,18 @@ def _camera_state():
     if doc is None:
         return None
     cam = doc.ActiveView.getCameraNode()
-    return (tuple(cam.position.getValue().getValue()), tuple(cam.orientation.getValue().getValue()),
-            tuple(cam.height.getValue() for _ in [0] if hasattr(cam, "height")))
+    return (
+        tuple(cam.position.getValue().getValue()),
+        tuple(cam.orientation.getValue().getValue()),
+        tuple(cam.height.getValue() for _ in [0] if hasattr(cam, "height")),
+    )
 
 
 def settle(timeout: float = 3.0) -> None:
     """Process events until the camera stops moving: FreeCAD 1.1 animates standard views
     and zooms (its navigation animations, on by default), as a user waits for them."""
     import time
+
     end = time.monotonic() + timeout
     last = None
     while time.monotonic() < end:
@@ -72,6 +77,7 @@ def report_view() -> str:
 
 def model_of_document():
     from Sketch2CADWorkbench.freecad_layer.queries import find_models
+
     (model,) = find_models(FreeCAD.ActiveDocument)
     return model
 
@@ -100,6 +106,7 @@ def workbench_loads_quietly():
     settle()
     assert FreeCADGui.activeWorkbench().name() == "Sketch2CADWorkbench"
     from Sketch2CADWorkbench.commands import COMMANDS
+
     assert set(COMMANDS) <= set(FreeCADGui.listCommands())
     toolbar = FreeCADGui.getMainWindow().findChild(QtGui.QToolBar, "Sketch2CAD")
     assert toolbar is not None and toolbar.isVisible()
@@ -112,6 +119,7 @@ def new_model_is_one_undo_step():
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     settle()
     from Sketch2CADWorkbench.freecad_layer.queries import features
+
     model = model_of_document()
     box = features(model)[0]
     assert close(box.Shape.Volume, 40 * 30 * 20) and box.ViewObject.Visibility
@@ -130,11 +138,11 @@ def new_model_is_one_undo_step():
 def projection_error(view) -> float:
     """Largest distance (pixels) between OrthoCamera.project and view.getPointOnScreen."""
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import to_pixels, view_camera
+
     cam = view_camera(view)
     assert (cam.width, cam.height) == tuple(view.getSize())
     ours = cam.project(BOX_CORNERS)[0]
-    theirs = to_pixels([view.getPointOnScreen(FreeCAD.Vector(*p)) for p in BOX_CORNERS],
-                       cam.height)
+    theirs = to_pixels([view.getPointOnScreen(FreeCAD.Vector(*p)) for p in BOX_CORNERS], cam.height)
     return float(np.max(np.abs(ours - theirs)))
 
 
@@ -144,6 +152,7 @@ def silhouette_error(view) -> float:
     import cv2
 
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     cam = view_camera(view)
     path = os.path.join(TMP, "silhouette.png")
     view.saveImage(path, cam.width, cam.height, "#ffffff")
@@ -186,14 +195,16 @@ def view_camera_matches_freecads_projection():
 def strokes_captured_from_mouse_events():
     from Sketch2CADWorkbench.freecad_layer.trackers.stroke_capture import StrokeCapture
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
     view.fitAll()
     settle()
     viewport = view.graphicsView().viewport()
     finished, cancelled = [], []
-    capture = StrokeCapture(view, lambda: finished.append(capture.result()),
-                            lambda: cancelled.append(True))
+    capture = StrokeCapture(
+        view, lambda: finished.append(capture.result()), lambda: cancelled.append(True)
+    )
     top_edge = np.linspace([-20, -15, 10], [20, -15, 10], 15)
     drag(viewport, view_camera(view).project(top_edge)[0])
     assert len(capture.strokes) == 1 and len(capture.strokes[0]) == 15, capture.strokes
@@ -230,6 +241,7 @@ def sketch_step_adds_one_undoable_feature():
     from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     model = model_of_document()
     doc = model.Document
     before = len(features(model))
@@ -239,8 +251,14 @@ def sketch_step_adds_one_undoable_feature():
     view.fitAll()
     settle()
     bb = tip.BoundBox
-    top = np.array([[bb.XMin, bb.YMin, bb.ZMax], [bb.XMax, bb.YMin, bb.ZMax],
-                    [bb.XMax, bb.YMax, bb.ZMax], [bb.XMin, bb.YMax, bb.ZMax]])
+    top = np.array(
+        [
+            [bb.XMin, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMax, bb.ZMax],
+            [bb.XMin, bb.YMax, bb.ZMax],
+        ]
+    )
     up = top + [0, 0, 0.5 * bb.ZLength]
     panel = SketchPanel(model)
     FreeCADGui.Control.showDialog(panel)
@@ -266,6 +284,7 @@ def sketch_step_adds_one_undoable_feature():
     import Sketch2CADWorkbench.brep.protocol  # noqa: F401 (names the line uses)
     import Sketch2CADWorkbench.freecad_layer.make.make_model  # noqa: F401
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import add_operation_command
+
     line = add_operation_command(model, panel.result.operations[0])
     doc.openTransaction("macro replay")
     exec(line, {"FreeCAD": FreeCAD, "Sketch2CADWorkbench": Sketch2CADWorkbench})
@@ -300,6 +319,7 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     choosing subtract in its Boolean box reads the hole."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     model = model_of_document()
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
@@ -313,8 +333,9 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     FreeCADGui.Control.showDialog(panel)
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
-    for a, b in ([(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)]
-                 + list(zip(base, top))):
+    for a, b in [(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)] + list(
+        zip(base, top)
+    ):
         drag(viewport, cam.project(np.linspace(a, b, 12))[0])
     key(viewport, QtCore.Qt.Key_Return)
     settle()
@@ -342,8 +363,11 @@ def hole_outlines(bb, count: int = 10):
     for k in range(count):
         n, r = 3 + k % 4, rng.uniform(0.12, 0.22) * min(bb.XLength, bb.YLength)
         t = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n) / n
-        centre = c + [rng.uniform(-0.15, 0.15) * bb.XLength,
-                      rng.uniform(-0.1, 0.1) * bb.YLength, 0.0]
+        centre = c + [
+            rng.uniform(-0.15, 0.15) * bb.XLength,
+            rng.uniform(-0.1, 0.1) * bb.YLength,
+            0.0,
+        ]
         rim = centre + r * np.stack([np.cos(t), np.sin(t), np.zeros(n)], axis=1)
         yield rim, rim - [0, 0, rng.uniform(0.15, 0.6) * bb.ZLength]
 
@@ -358,6 +382,7 @@ def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
     stop 20)."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     model = model_of_document()
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
@@ -373,8 +398,9 @@ def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
         panel = SketchPanel(model)
         FreeCADGui.Control.showDialog(panel)
         n = len(rim)
-        for a, b in ([(p[i], p[(i + 1) % n]) for p in (rim, floor) for i in range(n)]
-                     + list(zip(rim, floor))):
+        for a, b in [(p[i], p[(i + 1) % n]) for p in (rim, floor) for i in range(n)] + list(
+            zip(rim, floor)
+        ):
             drag(viewport, cam.project(np.linspace(a, b, 12))[0])
         key(viewport, QtCore.Qt.Key_Return)
         settle()
@@ -384,14 +410,19 @@ def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
                     panel.option.setCurrentIndex(panel.option.findText("subtract"))
                     settle()
                 got = panel.result
-                hole = bool(got is not None and got.op_type.value == "addsub"
-                            and got.operations[0].mode.value == "subtract"
-                            and close(shape.Volume - got.solid.Volume(), removed, 0.15))
+                hole = bool(
+                    got is not None
+                    and got.op_type.value == "addsub"
+                    and got.operations[0].mode.value == "subtract"
+                    and close(shape.Volume - got.solid.Volume(), removed, 0.15)
+                )
                 read[how] += hole
                 if how == "no choice":
                     read["no choice, subtract named"] += hole or bool(
-                        got is not None and got.op_type.value == "addsub"
-                        and getattr(got.other_option, "value", None) == "subtract")
+                        got is not None
+                        and got.op_type.value == "addsub"
+                        and getattr(got.other_option, "value", None) == "subtract"
+                    )
         finally:
             panel.reject()
             settle()
@@ -410,12 +441,21 @@ def write_protocol(protocol, name: str) -> str:
 @check
 def load_protocol_errors_change_nothing():
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
+
     doc = FreeCAD.ActiveDocument
     objects, undos = len(doc.Objects), doc.UndoCount
     bad = os.path.join(TMP, "bad.json")
     with open(bad, "w") as f:
-        json.dump({"format": "sketch2cad-protocol", "version": 1, "units": "mm",
-                   "base": {"type": "box", "size": [10, -1, 10]}, "operations": []}, f)
+        json.dump(
+            {
+                "format": "sketch2cad-protocol",
+                "version": 1,
+                "units": "mm",
+                "base": {"type": "box", "size": [10, -1, 10]},
+                "operations": [],
+            },
+            f,
+        )
     assert load_protocol_file(bad) is None
     assert MESSAGES[-1][0] == "Cannot load protocol" and "base.size[1]" in MESSAGES[-1][1]
     # a valid file whose last step no longer finds its face once the column is longer
@@ -431,6 +471,7 @@ def load_protocol_errors_change_nothing():
 def load_protocol_is_one_undo_step():
     from Sketch2CADWorkbench.commands.protocol import load_protocol_file
     from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
+
     doc = FreeCAD.ActiveDocument
     path = os.path.join(EXAMPLES, "mixer.json")
     objects = len(doc.Objects)
@@ -450,6 +491,7 @@ def load_protocol_is_one_undo_step():
 def save_protocol_round_trip():
     from Sketch2CADWorkbench.commands.protocol import save_protocol_file
     from Sketch2CADWorkbench.freecad_layer.queries import find_models
+
     model = find_models(FreeCAD.ActiveDocument)[-1]
     path = os.path.join(TMP, "saved.json")
     assert save_protocol_file(model, path)
@@ -460,6 +502,7 @@ def save_protocol_round_trip():
 def export_step_command():
     from Sketch2CADWorkbench.commands.export import export_model_step
     from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
+
     model = find_models(FreeCAD.ActiveDocument)[-1]
     path = os.path.join(TMP, "mixer.step")
     assert export_model_step(model, path)
@@ -480,10 +523,12 @@ def export_step_command():
 def replay_command_rebuilds_step_by_step():
     from Sketch2CADWorkbench.commands.protocol import replay_model
     from Sketch2CADWorkbench.freecad_layer.queries import features, find_models
+
     model = find_models(FreeCAD.ActiveDocument)[-1]
     FreeCADGui.Selection.clearSelection()
     FreeCADGui.Selection.addSelection(model)
     from Sketch2CADWorkbench.commands import COMMANDS
+
     assert COMMANDS["Sketch2CAD_ReplayProtocol"].IsActive()
     assert replay_model(model, step_s=0.0)
     chain = features(model)
@@ -495,14 +540,16 @@ def replay_command_rebuilds_step_by_step():
 def fcstd_reopens_with_view_providers():
     from Sketch2CADWorkbench.freecad_layer.icons import icon_path
     from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features, find_models
+
     path = os.path.join(TMP, "gui.FCStd")
     FreeCAD.ActiveDocument.saveAs(path)
     FreeCAD.closeDocument(FreeCAD.ActiveDocument.Name)
     doc = FreeCAD.openDocument(path)
     model = find_models(doc)[-1]
     icons = {o.ViewObject.Proxy.getIcon() for o in [model] + features(model)}
-    assert icons == {icon_path(n) for n in ("Model", "Box", "Boss", "Revolution", "Groove",
-                                                   "Bevel")}
+    assert icons == {
+        icon_path(n) for n in ("Model", "Box", "Boss", "Revolution", "Groove", "Bevel")
+    }
     for o in features(model):
         o.touch()
     doc.recompute()
@@ -525,9 +572,16 @@ def draw_pad(view, shape, height: float) -> None:
     """The strokes of the shape's top face pulled up by `height` (mm), drawn with the
     mouse."""
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     bb = shape.BoundBox
-    top = np.array([[bb.XMin, bb.YMin, bb.ZMax], [bb.XMax, bb.YMin, bb.ZMax],
-                    [bb.XMax, bb.YMax, bb.ZMax], [bb.XMin, bb.YMax, bb.ZMax]])
+    top = np.array(
+        [
+            [bb.XMin, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMax, bb.ZMax],
+            [bb.XMin, bb.YMax, bb.ZMax],
+        ]
+    )
     up = top + [0, 0, height]
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
@@ -541,18 +595,34 @@ def double_click_in_tree(obj) -> None:
     FreeCADGui.Selection.addSelection(obj)
     settle()
     flags = QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive
-    rows = [(t, i) for t in FreeCADGui.getMainWindow().findChildren(QtGui.QTreeWidget)
-            if t.isVisible() for i in t.findItems(obj.Label, flags)]
+    rows = [
+        (t, i)
+        for t in FreeCADGui.getMainWindow().findChildren(QtGui.QTreeWidget)
+        if t.isVisible()
+        for i in t.findItems(obj.Label, flags)
+    ]
     assert len(rows) == 1, f"{len(rows)} rows labelled {obj.Label} in the tree"
     tree, item = rows[0]
     tree.scrollToItem(item)
     pos = tree.visualItemRect(item).center()
-    for kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonRelease,
-                 QtCore.QEvent.MouseButtonDblClick, QtCore.QEvent.MouseButtonRelease):
-        app().sendEvent(tree.viewport(), QtGui.QMouseEvent(
-            kind, pos, QtCore.Qt.LeftButton,
-            QtCore.Qt.NoButton if kind == QtCore.QEvent.MouseButtonRelease
-            else QtCore.Qt.LeftButton, QtCore.Qt.NoModifier))
+    for kind in (
+        QtCore.QEvent.MouseButtonPress,
+        QtCore.QEvent.MouseButtonRelease,
+        QtCore.QEvent.MouseButtonDblClick,
+        QtCore.QEvent.MouseButtonRelease,
+    ):
+        app().sendEvent(
+            tree.viewport(),
+            QtGui.QMouseEvent(
+                kind,
+                pos,
+                QtCore.Qt.LeftButton,
+                QtCore.Qt.NoButton
+                if kind == QtCore.QEvent.MouseButtonRelease
+                else QtCore.Qt.LeftButton,
+                QtCore.Qt.NoModifier,
+            ),
+        )
     settle()
 
 
@@ -564,6 +634,7 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     model, view = new_model_document("edit")
     doc = model.Document
     panel = SketchPanel(model)
@@ -615,6 +686,7 @@ def sketch_panel_fits_the_default_combo_view():
     """At 1280x1024 with FreeCAD's default layout, the panel is not cut off on the right:
     it is no wider than the task view shows, without a horizontal scroll bar."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+
     model, view = new_model_document("width")
     mw = FreeCADGui.getMainWindow()
     mw.showMaximized()
@@ -643,6 +715,7 @@ def sketch_panel_reads_in_the_users_units_and_names_follow_the_offset():
     from Sketch2CADWorkbench.freecad_layer.icons import icon_path
     from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+
     model, view = new_model_document("units")
     schema = FreeCAD.Units.getSchema()
     FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
@@ -677,19 +750,25 @@ def preferences_page_is_shown_and_its_values_are_used():
     and honoured when its panel opens again."""
     import torch
 
-    from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.preferences import PreferencesPage, parameters
+    from Sketch2CADWorkbench.freecad_layer.queries import features
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+
     seen = []
 
     def look_and_close():
-        dialogs = [w for w in app().topLevelWidgets()
-                   if w.isVisible() and isinstance(w, QtGui.QDialog)]
+        dialogs = [
+            w for w in app().topLevelWidgets() if w.isVisible() and isinstance(w, QtGui.QDialog)
+        ]
         for d in dialogs:
-            pages = [w for w in d.findChildren(QtGui.QWidget)
-                     if w.objectName() == "Sketch2CADPreferences"]
+            pages = [
+                w
+                for w in d.findChildren(QtGui.QWidget)
+                if w.objectName() == "Sketch2CADPreferences"
+            ]
             seen.append(bool(pages))
             d.reject()
+
     QtCore.QTimer.singleShot(1500, look_and_close)
     FreeCADGui.runCommand("Std_DlgPreferences")  # modal until look_and_close
     settle()
@@ -705,6 +784,7 @@ def preferences_page_is_shown_and_its_values_are_used():
     page.saveSettings()
     try:
         from Sketch2CADWorkbench.freecad_layer import dependencies
+
         assert dependencies.folder() == folder, dependencies.folder()
         model, view = new_model_document("preferences")
         panel = SketchPanel(model)
@@ -739,8 +819,10 @@ def preferences_page_is_shown_and_its_values_are_used():
         edit = pad.ViewObject.Proxy.panel
         assert edit.result is not None and edit.skipped == {"d"}, edit.text.toPlainText()
         again = edit.result.operations[0].d  # the strokes as saved: rounded to 0.001 px
-        assert abs(again / 2.0 - round(again / 2.0)) > 1e-6 and close(again, undone, 1e-3), \
-            (again, undone)
+        assert abs(again / 2.0 - round(again / 2.0)) > 1e-6 and close(again, undone, 1e-3), (
+            again,
+            undone,
+        )
         assert not [sn for sn in edit.result.snaps if sn.key == "d"], edit.result.snaps
         edit.reject()
         settle()

@@ -4,6 +4,7 @@
 Each check prints "CHECK PASSED <name>" or "CHECK FAILED <name>" and its traceback; the
 process exits 1 if any failed (freecadcmd itself exits 0 on an uncaught exception).
 """
+
 import os
 import sys
 import traceback
@@ -33,27 +34,47 @@ def say(line: str) -> None:
 def tested_checkout() -> None:
     """The Sketch2CAD that FreeCAD loaded (through its Mod folder) is this checkout."""
     import Sketch2CADWorkbench
+
     loaded = os.path.realpath(os.path.dirname(Sketch2CADWorkbench.__file__))
     wanted = os.path.realpath(os.path.join(ROOT, "Sketch2CADWorkbench"))
-    assert loaded == wanted, (f"FreeCAD loaded Sketch2CAD from {loaded}, not {wanted}: "
-                              "run scripts/setup.sh to link this checkout into its Mod folder")
+    assert loaded == wanted, (
+        f"FreeCAD loaded Sketch2CAD from {loaded}, not {wanted}: "
+        "run scripts/setup.sh to link this checkout into its Mod folder"
+    )
 
 
 def send_drag(viewport, pixels, button=None) -> None:
     """A mouse drag through core pixel positions, as Qt events sent to the view's viewport
     (in device-independent pixels: Xvfb's 96 dpi makes Qt scale by about 1.04)."""
     from PySide import QtCore, QtGui
+
     button = button or QtCore.Qt.LeftButton
     dpr = viewport.devicePixelRatioF()
     points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
     send = QtGui.QApplication.instance().sendEvent
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, points[0], button, button,
-                                     QtCore.Qt.NoModifier))
+    send(
+        viewport,
+        QtGui.QMouseEvent(
+            QtCore.QEvent.MouseButtonPress, points[0], button, button, QtCore.Qt.NoModifier
+        ),
+    )
     for p in points[1:]:
-        send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button,
-                                         QtCore.Qt.NoModifier))
-    send(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, points[-1], button,
-                                     QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
+        send(
+            viewport,
+            QtGui.QMouseEvent(
+                QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button, QtCore.Qt.NoModifier
+            ),
+        )
+    send(
+        viewport,
+        QtGui.QMouseEvent(
+            QtCore.QEvent.MouseButtonRelease,
+            points[-1],
+            button,
+            QtCore.Qt.NoButton,
+            QtCore.Qt.NoModifier,
+        ),
+    )
 
 
 def run_checks() -> int:

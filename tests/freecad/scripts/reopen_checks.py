@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Reopening document_checks.py's FCStd in a fresh freecadcmd process."""
+
 import json
 import os
 import sys
@@ -71,12 +72,19 @@ def fcstd_saved_by_older_versions_gets_quantity_properties_and_new_names():
     doc = FreeCAD.openDocument(os.path.join(DATA, "hammer-saved-by-0.20.2.FCStd"))
     (model,) = find_models(doc)
     chain = features(model)
-    assert [o.Label for o in chain] == ["Box", "Revolution", "Bevel", "Pad", "Hole",
-                                        "Revolution001"], [o.Label for o in chain]
+    assert [o.Label for o in chain] == [
+        "Box",
+        "Revolution",
+        "Bevel",
+        "Pad",
+        "Hole",
+        "Revolution001",
+    ], [o.Label for o in chain]
     prism = chain[4]
     assert "Polygon" not in prism.PropertiesList
-    assert [prism.getTypeIdOfProperty(f"Vertex{i}") for i in range(1, 5)] == \
-        ["App::PropertyPosition"] * 4
+    assert [prism.getTypeIdOfProperty(f"Vertex{i}") for i in range(1, 5)] == [
+        "App::PropertyPosition"
+    ] * 4
     assert prism.getTypeIdOfProperty("FacePoint") == "App::PropertyPosition"
     assert chain[2].getTypeIdOfProperty("ProfileEnd") == "App::PropertyPosition"
     assert chain[1].getTypeIdOfProperty("Control2Height") == "App::PropertyDistance"

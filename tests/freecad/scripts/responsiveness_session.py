@@ -8,6 +8,7 @@ of a stroke reaches the capture while the view redraws.
 Lines "FIGURE <name> <value>" report what was measured (docs/NOTES.md); no check asserts
 a duration.
 """
+
 import math
 import os
 import sys
@@ -75,8 +76,9 @@ def first_activation_imports_no_cadquery_and_starts_the_background_load():
     FreeCADGui.activateWorkbench("PartWorkbench")  # switching back and forth: one load
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
     turn()
-    assert len(FreeCADGui.getMainWindow().findChildren(QtGui.QLabel,
-                                                       "Sketch2CADNetworksStatus")) == 1
+    assert (
+        len(FreeCADGui.getMainWindow().findChildren(QtGui.QLabel, "Sketch2CADNetworksStatus")) == 1
+    )
     ACTIVATED.append(time.perf_counter())
 
 
@@ -106,6 +108,7 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
     from Sketch2CADWorkbench.freecad_layer.queries import find_models
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
     FreeCAD.newDocument("waiting")
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     turn()
@@ -122,8 +125,14 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
     bb = model.Tip.Shape.BoundBox
-    top = np.array([[bb.XMin, bb.YMin, bb.ZMax], [bb.XMax, bb.YMin, bb.ZMax],
-                    [bb.XMax, bb.YMax, bb.ZMax], [bb.XMin, bb.YMax, bb.ZMax]])
+    top = np.array(
+        [
+            [bb.XMin, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMin, bb.ZMax],
+            [bb.XMax, bb.YMax, bb.ZMax],
+            [bb.XMin, bb.YMax, bb.ZMax],
+        ]
+    )
     up = top + [0, 0, 0.5 * bb.ZLength]
     for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
         send_drag(viewport, cam.project(np.linspace(a, b, 12))[0])
@@ -155,6 +164,7 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
     printed. The press and release are sent events (a warp moves no button), with the
     mouse grabbed by the viewport between them, as a real press grabs it."""
     from Sketch2CADWorkbench.freecad_layer.trackers.stroke_capture import StrokeCapture
+
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
     view.fitAll()
@@ -165,17 +175,25 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
     compressing = app().testAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents)
     centre = QtCore.QPoint(viewport.width() // 2, viewport.height() // 2)
     radius, n = min(viewport.width(), viewport.height()) // 4, 240
-    local = [QtCore.QPoint(centre.x() + round(radius * math.cos(2 * math.pi * i / n)),
-                           centre.y() + round(radius * math.sin(2 * math.pi * i / n)))
-             for i in range(n + 1)]
+    local = [
+        QtCore.QPoint(
+            centre.x() + round(radius * math.cos(2 * math.pi * i / n)),
+            centre.y() + round(radius * math.sin(2 * math.pi * i / n)),
+        )
+        for i in range(n + 1)
+    ]
     QtGui.QCursor.setPos(viewport.mapToGlobal(centre))  # hovering: no pre-highlight
     for _ in range(5):
         turn()
         time.sleep(0.05)
     assert not FreeCADGui.Selection.getPreselection().ObjectName
     left = QtCore.Qt.LeftButton
-    app().sendEvent(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, local[0], left,
-                                                left, QtCore.Qt.NoModifier))
+    app().sendEvent(
+        viewport,
+        QtGui.QMouseEvent(
+            QtCore.QEvent.MouseButtonPress, local[0], left, left, QtCore.Qt.NoModifier
+        ),
+    )
     viewport.grabMouse()  # as a real press does: the moves go to the viewport, whatever is over it
     start = time.perf_counter()
     for i, p in enumerate(local[1:]):
@@ -188,8 +206,16 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         time.sleep(0.02)
     seconds = time.perf_counter() - start
     viewport.releaseMouse()
-    app().sendEvent(viewport, QtGui.QMouseEvent(QtCore.QEvent.MouseButtonRelease, local[-1],
-                                                left, QtCore.Qt.NoButton, QtCore.Qt.NoModifier))
+    app().sendEvent(
+        viewport,
+        QtGui.QMouseEvent(
+            QtCore.QEvent.MouseButtonRelease,
+            local[-1],
+            left,
+            QtCore.Qt.NoButton,
+            QtCore.Qt.NoModifier,
+        ),
+    )
     turn()
     try:
         (stroke,) = capture.strokes
@@ -197,8 +223,9 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         say(f"FIGURE mouse_moves_captured {got}/{n} = {got / n:.0%} in {seconds:.1f} s")
         strokes, cam = capture.result()
         sent = np.array([(p.x() * dpr + 0.5, p.y() * dpr + 0.5) for p in local], float)
-        missed = [i for i, p in enumerate(sent)
-                  if np.min(np.linalg.norm(strokes[0] - p, axis=1)) > 0.75]
+        missed = [
+            i for i, p in enumerate(sent) if np.min(np.linalg.norm(strokes[0] - p, axis=1)) > 0.75
+        ]
         assert got >= 0.99 * n, (got, n, "missed moves", missed)
         assert app().testAttribute(QtCore.Qt.AA_CompressHighFrequencyEvents) == compressing
         far = max(float(np.min(np.linalg.norm(sent - q, axis=1))) for q in strokes[0])

@@ -3,6 +3,7 @@
 freecadcmd process: each puts its own step in error with a message that names the
 property (or the parameter and its range) and no OCCT text, the later steps follow it
 into error, and typing the old value back rebuilds the model as it was."""
+
 import os
 import sys
 
@@ -27,8 +28,12 @@ def _feature(model, kind: str):
 def _lists(chain) -> dict:
     """The polygons' vertices and the sweeps' inner profile points (a sweep retunes its
     profile when a radius changes), as numbers."""
-    return {(o.Name, p): _floats(getattr(o, p)) for o in chain for p in o.PropertiesList
-            if p.startswith(("Vertex", "Control"))}
+    return {
+        (o.Name, p): _floats(getattr(o, p))
+        for o in chain
+        for p in o.PropertiesList
+        if p.startswith(("Vertex", "Control"))
+    }
 
 
 def _floats(v) -> tuple:
@@ -38,7 +43,8 @@ def _floats(v) -> tuple:
 def _same(a: dict, b: dict) -> bool:
     """The same points, to a relative 1e-9 (a retune there and back rounds)."""
     return a.keys() == b.keys() and all(
-        close(p, q, 1e-9) or abs(p - q) < 1e-9 for k in a for p, q in zip(a[k], b[k]))
+        close(p, q, 1e-9) or abs(p - q) < 1e-9 for k in a for p, q in zip(a[k], b[k])
+    )
 
 
 def _vertices(prism) -> list:
@@ -47,9 +53,11 @@ def _vertices(prism) -> list:
 
 def _polygon(change):
     """Changes of a prism's vertices (Vertex1...): change(i, point, all points) -> point."""
+
     def changes(prism):
         pts = _vertices(prism)
         return {f"Vertex{i + 1}": change(i, p, pts) for i, p in enumerate(pts)}
+
     return changes
 
 
@@ -71,10 +79,16 @@ CASES = [
     ("AddSubPrism", {"Vertex2": V(NAN, 0, 0)}, "Vertex2.x is nan; type a finite number"),
     ("AddSubPrism", lambda o: {"Vertex2": V(o.Vertex1)}, "polygon vertices 0 and 1 coincide"),
     ("AddSubPrism", _polygon(lambda i, p, pts: p * 1e300), "polygon lies"),
-    ("AddSubPrism", _polygon(lambda i, p, pts: pts[0] + (pts[1] - pts[0]) * i),
-     "base polygon c has no area"),  # every vertex on one line
-    ("AddSubPrism", _polygon(lambda i, p, pts: pts[{1: 2, 2: 1}.get(i, i)]),
-     "cross each other"),  # a bow tie
+    (
+        "AddSubPrism",
+        _polygon(lambda i, p, pts: pts[0] + (pts[1] - pts[0]) * i),
+        "base polygon c has no area",
+    ),  # every vertex on one line
+    (
+        "AddSubPrism",
+        _polygon(lambda i, p, pts: pts[{1: 2, 2: 1}.get(i, i)]),
+        "cross each other",
+    ),  # a bow tie
     ("Sweep", {"Radius0": NAN}, "Radius0 is nan; type a finite number"),
     ("Sweep", {"Radius1": INF}, "r1 = 1.79769e+308 mm is out of range"),  # FreeCAD clamps inf
     ("Sweep", {"Offset": NAN}, "Offset is nan; type a finite number"),
@@ -102,15 +116,18 @@ def impossible_values_are_refused_naming_the_property_and_lose_nothing():
         failed = failed_features(model)
         status = failed[0].getStatusString() if failed else "built"
         case = f"{kind} {str(changes)[:60]}"
-        if not failed or failed[0] != obj or failed != chain[chain.index(obj):]:
+        if not failed or failed[0] != obj or failed != chain[chain.index(obj) :]:
             failures.append(f"{case}: the failed steps are {[o.Label for o in failed]}")
         elif expected not in status or any(t in status for t in OCCT_TEXTS):
             failures.append(f"{case}: {status!r} does not say {expected!r}")
         for prop, value in old.items():
             setattr(obj, prop, value)
         doc.recompute()
-        if failed_features(model) or not all(
-                close(o.Shape.Volume, v) for o, v in zip(chain, volumes)) or not _same(_lists(chain), kept):
+        if (
+            failed_features(model)
+            or not all(close(o.Shape.Volume, v) for o, v in zip(chain, volumes))
+            or not _same(_lists(chain), kept)
+        ):
             failures.append(f"{case}: typing the old value back did not restore the model")
             FreeCAD.closeDocument(doc.Name)
             doc = FreeCAD.newDocument("values")

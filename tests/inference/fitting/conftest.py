@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Fixtures for the fitting tests: a box and a view of it."""
+
 import numpy as np
 import pytest
 from fit_sketches import SIZE

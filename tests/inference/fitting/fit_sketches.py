@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Synthetic sketches with known answers: 3D curves projected through a known camera."""
+
 import numpy as np
 
 from Sketch2CADWorkbench.brep.geometry import bezier
@@ -40,8 +41,10 @@ def hand_drawn(points: np.ndarray, rng: np.random.Generator, sigma: float) -> np
 
 
 def polygon_strokes(camera, poly, noise=0.0, rng=None):
-    return [stroke(camera, poly[i], poly[(i + 1) % len(poly)], noise=noise, rng=rng)
-            for i in range(len(poly))]
+    return [
+        stroke(camera, poly[i], poly[(i + 1) % len(poly)], noise=noise, rng=rng)
+        for i in range(len(poly))
+    ]
 
 
 def circle3d(center, radius, n=72):
@@ -52,8 +55,12 @@ def circle3d(center, radius, n=72):
 def edge_strokes(camera, face, offset=(0.0, 0.0, 0.0)):
     """The face's straight edges, translated by `offset`, as strokes."""
     off = np.asarray(offset, float)
-    return [stroke(camera, np.array(e.startPoint().toTuple()) + off,
-                   np.array(e.endPoint().toTuple()) + off) for e in face.Edges()]
+    return [
+        stroke(
+            camera, np.array(e.startPoint().toTuple()) + off, np.array(e.endPoint().toTuple()) + off
+        )
+        for e in face.Edges()
+    ]
 
 
 def prism_sketch(camera, base, height, sign, noise=0.0, rng=None):
@@ -73,8 +80,9 @@ def sweep_sketch(camera, c0, r0, r1, height, sign, rh_profile=None):
     """Circles at both ends and the two silhouettes (in the plane facing the camera)."""
     c0 = np.asarray(c0, float)
     c1 = c0 + np.array([0, 0, sign * height])
-    start, end = (circle3d(c0, r0), circle3d(c1, r1)) if sign > 0 else \
-        (circle3d(c1, r1), circle3d(c0, r0))
+    start, end = (
+        (circle3d(c0, r0), circle3d(c1, r1)) if sign > 0 else (circle3d(c1, r1), circle3d(c0, r0))
+    )
     strokes = [curve_stroke(camera, start), curve_stroke(camera, end)]
     labels = [0, 2]
     f = np.array(camera.direction)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Prism fitting recovers the addition or subtraction that produced the strokes, and refuses
 strokes no prism on the face explains."""
+
 import numpy as np
 import pytest
 from fit_sketches import QUAD, TOP_Z, face_towards, prism_sketch
@@ -52,9 +53,13 @@ def test_a_plate_wider_than_the_column_top_it_stands_on_is_an_addition_on_it(box
     # a 10 x 10 column on the box, then a 30 x 24 plate on the column's top: no sample of
     # either plate outline lies on that face, but the plate's region covers all of it
     from Sketch2CADWorkbench.brep.protocol import AddSubPrism, FaceRef
-    column = AddSubPrism(FaceRef((0.0, 0.0, TOP_Z), (0.0, 0.0, 1.0)),
-                         ((-5, -5, TOP_Z), (5, -5, TOP_Z), (5, 5, TOP_Z), (-5, 5, TOP_Z)),
-                         8.0, Mode.ADD)
+
+    column = AddSubPrism(
+        FaceRef((0.0, 0.0, TOP_Z), (0.0, 0.0, 1.0)),
+        ((-5, -5, TOP_Z), (5, -5, TOP_Z), (5, 5, TOP_Z), (-5, 5, TOP_Z)),
+        8.0,
+        Mode.ADD,
+    )
     solid = apply_operation(box, column)
     z = TOP_Z + 8.0
     top = next(f for f in solid.Faces() if f.normalAt().z > 0.999 and f.Center().z > z - 1e-6)
@@ -68,8 +73,7 @@ def test_a_plate_wider_than_the_column_top_it_stands_on_is_an_addition_on_it(box
 
 def test_user_choice_of_option_wins(box, camera):
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels,
-                   option=Mode.SUBTRACT)
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, option=Mode.SUBTRACT)
     assert op.mode is Mode.SUBTRACT
 
 

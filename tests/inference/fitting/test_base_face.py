@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The base face is the planar face the face map counts most, and a sketch beside the model
 is a fit error."""
+
 import numpy as np
 import pytest
 
@@ -33,12 +34,16 @@ def post_in_view():
     under it: (solid, face ids, side's index, disk's index)."""
     box = make_box(Box((40, 30, 20)))
     top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
-    post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0,
-                                      ((5.0, 10 / 3), (5.0, 20 / 3)), Mode.ADD))
+    post = apply_operation(
+        box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 10.0, ((5.0, 10 / 3), (5.0, 20 / 3)), Mode.ADD)
+    )
     faces = post.Faces()
     side = next(i for i, f in enumerate(faces) if f.geomType() == "CYLINDER")
-    disk = next(i for i, f in enumerate(faces) if f.geomType() == "PLANE"
-                and abs(f.Center().z - 20.0) < 1e-6)
+    disk = next(
+        i
+        for i, f in enumerate(faces)
+        if f.geomType() == "PLANE" and abs(f.Center().z - 20.0) < 1e-6
+    )
     ids = np.full((64, 64), -1, np.int32)
     ids[:40] = side
     ids[40:50] = disk

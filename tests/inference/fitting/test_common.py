@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Stroke helpers every fit uses: which strokes are loops, which curve a stroke draws."""
+
 import numpy as np
 
 from Sketch2CADWorkbench.brep.geometry import bezier
@@ -50,5 +51,10 @@ def test_a_curve_fitted_within_a_corner_keeps_its_polygon_there_and_misses_nothi
     ctrl = fit_bezier(bezier(swing, t), start, end, corner=corner, span=0.9)
     st = np.linalg.solve(np.stack([start - corner, end - corner], 1), (ctrl[1:3] - corner).T)
     assert st.min() >= -1e-9 and st.max() <= 0.9 + 1e-9
-    assert np.abs(st - np.clip(np.linalg.solve(np.stack([start, end], 1),
-                                               (swing[1:3] - corner).T), 0, 0.9)).max() < 0.3
+    assert (
+        np.abs(
+            st
+            - np.clip(np.linalg.solve(np.stack([start, end], 1), (swing[1:3] - corner).T), 0, 0.9)
+        ).max()
+        < 0.3
+    )

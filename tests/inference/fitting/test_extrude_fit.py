@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Extrude fitting recovers d from the moved face's outline."""
+
 import numpy as np
 import pytest
 from fit_sketches import edge_strokes, face_towards, stroke
@@ -10,8 +11,9 @@ from Sketch2CADWorkbench.inference.fitting.extrude import fit_extrude, fit_extru
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 
-@pytest.mark.parametrize("normal,d", [((0, 0, 1), 7.3), ((0, 0, 1), -6.1), ((0, -1, 0), 11.0),
-                                      ((-1, 0, 0), -4.4)])
+@pytest.mark.parametrize(
+    "normal,d", [((0, 0, 1), 7.3), ((0, 0, 1), -6.1), ((0, -1, 0), 11.0), ((-1, 0, 0), -4.4)]
+)
 def test_exact_strokes_give_d_within_a_search_step(box, camera, normal, d):
     face = face_towards(box, normal)
     op = fit_extrude(box, face, camera, edge_strokes(camera, face, d * np.array(normal, float)))
@@ -45,12 +47,16 @@ def test_a_face_far_larger_than_the_context_is_sampled_within_the_cap(box, camer
     # a context a hundredth of a millimetre per pixel: one sample per pixel along the
     # top's 140 mm of edges would be 14,000 samples times every candidate offset
     from Sketch2CADWorkbench.inference.fitting import extrude
+
     fine = OrthoCamera(camera.center, camera.direction, camera.up, 1.28, 256, 256)
     face = face_towards(box, (0, 0, 1))
     seen = []
     search = extrude.line_search
-    monkeypatch.setattr(extrude, "line_search",
-                        lambda points, *a, **k: seen.append(len(points)) or search(points, *a, **k))
+    monkeypatch.setattr(
+        extrude,
+        "line_search",
+        lambda points, *a, **k: seen.append(len(points)) or search(points, *a, **k),
+    )
     try:  # a sketch in the middle of the frame: the face's edges run far out of it
         fit_extrude(box, face, fine, [np.array([[100.0, 128.0], [156.0, 128.0]])])
     except FitError:
@@ -64,8 +70,9 @@ def _hand_drawn(box, camera, d, rng, sigma):
     the four moved edges, then the four side edges."""
     face = face_towards(box, (0, 0, 1))
     corners = np.array([v.toTuple() for v in face.Vertices()])
-    edges = [(np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple()))
-             for e in face.Edges()]
+    edges = [
+        (np.array(e.startPoint().toTuple()), np.array(e.endPoint().toTuple())) for e in face.Edges()
+    ]
     up = np.array([0.0, 0.0, d])
     segments = [(a + up, b + up) for a, b in edges] + [(c, c + up) for c in corners]
     strokes = []
@@ -97,14 +104,18 @@ def test_a_round_faces_extrusion_is_read_by_closeness_alone(camera, monkeypatch)
     import cadquery as cq
 
     from Sketch2CADWorkbench.inference.fitting import extrude
+
     disk = cq.Solid.makeCylinder(12.0, 10.0)
     face = face_towards(disk, (0, 0, 1))
     seen = []
     search = extrude.line_search
-    monkeypatch.setattr(extrude, "line_search",
-                        lambda *a, **k: seen.append(a[6]) or search(*a, **k))
-    rim = [np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
-           for t in np.linspace(0, 1, 40)]
+    monkeypatch.setattr(
+        extrude, "line_search", lambda *a, **k: seen.append(a[6]) or search(*a, **k)
+    )
+    rim = [
+        np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
+        for t in np.linspace(0, 1, 40)
+    ]
     sides = [stroke(camera, (12.0, 0.0, 10.0), (12.0, 0.0, 15.0))]
     op = fit_extrude(disk, face, camera, [camera.project(np.array(rim))[0]], sides)
     assert seen == [None]
@@ -146,15 +157,19 @@ def test_a_stroke_far_from_every_line_does_not_move_d(box, camera):
 
 def test_a_round_face_is_left_to_the_line_search(camera):
     import cadquery as cq
+
     disk = cq.Solid.makeCylinder(12.0, 10.0)
     face = face_towards(disk, (0, 0, 1))
-    rim = [np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
-           for t in np.linspace(0, 1, 40)]
+    rim = [
+        np.array(face.Edges()[0].positionAt(t).toTuple()) + (0, 0, 5.0)
+        for t in np.linspace(0, 1, 40)
+    ]
     assert fit_extrude_by_ends(disk, face, camera, [camera.project(np.array(rim))[0]], []) is None
 
 
 def _tube_side():
     import cadquery as cq
+
     tube = cq.Solid.makeCylinder(11.0, 60.0)
     return tube, next(f for f in tube.Faces() if f.geomType() == "CYLINDER")
 
@@ -164,16 +179,17 @@ def test_a_tubes_radial_offset_is_read_from_its_rims_and_the_ends_of_its_lines(c
     # the pipe session's step 2: its rims are loops, read by closeness; the seam and the
     # side edges at its corners by their ends
     from Sketch2CADWorkbench.brep.protocol import Extrude
-    from Sketch2CADWorkbench.sketch.curves import operation_curves
     from Sketch2CADWorkbench.inference.fitting.extrude import _facing_ref
+    from Sketch2CADWorkbench.sketch.curves import operation_curves
+
     tube, side = _tube_side()
     truth = Extrude(_facing_ref(side, camera), d)
     curves = operation_curves(tube, truth, camera.direction)
     strokes = [camera.project(c.points)[0] for c in curves]
     rims = [s for s in strokes if np.allclose(s[0], s[-1])]
     lines = [s for s in strokes if not np.allclose(s[0], s[-1])]
-    assert len(rims) == 2                           # drawn as loops, back to their start
+    assert len(rims) == 2  # drawn as loops, back to their start
     op = fit_extrude_by_ends(tube, side, camera, rims, lines)
     assert op.d == pytest.approx(d, abs=0.02)
-    assert op.face.surface is not None              # named on the side, where it faces us
+    assert op.face.surface is not None  # named on the side, where it faces us
     assert fit_extrude_by_ends(tube, side, camera, [], []) is None

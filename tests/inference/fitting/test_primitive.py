@@ -2,6 +2,7 @@
 """The +/- option read from a primitive's outlines: one whose far outline also lies on f
 names the other Boolean that draws the same lines (paper, Fig. 5b); one whose far outline
 leaves f names none; a cap wider than the face it stands on is a boss."""
+
 import numpy as np
 import pytest
 from fit_sketches import FRONT_Y, QUAD, TOP_Z, face_towards, prism_sketch
@@ -20,6 +21,7 @@ def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(
     # seen along the view, the 6 mm boss's top outline falls inside the top face: a hole
     # with that rim, 6 mm deep, draws the same nine lines (paper, Fig. 5b)
     from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+
     face = face_towards(box, (0, 0, 1))
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
     boss = fit_prism(box, face, camera, strokes, labels)
@@ -54,8 +56,9 @@ def test_a_boss_at_fs_edge_drawn_a_pixel_over_it_is_read_as_the_boss(box, camera
     # pipeline read such bosses as the hole their top draws (held-out seed 30001)
     face = face_towards(box, (0, 0, 1))
     over = 1.0 * camera.pixel_size
-    base = np.array([[-8, FRONT_Y - over, TOP_Z], [6, FRONT_Y - over, TOP_Z],
-                     [6, -5, TOP_Z], [-8, -5, TOP_Z]])
+    base = np.array(
+        [[-8, FRONT_Y - over, TOP_Z], [6, FRONT_Y - over, TOP_Z], [6, -5, TOP_Z], [-8, -5, TOP_Z]]
+    )
     strokes, labels = prism_sketch(camera, base, 6.0, +1)
     boss = fit_prism(box, face, camera, strokes, labels)
     assert boss.mode is Mode.ADD and boss.d == pytest.approx(6.0, abs=0.2)
@@ -67,10 +70,17 @@ def test_a_cap_wider_than_the_post_end_it_stands_on_is_read_as_that_cap(box):
     # its far circle, back-projected, lands 31% on it: read by that first, the cap was an
     # off-centre hole
     top = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
-    post = apply_operation(box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 15.0,
-                                      ((5.0, 5.0), (5.0, 10.0))))
-    cap = Sweep(FaceRef((0.0, 0.0, 25.0), (0.0, 0.0, 1.0)), (0.0, 0.0, 25.0), 6.5, 6.5, 4.0,
-                ((6.5, 4 / 3), (6.5, 8 / 3)))
+    post = apply_operation(
+        box, Sweep(top, (0.0, 0.0, 10.0), 5.0, 5.0, 15.0, ((5.0, 5.0), (5.0, 10.0)))
+    )
+    cap = Sweep(
+        FaceRef((0.0, 0.0, 25.0), (0.0, 0.0, 1.0)),
+        (0.0, 0.0, 25.0),
+        6.5,
+        6.5,
+        4.0,
+        ((6.5, 4 / 3), (6.5, 8 / 3)),
+    )
     t = np.radians(48.0)
     d = np.array([np.sin(t), 0.05, -np.cos(t)])
     d /= np.linalg.norm(d)

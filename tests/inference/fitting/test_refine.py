@@ -2,6 +2,7 @@
 """Joint refinement: a primitive drawn by the hand the data generator models is read
 closer with the strokes' ends than by closeness alone, and a prism closer still from its
 ends alone."""
+
 import numpy as np
 from fit_sketches import hand_drawn
 
@@ -14,8 +15,10 @@ def test_a_hand_drawn_prism_is_refined_closer_to_the_one_meant_with_the_strokes_
     for _ in range(30):
         base = np.array([[0, 0], [50, 5], [55, 40], [5, 35.0]]) + rng.normal(0, 3, (4, 2))
         step, d = np.array([2.0, -3.0]), 12.0
-        strokes = [hand_drawn(np.linspace(a, b, 30), rng, 3.6)
-                   for a, b in zip(*prism_edges(base, d * step))]
+        strokes = [
+            hand_drawn(np.linspace(a, b, 30), rng, 3.6)
+            for a, b in zip(*prism_edges(base, d * step))
+        ]
         for weight, got in errors.items():
             poly, length = refine_prism(base, d, step, strokes, end_weight=weight)
             got.append((np.abs(poly - base).mean(), abs(length - d)))
@@ -42,8 +45,10 @@ def test_a_hand_drawn_prism_is_read_closer_from_its_ends_than_refined():
     refined, from_ends = [], []
     for _ in range(30):
         base, step, d = _prism(rng)
-        strokes = [hand_drawn(np.linspace(a, b, 30), rng, 3.6)
-                   for a, b in zip(*prism_edges(base, d * step))]
+        strokes = [
+            hand_drawn(np.linspace(a, b, 30), rng, 3.6)
+            for a, b in zip(*prism_edges(base, d * step))
+        ]
         poly, length = refine_prism(base, d, step, strokes)
         refined.append((np.abs(poly - base).mean(), abs(length - d)))
         poly, length = prism_from_ends(poly, length, step, strokes)

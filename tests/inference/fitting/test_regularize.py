@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Regularization snaps what the designer drew close to something regular, on screen, and
 leaves a designed off-centre feature where it was drawn; every snap can be undone."""
+
 from dataclasses import replace
 
 import cadquery as cq
@@ -44,14 +45,16 @@ def big():
 def view():
     """The whole big box in an 800 x 600 view, from above, in front and to the left."""
     d = np.array([0.7, 1.0, -1.1])
-    return OrthoCamera((0.0, 0.0, 0.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 250.0,
-                       800, 600)
+    return OrthoCamera(
+        (0.0, 0.0, 0.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 250.0, 800, 600
+    )
 
 
 def square(center, side, z=TOP):
     h = side / 2
-    return tuple((center[0] + dx, center[1] + dy, z)
-                 for dx, dy in ((-h, -h), (h, -h), (h, h), (-h, h)))
+    return tuple(
+        (center[0] + dx, center[1] + dy, z) for dx, dy in ((-h, -h), (h, -h), (h, h), (-h, h))
+    )
 
 
 def prism(solid, center, side, d=37.0):
@@ -98,8 +101,9 @@ def test_a_hand_that_misses_its_lines_by_more_snaps_from_farther(big, view):
     assert regularize_operation(big, op, face, near, tol_px=precise).snaps == ()
     # strokes 2 px (of a context camera with 4x the view's pixels) off the reading's own
     # lines: the hand misses by about 8 view pixels, so the centre that far was meant
-    context = OrthoCamera(view.center, view.direction, view.up, near.scale * 4 * 256 / 600,
-                          256, 256)
+    context = OrthoCamera(
+        view.center, view.direction, view.up, near.scale * 4 * 256 / 600, 256, 256
+    )
     sloppy = hand_tolerance(SNAP_PX, 1.1 * off_px / (4 * HAND_SNAP), context, near)
     assert sloppy == pytest.approx(1.1 * off_px)
     got = regularize_operation(big, op, face, near, tol_px=sloppy)
@@ -111,12 +115,26 @@ def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big,
     # view, its lines wobbling by only a few
     bottom = face_towards(big, (0, 0, -1))
     axis = (-150.0, 40.0)
-    boss = Sweep(face_ref_of(bottom), (*axis, -TOP), 5.0, 5.0, 20.0,
-                 straight_profile(5.0, 5.0, 20.0), Mode.ADD)
+    boss = Sweep(
+        face_ref_of(bottom),
+        (*axis, -TOP),
+        5.0,
+        5.0,
+        20.0,
+        straight_profile(5.0, 5.0, 20.0),
+        Mode.ADD,
+    )
     solid = apply_operation(big, boss)
     top = face_towards(solid, (0, 0, 1))
-    post = Sweep(face_ref_of(top), (axis[0] + 2.4, axis[1] - 1.8, TOP), 1.0, 1.0, 10.0,
-                 straight_profile(1.0, 1.0, 10.0), Mode.ADD)
+    post = Sweep(
+        face_ref_of(top),
+        (axis[0] + 2.4, axis[1] - 1.8, TOP),
+        1.0,
+        1.0,
+        10.0,
+        straight_profile(1.0, 1.0, 10.0),
+        Mode.ADD,
+    )
     near = OrthoCamera(view.center, view.direction, view.up, view.scale / 8, 800, 600)
     off_px = float(np.linalg.norm(near.image_of(np.array([2.4, -1.8, 0.0]))))
     asked = []
@@ -125,34 +143,56 @@ def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big,
         asked.append(moved.center)
         return 1.0
 
-    got = regularize_operation(solid, post, top, near, tol_px=off_px / 2,
-                               strokes=StrokeFit(distance, 3.0))
+    got = regularize_operation(
+        solid, post, top, near, tol_px=off_px / 2, strokes=StrokeFit(distance, 3.0)
+    )
     assert asked == [pytest.approx((*axis, TOP), abs=1e-9)]  # asked of the post moved
     assert got.operation.center == pytest.approx((*axis, TOP), abs=1e-9)
     assert [(s.key, s.target) for s in got.snaps] == [
-        ("position", "the axis of an earlier round feature, where the strokes still fit")]
+        ("position", "the axis of an earlier round feature, where the strokes still fit")
+    ]
     # strokes that do not fit it there keep it where drawn
-    assert regularize_operation(solid, post, top, near, tol_px=off_px / 2,
-                                strokes=StrokeFit(lambda moved: 3.5, 3.0)).snaps == ()
+    assert (
+        regularize_operation(
+            solid, post, top, near, tol_px=off_px / 2, strokes=StrokeFit(lambda moved: 3.5, 3.0)
+        ).snaps
+        == ()
+    )
     # past FIT_REACH times the tolerance, the strokes are not asked
     asked.clear()
-    far = regularize_operation(solid, post, top, near, tol_px=off_px / (FIT_REACH + 0.5),
-                               strokes=StrokeFit(distance, 3.0))
+    far = regularize_operation(
+        solid, post, top, near, tol_px=off_px / (FIT_REACH + 0.5), strokes=StrokeFit(distance, 3.0)
+    )
     assert far.snaps == () and asked == []
 
 
 def test_a_nearly_concentric_hole_snaps_to_an_earlier_sweeps_axis(big, view):
     top = face_towards(big, (0, 0, 1))
-    boss = Sweep(face_ref_of(top), (60.0, 45.0, TOP), 10.0, 10.0, 20.0,
-                 ((10.0, 20 / 3), (10.0, 40 / 3)), Mode.ADD)
+    boss = Sweep(
+        face_ref_of(top),
+        (60.0, 45.0, TOP),
+        10.0,
+        10.0,
+        20.0,
+        ((10.0, 20 / 3), (10.0, 40 / 3)),
+        Mode.ADD,
+    )
     solid = apply_operation(big, boss)
     bottom = face_towards(solid, (0, 0, -1))
-    hole = Sweep(face_ref_of(bottom), (61.5, 44.0, -TOP), 6.0, 6.0, 30.0,
-                 ((6.0, 10.0), (6.0, 20.0)), Mode.SUBTRACT)
+    hole = Sweep(
+        face_ref_of(bottom),
+        (61.5, 44.0, -TOP),
+        6.0,
+        6.0,
+        30.0,
+        ((6.0, 10.0), (6.0, 20.0)),
+        Mode.SUBTRACT,
+    )
     got = regularize_operation(solid, hole, bottom, view)
     assert got.operation.center == pytest.approx((60.0, 45.0, -TOP), abs=1e-9)
-    assert any(s.key == "position" and "axis of an earlier round feature" in s.target
-               for s in got.snaps)
+    assert any(
+        s.key == "position" and "axis of an earlier round feature" in s.target for s in got.snaps
+    )
     assert apply_operation(solid, got.operation).isValid()
 
 
@@ -161,17 +201,26 @@ def test_a_side_drawn_on_a_face_edge_stays_there_rather_than_jump_to_a_farther_a
     # it, its corner onto the face's corner, a target point within the hand's tolerance
     # but many pixels farther than the edge the strokes lie on
     bottom = face_towards(big, (0, 0, -1))
-    boss = Sweep(face_ref_of(bottom), (-186.0, 40.0, -TOP), 5.0, 5.0, 20.0,
-                 straight_profile(5.0, 5.0, 20.0), Mode.ADD)
+    boss = Sweep(
+        face_ref_of(bottom),
+        (-186.0, 40.0, -TOP),
+        5.0,
+        5.0,
+        20.0,
+        straight_profile(5.0, 5.0, 20.0),
+        Mode.ADD,
+    )
     solid = apply_operation(big, boss)
     top = face_towards(solid, (0, 0, 1))
     block = AddSubPrism(face_ref_of(top), square((-189.8, 43.0), 20.0), 10.0, Mode.ADD)
     near = OrthoCamera(view.center, view.direction, view.up, view.scale / 2, 800, 600)
     got = regularize_operation(solid, block, top, near, tol_px=20.0)
     assert [(s.key, s.target) for s in got.snaps if s.key == "position"] == [
-        ("position", "a face edge")]
+        ("position", "a face edge")
+    ]
     assert np.array(got.operation.polygon)[:, :2] == pytest.approx(
-        np.array(square((-190.0, 43.0), 20.0))[:, :2])
+        np.array(square((-190.0, 43.0), 20.0))[:, :2]
+    )
     # drawn about as close to the axis as to any line, it is put on the axis
     centred = replace(block, polygon=square((-186.5, 40.5), 20.0))
     got = regularize_operation(solid, centred, top, near, tol_px=20.0)
@@ -186,8 +235,9 @@ def test_lengths_round_to_the_grid_step(big, view):
     assert got.operation.d == pytest.approx(12.0)
     assert [(s.key, s.before, s.after) for s in got.snaps] == [("d", (12.3,), (12.0,))]
     # a pocket keeps its sign
-    assert regularize_operation(big, Extrude(face_ref_of(face), -7.8), face, view,
-                                step=0.5).operation.d == pytest.approx(-8.0)
+    assert regularize_operation(
+        big, Extrude(face_ref_of(face), -7.8), face, view, step=0.5
+    ).operation.d == pytest.approx(-8.0)
 
 
 def test_the_grid_is_the_designers_resolution_at_any_zoom(big, view):
@@ -202,8 +252,9 @@ def test_the_grid_is_the_designers_resolution_at_any_zoom(big, view):
 
 
 def tube(face, d):
-    return Sweep(face_ref_of(face), (0.0, 0.0, TOP), 11.0, 11.0, d,
-                 straight_profile(11.0, 11.0, d), Mode.ADD)
+    return Sweep(
+        face_ref_of(face), (0.0, 0.0, TOP), 11.0, 11.0, d, straight_profile(11.0, 11.0, d), Mode.ADD
+    )
 
 
 def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(big, view):
@@ -216,33 +267,59 @@ def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(bi
         def distance(op):
             asked.append(op.d)
             return 1.0 + px_per_mm * abs(op.d - 68.3)
+
         return StrokeFit(distance, 3.0)
 
-    got = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
-                               strokes=strokes(0.1))
+    got = regularize_operation(
+        big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0, strokes=strokes(0.1)
+    )
     assert got.operation.d == pytest.approx(70.0)
-    assert got.snaps[-1].describe() == \
-        "length snapped to a round 5 mm, where the strokes fit as well: (68.3) -> (70) mm"
+    assert (
+        got.snaps[-1].describe()
+        == "length snapped to a round 5 mm, where the strokes fit as well: (68.3) -> (70) mm"
+    )
     assert asked == pytest.approx([68.5, 70.0])  # the grid value and the round one
     # from ROUND_MIN 10 mm steps on, the coarser step first (hammer: a 90 mm handle)
-    handle = regularize_operation(big, tube(top, 91.7), top, view, step=0.5, tol_px=20.0,
-                                  strokes=StrokeFit(lambda op: 1.0, 3.0))
+    handle = regularize_operation(
+        big,
+        tube(top, 91.7),
+        top,
+        view,
+        step=0.5,
+        tol_px=20.0,
+        strokes=StrokeFit(lambda op: 1.0, 3.0),
+    )
     assert handle.operation.d == pytest.approx(90.0)
     assert "a round 10 mm" in handle.snaps[-1].target
     # strokes that lie more than ROUND_PX farther from the round length keep the grid's
     steep = 2 * ROUND_PX / 1.5
-    kept = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
-                                strokes=strokes(steep))
+    kept = regularize_operation(
+        big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0, strokes=strokes(steep)
+    )
     assert kept.operation.d == pytest.approx(68.5)
     # so do strokes that fit neither clearly (a sloppy hand's do not choose)
-    sloppy = regularize_operation(big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0,
-                                  strokes=StrokeFit(lambda op: 3.5, 3.0))
+    sloppy = regularize_operation(
+        big,
+        tube(top, 68.3),
+        top,
+        view,
+        step=0.5,
+        tol_px=20.0,
+        strokes=StrokeFit(lambda op: 3.5, 3.0),
+    )
     assert sloppy.operation.d == pytest.approx(68.5)
     # beyond FIT_REACH times the tolerance the strokes are not asked
     asked.clear()
     off_px = float(np.linalg.norm(view.image_of(np.array([0.0, 0.0, 1.7]))))
-    far = regularize_operation(big, tube(top, 68.3), top, view, step=0.5,
-                               tol_px=off_px / (FIT_REACH + 0.5), strokes=strokes(0.1))
+    far = regularize_operation(
+        big,
+        tube(top, 68.3),
+        top,
+        view,
+        step=0.5,
+        tol_px=off_px / (FIT_REACH + 0.5),
+        strokes=strokes(0.1),
+    )
     assert far.operation.d == pytest.approx(68.5) and asked == []
 
 
@@ -251,12 +328,23 @@ def test_a_short_length_keeps_the_grid_however_well_a_round_one_fits(big, view):
     # steps apply to lengths read ROUND_MIN steps long
     top = face_towards(big, (0, 0, 1))
     for d, grid in ((4.2, 4.0), (31.7, 31.5), (38.4, 38.5)):
-        got = regularize_operation(big, Extrude(face_ref_of(top), d), top, view, step=0.5,
-                                   tol_px=20.0, strokes=StrokeFit(lambda op: 1.0, 3.0))
+        got = regularize_operation(
+            big,
+            Extrude(face_ref_of(top), d),
+            top,
+            view,
+            step=0.5,
+            tol_px=20.0,
+            strokes=StrokeFit(lambda op: 1.0, 3.0),
+        )
         assert got.operation.d == pytest.approx(grid)
     # nor any length with the grid off: round numbers are multiples of the designer's grid
-    assert regularize_operation(big, tube(top, 68.3), top, view, tol_px=20.0,
-                                strokes=StrokeFit(lambda op: 1.0, 3.0)).operation.d == 68.3
+    assert (
+        regularize_operation(
+            big, tube(top, 68.3), top, view, tol_px=20.0, strokes=StrokeFit(lambda op: 1.0, 3.0)
+        ).operation.d
+        == 68.3
+    )
 
 
 def test_a_side_snaps_to_an_earlier_features_size(big, view):
@@ -281,8 +369,9 @@ def test_a_recorded_snap_can_be_undone(big, view):
 
 def test_a_snap_says_what_moved_to_what(big, view):
     face = face_towards(big, (0, 0, 1))
-    (snap,) = regularize_operation(big, Extrude(face_ref_of(face), 12.3), face, view,
-                                   step=1.0).snaps
+    (snap,) = regularize_operation(
+        big, Extrude(face_ref_of(face), 12.3), face, view, step=1.0
+    ).snaps
     assert snap.describe() == "length snapped to the 1 mm grid: (12.3) -> (12) mm"
 
 
@@ -293,10 +382,13 @@ def regularized(solid, op, camera):
 
 def test_noisy_near_rectangle_is_regularized_to_an_exact_rectangle(box, camera):
     rng = np.random.default_rng(1)
-    rect = np.array([[-8.7, -4.6, TOP_Z], [9.2, -5.3, TOP_Z], [9.5, 5.1, TOP_Z], [-9.1, 5.4, TOP_Z]])
+    rect = np.array(
+        [[-8.7, -4.6, TOP_Z], [9.2, -5.3, TOP_Z], [9.5, 5.1, TOP_Z], [-9.1, 5.4, TOP_Z]]
+    )
     strokes, labels = prism_sketch(camera, rect, 5.0, +1, noise=0.7, rng=rng)
-    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
-                     camera)
+    op = regularized(
+        box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels), camera
+    )
     p = np.array(op.polygon)[:, :2]
     sides = np.roll(p, -1, axis=0) - p
     # right angles and sides parallel to the box edges (x and y), centre snapped to the face centre
@@ -307,15 +399,23 @@ def test_noisy_near_rectangle_is_regularized_to_an_exact_rectangle(box, camera):
 
 @pytest.mark.parametrize("short,long,square", [(19.0, 21.0, True), (16.0, 22.0, False)])
 def test_a_rectangle_becomes_a_square_only_when_its_sides_differ_by_at_most_a_fifth(
-        box, camera, short, long, square):
+    box, camera, short, long, square
+):
     # the paper's "differences of side lengths within 20% of the average": 19 x 21 differ
     # by 2 (20% of 20 is 4), 16 x 22 by 6 (20% of 19 is 3.8), though each side of that one
     # lies within 20% of their mean (3 of 19)
-    rect = np.array([[-long / 2, -short / 2, TOP_Z], [long / 2, -short / 2, TOP_Z],
-                     [long / 2, short / 2, TOP_Z], [-long / 2, short / 2, TOP_Z]])
+    rect = np.array(
+        [
+            [-long / 2, -short / 2, TOP_Z],
+            [long / 2, -short / 2, TOP_Z],
+            [long / 2, short / 2, TOP_Z],
+            [-long / 2, short / 2, TOP_Z],
+        ]
+    )
     strokes, labels = prism_sketch(camera, rect, 5.0, +1)
-    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
-                     camera)
+    op = regularized(
+        box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels), camera
+    )
     p = np.array(op.polygon)[:, :2]
     sides = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
     assert (np.ptp(sides) < 1e-6) == square
@@ -328,8 +428,9 @@ def test_hexagon_is_regularized_to_a_regular_hexagon(box, camera):
     rad = np.array([5.0, 5.4, 4.8, 5.2, 4.9, 5.1])
     hexa = np.stack([rad * np.cos(ang) + 6, rad * np.sin(ang) + 2, np.full(6, TOP_Z)], axis=1)
     strokes, labels = prism_sketch(camera, hexa, 4.0, +1)
-    op = regularized(box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
-                     camera)
+    op = regularized(
+        box, fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels), camera
+    )
     p = np.array(op.polygon)[:, :2]
     sides = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
     assert sides == pytest.approx(np.full(6, sides.mean()), rel=1e-9)
@@ -339,18 +440,28 @@ def test_hexagon_is_regularized_to_a_regular_hexagon(box, camera):
 
 def test_nearly_straight_equal_radii_become_an_exact_cylinder(box, camera):
     strokes, labels = sweep_sketch(camera, (3.3, 2.2, TOP_Z), 5.0, 5.4, 8.0, +1)
-    op = regularized(box, fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels),
-                     camera)
+    op = regularized(
+        box, fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels), camera
+    )
     assert op.r0 == op.r1
-    assert np.array(op.profile) == pytest.approx(np.array([(op.r0, op.d / 3), (op.r0, 2 * op.d / 3)]))
+    assert np.array(op.profile) == pytest.approx(
+        np.array([(op.r0, op.d / 3), (op.r0, 2 * op.d / 3)])
+    )
 
 
 def test_a_straight_side_drawn_faster_at_one_end_becomes_a_cylinder(box, camera):
     # examples/sessions/pipe.json step 1: the pipe's profile read with its inner control
     # points slid along the side (at a quarter and four fifths of d, 3% of d off it)
     d = 9.0
-    op = Sweep(face_ref_of(face_towards(box, (0, 0, 1))), (3.3, 2.2, TOP_Z), 5.0, 5.0, d,
-               ((5.0 + 0.03 * d, 0.25 * d), (5.0, 0.8 * d)), Mode.ADD)
+    op = Sweep(
+        face_ref_of(face_towards(box, (0, 0, 1))),
+        (3.3, 2.2, TOP_Z),
+        5.0,
+        5.0,
+        d,
+        ((5.0 + 0.03 * d, 0.25 * d), (5.0, 0.8 * d)),
+        Mode.ADD,
+    )
     got = regularized(box, op, camera)  # the cylinder its side fits best: 3% of d bulges
     assert got.r0 == got.r1 == pytest.approx(5.0, abs=0.1)
     assert np.array(got.profile) == pytest.approx(np.array(straight_profile(got.r0, got.r1, d)))
@@ -363,11 +474,11 @@ def test_a_handle_read_with_a_bulge_and_thin_ends_becomes_the_cone_its_sides_dra
     # and a bulge between them that makes up for it; straightened between its end radii
     # it lost a third of its volume
     top = face_towards(box, (0, 0, 1))
-    op = Sweep(face_ref_of(top), (0.0, 0.0, TOP_Z), 4.7, 4.25, 30.0,
-               ((5.7, 10.6), (5.2, 16.3)), Mode.ADD)
+    op = Sweep(
+        face_ref_of(top), (0.0, 0.0, TOP_Z), 4.7, 4.25, 30.0, ((5.7, 10.6), (5.2, 16.3)), Mode.ADD
+    )
     got = regularized(box, op, camera)
-    assert np.array(got.profile) == pytest.approx(np.array(straight_profile(got.r0, got.r1,
-                                                                            got.d)))
+    assert np.array(got.profile) == pytest.approx(np.array(straight_profile(got.r0, got.r1, got.d)))
     drawn = apply_operation(box, op).Volume() - box.Volume()
     assert apply_operation(box, got).Volume() - box.Volume() == pytest.approx(drawn, rel=0.06)
 
@@ -386,29 +497,36 @@ def pipe():
 def pipe_view():
     """The whole pipe in an 800 x 600 view, from the side and a little above."""
     d = np.array([-1.0, -0.4, -0.3])
-    return OrthoCamera((0.0, 0.0, 35.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 45.0,
-                       800, 600)
+    return OrthoCamera(
+        (0.0, 0.0, 35.0), tuple(d / np.linalg.norm(d)), (0.0, 0.0, 1.0), 45.0, 800, 600
+    )
 
 
 def boss_on_side(pipe, z, angle=0.0, w=6.0, h=10.0):
     """A w x h boss standing on the pipe's side at height z, `angle` (rad) around it: its
     polygon in the tangent plane T at p_f (brep.operators)."""
     side = next(f for f in pipe.Faces() if f.geomType() == "CYLINDER")
-    radial, around = np.array([np.cos(angle), np.sin(angle), 0]), np.array([-np.sin(angle),
-                                                                          np.cos(angle), 0])
+    radial, around = (
+        np.array([np.cos(angle), np.sin(angle), 0]),
+        np.array([-np.sin(angle), np.cos(angle), 0]),
+    )
     ref = face_ref_at(side, R_PIPE * radial + (0, 0, z))
     p = np.asarray(ref.point)
-    corners = [p + a * w / 2 * around + b * h / 2 * np.array([0, 0, 1.0])
-               for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    corners = [
+        p + a * w / 2 * around + b * h / 2 * np.array([0, 0, 1.0])
+        for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))
+    ]
     return side, AddSubPrism(ref, tuple(map(tuple, corners)), 3.0, Mode.ADD)
 
 
 def test_a_feature_on_a_pipes_side_snaps_to_the_middle_of_its_height_and_still_builds(
-        pipe, pipe_view):
+    pipe, pipe_view
+):
     side, op = boss_on_side(pipe, 35.6, angle=0.4)  # a few pixels below the middle
     got = regularize_operation(pipe, op, side, pipe_view)
     assert [(s.key, s.target) for s in got.snaps] == [
-        ("position", "the middle of the curved face's height")]
+        ("position", "the middle of the curved face's height")
+    ]
     poly = np.array(got.operation.polygon)
     assert poly[:, 2].mean() == pytest.approx(35.0, abs=1e-9)
     # still in the tangent plane at p_f, where the operator takes it, and built
@@ -417,8 +535,7 @@ def test_a_feature_on_a_pipes_side_snaps_to_the_middle_of_its_height_and_still_b
     assert apply_operation(pipe, got.operation).isValid()
 
 
-def test_a_feature_on_a_pipes_side_snaps_along_it_to_the_grid_never_around_it(
-        pipe, pipe_view):
+def test_a_feature_on_a_pipes_side_snaps_along_it_to_the_grid_never_around_it(pipe, pipe_view):
     side, op = boss_on_side(pipe, 20.3, angle=0.4)  # far from the middle and the rims
     got = regularize_operation(pipe, op, side, pipe_view, step=1.0)
     assert [s.key for s in got.snaps] == ["position"]

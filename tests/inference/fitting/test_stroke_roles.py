@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Stroke roles read from geometry: the fallback when the curve map mixes up the strokes."""
+
 import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.faces import FaceFrame, resolve_face
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting import stroke_roles as stroke_roles_module
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.stroke_roles import normal_image, stroke_roles
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -27,8 +28,10 @@ def roles_and_truth(op, direction):
     curves = operation_curves(solid, op, np.array(cam.direction))
     strokes = [cam.project(c.points)[0] for c in curves]
     frame = FaceFrame.of(resolve_face(solid, TOP).face)
-    return (stroke_roles(strokes, frame, cam, prism=isinstance(op, AddSubPrism)),
-            [c.label for c in curves])
+    return (
+        stroke_roles(strokes, frame, cam, prism=isinstance(op, AddSubPrism)),
+        [c.label for c in curves],
+    )
 
 
 @pytest.mark.parametrize("mode", [Mode.ADD, Mode.SUBTRACT])
@@ -86,11 +89,12 @@ def test_a_short_side_edge_leaning_from_stroke_noise_is_still_a_profile():
     n2 = normal_image(cam, FaceFrame.of(resolve_face(solid, TOP).face))
     side = next(k for k, c in enumerate(curves) if c.label == 1)
     a, b = strokes[side][0], strokes[side][-1]
-    assert np.linalg.norm(b - a) < 25                  # a short edge: 5 px is 12+ degrees
+    assert np.linalg.norm(b - a) < 25  # a short edge: 5 px is 12+ degrees
     strokes[side] = np.array([a, b + 5.0 * np.array([-n2[1], n2[0]])])
     frame = FaceFrame.of(resolve_face(solid, TOP).face)
-    assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == \
-        [c.label for c in curves]
+    assert stroke_roles(strokes, frame, cam, prism=True, same_chord=None) == [
+        c.label for c in curves
+    ]
 
 
 def test_the_work_grows_linearly_with_the_strokes(monkeypatch):
@@ -132,8 +136,7 @@ def test_the_work_grows_linearly_with_the_strokes(monkeypatch):
 def test_a_slot_seen_nearly_along_its_length_has_its_depth_edges_as_the_second_reading():
     # its long sides run along n_f's image too, and match one another as the side edges
     # do: the largest set of alike chords may be either; the other is the second reading
-    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0,
-                     Mode.SUBTRACT)
+    op = AddSubPrism(TOP, ((-7, -1, 10), (7, -1, 10), (7, 1, 10), (-7, 1, 10)), 3.0, Mode.SUBTRACT)
     solid = make_box(BOX)
     cam = camera((-0.51, 0.02, -0.86))
     curves = operation_curves(solid, op, np.array(cam.direction))
@@ -143,8 +146,7 @@ def test_a_slot_seen_nearly_along_its_length_has_its_depth_edges_as_the_second_r
     readings = [stroke_roles(strokes, frame, cam, prism=True, group=g) for g in (0, 1)]
     assert truth in readings
     other = readings[1 - readings.index(truth)]
-    long_sides = [k for k, c in enumerate(curves)
-                  if c.label != 1 and np.ptp(c.points[:, 0]) > 10]
+    long_sides = [k for k, c in enumerate(curves) if c.label != 1 and np.ptp(c.points[:, 0]) > 10]
     assert sorted(k for k, r in enumerate(other) if r == 1) == long_sides
     with pytest.raises(FitError, match="no set 3"):
         stroke_roles(strokes, frame, cam, prism=True, group=2)

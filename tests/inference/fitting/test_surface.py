@@ -3,6 +3,7 @@
 cylinder, not a plane), so a prism or sweep sketched on a cylinder's side is recovered,
 and the side's edges moved along its normals are read as its radius changed:
 synthetic strokes from the sketch generator's curves, with their labels, fitted back."""
+
 import numpy as np
 import pytest
 
@@ -63,8 +64,7 @@ def test_view_rays_meet_the_cylinder_where_it_faces_the_viewer(post, view):
     on_side = np.array([[0.0, -R, 35.0], [R * np.sin(0.5), -R * np.cos(0.5), 20.0]])
     hits = surface_hits(view, view.project(on_side)[0], side_face(post))
     assert hits == pytest.approx(on_side, abs=1e-6)  # the front, not the back of the post
-    miss = surface_hits(view, view.project(np.array([[30.0, -30.0, 35.0]]))[0],
-                        side_face(post))
+    miss = surface_hits(view, view.project(np.array([[30.0, -30.0, 35.0]]))[0], side_face(post))
     assert np.isnan(miss).all()
 
 
@@ -75,8 +75,9 @@ def test_a_ray_the_hand_drew_just_past_the_cylinders_outline_meets_it_there(post
     edge = R * normal + (0.0, 0.0, 35.0)
     outward = view.image_of(normal) / np.linalg.norm(view.image_of(normal))
     pixel = view.project(edge[None])[0][0]
-    near, far = surface_hits(view, np.array([pixel + 2.0 * outward, pixel + 20 * outward]),
-                             side_face(post))
+    near, far = surface_hits(
+        view, np.array([pixel + 2.0 * outward, pixel + 20 * outward]), side_face(post)
+    )
     assert near == pytest.approx(edge, abs=0.05)  # a hand's 2 px: the outline point
     assert np.isnan(far).all()  # 20 px beside the post: in the air
 
@@ -138,8 +139,12 @@ def test_a_radial_peg_read_with_a_bulge_has_a_straight_reading_too(post, view):
     assert not got.straight and got.refined() == got.operation
     line = got.refined(straight=True)
     fitted = got.operation
-    assert (line.center, line.r0, line.r1, line.d) == (fitted.center, fitted.r0, fitted.r1,
-                                                       fitted.d)
+    assert (line.center, line.r0, line.r1, line.d) == (
+        fitted.center,
+        fitted.r0,
+        fitted.r1,
+        fitted.d,
+    )
     assert np.array(line.profile) == pytest.approx(np.array(straight(line.r0, line.r1, line.d)))
     assert apply_operation(post, line).isValid()
 
@@ -173,7 +178,8 @@ def test_a_cylinders_side_extruded_is_read_as_its_radius_changed(post, view, d):
     assert op.face.surface is CYL
     assert np.asarray(op.face.normal) @ view.direction < -0.9
     assert apply_operation(post, op).Volume() == pytest.approx(
-        apply_operation(post, truth).Volume(), rel=0.02)
+        apply_operation(post, truth).Volume(), rel=0.02
+    )
 
 
 def test_a_cylinder_is_never_read_as_shrunk_to_its_axis(post, view):

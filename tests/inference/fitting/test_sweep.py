@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep fitting recovers the cone, cylinder or curved profile that produced the strokes."""
+
 import numpy as np
 import pytest
 from fit_sketches import TOP_Z, face_towards, sweep_sketch
 
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import Mode
-from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
+from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
 
 
@@ -37,14 +38,20 @@ def test_a_profile_stroke_that_swings_far_outside_the_circles_is_not_taken_as_dr
 
 
 def test_a_profile_read_a_little_past_the_far_circle_stays_between_the_circles(
-        box, camera, monkeypatch):
+    box, camera, monkeypatch
+):
     # test-l1 (seed 10001) sample 263: a profile stroke back-projected to control heights
     # a few % past d (within the slack that keeps drawn profiles) folded the surface of
     # revolution back over the far circle, and OCCT called the result invalid
     strokes, labels = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 4.0, 10.0, +1)
     fit = sweep_fitting.fit_bezier
-    monkeypatch.setattr(sweep_fitting, "fit_bezier", lambda rh, a, b: fit(rh, a, b) + np.array(
-        [[0.0, 0.0], [0.0, -3.8], [0.0, 3.9], [0.0, 0.0]]))  # h1 below 0, h2 past d
+    monkeypatch.setattr(
+        sweep_fitting,
+        "fit_bezier",
+        lambda rh, a, b: (
+            fit(rh, a, b) + np.array([[0.0, 0.0], [0.0, -3.8], [0.0, 3.9], [0.0, 0.0]])
+        ),
+    )  # h1 below 0, h2 past d
     op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     heights = np.array(op.profile)[:, 1]
     assert np.all((heights >= 0) & (heights <= op.d)) and heights.max() == pytest.approx(op.d)
@@ -73,5 +80,10 @@ def test_deep_hole_is_read_as_a_subtraction(box, camera):
 def test_sweep_without_its_far_circle_is_refused(box, camera):
     strokes, labels = sweep_sketch(camera, (0, 0, TOP_Z), 4.0, 4.0, 8.0, +1)
     with pytest.raises(FitError, match="both circle outlines"):
-        fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes[:1] + strokes[2:],
-                  labels[:1] + labels[2:])
+        fit_sweep(
+            box,
+            face_towards(box, (0, 0, 1)),
+            camera,
+            strokes[:1] + strokes[2:],
+            labels[:1] + labels[2:],
+        )

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Reprojection error: the operation that was drawn explains its strokes best."""
+
 import numpy as np
 import pytest
 
@@ -29,8 +30,12 @@ def drawn_sweep():
     d = np.array([0.6, 0.9, -1.2])
     cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
     drawn = sweep(4.0, 10.0)
-    return box, cam, drawn, [cam.project(c.points)[0]
-                             for c in operation_curves(box, drawn, cam.direction)]
+    return (
+        box,
+        cam,
+        drawn,
+        [cam.project(c.points)[0] for c in operation_curves(box, drawn, cam.direction)],
+    )
 
 
 def test_the_drawn_sweep_explains_its_strokes_better_than_a_longer_wider_one():
@@ -48,6 +53,7 @@ def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lin
     from Sketch2CADWorkbench.brep.protocol import AddSubPrism
     from Sketch2CADWorkbench.render.maps import MapRenderer
     from Sketch2CADWorkbench.sketch.visible import visible_curves
+
     renderer = MapRenderer()
     box = make_box(Box((40, 30, 20)))
     v = np.array([0.3, 0.8, -1.0]) / np.linalg.norm([0.3, 0.8, -1.0])
@@ -59,8 +65,10 @@ def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lin
     every = [cam.project(c.points)[0] for c in operation_curves(box, hole, cam.direction)]
     assert reprojection_error(box, boss, cam, every) == pytest.approx(0.0, abs=0.5)
     maps = {op: renderer.render(apply_operation(box, op), cam) for op in (hole, boss)}
-    drawn = [cam.project(c.points)[0]
-             for c in visible_curves(operation_curves(box, hole, cam.direction), cam, maps[hole])]
+    drawn = [
+        cam.project(c.points)[0]
+        for c in visible_curves(operation_curves(box, hole, cam.direction), cam, maps[hole])
+    ]
     assert reprojection_error(box, hole, cam, drawn, maps[hole]) == pytest.approx(0.0, abs=0.5)
     assert reprojection_error(box, boss, cam, drawn, maps[boss]) > 3.0
 
@@ -69,12 +77,14 @@ def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themsel
     box = make_box(Box((40, 30, 20)))
     d = np.array([0.6, 0.9, -1.2])
     cam = OrthoCamera((0.0, 0.0, 5.0), tuple(d / np.linalg.norm(d)), (0, 0, 1), 45.0, 800, 600)
-    strokes = [cam.project(c.points)[0]
-               for c in operation_curves(box, sweep(4.0, 10.0), cam.direction)]
+    strokes = [
+        cam.project(c.points)[0] for c in operation_curves(box, sweep(4.0, 10.0), cam.direction)
+    ]
     drawn = DrawnStrokes(strokes, (cam.height, cam.width))
     for op in (sweep(4.0, 10.0), sweep(9.0, 16.0)):
-        for got, want in zip(sketch_distances(box, op, cam, drawn),
-                             sketch_distances(box, op, cam, strokes)):
+        for got, want in zip(
+            sketch_distances(box, op, cam, drawn), sketch_distances(box, op, cam, strokes)
+        ):
             np.testing.assert_array_equal(got, want)
 
 
