@@ -58,7 +58,7 @@ from typing import Any, Callable, ClassVar, TypeVar, Union
 import numpy as np
 
 from .fields import FieldError, box_size, error, header, number, obj, parse_json, points, vec
-from .files import write_atomically
+from .files import read_capped, write_atomically
 from .geometry import bezier
 
 FORMAT = "sketch2cad-protocol"
@@ -612,9 +612,17 @@ class Protocol:
         Raises:
             ProtocolError: naming the field the loader refuses; the file is untouched.
         """
+        write_atomically(path, self.file_text())
+
+    def file_text(self) -> str:
+        """The text `save` writes, checked to be what `load` accepts.
+
+        Raises:
+            ProtocolError: naming the field the loader refuses.
+        """
         text = self.to_json() + "\n"
         loads(text, "the protocol to save")
-        write_atomically(path, text)
+        return text
 
     def listing(self) -> str:
         """A readable listing, one line per step, like the paper's protocol figures."""
@@ -712,7 +720,7 @@ def load(path: str | Path) -> Protocol:
     """Read and validate a protocol file."""
     path = Path(path)
     try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as e:
+        text = read_capped(path).decode()
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         raise ProtocolError(f"{path}: cannot read protocol file: {e}") from None
     return loads(text, str(path))

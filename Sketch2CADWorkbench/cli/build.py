@@ -12,7 +12,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from ..brep.exchange import export_step
+from ..brep.exchange import step_bytes
 from ..brep.faces import OperationError
 from ..brep.files import atomic_outputs, check_outputs
 from ..brep.operators import build
@@ -21,10 +21,18 @@ from ..brep.protocol import Protocol, ProtocolError, load
 PROGRESS_FROM = 20  # operations: a protocol this long shows a progress bar while it builds
 
 
+def output_file(text: str) -> Path:
+    """An output option's value: a file's path (argparse's `type`); an empty one is refused
+    here, where the option can still be named."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty path; give the file to write")
+    return Path(text)
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("protocol", type=Path, help="protocol JSON file")
-    p.add_argument("--step", type=Path, help="write the solid as STEP AP214 (mm)")
-    p.add_argument("--png", type=Path, help="write a shaded picture")
+    p.add_argument("--step", type=output_file, help="write the solid as STEP AP214 (mm)")
+    p.add_argument("--png", type=output_file, help="write a shaded picture (PNG)")
     p.add_argument("--quiet", action="store_true", help="do not print the protocol listing")
 
 
@@ -41,20 +49,21 @@ def write_outputs(
     Raises:
         OSError: an output could not be written; no file was replaced.
     """
-    writers = []
+    outputs = []
     if protocol_path:
-        writers.append((protocol_path, lambda tmp: protocol.save(tmp)))
+        outputs.append((protocol_path, lambda: protocol.file_text().encode()))
     if step:
-        writers.append((step, lambda tmp: export_step(solid, tmp)))
+        outputs.append((step, lambda: step_bytes(solid)))
     if png:
-        from ..render.picture import shaded_picture  # VTK only when a picture is asked for
+        # VTK only when a picture is asked for
+        from ..render.picture import png_bytes, shaded_picture
 
-        writers.append((png, lambda tmp: shaded_picture(solid, path=tmp)))
-    for path, _ in writers:
+        outputs.append((png, lambda: png_bytes(shaded_picture(solid))))
+    for path, _ in outputs:
         path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_outputs([path for path, _ in writers]) as tmps:
-        for tmp, (_, write) in zip(tmps, writers):
-            write(tmp)
+    with atomic_outputs([path for path, _ in outputs]) as tmps:
+        for tmp, (_, data) in zip(tmps, outputs):
+            tmp.write_bytes(data())
 
 
 def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet: bool = False):

@@ -23,14 +23,14 @@ from ..brep.protocol import Protocol, ProtocolError, describe, load
 from ..inference.fitting.regularize import SNAP_PX
 from ..inference.interpret import InterpretError, interpret
 from ..inference.session import load_session
-from .build import write_outputs
+from .build import output_file, write_outputs
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("session", type=Path, help="session JSON file")
-    p.add_argument("--protocol", type=Path, help="write the interpreted protocol (JSON)")
-    p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
-    p.add_argument("--png", type=Path, help="write a picture of the final solid")
+    p.add_argument("--protocol", type=output_file, help="write the interpreted protocol (JSON)")
+    p.add_argument("--step", type=output_file, help="write the final solid as STEP AP214")
+    p.add_argument("--png", type=output_file, help="write a picture of the final solid (PNG)")
     p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
     p.add_argument(
         "--compare",
@@ -98,6 +98,11 @@ def run(args: argparse.Namespace) -> int:
         return 2
     try:
         session = load_session(args.session)
+        if not session.steps:
+            raise ValueError(
+                f"{args.session}: the session has no sketched steps (steps: []), so there "
+                "is nothing to interpret; nothing was written"
+            )
         meant, reference = (
             _reference(args.compare, len(session.steps)) if args.compare else (None, None)
         )

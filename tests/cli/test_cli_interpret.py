@@ -114,3 +114,17 @@ def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
         timeout=120,
     )
     assert out.returncode == 2 and "--each-step needs --compare" in out.stderr
+
+
+def test_a_session_without_steps_is_refused_and_nothing_written(tmp_path):
+    s = json.loads(SESSION.read_text())
+    s["steps"] = []
+    (tmp_path / "s.json").write_text(json.dumps(s))
+    out = subprocess.run(
+        [*CLI, "interpret", str(tmp_path / "s.json"), "--step", str(tmp_path / "x.step")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2 and "has no sketched steps" in out.stderr, out.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]

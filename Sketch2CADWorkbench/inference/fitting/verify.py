@@ -90,7 +90,7 @@ def sketch_distances(
             them.
         face: op.face resolved on `solid`, when the caller holds it (`operation_curves`).
     """
-    curves = operation_curves(solid, op, camera.direction, face)
+    curves = operation_curves(solid, op, camera.basis()[2], face)
     if seen is not None:
         curves = visible_curves(curves, camera, seen)
     shape = (camera.height, camera.width)
