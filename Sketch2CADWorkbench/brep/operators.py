@@ -37,6 +37,7 @@ from .faces import (
     face_at,
     model_box,
     model_scale,
+    points_on_face,
     resolve_face,
 )
 from .geometry import bezier, crossing_sides, plane_basis, unit
@@ -244,6 +245,13 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
         _check_profile_ends(c, ctrl, here, tol)
         found = here.opposite - here.c
         return BevelPlace(c, crease if np.linalg.norm(found - crease) <= tol else found, ctrl)
+    if points_on_face(rf.face, c[None], tol, boundary=False)[0]:
+        # an edit moves a corner off f (f shrank) or along f's outline (a side moved);
+        # a point inside f was never one of its corners
+        raise OperationError(
+            f"bevel: corner c {_pt(c)} lies inside face f, not at a corner of it; c must be "
+            "a vertex of f where two of its straight edges meet"
+        )
     a, b = (unit(ctrl[k] - c) for k in (0, 3))
     moved = corner_along(corners, c, a, b, length, tol)
     if moved is None:

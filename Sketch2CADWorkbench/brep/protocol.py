@@ -479,9 +479,17 @@ class Sweep(_CombinedOperation):
             raise OperationError(
                 f"sweep: r0, r1 and d must be positive, got r0={self.r0}, r1={self.r1}, d={self.d}"
             )
-        radii = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 65))[:, 0]
-        if radii.min() <= 0:
+        rh = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 257))
+        if rh[:, 0].min() <= 0:
             raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
+        fall = np.diff(rh[:, 1])
+        if fall.min() < -1e-9 * self.d:
+            at = rh[int(np.argmin(fall)), 1]
+            raise OperationError(
+                f"sweep: profile c_p folds back (its height h goes down near h = {at:.4g} on "
+                f"the way from 0 to d = {_num(self.d)}), so the swept surface would cross "
+                "itself; move the profile's control points so that h only rises"
+            )
 
     def describe(self) -> str:
         ctrl = ", ".join(_fmt(p) for p in self.control_points())

@@ -272,6 +272,25 @@ def test_bevel_profile_crossing_an_edge_is_refused_not_emptied(box):
         apply_operation(box, Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), bulging))
 
 
+def test_a_bevel_whose_corner_is_inside_f_is_refused_naming_the_corner():
+    # the middle of the front face of a 60 x 20 x 40 box; l reaches 5 mm from it, and
+    # the box's corner at (-30, -10, 20) has its edges along l's ends
+    box = make_box(Box((60.0, 20.0, 40.0)))
+    front = FaceRef((0.0, -10.0, 0.0), (0.0, -1.0, 0.0))
+    profile = ((0.0, -10.0, -5.0), (0.0, -10.0, -2.0), (2.0, -10.0, 0.0), (5.0, -10.0, 0.0))
+    with pytest.raises(OperationError, match=r"corner c \(0, -10, 0\) lies inside face f"):
+        apply_operation(box, Bevel(front, (0.0, -10.0, 0.0), (0.0, 10.0, 0.0), profile))
+
+
+def test_a_sweep_profile_whose_height_folds_back_is_refused_naming_the_profile(box):
+    folding = Sweep(TOP, (0.0, 0.0, LZ / 2), 5.0, 5.0, 10.0, ((6.0, 30.0), (6.0, -20.0)))
+    with pytest.raises(OperationError, match="profile c_p folds back"):
+        apply_operation(box, folding)
+    # a profile bulging outwards (r not monotonic) with h rising builds
+    bulge = Sweep(TOP, (0.0, 0.0, LZ / 2), 5.0, 5.0, 10.0, ((9.0, 3.0), (9.0, 7.0)))
+    assert apply_operation(box, bulge).isValid()
+
+
 @pytest.mark.parametrize(
     "op,boolean,name",
     [
