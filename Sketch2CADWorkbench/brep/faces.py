@@ -293,14 +293,23 @@ def plane_normals(shape: cq.Shape) -> dict[int, np.ndarray]:
     plane's u x v, reversed with the face), by its index in shape.Faces()."""
     faces, out = indexed_faces(shape), {}
     for i in range(faces.Extent()):
-        face = TopoDS.Face_s(faces.FindKey(i + 1))
-        surface = BRepAdaptor_Surface(face)
-        if surface.GetType() != GeomAbs_Plane:
-            continue
-        frame = surface.Plane().Position()
-        n = np.cross(frame.XDirection().Coord(), frame.YDirection().Coord())
-        out[i] = -n if face.Orientation() == TopAbs_REVERSED else n
+        plane = _plane(TopoDS.Face_s(faces.FindKey(i + 1)))
+        if plane is not None:
+            out[i] = plane[0]
     return out
+
+
+def _plane(face) -> tuple[np.ndarray, float] | None:
+    """A planar TopoDS face's outward unit normal and plane offset n . p, read off its
+    plane (no area integral: resolving a face on a solid of thousands of faces would
+    cost more than the Boolean); None for a curved face."""
+    surface = BRepAdaptor_Surface(face)
+    if surface.GetType() != GeomAbs_Plane:
+        return None
+    frame = surface.Plane().Position()
+    n = np.cross(frame.XDirection().Coord(), frame.YDirection().Coord())
+    n = -n if face.Orientation() == TopAbs_REVERSED else n
+    return n, float(n @ np.array(frame.Location().Coord()))
 
 
 def face_at(shape: cq.Shape, index: int) -> cq.Face:
@@ -418,11 +427,9 @@ def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:
     """Each planar face with its outward unit normal and plane offset n . p."""
     out = []
     for f in solid.Faces():
-        if f.geomType() != "PLANE":
-            continue
-        n = np.array(f.normalAt().toTuple())
-        p = np.array(f.Center().toTuple())
-        out.append((f, n, float(n @ p)))
+        plane = _plane(f.wrapped)
+        if plane is not None:
+            out.append((f, *plane))
     return out
 
 

@@ -639,18 +639,29 @@ def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> 
     """
     solids = [make_box(protocol.base)]
     for i, op in enumerate(protocol.operations, 1):
-        try:
-            solids.append(apply_operation(solids[-1], op))
-        except OperationError as e:
-            raise OperationError(f"step {i} ({op.type.value}): {e}") from None
+        solids.append(_step(solids[-1], op, i))
         if on_step:
             on_step(i)
     return solids
 
 
 def build(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> cq.Solid:
-    """The final solid of a protocol (on_step: as for `replay`)."""
-    return replay(protocol, on_step)[-1]
+    """The final solid of a protocol (on_step and errors: as for `replay`), holding only
+    the solid of the step being built (`replay` holds every step's)."""
+    solid = make_box(protocol.base)
+    for i, op in enumerate(protocol.operations, 1):
+        solid = _step(solid, op, i)
+        if on_step:
+            on_step(i)
+    return solid
+
+
+def _step(solid: cq.Solid, op: Operation, i: int) -> cq.Solid:
+    """Step i of a replay (OperationError: naming the step)."""
+    try:
+        return apply_operation(solid, op)
+    except OperationError as e:
+        raise OperationError(f"step {i} ({op.type.value}): {e}") from None
 
 
 def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
