@@ -307,9 +307,13 @@ def _plane(face) -> tuple[np.ndarray, float] | None:
     if surface.GetType() != GeomAbs_Plane:
         return None
     frame = surface.Plane().Position()
-    n = np.cross(frame.XDirection().Coord(), frame.YDirection().Coord())
-    n = -n if face.Orientation() == TopAbs_REVERSED else n
-    return n, float(n @ np.array(frame.Location().Coord()))
+    # u x v: the frame's main direction, reversed in a left-handed frame
+    sign = (1.0 if frame.Direct() else -1.0) * (
+        -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    )
+    n = tuple(sign * x for x in frame.Direction().Coord())
+    offset = sum(a * b for a, b in zip(n, frame.Location().Coord()))
+    return np.array(n), float(offset)
 
 
 def face_at(shape: cq.Shape, index: int) -> cq.Face:
