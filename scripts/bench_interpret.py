@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Time of one interpret step on held-out sketches, stage by stage (#13: <= 100 ms median
-on 2 CPU cores).
+"""Time of one interpret step on held-out sketches, stage by stage (the requirement:
+a median of at most 100 ms on 2 CPU cores).
 
     .bin/python scripts/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A reading that would not change the model is never offered as the step, a face the
 user cannot see from the sketch view comes after the ones they can, and a hole whose face
-the networks get wrong is still cut into the face it is drawn on (#17 item 2)."""
+the networks get wrong is still cut into the face it is drawn on."""
 
 import numpy as np
 import pytest
