@@ -32,11 +32,9 @@ from machine import machine_line  # noqa: E402
 
 from datagen.dataset import Dataset  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
-from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
-    InterpretError,
-    InterpretOptions,
-    interpret,
-)
+from Sketch2CADWorkbench.inference.context import InterpretError  # noqa: E402
+from Sketch2CADWorkbench.inference.interpret import interpret  # noqa: E402
+from Sketch2CADWorkbench.inference.options import InterpretOptions  # noqa: E402
 from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
 from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
 

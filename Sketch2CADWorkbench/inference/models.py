@@ -192,7 +192,7 @@ class Sketch2CADNet(nn.Module):
         self, x: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, list[torch.Tensor]]:
         """`forward`, plus the decoder's feature maps that the structured heads
-        (inference/heads.py) pool along strokes and over faces.
+        (inference/head/) pool along strokes and over faces.
 
         Returns:
             forward's three outputs and the decoder maps, coarsest first:

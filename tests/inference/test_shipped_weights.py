@@ -13,7 +13,8 @@ from pathlib import Path
 
 import torch
 
-from Sketch2CADWorkbench.inference.heads import StructuredPredictor, sha256_of
+from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
+from Sketch2CADWorkbench.inference.head.predictor import StructuredPredictor
 from Sketch2CADWorkbench.inference.weights import (
     DEFAULT_WEIGHTS,
     HEAD_NAME,
