@@ -25,7 +25,7 @@ HISTORY = {
     # a number after '#' that follows the start of a line, a space or an opening bracket:
     # not a hex colour (after a quote or a colon, or ending in ';') nor an HTML entity
     "a tracker number": re.compile(r"(?:^|(?<=[\s(\[]))#\d+\b(?!;)", re.M),
-    "a scratch folder": re.compile(r"(?<![\w.])(?:/work/|scratch/)"),
+    "a scratch folder": re.compile(r"(?<![\w.])(?:/wo" r"rk/|scra" r"tch/)"),
     "a member of the team": re.compile(r"\b[Dd]eveloper [A-E]\b|\b[Tt]he lead(?:'s)?\b"),
     "the removed engineering diary": re.compile(r"\bNOTES\.md\b"),
 }
@@ -70,7 +70,7 @@ def tracked_texts(root: Path) -> dict[str, str]:
         "(#" + "16, beyond the paper)",
         "see #" + "17 item 1",
         "#" + "12: impossible values",
-        "scratch `/wo" + "rk/scratch/s38/own.sh`",
+        "see `/wo" + "rk/scra" + "tch/s38/own.sh`",
         "datagen --out scra" + "tch/val-l3",
         "(develo" + "per E)",
         "the le" + "ad's figures",
