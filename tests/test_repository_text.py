@@ -113,3 +113,37 @@ def test_no_tracked_file_cites_the_projects_history():
         for line, kind, match in history_citations(text)
     ]
     assert not cited, "history cited (say the requirement instead):\n" + "\n".join(cited)
+
+
+# "docs/measurements.md, module.NAME" or "docs/measurements.md, "A section's title"
+POINTER = re.compile(r'measurements\.md,\s+(?:#\s+)?(?:([a-z_.]+\.[A-Z][A-Z_]+)|"([^"\n]+))')
+
+
+def measurement_rows(text: str) -> set[str]:
+    """The names a row of docs/measurements.md stands for: "m.A, B" gives m.A and m.B."""
+    names = set()
+    for line in text.splitlines():
+        if not line.startswith("| ") or line.startswith("| row"):
+            continue
+        first, *others = (n.strip() for n in line.split("|")[1].split(","))
+        module = first.rpartition(".")[0]
+        names.add(first)
+        names.update(f"{module}.{n}" for n in others)
+    return names
+
+
+def test_every_pointer_to_a_measurement_names_a_row_or_section():
+    text = (ROOT / "docs" / "measurements.md").read_text(encoding="utf-8")
+    rows = measurement_rows(text)
+    flat = " ".join(text.split())
+    missing = [
+        f"{name}: {match.group(0)!r}"
+        for name, source in sorted(tracked_texts(ROOT).items())
+        if name.endswith(".py") and name != "tests/test_repository_text.py"
+        for match in POINTER.finditer(source)
+        if (match.group(1) and match.group(1) not in rows)
+        or (match.group(2) and " ".join(match.group(2).split()) not in flat)
+    ]
+    assert rows and not missing, "pointers to no row of docs/measurements.md:\n" + "\n".join(
+        missing
+    )

@@ -41,7 +41,7 @@ from .reading import GOOD_FIT_PX, Fit
 # whichever is more) in at most SCORE_SEARCH_STEPS scorings: held-out extrusions read so
 # beside the line search's, level 1 88.5 -> 91.7% recovered, level 3 66.7 -> 67.3% (mean
 # volume IoU .943 -> .952); 20 steps read the same as 10 (see docs/measurements.md,
-# SCORE_SEARCH_SPAN, SCORE_SEARCH_PX and SCORE_SEARCH_STEPS).
+# adapters.SCORE_SEARCH_SPAN, SCORE_SEARCH_PX and SCORE_SEARCH_STEPS).
 SCORE_SEARCH_SPAN = 0.1
 SCORE_SEARCH_PX = 8.0
 SCORE_SEARCH_STEPS = 10
@@ -50,7 +50,7 @@ BEVEL_READINGS = 2
 # Of a prism's readings of the stroke roles, those whose unrefined sketch lies within
 # this factor of the closest one's distance from the strokes are refined: readings
 # farther apart refined to within 0.1 px of each other on held-out level 1 (see
-# docs/measurements.md, REFINE_WITHIN).
+# docs/measurements.md, adapters.REFINE_WITHIN).
 REFINE_WITHIN = 1.5
 
 

@@ -26,7 +26,7 @@ from .fitting.verify import mean_distance, reading_score, sketch_distances
 # here (context pixels): the strokes' mean distance to the reading's own sketch, or the
 # sketch's to the strokes (their mean, misfit_px, then passes neither): each the 99.5%
 # quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py; see
-# docs/measurements.md, DOUBT).
+# docs/measurements.md, reading.DOUBT).
 DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7}
 # A sample of the strokes or of the sketch farther than this (context pixels) from the
 # other is not explained by it.
@@ -37,7 +37,7 @@ SAME_VOLUME = 1e-6
 # A reading whose own sketch lies within this (context pixels, mean both ways) of the
 # strokes is a clear fit: it ends the search over faces and operators (search.py), and
 # snapping keeps an operation moved only where it still fits so (see
-# docs/measurements.md, GOOD_FIT_PX).
+# docs/measurements.md, reading.GOOD_FIT_PX).
 GOOD_FIT_PX = 3.0
 
 
@@ -51,7 +51,7 @@ class SketchFit:
 
     A reading is doubtful when any measure passes its threshold in DOUBT (above it; the
     confidence below it), each set on held-out level-1 sketches
-    (scripts/misfit_threshold.py; see docs/measurements.md, DOUBT). The measures DOUBT
+    (scripts/misfit_threshold.py; see docs/measurements.md, reading.DOUBT). The measures DOUBT
     leaves out tell scribbles from real sketches less well.
     """
 

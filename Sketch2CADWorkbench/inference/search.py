@@ -58,7 +58,7 @@ ON_CURVED_FACES = (OperatorType.EXTRUDE, OperatorType.ADDSUB, OperatorType.SWEEP
 # over a sweep at 53 px), where the prisms thirty random strokes fit score 4.4-8.8. A
 # triangle whose edges are all drawn is a prism however sure the classifier is of a sweep
 # (p 0.003 against 0.996). PRIOR_PX is not tuned: a decade of doubt weighs about a
-# level-1 hand's error (median misfit 1.4 px); see docs/measurements.md, PRIOR_PX and
+# level-1 hand's error (median misfit 1.4 px); see docs/measurements.md, search.PRIOR_PX and
 # OVERRULE_PROB.
 PRIOR_PX = 1.0
 OVERRULE_PROB = 1e-3

@@ -79,7 +79,7 @@ OUTLINES = {
 # midpoints) and sign * n_f's image that agrees. A bevel's copy l' is the whole stroke
 # moved, so the shift keeps the crease's direction: 0.9 accepts 99% of the truths at
 # noise level 3 (a validation set of seed 30017: 1% quantile .928; every one at level 1,
-# heldout-l1c's lowest .985; see docs/measurements.md, OUTLINE_SHIFT_COS). A prism's or
+# heldout-l1c's lowest .985; see docs/measurements.md, head.decode.OUTLINE_SHIFT_COS). A prism's or
 # a sweep's outlines are drawn side by side or as ellipses, whose midpoints the hand
 # moves more (a short sweep's truth reaches -0.86 at level 3): the sign alone.
 OUTLINE_SHIFT_COS = {OperatorType.ADDSUB: 0.0, OperatorType.SWEEP: 0.0, OperatorType.BEVEL: 0.9}

@@ -100,7 +100,7 @@ class StructureHead(nn.Module):
         )
         # per attention head, a learned bias per END_GAP_BINS bin of two strokes' end gap:
         # the strokes of one outline meet end to end, which attention over coordinates
-        # finds only approximately (an ablation: see docs/measurements.md, END_GAP_BINS)
+        # finds only approximately (see docs/measurements.md, head.model.END_GAP_BINS)
         self.end_bias = (
             nn.Embedding(len(END_GAP_BINS) + 1, cfg.attention_heads)
             if cfg.end_bias and cfg.layers
