@@ -18,7 +18,7 @@ from pathlib import Path
 from training.heads import HeadSettings, evaluate_head, train_head
 
 from ..brep.files import write_atomically
-from ..inference.heads import HeadConfig
+from ..inference.head.model import HeadConfig
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
