@@ -73,8 +73,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--keep-going",
         action="store_true",
-        help="skip a step that cannot be interpreted instead of stopping (the "
-        "skipped steps are listed; the exit code is then 0)",
+        help="skip a step that cannot be interpreted, or whose reading is doubtful, "
+        "instead of stopping (the skipped steps are listed; the exit code is then 0)",
+    )
+    p.add_argument(
+        "--accept-doubtful",
+        action="store_true",
+        help="add a doubtful reading (the strokes do not look much like it: a "
+        "scribble, or a sketch the networks misread) with its warning, instead of "
+        "stopping, or skipping it with --keep-going",
     )
 
 
@@ -133,7 +140,18 @@ def run(args: argparse.Namespace) -> int:
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)
             if not args.keep_going:
                 return 2
-        else:
+        if got is not None and got.doubtful and not args.accept_doubtful:
+            failed += 1
+            print(f"step {i}: doubtful, not added: {got.doubt()}", file=sys.stderr)
+            got = None
+            if not args.keep_going:
+                print(
+                    "sketch2cad interpret: stopped, nothing written; --accept-doubtful adds "
+                    "such a reading, --keep-going skips it",
+                    file=sys.stderr,
+                )
+                return 2
+        if got is not None:
             for op in got.operations:
                 protocol = protocol.append(op)
                 print(f"step {i}: {describe(op)}")

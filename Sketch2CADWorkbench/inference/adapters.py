@@ -217,7 +217,8 @@ def _scored_readings(
     curved face) is dropped; the others stand.
 
     Raises:
-        OperationError: no reading could be scored (the first one's reason).
+        OperationError: no reading could be scored (the first one's reason, or that every
+            reading's sketch lies outside the view: infinitely far from the strokes).
     """
     errors: list[OperationError] = []
 
@@ -254,7 +255,10 @@ def _scored_readings(
             if straight is not None:
                 scored.append((reading_score(straight), line, roles))
     if not scored:
-        raise errors[0]
+        raise errors[0] if errors else OperationError(
+            "the sketch of every reading lies wholly outside the view, so none could be "
+            "compared with the strokes"
+        )
     return sorted(scored, key=lambda f: f[0])
 
 

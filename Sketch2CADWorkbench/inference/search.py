@@ -182,7 +182,7 @@ def read_operation(
             return reading
     if readings:
         raise FitError(readings[0].refused)
-    raise first
+    raise first or FitError("no face of the model gave a reading of the strokes")
 
 
 def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
