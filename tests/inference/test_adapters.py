@@ -178,6 +178,24 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
     assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
 
 
+def test_readings_whose_sketches_all_lie_outside_the_view_end_in_an_error_saying_so(
+    renderer, monkeypatch
+):
+    # every reading's own sketch projects wholly outside the context image: each lies
+    # infinitely far from the strokes (verify.sketch_distances), none can be scored
+    box, op, labels, ctx, index, curve = top_prism(renderer)
+    other = [{0: 2, 2: 0}.get(label, label) for label in labels]
+    monkeypatch.setattr(adapters, "stroke_roles", lambda *a, **k: other)
+    outside = (np.full(10, np.inf), np.full(1, np.inf), np.zeros(0))
+    monkeypatch.setattr(context, "sketch_distances", lambda *a, **k: outside)
+
+    def fit(solid, face, camera, strokes, roles, option):  # both readings fit
+        return prism_fit(solid, face, camera, strokes, labels, option)
+
+    with pytest.raises(OperationError, match="lies wholly outside the view"):
+        adapters._fit_by_roles(fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions())
+
+
 def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeypatch):
     box, ctx, _, index, curve = top_extrusion_on_its_face(renderer)  # drawn 9 mm out
 
