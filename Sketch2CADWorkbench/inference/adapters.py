@@ -255,9 +255,13 @@ def _scored_readings(
             if straight is not None:
                 scored.append((reading_score(straight), line, roles))
     if not scored:
-        raise errors[0] if errors else OperationError(
-            "the sketch of every reading lies wholly outside the view, so none could be "
-            "compared with the strokes"
+        raise (
+            errors[0]
+            if errors
+            else OperationError(
+                "the sketch of every reading lies wholly outside the view, so none could be "
+                "compared with the strokes"
+            )
         )
     return sorted(scored, key=lambda f: f[0])
 

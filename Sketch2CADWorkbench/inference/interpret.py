@@ -79,7 +79,8 @@ class Interpretation:
 
     @property
     def doubtful(self) -> bool:
-        """The strokes do not look like this operation (SketchFit's DOUBT): say so."""
+        """The strokes do not look like this operation (SketchFit's DOUBT): say so
+        (`doubt()`), and add it only when the user accepts it."""
         return self.fit is not None and self.fit.doubtful
 
     def doubt(self) -> str:
@@ -94,7 +95,7 @@ class Interpretation:
             "strokes_unexplained": f"{f.strokes_unexplained:.0%} of the strokes are not "
             "lines of it",
             "sketch_unexplained": f"{f.sketch_unexplained:.0%} of its lines were not drawn",
-            "confidence": f"the networks are {1 - f.confidence:.0%} unsure",
+            "confidence": f"the networks give a {what} a probability of only {f.confidence:.2g}",
         }
         return (
             f"the strokes do not look much like this {what}: "

@@ -23,11 +23,14 @@ from .context import Context
 from .fitting.verify import mean_distance, reading_score, sketch_distances
 
 # A reading is flagged as doubtful when a measure of SketchFit passes its threshold
-# here (context pixels): the strokes' mean distance to the reading's own sketch, or the
-# sketch's to the strokes (their mean, misfit_px, then passes neither): each the 99.5%
-# quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py; see
-# docs/measurements.md, reading.DOUBT).
-DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7}
+# here: the strokes' mean distance to the reading's own sketch, or the sketch's to the
+# strokes (context pixels; their mean, misfit_px, then passes neither): each the 99.5%
+# quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py); or the
+# classifier's probability of the operator read below search.OVERRULE_PROB, the least
+# with which another operator may replace its own: the search fell back to an operator
+# the networks all but rule out, as it does for scribbles (see docs/measurements.md,
+# reading.DOUBT).
+DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7, "confidence": 1e-3}
 # A sample of the strokes or of the sketch farther than this (context pixels) from the
 # other is not explained by it.
 EXPLAINED_PX = 4.0
@@ -139,7 +142,8 @@ class Reading:
 
     @property
     def doubtful(self) -> bool:
-        """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
+        """Its own sketch and the strokes lie apart past DOUBT (SketchFit; the classifier's
+        confidence is the search's to weigh, not asked here)."""
         return SketchFit.of_distances(*self.distances[:2], 1.0).doubtful
 
 

@@ -20,3 +20,26 @@ def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged
         )
         assert far.doubtful and far.fit.passed() == [name]
         assert far.doubt().startswith("the strokes do not look much like this bevel: ")
+
+
+def test_a_reading_of_an_operator_the_classifier_all_but_rules_out_is_flagged():
+    from Sketch2CADWorkbench.inference.interpret import Interpretation
+    from Sketch2CADWorkbench.inference.reading import SketchFit
+
+    # its sketch fits the strokes well; the networks gave a sweep 1e-5 (a scribble that
+    # fits no likely operator and that the search read as a sweep)
+    fit = SketchFit(1.0, 1.0, 1.0, 0.0, 0.0, confidence=1e-5)
+    got = Interpretation((), None, OperatorType.SWEEP, {}, 0, [], None, fit=fit)
+    assert got.doubtful and fit.passed() == ["confidence"]
+    assert "the networks give a sweep a probability of only 1e-05" in got.doubt()
+    sure = Interpretation(
+        (),
+        None,
+        OperatorType.SWEEP,
+        {},
+        0,
+        [],
+        None,
+        fit=SketchFit(1.0, 1.0, 1.0, 0.0, 0.0, confidence=0.6),
+    )
+    assert not sure.doubtful
