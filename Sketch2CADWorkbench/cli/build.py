@@ -66,6 +66,13 @@ def write_outputs(
             tmp.write_bytes(data())
 
 
+def replay_progress(protocol: Protocol, what: str) -> tqdm:
+    """A progress bar on stderr for replaying `protocol` (shown from PROGRESS_FROM
+    operations on: a long replay says how far it is)."""
+    steps = len(protocol.operations)
+    return tqdm(total=steps, desc=what, unit="step", leave=False, disable=steps < PROGRESS_FROM)
+
+
 def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet: bool = False):
     """Replay one protocol file and write its outputs (all or none); returns the solid.
 
@@ -76,14 +83,7 @@ def build_files(protocol_path: Path, step: Path | None, png: Path | None, quiet:
     protocol = load(protocol_path)
     if not quiet:
         print(f"{protocol_path}:\n{protocol.listing()}")
-    steps = len(protocol.operations)
-    with tqdm(
-        total=steps,
-        desc=f"build {protocol_path.name}",
-        unit="step",
-        leave=False,
-        disable=steps < PROGRESS_FROM,
-    ) as bar:
+    with replay_progress(protocol, f"build {protocol_path.name}") as bar:
         solid = build(protocol, on_step=lambda i: bar.update(1))
     write_outputs(solid, protocol, step, png)
     if not quiet:
