@@ -365,3 +365,32 @@ def test_the_operators_boolean_gives_what_cadquery_s_gives(mode, cadquery_op, co
     ours = boolean(body, tool, mode)
     body, tool = inputs()
     assert to_brep_text(ours) == to_brep_text(getattr(body, cadquery_op)(tool))
+
+
+def test_build_holds_only_the_solid_of_the_step_it_builds(box, monkeypatch):
+    # a long protocol's replay must not keep every step's solid (memory grows with the
+    # square of the steps: each holds the faces of all before it)
+    import gc
+    import weakref
+
+    from Sketch2CADWorkbench.brep import operators
+
+    made, alive = [], []
+    apply = operators.apply_operation
+
+    def tracked(solid, op, face=None):
+        out = apply(solid, op, face)
+        made.append(weakref.ref(out))
+        return out
+
+    monkeypatch.setattr(operators, "apply_operation", tracked)
+
+    def step(i):
+        gc.collect()
+        alive.append(sum(r() is not None for r in made))
+
+    ops = tuple(
+        AddSubPrism(TOP, square(1.0, LZ / 2, -15 + 6 * k), 2.0, Mode.SUBTRACT) for k in range(5)
+    )
+    operators.build(Protocol(Box((LX, LY, LZ)), ops), on_step=step)
+    assert max(alive) == 1, alive
