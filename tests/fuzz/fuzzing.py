@@ -5,7 +5,8 @@ happened; tests/fuzz/test_fuzz.py runs small seeded campaigns, `python tests/fuz
 the full ones with their counts.
 
 Outcomes: "accepted" (a valid input, or a reading), "flagged" (a reading said to be
-doubtful: its own sketch lies far from the strokes), "clean" (the error the API documents:
+doubtful: its own sketch lies far from the strokes, or the networks all but rule out its
+operator), "clean" (the error the API documents:
 ProtocolError, SessionError, OperationError, InterpretError, a ValueError with a
 message), "crash" (anything else: a traceback), "invalid" (an accepted result that is
 not one valid solid), "changed" (the caller's solid changed), "broken" (a reader saw a
