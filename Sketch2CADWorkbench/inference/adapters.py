@@ -75,9 +75,9 @@ def _fit_extrude_on_face(
     polygon, d read from the strokes' ends, on a cylinder's or cone's side from the ends
     of its lines and its rims' loops (`fit_extrude_by_ends`, the likeliest d under the
     hand's noise), refused where the line search's would be (the moved outline
-    MAX_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
+    EXTRUDE_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
     no stroke pairs with a curve, or that reading is refused, the paper's line search:
-    d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness
+    d read with the strokes' ends (`fit_extrude`'s LINE_SEARCH_END_WEIGHT) and d read by closeness
     alone when that differs, the one that explains the strokes better (`SketchFit.score`)
     first, the other built if that one is refused (a top pushed down past a hole's rim,
     say, falls apart)."""

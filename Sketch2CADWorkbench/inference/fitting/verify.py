@@ -43,8 +43,8 @@ from .common import (
 # Readings are ranked by closeness plus this times the rms gap between the strokes' ends
 # and their curves' (`SketchFit.score`): a pixel at an end weighs a pixel of closeness.
 # Held-out level-3 add/sub and sweeps read alike with 0, 0.3 and 1, worse with 3 (sweeps'
-# mean volume IoU .9532 -> .9491; see docs/measurements.md, END_WEIGHT).
-END_WEIGHT = 1.0
+# mean volume IoU .9532 -> .9491; see docs/measurements.md, SCORE_END_WEIGHT).
+SCORE_END_WEIGHT = 1.0
 # A sample of the strokes or of the sketch farther than this (pixels) from the other is
 # not explained by it (`SketchFit.strokes_unexplained`, `SketchFit.sketch_unexplained`).
 EXPLAINED_PX = 4.0
@@ -104,11 +104,11 @@ class SketchFit:
 
     @property
     def score(self) -> float:
-        """What readings are ranked by (lower is better): `misfit_px` plus END_WEIGHT
+        """What readings are ranked by (lower is better): `misfit_px` plus SCORE_END_WEIGHT
         times the rms of the end gaps."""
         ends = self.end_gaps
         return self.misfit_px + (
-            END_WEIGHT * float(np.sqrt(np.mean(ends**2))) if len(ends) else 0.0
+            SCORE_END_WEIGHT * float(np.sqrt(np.mean(ends**2))) if len(ends) else 0.0
         )
 
     def measures(self) -> dict[str, float]:
