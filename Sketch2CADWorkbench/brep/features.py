@@ -318,8 +318,8 @@ def _sweep(rf, op: Sweep, step: int, scale: float) -> Feature:
         back, clip = _reach(
             rf, op, sweep_footprint(center, rf.normal, op.r0), scale, "sweep circle c0"
         )
-        pts[-1] = Point("bottom", (None, "reach"), (0.0, -back))
-        pts.append(Point("foot", ("r0", "reach"), (op.r0, -back)))
+        pts[-1] = Point("bottom", (None, "foot_h"), (0.0, -back))
+        pts.append(Point("foot", ("r0", "foot_h"), (op.r0, -back)))
         segments = (("bottom", "foot"), ("foot", "c0"), profile, ("c1", "top"), ("top", "bottom"))
     else:
         segments = (("bottom", "c0"), profile, ("c1", "top"), ("top", "bottom"))
@@ -407,9 +407,9 @@ def combined(solid: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     """`solid` and a feature's `tool` combined by `mode` (REPLACE: the tool alone)."""
     if mode is Mode.REPLACE:
         return tool
-    return {Mode.ADD: solid.fuse, Mode.SUBTRACT: solid.cut, Mode.INTERSECT: solid.intersect}[
-        mode
-    ](tool).clean()
+    return {Mode.ADD: solid.fuse, Mode.SUBTRACT: solid.cut, Mode.INTERSECT: solid.intersect}[mode](
+        tool
+    ).clean()
 
 
 def mismatch(a: cq.Shape, b: cq.Shape) -> float:
