@@ -18,6 +18,7 @@ conversion checks against the core's solid.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from enum import Enum
@@ -173,24 +174,26 @@ def plan_protocol(protocol: Protocol) -> Plan:
 
 
 def plan_step(solid: cq.Shape, op: Operation, step: int) -> Feature:
-    """The feature of one operation on the solid before it (its base face resolved there)."""
+    """The feature of one operation on the solid before it (its base face resolved there;
+    `Feature.face` is the face reference moved onto it)."""
     rf = resolve_face(solid, op.face, f"{op.NOUN} face f")
     scale = model_scale(solid)
     if isinstance(op, Extrude):
-        return _extrude(rf, op, step, scale)
-    if isinstance(op, Bevel):
-        return _bevel(solid, rf, op, step, scale)
-    if isinstance(op, AddSubPrism):
-        return _prism(rf, op, step, scale)
-    return _sweep(rf, op, step, scale)
+        feature = _extrude(rf, op, step, scale)
+    elif isinstance(op, Bevel):
+        feature = _bevel(solid, rf, op, step, scale)
+    elif isinstance(op, AddSubPrism):
+        feature = _prism(rf, op, step, scale)
+    else:
+        feature = _sweep(rf, op, step, scale)
+    point = np.asarray(op.face.point, float) + rf.offset
+    return dataclasses.replace(feature, face=FaceRef(_tup(point), op.face.normal, op.face.surface))
 
 
 def _extrude(rf, op: Extrude, step: int, scale: float) -> Feature:
     mode = Mode.ADD if op.d > 0 else Mode.SUBTRACT
-    point = np.asarray(op.face.point, float) + rf.offset
-    face = FaceRef(_tup(point), op.face.normal, op.face.surface)
     if rf.surface is None:
-        return Feature(step, Kind.FACE, mode, face=face, length=abs(op.d), dims={"d": op.d})
+        return Feature(step, Kind.FACE, mode, length=abs(op.d), dims={"d": op.d})
     # a cylinder's or cone's side moved along its normals: the band between the side and
     # its offset, revolved over the side's angular span
     surface: CurvedSurface = rf.surface
@@ -234,7 +237,6 @@ def _extrude(rf, op: Extrude, step: int, scale: float) -> Feature:
         frame,
         outline,
         angle=min(angle, 360.0),
-        face=face,
         dims={"d": op.d},
     )
 

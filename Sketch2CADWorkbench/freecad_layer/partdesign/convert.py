@@ -1,0 +1,265 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""A protocol (or a Sketch2CAD model) as a `PartDesign::Body` of native features.
+
+One feature per step, named as the workbench names it (Box, Pad, Pocket, Boss, Hole,
+Revolution, Groove, Bevel...), built from the step's plan (brep/features):
+
+- the base box: an AdditiveBox (Length, Width, Height);
+- an extrusion of a planar face: a Pad or Pocket of that face of the feature before
+  (PartDesign pads a planar face as it pads a sketch), Length |d|;
+- a prism, a bevel: a sketch on f's plane padded or pocketed (a bevel along its crease);
+- a sweep: a sketch in a plane through the axis, revolved (Revolution) or grooved;
+- an extrusion of a cylinder's or cone's side: the band between the side and its offset,
+  revolved over the side's span;
+- a prism or sweep on a curved side: its sketch on the tangent plane (a sweep's in a
+  plane through its axis), padded or revolved from far enough behind it to meet the wall.
+
+Sketches are fully constrained by the step's parameters as named dimensions
+(sketches.py), attached to the face they stand on where the step is on a planar face
+(so that an earlier edit moves them, as far as FreeCAD's face naming follows it), else
+to the Body's origin.
+
+Each feature is checked against the core's solid of its step: the Body's solid must have
+the same volume (1e-6 relative) and a symmetric difference below 1e-6 of it. A step that
+PartDesign cannot express exactly (an intersection with a primitive, a primitive on a
+curved side that reaches through a hollow, or any feature that does not match) is kept
+as the core's solid, a `Part::Feature` that becomes the BaseFeature of a new Body, the
+reason in its `NotNative` property; the later steps are native features of that Body.
+A "replace by" step starts a new Body (nothing before it is left in the solid). The last
+Body is the model; the earlier ones are hidden.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import FreeCAD
+import Part
+
+from ...brep.faces import OperationError
+from ...brep.features import Feature, Kind, Plan, plan_protocol
+from ...brep.protocol import Mode, Protocol
+from ..make.make_model import FEATURE_OF_OPERATION
+from ..shapes import to_part
+from .sketches import draw_outline, placement
+
+TOL = 1e-6  # relative volume and symmetric difference a native feature must meet
+# the PartDesign type of each kind of feature, adding and removing
+TYPES = {
+    (Kind.FACE, True): "PartDesign::Pad",
+    (Kind.FACE, False): "PartDesign::Pocket",
+    (Kind.EXTRUDE, True): "PartDesign::Pad",
+    (Kind.EXTRUDE, False): "PartDesign::Pocket",
+    (Kind.REVOLVE, True): "PartDesign::Revolution",
+    (Kind.REVOLVE, False): "PartDesign::Groove",
+}
+NOT_NATIVE = "NotNative"  # the property that says why a step is kept as a solid
+
+
+@dataclass
+class Step:
+    """How one step was converted: `native` (a PartDesign feature matching the core's
+    solid) or not, with the reason; `mismatch` is the symmetric difference over the
+    model's volume (None where not measured)."""
+
+    step: int
+    operator: str
+    label: str
+    native: bool
+    reason: str = ""
+    mismatch: float | None = None
+
+
+@dataclass
+class Conversion:
+    """The Bodies made (the last one is the model) and each step's outcome."""
+
+    bodies: list = field(default_factory=list)
+    steps: list[Step] = field(default_factory=list)
+
+    @property
+    def body(self):
+        return self.bodies[-1]
+
+
+def convert_protocol(doc, protocol: Protocol, label: str = "Body") -> Conversion:
+    """The protocol as PartDesign Bodies in `doc`, recomputed (module docstring).
+
+    Raises:
+        OperationError: a step of the protocol does not build (the document keeps what
+            was added before).
+    """
+    plan = plan_protocol(protocol)
+    out = Conversion()
+    _new_body(doc, out, label)
+    for feature in plan.features:
+        op = protocol.operations[feature.step - 1] if feature.step else None
+        name = "Box" if op is None else FEATURE_OF_OPERATION[op.type].kind_of(op)
+        operator = "box" if op is None else op.type.value
+        if feature.mode is Mode.REPLACE:
+            _new_body(doc, out, label)  # nothing before it stays in the solid
+        reason, gap = _native(doc, out.body, plan, feature, name)
+        if reason:
+            _keep_solid(doc, out, plan, feature, name, reason, label)
+        out.steps.append(Step(feature.step, operator, name, not reason, reason, gap))
+    doc.recompute()
+    if FreeCAD.GuiUp:
+        for body in out.bodies[:-1]:
+            body.ViewObject.Visibility = False
+    return out
+
+
+def _new_body(doc, out: Conversion, label: str, base=None):
+    body = doc.addObject("PartDesign::Body", "Body")
+    body.Label = label
+    if base is not None:
+        body.BaseFeature = base
+    out.bodies.append(body)
+    return body
+
+
+def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, float | None]:
+    """Add the step's native feature to `body` and check it; "" when it matches the core,
+    else the reason (the feature is then removed again), and the mismatch measured."""
+    if feature.mode is Mode.INTERSECT:
+        return (
+            "PartDesign has no feature that keeps only the common part of the Body and a sketched primitive",
+            None,
+        )
+    added = []
+    try:
+        tip = _add_feature(doc, body, feature, name, added)
+        doc.recompute()
+        if not tip.isValid() or tip.Shape.isNull():
+            raise OperationError(f"FreeCAD's {tip.TypeId} fails: {tip.getStatusString()}")
+        gap = _mismatch(tip.Shape, to_part(plan.solids[feature.step]))
+    except (OperationError, Part.OCCError, ValueError, RuntimeError) as e:
+        _remove(doc, body, added)
+        return f"the PartDesign feature cannot be built: {e}", None
+    if gap > TOL:
+        _remove(doc, body, added)
+        why = (
+            "the primitive reaches through the curved wall into a hollow; PartDesign cannot "
+            "trim it to the surface"
+            if feature.clip is not None
+            else "the PartDesign feature's solid differs from the step's"
+        )
+        return f"{why} (symmetric difference {gap:.3g} of the volume)", gap
+    return "", gap
+
+
+def _mismatch(shape, core) -> float:
+    """Volume of the symmetric difference over the core's volume; volumes that differ by
+    more than TOL count in full."""
+    volume = core.Volume
+    if abs(shape.Volume - volume) > TOL * volume:
+        return abs(shape.Volume - volume) / volume
+    return (shape.cut(core).Volume + core.cut(shape).Volume) / volume
+
+
+def _remove(doc, body, objects) -> None:
+    for obj in reversed(objects):
+        if obj in body.Group:
+            body.removeObject(obj)
+        doc.removeObject(obj.Name)
+    doc.recompute()
+
+
+def _add_feature(doc, body, feature: Feature, name: str, added: list):
+    """The native feature of `feature` at the end of `body` (with its sketch); every
+    object made is appended to `added`."""
+    if feature.kind is Kind.BOX:
+        box = body.newObject("PartDesign::AdditiveBox", name)
+        added.append(box)
+        lx, ly, lz = feature.size
+        box.Length, box.Width, box.Height = lx, ly, lz
+        box.Placement = FreeCAD.Placement(
+            FreeCAD.Vector(-lx / 2, -ly / 2, -lz / 2), FreeCAD.Rotation()
+        )
+        return box
+    adds = feature.mode is not Mode.SUBTRACT
+    previous = body.Tip if body.Tip is not None else body.BaseFeature
+    if feature.kind is Kind.FACE:
+        obj = body.newObject(TYPES[(Kind.FACE, adds)], name)
+        added.append(obj)
+        obj.Profile = (previous, [_face_name(previous.Shape, feature)])
+        obj.Length = feature.length
+        return obj
+    sketch = body.newObject("Sketcher::SketchObject", f"{name}Sketch")
+    added.append(sketch)
+    _attach(doc, body, sketch, previous, feature)
+    draw_outline(sketch, feature.outline)
+    obj = body.newObject(TYPES[(feature.kind, adds)], name)
+    added.append(obj)
+    obj.Profile = sketch
+    if feature.kind is Kind.REVOLVE:
+        obj.ReferenceAxis = (sketch, ["V_Axis"])
+        obj.Angle = feature.angle
+    else:
+        obj.Length = feature.length
+        if feature.back:
+            obj.Type = "TwoLengths"
+            obj.Length2 = feature.back
+        if feature.direction is not None:
+            obj.UseCustomVector = True
+            obj.Direction = FreeCAD.Vector(*feature.direction)
+            obj.AlongSketchNormal = True
+    sketch.Visibility = False
+    return obj
+
+
+def _face_name(shape, feature: Feature) -> str:
+    """The name ("FaceN") of the planar face of `shape` that the step's face reference
+    designates: the one through its point whose outward normal is its normal."""
+    point = FreeCAD.Vector(*feature.face.point)
+    normal = FreeCAD.Vector(*feature.face.normal)
+    tol = 1e-6 * max(shape.BoundBox.DiagonalLength, 1.0)
+    vertex = Part.Vertex(point)
+    for i, face in enumerate(shape.Faces):
+        if face.Surface.__class__.__name__ != "Plane" or face.distToShape(vertex)[0] > tol:
+            continue
+        u, v = face.Surface.parameter(point)
+        if face.normalAt(u, v).dot(normal) > 1 - 1e-6:
+            return f"Face{i + 1}"
+    raise OperationError(f"no planar face through {tuple(point)} with normal {tuple(normal)}")
+
+
+def _support_property(obj) -> str:
+    """FreeCAD 1.0 renamed an attachment's Support to AttachmentSupport."""
+    return "AttachmentSupport" if "AttachmentSupport" in obj.PropertiesList else "Support"
+
+
+def _attach(doc, body, sketch, previous, feature: Feature) -> None:
+    """Attach the sketch to the planar face it stands on (FlatFace), else to the Body's
+    XY plane, with the offset that puts it exactly on the step's plane."""
+    want = placement(feature.frame)
+    support = None
+    if previous is not None and feature.face is not None and not feature.face.surface.curved:
+        try:
+            support = [(previous, _face_name(previous.Shape, feature))]
+        except OperationError:
+            support = None
+    if support is None:
+        xy = next(f for f in body.Origin.OriginFeatures if f.Role == "XY_Plane")
+        support = [(xy, "")]
+    setattr(sketch, _support_property(sketch), support)
+    sketch.MapMode = "FlatFace"
+    sketch.AttachmentOffset = FreeCAD.Placement()
+    sketch.recompute()
+    sketch.AttachmentOffset = sketch.Placement.inverse().multiply(want)
+
+
+def _keep_solid(
+    doc, out: Conversion, plan: Plan, feature: Feature, name: str, reason: str, label: str
+) -> None:
+    """The step's solid as a Part::Feature (the reason in its NotNative property), the
+    BaseFeature of a new Body that the later steps build on."""
+    solid = doc.addObject("Part::Feature", f"{name}Solid")
+    solid.Label = f"{name} (solid)"
+    solid.Shape = to_part(plan.solids[feature.step])
+    solid.addProperty(
+        "App::PropertyString", NOT_NATIVE, "Sketch2CAD", "Why this step is not a PartDesign feature"
+    )
+    solid.NotNative = reason
+    _new_body(doc, out, label, solid)
+    doc.recompute()

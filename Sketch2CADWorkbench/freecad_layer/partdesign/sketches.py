@@ -1,0 +1,98 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""A feature plan's outline (brep/features) as a Sketcher sketch, fully constrained.
+
+Every point of the outline gets one constraint per coordinate: on a sketch axis where
+the coordinate is 0, Horizontal or Vertical on the line to an earlier point that shares
+that dimension, else a DistanceX or DistanceY from the sketch's origin named as the
+dimension (`Constraints.d`, `Constraints.r0`, ...). The segments' shared ends are
+coincident. A cubic Bezier is a Sketcher B-spline of degree 3 with four poles; its
+inner poles are placed by their construction circles (Sketcher's own way of editing
+poles), each of weight 1.
+"""
+
+import FreeCAD
+import Part
+import Sketcher
+
+from ...brep.features import Frame, Outline
+
+ROOT, H_AXIS, V_AXIS = (-1, 1), -1, -2  # the sketch's origin point and axes (geometry ids)
+START, END, CENTER = 1, 2, 3  # Sketcher's point positions on a geometry
+
+
+def placement(frame: Frame) -> "FreeCAD.Placement":
+    """The placement of a sketch whose plane is `frame` (u, v, normal as its x, y, z)."""
+    u, v, n = frame.u, frame.v, frame.normal
+    m = FreeCAD.Matrix(u[0], v[0], n[0], frame.origin[0], u[1], v[1], n[1], frame.origin[1])
+    m.A31, m.A32, m.A33, m.A34 = u[2], v[2], n[2], frame.origin[2]
+    return FreeCAD.Placement(m)
+
+
+def draw_outline(sketch, outline: Outline) -> None:
+    """Add the outline's geometry and constraints to an empty sketch (module docstring)."""
+    at = {p.name: FreeCAD.Vector(p.at[0], p.at[1], 0.0) for p in outline.points}
+    uses: dict[str, list[tuple[int, int]]] = {p.name: [] for p in outline.points}
+    lines: dict[frozenset, int] = {}
+    constraints = []
+    for seg in outline.segments:
+        if len(seg) == 2:
+            geo = sketch.addGeometry(Part.LineSegment(at[seg[0]], at[seg[1]]), False)
+            lines[frozenset(seg)] = geo
+            uses[seg[0]].append((geo, START))
+            uses[seg[1]].append((geo, END))
+            continue
+        curve = Part.BSplineCurve()
+        curve.buildFromPolesMultsKnots([at[k] for k in seg], [4, 4], [0.0, 1.0], False, 3)
+        geo = sketch.addGeometry(curve, False)
+        uses[seg[0]].append((geo, START))
+        uses[seg[3]].append((geo, END))
+        before = sketch.GeometryCount
+        sketch.exposeInternalGeometry(geo)
+        poles = _poles(sketch, geo, before)
+        for index, circle in poles.items():
+            constraints.append(Sketcher.Constraint("Weight", circle, 1.0))
+            if index in (1, 2):
+                uses[seg[index]].append((circle, CENTER))
+    for name, occurrences in uses.items():
+        first = occurrences[0]
+        constraints += [Sketcher.Constraint("Coincident", *first, *o) for o in occurrences[1:]]
+    named: dict[tuple[int, str], str] = {}  # (coordinate, dimension) -> the point holding it
+    dims: list[tuple[object, str]] = []
+    for p in outline.points:
+        geo, pos = uses[p.name][0]
+        if p.dims == (None, None):
+            constraints.append(Sketcher.Constraint("Coincident", geo, pos, *ROOT))
+            continue
+        for axis, dim in enumerate(p.dims):
+            if dim is None:  # u = 0 lies on the v axis, v = 0 on the u axis
+                constraints.append(
+                    Sketcher.Constraint("PointOnObject", geo, pos, V_AXIS if axis == 0 else H_AXIS)
+                )
+                continue
+            held = named.get((axis, dim))
+            line = lines.get(frozenset((held, p.name))) if held else None
+            if line is not None:
+                constraints.append(
+                    Sketcher.Constraint("Vertical" if axis == 0 else "Horizontal", line)
+                )
+                continue
+            label = dim if held is None else f"{dim}_{p.name}"
+            named.setdefault((axis, dim), p.name)
+            kind = "DistanceX" if axis == 0 else "DistanceY"
+            dims.append((Sketcher.Constraint(kind, geo, pos, p.at[axis]), label))
+    sketch.addConstraint(constraints)
+    for constraint, label in dims:
+        sketch.renameConstraint(sketch.addConstraint(constraint), label)
+
+
+def _poles(sketch, bspline: int, since: int) -> dict[int, int]:
+    """The construction circles of a B-spline's poles that exposeInternalGeometry added:
+    pole index -> geometry id (matched by position: FreeCAD 0.20's constraints do not
+    say which pole a circle stands for)."""
+    poles = sketch.Geometry[bspline].getPoles()
+    out = {}
+    for geo in range(since, sketch.GeometryCount):
+        shape = sketch.Geometry[geo]
+        if isinstance(shape, Part.Circle):
+            out[min(range(len(poles)), key=lambda k: (poles[k] - shape.Center).Length)] = geo
+    return out
