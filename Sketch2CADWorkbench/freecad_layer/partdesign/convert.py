@@ -31,7 +31,7 @@ Body is the model; the earlier ones are hidden.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import FreeCAD
 import Part
@@ -41,7 +41,7 @@ from ...brep.features import Feature, Kind, Plan, plan_protocol
 from ...brep.protocol import Mode, Protocol
 from ..make.make_model import FEATURE_OF_OPERATION
 from ..shapes import to_part
-from .sketches import draw_outline, placement
+from .sketches import copy_face, draw_outline, placement
 
 TOL = 1e-6  # relative volume and symmetric difference a native feature must meet
 # the PartDesign type of each kind of feature, adding and removing
@@ -54,6 +54,12 @@ TYPES = {
     (Kind.REVOLVE, False): "PartDesign::Groove",
 }
 NOT_NATIVE = "NotNative"  # the property that says why a step is kept as a solid
+# Whether sketches are attached to the faces they stand on (and faces padded directly),
+# so that an edit of an earlier step moves them: FreeCAD 1.0 and newer keep such
+# references through most edits; FreeCAD 0.20 renumbers faces (an edit of the base box's
+# height breaks a later sketch's face there), so there they stand in the Body's frame.
+FOLLOW_FACES = int(FreeCAD.Version()[0]) >= 1
+LAST: dict = {}  # document name -> its last conversion (the GUI command reports it)
 
 
 @dataclass
@@ -68,6 +74,8 @@ class Step:
     native: bool
     reason: str = ""
     mismatch: float | None = None
+    feature: str = ""  # the name of its feature object (a Part::Feature when not native)
+    sketch: str = ""  # the name of its sketch, if it has one
 
 
 @dataclass
@@ -80,6 +88,21 @@ class Conversion:
     @property
     def body(self):
         return self.bodies[-1]
+
+
+def convert_model(model) -> Conversion:
+    """A Sketch2CAD model of the document as PartDesign Bodies beside it (labelled after
+    it); the model is hidden, the Bodies are the last objects of the document.
+
+    Raises:
+        OperationError: a step of the model does not build.
+    """
+    from ..queries import protocol_from_model
+
+    conversion = convert_protocol(model.Document, protocol_from_model(model), f"{model.Label}Body")
+    if FreeCAD.GuiUp:
+        model.ViewObject.Visibility = False
+    return conversion
 
 
 def convert_protocol(doc, protocol: Protocol, label: str = "Body") -> Conversion:
@@ -98,14 +121,18 @@ def convert_protocol(doc, protocol: Protocol, label: str = "Body") -> Conversion
         operator = "box" if op is None else op.type.value
         if feature.mode is Mode.REPLACE:
             _new_body(doc, out, label)  # nothing before it stays in the solid
-        reason, gap = _native(doc, out.body, plan, feature, name)
+        reason, gap, added = _native(doc, out.body, plan, feature, name)
         if reason:
-            _keep_solid(doc, out, plan, feature, name, reason, label)
-        out.steps.append(Step(feature.step, operator, name, not reason, reason, gap))
+            added = [_keep_solid(doc, out, plan, feature, name, reason, label)]
+        sketch = next((o.Name for o in added if o.TypeId == "Sketcher::SketchObject"), "")
+        out.steps.append(
+            Step(feature.step, operator, name, not reason, reason, gap, added[-1].Name, sketch)
+        )
     doc.recompute()
     if FreeCAD.GuiUp:
         for body in out.bodies[:-1]:
             body.ViewObject.Visibility = False
+    LAST[doc.Name] = out
     return out
 
 
@@ -118,13 +145,15 @@ def _new_body(doc, out: Conversion, label: str, base=None):
     return body
 
 
-def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, float | None]:
-    """Add the step's native feature to `body` and check it; "" when it matches the core,
-    else the reason (the feature is then removed again), and the mismatch measured."""
+def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, float | None, list]:
+    """Add the step's native feature to `body` and check it: "" when it matches the core,
+    else the reason (the feature is then removed again); the mismatch measured; the
+    objects added (its sketch, then the feature)."""
     if feature.mode is Mode.INTERSECT:
         return (
             "PartDesign has no feature that keeps only the common part of the Body and a sketched primitive",
             None,
+            [],
         )
     added = []
     try:
@@ -135,7 +164,7 @@ def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, fl
         gap = _mismatch(tip.Shape, to_part(plan.solids[feature.step]))
     except (OperationError, Part.OCCError, ValueError, RuntimeError) as e:
         _remove(doc, body, added)
-        return f"the PartDesign feature cannot be built: {e}", None
+        return f"the PartDesign feature cannot be built: {e}", None, []
     if gap > TOL:
         _remove(doc, body, added)
         why = (
@@ -144,8 +173,8 @@ def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, fl
             if feature.clip is not None
             else "the PartDesign feature's solid differs from the step's"
         )
-        return f"{why} (symmetric difference {gap:.3g} of the volume)", gap
-    return "", gap
+        return f"{why} (symmetric difference {gap:.3g} of the volume)", gap, []
+    return "", gap, added
 
 
 def _mismatch(shape, core) -> float:
@@ -179,17 +208,22 @@ def _add_feature(doc, body, feature: Feature, name: str, added: list):
         return box
     adds = feature.mode is not Mode.SUBTRACT
     previous = body.Tip if body.Tip is not None else body.BaseFeature
-    if feature.kind is Kind.FACE:
+    face = _face_name(previous.Shape, feature) if feature.kind is Kind.FACE else ""
+    if face and FOLLOW_FACES:  # PartDesign pads a planar face as it pads a sketch
         obj = body.newObject(TYPES[(Kind.FACE, adds)], name)
         added.append(obj)
-        obj.Profile = (previous, [_face_name(previous.Shape, feature)])
+        obj.Profile = (previous, [face])
         obj.Length = feature.length
         return obj
     sketch = body.newObject("Sketcher::SketchObject", f"{name}Sketch")
     added.append(sketch)
-    _attach(doc, body, sketch, previous, feature)
-    draw_outline(sketch, feature.outline)
-    obj = body.newObject(TYPES[(feature.kind, adds)], name)
+    if face:  # a sketch holding the face's outline, on its plane
+        _attach(doc, body, sketch, previous, face_frame(feature))
+        copy_face(sketch, previous.Shape.getElement(face))
+    else:
+        _attach(doc, body, sketch, previous, feature)
+        draw_outline(sketch, feature.outline)
+    obj = body.newObject(TYPES[(Kind.EXTRUDE if face else feature.kind, adds)], name)
     added.append(obj)
     obj.Profile = sketch
     if feature.kind is Kind.REVOLVE:
@@ -206,6 +240,19 @@ def _add_feature(doc, body, feature: Feature, name: str, added: list):
             obj.AlongSketchNormal = True
     sketch.Visibility = False
     return obj
+
+
+def face_frame(feature: Feature) -> Feature:
+    """A FACE feature with the sketch plane of its face: at the face's point, along its
+    outward normal."""
+    import numpy as np
+
+    from ...brep.features import Frame
+    from ...brep.geometry import plane_basis
+
+    u, _ = plane_basis(np.asarray(feature.face.normal, float))
+    frame = Frame(feature.face.point, tuple(float(x) for x in u), feature.face.normal)
+    return replace(feature, frame=frame)
 
 
 def _face_name(shape, feature: Feature) -> str:
@@ -234,7 +281,12 @@ def _attach(doc, body, sketch, previous, feature: Feature) -> None:
     XY plane, with the offset that puts it exactly on the step's plane."""
     want = placement(feature.frame)
     support = None
-    if previous is not None and feature.face is not None and not feature.face.surface.curved:
+    if (
+        FOLLOW_FACES
+        and previous is not None
+        and feature.face is not None
+        and not feature.face.surface.curved
+    ):
         try:
             support = [(previous, _face_name(previous.Shape, feature))]
         except OperationError:
@@ -251,7 +303,7 @@ def _attach(doc, body, sketch, previous, feature: Feature) -> None:
 
 def _keep_solid(
     doc, out: Conversion, plan: Plan, feature: Feature, name: str, reason: str, label: str
-) -> None:
+):
     """The step's solid as a Part::Feature (the reason in its NotNative property), the
     BaseFeature of a new Body that the later steps build on."""
     solid = doc.addObject("Part::Feature", f"{name}Solid")
@@ -263,3 +315,4 @@ def _keep_solid(
     solid.NotNative = reason
     _new_body(doc, out, label, solid)
     doc.recompute()
+    return solid

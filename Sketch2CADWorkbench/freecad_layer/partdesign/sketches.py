@@ -10,6 +10,8 @@ inner poles are placed by their construction circles (Sketcher's own way of edit
 poles), each of weight 1.
 """
 
+import math
+
 import FreeCAD
 import Part
 import Sketcher
@@ -96,3 +98,42 @@ def _poles(sketch, bspline: int, since: int) -> dict[int, int]:
         if isinstance(shape, Part.Circle):
             out[min(range(len(poles)), key=lambda k: (poles[k] - shape.Center).Length)] = geo
     return out
+
+
+def copy_face(sketch, face) -> None:
+    """Add a planar face's edges (outline and holes; world coordinates) to a sketch lying
+    in its plane, each fixed by a Block constraint: the outline is what earlier steps
+    made, not a parameter of the step that extrudes it. Lines and circular arcs stay
+    lines and arcs (counter-clockwise, as Sketcher keeps them); other curves become
+    B-splines."""
+    to_sketch = sketch.Placement.inverse().toMatrix()
+    for edge in face.Edges:
+        local = edge.copy()
+        local.transformShape(to_sketch)
+        first, last = local.Vertexes[0].Point, local.Vertexes[-1].Point
+        kind = type(local.Curve).__name__
+        if kind in ("Line", "LineSegment"):
+            geometry = Part.LineSegment(first, last)
+        elif kind == "Circle" and local.isClosed():
+            geometry = Part.Circle(local.Curve.Center, FreeCAD.Vector(0, 0, 1), local.Curve.Radius)
+        elif kind == "Circle":
+            mid = local.valueAt(0.5 * (local.FirstParameter + local.LastParameter))
+            center = local.Curve.Center
+            circle = Part.Circle(center, FreeCAD.Vector(0, 0, 1), local.Curve.Radius)
+            geometry = Part.ArcOfCircle(circle, *_counter_clockwise(center, first, mid, last))
+        else:
+            geometry = local.toNurbs().Edges[0].Curve
+        geo = sketch.addGeometry(geometry, False)
+        sketch.addConstraint(Sketcher.Constraint("Block", geo))
+
+
+def _counter_clockwise(center, a, mid, b) -> tuple[float, float]:
+    """The angles (radians, counter-clockwise) spanning the arc from a through mid to b."""
+    t_a, t_mid, t_b = (math.atan2(p.y - center.y, p.x - center.x) for p in (a, mid, b))
+
+    def ccw(t0: float, t1: float) -> float:
+        return (t1 - t0) % (2 * math.pi)
+
+    if ccw(t_a, t_mid) < ccw(t_a, t_b):
+        return t_a, t_a + ccw(t_a, t_b)
+    return t_b, t_b + ccw(t_b, t_a)
