@@ -70,7 +70,7 @@ def main() -> int:
     rng = np.random.default_rng(seed)
     cases += [(f"random-{seed}-{i}", random_protocol(rng)) for i in range(count)]
     tally = {"examples": Counter(), "random": Counter()}
-    reasons, errors, start = Counter(), [], time.monotonic()
+    reasons, errors, cases_left, start = Counter(), [], [], time.monotonic()
     for name, protocol in cases:
         group = "random" if name.startswith("random") else "examples"
         doc = FreeCAD.newDocument("check")
@@ -86,6 +86,7 @@ def main() -> int:
             tally[group][(step.operator, "native")] += step.native
             if not step.native:
                 reasons[f"{step.operator}: {step.reason.split(' (')[0]}"] += 1
+                cases_left.append(f"{name} step {step.step} ({step.label}): {step.reason}")
     for group, counts in tally.items():
         print(f"{group}: steps converted exactly, per operator")
         operators = sorted({op for op, _ in counts})
@@ -96,6 +97,8 @@ def main() -> int:
             print(f"  {op:8s} {ok:4d} / {n:4d}  {100.0 * ok / max(n, 1):6.2f}%")
     for reason, n in reasons.most_common():
         print(f"not native ({n}): {reason}")
+    for case in cases_left:
+        print(f"  {case}")
     for error in errors:
         print(f"ERROR {error}")
     print(f"{len(cases)} protocols in {time.monotonic() - start:.0f} s, {len(errors)} errors")
