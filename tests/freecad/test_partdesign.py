@@ -2,8 +2,11 @@
 """The model as a PartDesign Body of native features (freecad_layer/partdesign), in
 freecadcmd; then opened, recomputed and edited in a FreeCAD without the workbench."""
 
+import os
+import subprocess
+
 import pytest
-from freecad_process import freecad_env, run_script
+from freecad_process import ROOT, XVFB, freecad_env, run_script
 
 pytestmark = pytest.mark.freecad
 
@@ -45,3 +48,22 @@ def plain_run(conversion_run, assert_passed):
 @pytest.mark.parametrize("name", PLAIN_CHECKS)
 def test_without_the_workbench(plain_run, assert_passed, name):
     assert_passed(plain_run, name)
+
+
+def test_convert_command_in_the_gui(tmp_path, run_freecad):
+    """Sketch2CAD_ConvertToPartDesign on a model loaded in the GUI (the documentation's
+    screenshot script, writing into tmp_path; run_freecad has primed the user config)."""
+    env = dict(freecad_env(tmp_path), SKETCH2CAD_SCREENSHOT_DIR=str(tmp_path))
+    out = subprocess.run(
+        XVFB + ["freecad", str(ROOT / "scripts" / "partdesign_screenshot.py")],
+        env=env,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert "CHECK PASSED convert_command" in out.stdout, (out.stdout + out.stderr)[-6000:]
+    assert out.returncode == 0
+    assert all(
+        os.path.getsize(tmp_path / f"partdesign-{n}.png") > 10000 for n in ("tree", "sketch")
+    )
