@@ -158,6 +158,10 @@ def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, fl
     added = []
     try:
         tip = _add_feature(doc, body, feature, name, added)
+        if "Refine" in tip.PropertiesList:
+            # coplanar faces merged, as the core merges them after every Boolean: a later
+            # step's face is then the same face (a pad's side and the box's are one)
+            tip.Refine = True
         doc.recompute()
         if not tip.isValid() or tip.Shape.isNull():
             raise OperationError(f"FreeCAD's {tip.TypeId} fails: {tip.getStatusString()}")
