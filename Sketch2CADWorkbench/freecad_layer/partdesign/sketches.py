@@ -51,8 +51,17 @@ def draw_outline(sketch, outline: Outline) -> None:
         before = sketch.GeometryCount
         sketch.exposeInternalGeometry(geo)
         poles = _poles(sketch, geo, before)
+        # FreeCAD 1.0 and newer fix the poles' weights as they expose them (a Weight and
+        # Equal constraints); 0.20 leaves them free
+        weighted = {
+            g
+            for c in sketch.Constraints
+            if c.Type in ("Weight", "Equal", "Radius", "Diameter")
+            for g in (c.First, c.Second)
+        }
         for index, circle in poles.items():
-            constraints.append(Sketcher.Constraint("Weight", circle, 1.0))
+            if circle not in weighted:
+                constraints.append(Sketcher.Constraint("Weight", circle, 1.0))
             if index in (1, 2):
                 uses[seg[index]].append((circle, CENTER))
     for name, occurrences in uses.items():
