@@ -55,10 +55,13 @@ TYPES = {
 }
 NOT_NATIVE = "NotNative"  # the property that says why a step is kept as a solid
 # Whether sketches are attached to the faces they stand on (and faces padded directly),
-# so that an edit of an earlier step moves them: FreeCAD 1.0 and newer keep such
-# references through most edits; FreeCAD 0.20 renumbers faces (an edit of the base box's
-# height breaks a later sketch's face there), so there they stand in the Body's frame.
-FOLLOW_FACES = int(FreeCAD.Version()[0]) >= 1
+# so that an edit of an earlier step moves them. Only where the edits of
+# tests/freecad/test_partdesign.py (one dimension per feature, the base box's height
+# among them) kept every such reference: FreeCAD 1.0. FreeCAD 0.20 renumbered a
+# Revolution's faces when the box's height changed, and 1.1.3 lost a sketch's face on a
+# Revolution when that Revolution's height changed ("subshape not found"); there every
+# sketch stands in the Body's frame.
+FOLLOW_FACES = tuple(int(x) for x in FreeCAD.Version()[:2]) == (1, 0)
 LAST: dict = {}  # document name -> its last conversion (the GUI command reports it)
 
 
@@ -235,9 +238,10 @@ def _add_feature(doc, body, feature: Feature, name: str, added: list):
         obj.Angle = feature.angle
     else:
         obj.Length = feature.length
-        if feature.back:
-            obj.Type = "TwoLengths"
-            obj.Length2 = feature.back
+        if feature.back and "SideType" in obj.PropertiesList:  # FreeCAD 1.1 and newer
+            obj.SideType, obj.Type2, obj.Length2 = "Two sides", "Length", feature.back
+        elif feature.back:
+            obj.Type, obj.Length2 = "TwoLengths", feature.back
         if feature.direction is not None:
             obj.UseCustomVector = True
             obj.Direction = FreeCAD.Vector(*feature.direction)
