@@ -67,3 +67,19 @@ def test_convert_command_in_the_gui(tmp_path, run_freecad):
     assert all(
         os.path.getsize(tmp_path / f"partdesign-{n}.png") > 10000 for n in ("tree", "sketch")
     )
+
+
+def test_build_fcstd_saves_the_body_through_freecadcmd(tmp_path):
+    protocol = ROOT / "examples" / "protocols" / "nut.json"
+    env = freecad_env(tmp_path)
+    out = subprocess.run(
+        [str(ROOT / ".bin" / "sketch2cad"), "build", str(protocol), "--fcstd", "nut.FCStd"],
+        env=env,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "6 of 6 steps native" in out.stdout, out.stdout
+    assert (tmp_path / "nut.FCStd").stat().st_size > 1000

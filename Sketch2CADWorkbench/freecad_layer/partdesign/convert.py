@@ -15,9 +15,10 @@ Revolution, Groove, Bevel...), built from the step's plan (brep/features):
   plane through its axis), padded or revolved from far enough behind it to meet the wall.
 
 Sketches are fully constrained by the step's parameters as named dimensions
-(sketches.py), attached to the face they stand on where the step is on a planar face
-(so that an earlier edit moves them, as far as FreeCAD's face naming follows it), else
-to the Body's origin.
+(sketches.py). On FreeCAD 1.0 they are attached to the planar face they stand on, and a
+face's extrusion pads that face, so that an edit of an earlier step moves them
+(`FOLLOW_FACES`); elsewhere they stand in the Body's frame (attached to its XY plane with
+the step's placement as offset) and a face's extrusion pads a copy of its outline.
 
 Each feature is checked against the core's solid of its step: the Body's solid must have
 the same volume (1e-6 relative) and a symmetric difference below 1e-6 of it. A step that
