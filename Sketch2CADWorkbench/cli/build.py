@@ -102,7 +102,9 @@ def write_fcstd(protocol: Protocol, path: Path) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         source = Path(tmp) / "protocol.json"
         source.write_text(protocol.to_json())
-        env = dict(os.environ, SKETCH2CAD_PROTOCOL=str(source), SKETCH2CAD_FCSTD=str(path))
+        env = dict(
+            os.environ, SKETCH2CAD_PROTOCOL=str(source), SKETCH2CAD_FCSTD=str(path.resolve())
+        )
         env.pop("PYTHONPATH", None)  # FreeCAD's own Python set-up
         done = subprocess.run(
             [freecadcmd(), str(SAVE_BODY)], env=env, capture_output=True, text=True, cwd=tmp
