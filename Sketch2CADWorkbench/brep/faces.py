@@ -196,7 +196,16 @@ class CurvedSurface:
 
     def solid(self, around: np.ndarray, extent: float) -> cq.Solid:
         """The solid the surface bounds (the points inside it), `extent` mm along the axis
-        either side of the foot of `around`; a cone is cut off at its apex."""
+        either side of the foot of `around`; a cone is cut off at its apex (`bounds`)."""
+        base, r_lo, r_hi, length = self.bounds(around, extent)
+        direction = cq.Vector(*self.axis)
+        if self.slope == 0.0:
+            return cq.Solid.makeCylinder(self.radius, length, cq.Vector(*base), direction)
+        return cq.Solid.makeCone(r_lo, r_hi, length, cq.Vector(*base), direction)
+
+    def bounds(self, around: np.ndarray, extent: float) -> tuple[np.ndarray, float, float, float]:
+        """The solid of `solid` as a cylinder or cone along the axis: its base centre (3,),
+        radius there and at the far end, and length (mm)."""
         h0 = float((np.asarray(around, float) - self.origin) @ self.axis)
         lo, hi = h0 - extent, h0 + extent
         r_lo, r_hi = self.radius + self.slope * lo, self.radius + self.slope * hi
@@ -206,11 +215,7 @@ class CurvedSurface:
                 lo, r_lo = apex, 0.0
             if r_hi < 0:
                 hi, r_hi = apex, 0.0
-        base = cq.Vector(*(self.origin + lo * self.axis))
-        direction = cq.Vector(*self.axis)
-        if self.slope == 0.0:
-            return cq.Solid.makeCylinder(self.radius, hi - lo, base, direction)
-        return cq.Solid.makeCone(r_lo, r_hi, hi - lo, base, direction)
+        return self.origin + lo * self.axis, r_lo, r_hi, hi - lo
 
 
 @dataclass(frozen=True)

@@ -374,13 +374,7 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float)
     if rf.surface is None:
         wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
         return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
-    closed = np.vstack([pts, pts[:1]])
-    footprint = np.concatenate(
-        [
-            a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
-            for a, b in zip(closed[:-1], closed[1:])
-        ]
-    )
+    footprint = prism_footprint(pts)
 
     def prism(start: float, length: float) -> cq.Solid:
         wire = cq.Wire.makePolygon([_vec(p + rf.normal * start) for p in pts], close=True)
@@ -389,24 +383,49 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float)
     return _stand_on_curved(rf, op, footprint, prism, scale, "prism polygon c")
 
 
-def _stand_on_curved(
-    rf: ResolvedFace,
-    op: AddSubPrism | Sweep,
-    footprint: np.ndarray,
-    primitive: Callable[[float, float], cq.Solid],
-    scale: float,
-    what: str,
-) -> cq.Solid:
-    """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap.
+def prism_footprint(pts: np.ndarray) -> np.ndarray:
+    """A prism's outline on T, sampled (16 points a side) for `curved_reach`."""
+    closed = np.vstack([pts, pts[:1]])
+    return np.concatenate(
+        [
+            a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
+            for a, b in zip(closed[:-1], closed[1:])
+        ]
+    )
 
-    `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f;
-    `primitive(start, length)` is the primitive from `start` mm along n_f off T, `length`
-    mm along n_f (negative: against it). An ADD runs from below the surface under the
-    whole footprint up to d above T, and keeps what lies outside the material's side of
-    f's surface; a SUBTRACT runs from above the surface down to d below T, and keeps
-    what lies on the material's side. So a boss on a tube meets its wall all round, and
-    a slot or hole cuts through the curved wall to depth d below p_f, not a sliver of
-    it. For a cylinder, the footprint must lie within the cylinder's width.
+
+def sweep_footprint(center: np.ndarray, normal: np.ndarray, r0: float) -> np.ndarray:
+    """A sweep's circle c0 on T, sampled (96 points) for `curved_reach`."""
+    u, v = plane_basis(normal)
+    angles = np.linspace(0, 2 * np.pi, 96, endpoint=False)
+    return center + r0 * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+
+
+@dataclass(frozen=True)
+class Reach:
+    """How a prism or sweep stands on a curved f: it starts `start` mm along n_f off the
+    tangent plane T (below the surface for an ADD, above it for a SUBTRACT), and is
+    trimmed to the solid that f's surface bounds (`inside`): what lies inside it is kept
+    when `keep_inside`, else what lies outside."""
+
+    start: float
+    inside: cq.Solid
+    keep_inside: bool
+    extent: float  # how far `inside` reaches along the axis either side of p_f (mm)
+
+
+def curved_reach(
+    rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.ndarray, scale: float, what: str
+) -> Reach:
+    """Where a prism's or sweep's primitive on a curved f starts, and what trims it.
+
+    `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f. An
+    ADD runs from below the surface under the whole footprint up to d above T, and keeps
+    what lies outside the material's side of f's surface; a SUBTRACT runs from above the
+    surface down to d below T, and keeps what lies on the material's side. So a boss on a
+    tube meets its wall all round, and a slot or hole cuts through the curved wall to
+    depth d below p_f, not a sliver of it. For a cylinder, the footprint must lie within
+    the cylinder's width.
 
     Raises:
         OperationError: for INTERSECT/REPLACE, or a footprint wider than the surface.
@@ -427,14 +446,36 @@ def _stand_on_curved(
     margin = REACH_MARGIN_REL * scale
     if op.mode is Mode.ADD:
         start = -(max(0.0, -float(t.min())) + margin)
-        tool = primitive(start, op.d - start)
     else:
         start = max(0.0, float(t.max())) + margin
-        tool = primitive(start, -op.d - start)
     extent = 2.0 * (scale + op.d + float(np.abs(footprint - rf.plane_point).max()) + abs(start))
-    inside = surface.solid(rf.plane_point, extent)
-    keep_inside = (op.mode is Mode.ADD) != surface.convex
-    clipped = boolean(tool, inside, Mode.INTERSECT if keep_inside else Mode.SUBTRACT)
+    return Reach(
+        start,
+        surface.solid(rf.plane_point, extent),
+        (op.mode is Mode.ADD) != surface.convex,
+        extent,
+    )
+
+
+def _stand_on_curved(
+    rf: ResolvedFace,
+    op: AddSubPrism | Sweep,
+    footprint: np.ndarray,
+    primitive: Callable[[float, float], cq.Solid],
+    scale: float,
+    what: str,
+) -> cq.Solid:
+    """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap
+    (`curved_reach`): `primitive(start, length)` is the primitive from `start` mm along
+    n_f off T, `length` mm along n_f (negative: against it).
+
+    Raises:
+        OperationError: as `curved_reach`, or the trimmed primitive is not one solid.
+    """
+    reach = curved_reach(rf, op, footprint, scale, what)
+    length = op.d - reach.start if op.mode is Mode.ADD else -op.d - reach.start
+    tool = primitive(reach.start, length)
+    clipped = boolean(tool, reach.inside, Mode.INTERSECT if reach.keep_inside else Mode.SUBTRACT)
     solids = clipped.Solids()
     if len(solids) != 1 or not solids[0].isValid():
         raise OperationError(
@@ -475,10 +516,7 @@ def sweep_tool(solid: cq.Shape, rf: ResolvedFace, op: Sweep, scale: float) -> cq
     """
     (center,) = on_face_plane([op.center], rf, scale, "sweep centre of c0")
     if rf.surface is not None:
-        # on a curved f: c0 on T, its footprint the circle of radius r0 there
-        u, v = plane_basis(rf.normal)
-        angles = np.linspace(0, 2 * np.pi, 96, endpoint=False)
-        footprint = center + op.r0 * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+        footprint = sweep_footprint(center, rf.normal, op.r0)  # c0 on T
 
         def primitive(start: float, length: float) -> cq.Solid:
             # the sweep itself, and a cylinder of c0 through T to the surface
