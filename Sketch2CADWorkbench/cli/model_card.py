@@ -141,7 +141,7 @@ HEAD_COMMANDS = [
     "--eval data/head-test-l1 data/head-test-l3 data/curved-50003 "
     "--json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
-    "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
+    "sketch2cad head-recovery --data data/heldout-lN --head runs/head "
     "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
 ]
 
@@ -154,7 +154,7 @@ def heads_section(
     """The model card's section on the structured heads (inference/heads.py): `runs`,
     each run's `train-head --json` scores and head checkpoint dictionary (or None), the
     first being the head that ships when `shipped`; `recovery`, per data set the
-    end-to-end rows of scripts/recovery_with_head.py --json."""
+    end-to-end rows of `sketch2cad head-recovery --json`."""
     trained = []
     for _, head in runs:
         if head:
@@ -212,7 +212,7 @@ def _trained_on(head: dict) -> str:
 
 def end_to_end(recovery: dict[str, dict]) -> list[str]:
     """Recovery of whole interpret steps with the U-Net alone and with the head, per
-    data set (scripts/recovery_with_head.py --json), strict [with the flip]."""
+    data set (`sketch2cad head-recovery --json`), strict [with the flip]."""
     out = [
         "End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
         "the truth; in brackets with the named one-click flip of the Boolean), %; "
@@ -326,7 +326,7 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
         type=Path,
         nargs="+",
         metavar="JSON",
-        help="scripts/recovery_with_head.py --json results: the heads' end-to-end table",
+        help="`sketch2cad head-recovery --json` results: the heads' end-to-end table",
     )
     ap.add_argument(
         "--ship-head",

@@ -4,7 +4,7 @@
 The paper trains a VGG-like classifier and one two-branch U-Net per operator, all on
 5 x 256 x 256 inputs (sketch S, depth D, normal N) with 32..512 channels, on 4 GPUs.
 Training from scratch here must fit in 2 hours on 2 CPU cores, so one small network
-does all five jobs (scripts/bench_networks.py measures the choices):
+does all five jobs (benchmarks/bench_networks.py measures the choices):
 
     x (B, 5, 256, 256)                       S, D, N at full size
       pool -> (B, 5, I, I)                   I = 128: max-pool S (1-px strokes survive),

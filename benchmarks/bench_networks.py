@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Speed of the networks on this machine: training time per sample and inference latency.
 
-    .bin/python scripts/bench_networks.py                  # the shipped config
-    .bin/python scripts/bench_networks.py --candidates     # the design alternatives
-    .bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
-    .bin/python scripts/bench_networks.py --head RUN --data DIR   # with the head, by stage
+    .bin/python benchmarks/bench_networks.py                  # the shipped config
+    .bin/python benchmarks/bench_networks.py --candidates     # the design alternatives
+    .bin/python benchmarks/bench_networks.py --weights DIR    # a trained model's latency
+    .bin/python benchmarks/bench_networks.py --head RUN --data DIR   # with the head, by stage
 
 Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
 on random batches, in ms per sample: the median and, as the figure least disturbed by

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Data generation throughput: `python scripts/bench_datagen.py [--count 200] [--workers 1 2]`.
+"""Data generation throughput: `python benchmarks/bench_datagen.py [--count 200] [--workers 1 2]`.
 
 Makes `count` samples exactly as `sketch2cad datagen` does (the same worker function,
 shards written to a temporary folder) and prints, for each worker count, samples per

@@ -2,7 +2,7 @@
 """Time of one interpret step on held-out sketches, stage by stage (#13: <= 100 ms median
 on 2 CPU cores).
 
-    .bin/python scripts/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
+    .bin/python benchmarks/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
 
 Interprets the first LIMIT samples of a generated set (level 1, no regularization, as
 `sketch2cad eval --recovery` does) once each, after WARMUP untimed ones, and prints the
