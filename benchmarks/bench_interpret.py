@@ -28,17 +28,17 @@ import torch
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
-from datagen.dataset import Dataset  # noqa: E402
-from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
-from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
+from datagen.dataset import Dataset
+from Sketch2CADWorkbench.brep.operators import replay
+from Sketch2CADWorkbench.inference.interpret import (
     InterpretError,
     InterpretOptions,
     interpret,
 )
-from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
-from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
+from Sketch2CADWorkbench.inference.weights import load_predictor
+from Sketch2CADWorkbench.render.maps import MapRenderer
 
 STAGES = ("render", "networks", "fitting", "brep", "total")
 

@@ -157,7 +157,7 @@ def recovery(
     predictor,
     limit: int,
     oracle: bool = False,
-    options: InterpretOptions = InterpretOptions(regularize=False),
+    options: InterpretOptions = InterpretOptions(regularize=False),  # noqa: B008 (frozen)
 ) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
     level) over the first `limit` samples, and the median time of one interpret step

@@ -13,11 +13,12 @@ Standard library only: every layer uses it.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import secrets
-from contextlib import contextmanager
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
-from typing import Iterator
 
 MARK = ".sketch2cad-tmp-"
 
@@ -41,10 +42,8 @@ def remove_stale_temporaries(path: str | Path) -> None:
         if name.startswith(prefix):
             pid = name[len(prefix) :].split("-")[0]
             if pid.isdigit() and not _running(int(pid)):
-                try:
+                with suppress(OSError):
                     os.unlink(path.parent / name)
-                except OSError:
-                    pass
 
 
 def _running(pid: int) -> bool:
@@ -79,18 +78,17 @@ def _sync(path: Path) -> None:
 def _commit(tmps: list[Path], paths: list[Path]) -> None:
     """Make the finished temporaries the files at `paths`: every one checked, given its
     mode and flushed to disk before the first is renamed."""
-    for tmp, path in zip(tmps, paths):
+    for tmp, path in zip(tmps, paths, strict=True):
         if not tmp.exists():
             raise OSError(f"{path}: the writer produced no file")
         os.chmod(tmp, _mode_for(path))
         _sync(tmp)
-    for tmp, path in zip(tmps, paths):
+    for tmp, path in zip(tmps, paths, strict=True):
         os.replace(tmp, path)
     for folder in {p.parent if str(p.parent) else Path(".") for p in paths}:
-        try:
+        # some file systems cannot sync a folder; the renames are done
+        with contextlib.suppress(OSError):
             _sync(folder)
-        except OSError:
-            pass  # some file systems cannot sync a folder; the renames are done
 
 
 @contextmanager

@@ -20,9 +20,11 @@ curved surface (`_stand_on_curved`). A bevel needs a planar f.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import itertools
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -124,7 +126,7 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     else:
         inputs = ([shape], [tool])
     args, tools = TopTools_ListOfShape(), TopTools_ListOfShape()
-    for occt_list, shapes in zip((args, tools), inputs):
+    for occt_list, shapes in zip((args, tools), inputs, strict=False):
         for s in shapes:
             occt_list.Append(s.wrapped)
     algo.SetArguments(args)
@@ -371,7 +373,7 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float)
     footprint = np.concatenate(
         [
             a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
-            for a, b in zip(closed[:-1], closed[1:])
+            for a, b in itertools.pairwise(closed)
         ]
     )
 
@@ -651,8 +653,6 @@ def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
     there (its face gone) is left out. For measuring where a protocol with some steps
     changed ends, not for building one: `replay` names a step that fails."""
     for op in operations:
-        try:
+        with contextlib.suppress(OperationError):
             solid = apply_operation(solid, op)
-        except OperationError:
-            pass
     return solid

@@ -53,7 +53,7 @@ def write_outputs(
     for path, _ in writers:
         path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_outputs([path for path, _ in writers]) as tmps:
-        for tmp, (_, write) in zip(tmps, writers):
+        for tmp, (_, write) in zip(tmps, writers, strict=True):
             write(tmp)
 
 

@@ -25,6 +25,7 @@ import json
 import shutil
 import sys
 from pathlib import Path
+from typing import Any
 
 import torch
 
@@ -38,7 +39,7 @@ WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 EVAL = ROOT / "docs" / "eval"
 OPS = ("extrude", "bevel", "addsub", "sweep")
 # The paper's Table 1 ("ours", level-1 noise): face IoU and curve accuracy per operator.
-PAPER = {
+PAPER: dict[str, Any] = {
     "classification_accuracy": 0.998,
     "face_iou": dict(zip(OPS, (0.918, 0.917, 0.783, 0.783), strict=True)),
     "curve_accuracy": dict(zip(OPS, (0.980, 0.981, 0.935, 0.956), strict=True)),
@@ -119,7 +120,8 @@ def table1_header(first: list[str]) -> list[str]:
 
 def targets_met(r: dict) -> str:
     """Which of the paper's level-1 figures `r` (an evaluation) reaches, in words."""
-    met, missed = [], []
+    met: list[str] = []
+    missed: list[str] = []
     ok = r["classification_accuracy"] >= PAPER["classification_accuracy"]
     (met if ok else missed).append("classification")
     for metric, name in (("face_iou", "face IoU"), ("curve_accuracy", "curve accuracy")):
@@ -343,7 +345,9 @@ def figures_section(pipeline: dict) -> list[str]:
                 _row([name, str(r["n"]), "U-Net and head (shipped)", *table1_row(r["structured"])])
             )
     metrics.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells()]))
-    level1 = next(r for r in sets.values() if r["noise_level"] == 1 and "structured" in r)
+    name1, level1 = next(
+        (k, r) for k, r in sets.items() if r["noise_level"] == 1 and "structured" in r
+    )
     recovery = [
         _row(["data", "base faces", "noise level", "n", "regularization", *OPS]),
         "|---|---|---|---|---|" + "---|" * len(OPS),
@@ -377,8 +381,7 @@ def figures_section(pipeline: dict) -> list[str]:
         "",
         *metrics,
         "",
-        f"Against the paper's level-1 figures, on {next(k for k, v in sets.items() if v is level1)}: "
-        f"{targets_met(level1['structured'])}.",
+        f"Against the paper's level-1 figures, on {name1}: {targets_met(level1['structured'])}.",
         "",
         "Recovery of whole interpret steps, strict [with the named flip], %; curved base "
         "faces are cylinders' and cones' sides:",

@@ -59,7 +59,7 @@ DECODER_LEVELS = 3  # finest decoder maps pooled (8, 16, 32 channels for the shi
 MAX_FACES = 48  # largest visible faces kept as tokens (a sketch sees far fewer)
 # Stroke roles per operator (the curve label encodings of sketch/labels.py).
 ROLES = (2, 2, 3, 3)
-ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
+ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0, *ROLES[:-1])))
 STROKE_GEOMETRY = 14 + 7  # stroke_geometry and stroke_context
 FACE_GEOMETRY = 5 + 2 * N_OPS
 CLASS_EXTRA = 2 + N_OPS  # token counts, count_fits
@@ -229,7 +229,7 @@ class _Polylines:
     arc: np.ndarray
 
     @classmethod
-    def of(cls, strokes: list[np.ndarray], scale: float = 1.0) -> "_Polylines":
+    def of(cls, strokes: list[np.ndarray], scale: float = 1.0) -> _Polylines:
         p = [np.asarray(s, np.float64).reshape(-1, 2) for s in strokes]
         n = np.array([len(q) for q in p])
         if (n < 1).any():
@@ -884,7 +884,7 @@ class StructuredPredictor(NetworkPredictor):
         if out is None:
             raise ValueError("face_probabilities needs observe(strokes, face_id) first")
         p = out[4][:, CLASSES.index(op_type)].softmax(0)
-        return {int(i): float(v) for i, v in zip(out[1].face_ids, p)}
+        return {int(i): float(v) for i, v in zip(out[1].face_ids, p, strict=False)}
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         out = self._structured(inputs)

@@ -49,6 +49,18 @@ from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
 from ..sketch.labels import CLASSES, CURVE_THRESHOLDS
+from .fitting.addsub import PrismFit, prism_fit
+from .fitting.base_face import face_under_stroke, rank_base_faces
+from .fitting.bevel import bevel_fit
+from .fitting.common import FitError, classify_strokes, resample, sample_map
+from .fitting.extrude import fit_extrude, fit_extrude_by_ends
+from .fitting.primitive import base_centre, other_option_fits
+from .fitting.regularize import Snap, StrokeFit, hand_tolerance, regularize_operation
+from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
+from .fitting.surface import face_frame
+from .fitting.sweep import SweepFit, sweep_fit
+from .fitting.verify import DrawnStrokes, mean_distance, reading_score, sketch_distances
+from .options import InterpretOptions
 
 # What one sketch step may hold: a person draws tens of strokes for an operation.
 MAX_STROKES, MAX_POINTS = 200, 20000
@@ -75,18 +87,6 @@ FACING_COS = 0.05
 # it, along the view rays (examples/sessions/lamp.json, step 3). Such a reading ranks
 # with those on hidden faces. A few pixels: a centre on f sees f itself (depth equal).
 BEHIND_PX = 4.0
-from .fitting.addsub import PrismFit, prism_fit
-from .fitting.base_face import face_under_stroke, rank_base_faces
-from .fitting.bevel import bevel_fit
-from .fitting.common import FitError, classify_strokes, resample, sample_map
-from .fitting.extrude import fit_extrude, fit_extrude_by_ends
-from .fitting.primitive import base_centre, other_option_fits
-from .fitting.regularize import Snap, StrokeFit, hand_tolerance, regularize_operation
-from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
-from .fitting.surface import face_frame
-from .fitting.sweep import SweepFit, sweep_fit
-from .fitting.verify import DrawnStrokes, mean_distance, reading_score, sketch_distances
-from .options import InterpretOptions
 
 # Base faces fitted at most, in the order of the face map's counting; a fit whose own
 # sketch lies within GOOD_FIT_PX (mean, both ways) of the strokes ends the search.
@@ -179,13 +179,11 @@ class SketchFit:
         camera: OrthoCamera,
         strokes: list[np.ndarray],
         confidence: float,
-    ) -> "SketchFit":
+    ) -> SketchFit:
         return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes)[:2], confidence)
 
     @staticmethod
-    def of_distances(
-        to_sketch: np.ndarray, to_strokes: np.ndarray, confidence: float
-    ) -> "SketchFit":
+    def of_distances(to_sketch: np.ndarray, to_strokes: np.ndarray, confidence: float) -> SketchFit:
         """From `verify.sketch_distances`' first two arrays."""
         return SketchFit(
             mean_distance((to_sketch, to_strokes)),
@@ -377,9 +375,9 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
     tol = SAME_VOLUME * model_scale(before)
     a, b = before.BoundingBox(), after.BoundingBox()
     box = lambda bb: (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)  # noqa: E731
-    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and len(before.Faces()) == len(
-        after.Faces()
-    )
+    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b), strict=True)) and len(
+        before.Faces()
+    ) == len(after.Faces())
 
 
 def _builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:
@@ -671,7 +669,9 @@ def _fit_extrude_on_face(
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
-    offset, sides = ([s for s, l in zip(strokes, labels) if l == part] for part in (1, 0))
+    offset, sides = (
+        [s for s, l in zip(strokes, labels, strict=True) if l == part] for part in (1, 0)
+    )
     by_ends = fit_extrude_by_ends(solid, face, cam, offset, sides)
     if by_ends is not None:
         # refused as the line search's reading would be: the outline too far off, by C's
@@ -1101,7 +1101,7 @@ def interpret(
         ops,
         result,
         kind,
-        {c.value: float(p) for c, p in zip(CLASSES, probs)},
+        {c.value: float(p) for c, p in zip(CLASSES, probs, strict=True)},
         reading.index,
         reading.labels,
         ctx.camera,

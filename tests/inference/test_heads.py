@@ -78,7 +78,7 @@ def test_a_face_token_holds_its_area_centroid_and_spread(net):
     face_id, strokes = _scene()
     t = _tokens(net, strokes, face_id)
     c = feature_channels(net)
-    for fid, token in zip(t.face_ids.tolist(), t.face):
+    for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
         ys, xs = np.nonzero(face_id == fid)
         geo = token[c : c + 5].numpy()
         assert np.allclose(
@@ -102,7 +102,7 @@ def test_a_face_token_counts_the_unets_f_votes_on_it(net):
     t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
     votes = net.upsample(u.f)[0].numpy() > 0  # (4, S, S): where each operator's F says f
     c = feature_channels(net)
-    for fid, token in zip(t.face_ids.tolist(), t.face):
+    for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
         on = face_id == fid
         share = votes[:, on].sum(1) / on.sum()
         assert np.allclose(token[c + 5 : c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
@@ -117,7 +117,7 @@ def test_a_face_token_holds_its_normal_as_seen_in_the_image(net):
     with torch.no_grad():
         u = feature_maps(net, x)
     t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
-    seen = dict(zip(t.face_ids.tolist(), t.normal_image.numpy()))
+    seen = dict(zip(t.face_ids.tolist(), t.normal_image.numpy(), strict=False))
     assert np.allclose(seen[3], [0.5, -0.3], atol=0.02)  # camera y up is image y down
     assert np.allclose(seen[7], [-0.4, 0.2], atol=0.02)
 
@@ -145,7 +145,7 @@ def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
         c = up.shape[0]
         ys, xs = np.divmod(np.arange(SIZE * SIZE), SIZE)
         cells = up[:, ys * i // SIZE, xs * i // SIZE]  # each full-size pixel's cell
-        for fid, token in zip(t.face_ids.tolist(), t.face):
+        for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
             on = torch.from_numpy(face_id.ravel() == fid)
             assert torch.allclose(token[:c], cells[:, on].mean(1), atol=1e-5)
         pts = _Polylines.of(strokes).resample(POINTS)
@@ -216,7 +216,7 @@ def test_the_head_reads_a_batch_alike_in_training_and_in_inference(net):
         trained = head.train()(*batch)
     with torch.inference_mode():
         inferred = head.eval()(*batch)
-    for a, b in zip(trained, inferred):
+    for a, b in zip(trained, inferred, strict=True):
         assert torch.allclose(a, b, atol=1e-5)
 
 
@@ -266,7 +266,9 @@ def test_counts_no_drawing_has_keep_each_strokes_likeliest_role():
 
 
 def test_the_class_token_says_which_drawings_have_that_many_strokes(net):
-    fits = dict(zip(CLASSES, zip(count_fits(2), count_fits(4), count_fits(9))))
+    fits = dict(
+        zip(CLASSES, zip(count_fits(2), count_fits(4), count_fits(9), strict=False), strict=False)
+    )
     assert fits[OperatorType.EXTRUDE] == (1, 1, 1) and fits[OperatorType.BEVEL] == (1, 0, 0)
     assert fits[OperatorType.SWEEP] == (0, 1, 0) and fits[OperatorType.ADDSUB] == (0, 0, 1)
     face_id, strokes = _scene()
@@ -280,7 +282,7 @@ def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     with torch.no_grad():
         head.end_bias.weight.copy_(torch.arange(6.0)[:, None].repeat(1, 4))
-        cls, stroke, s_mask, face, f_mask, on_face = collate([a, b])
+        _cls, stroke, s_mask, _face, f_mask, on_face = collate([a, b])
         pad = torch.cat([torch.zeros(2, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
         bias = head._attention_bias(stroke, on_face, pad)
     strokes_block = bias[0, 0, 1:4, 1:4]
@@ -293,13 +295,13 @@ def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
 def test_a_stroke_and_the_face_it_lies_on_attend_to_each_other_by_the_face_bias(net):
     face_id, strokes = _scene()  # stroke 0 lies on face 3, stroke 2 on face 7
     t = _tokens(net, strokes, face_id)
-    on = dict(zip(t.face_ids.tolist(), t.on_face.T))
+    on = dict(zip(t.face_ids.tolist(), t.on_face.T, strict=False))
     assert on[3][0] == 1 and on[7][0] == 0 and on[7][2] == 1 and on[3][2] == 0
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     with torch.no_grad():
         head.face_bias.weight.copy_(torch.arange(5.0)[:, None].repeat(1, 8))
         head.face_bias.weight[:, 4:] += 10  # face-to-stroke apart from stroke-to-face
-        cls, stroke, s_mask, face, f_mask, on_face = collate([t])
+        _cls, stroke, s_mask, _face, f_mask, on_face = collate([t])
         pad = torch.cat([torch.zeros(1, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
         bias = head._attention_bias(stroke, on_face, pad)[0, 0]
     three = 4 + t.face_ids.tolist().index(3)  # its token: after cls and 3 strokes
@@ -355,7 +357,7 @@ def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, 
     save_checkpoint(unet, net)
     save_head(tmp_path / "head.pt", head, unet_sha256="0" * 64)
     loaded, _ = load_head(tmp_path / "head.pt")
-    for a, b in zip(head.state_dict().values(), loaded.state_dict().values()):
+    for a, b in zip(head.state_dict().values(), loaded.state_dict().values(), strict=True):
         assert torch.equal(a, b)
     with pytest.raises(ValueError, match="another U-Net"):
         load_structured_predictor(tmp_path / "head.pt", unet)

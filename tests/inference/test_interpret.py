@@ -165,10 +165,10 @@ def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_s
     pts, labels = sketch(box, op, cam)
     strokes = [
         cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
-        for p, label in zip(pts, labels)
+        for p, label in zip(pts, labels, strict=False)
     ]
     ctx = to_context(box, strokes, cam, renderer)
-    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels) if label == BEVEL_L]
+    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels, strict=False) if label == BEVEL_L]
     assert face_at(
         box, interpret_module.face_under_stroke(drawn_l, ctx.maps.face_id)
     ).normalAt().toTuple() == pytest.approx((0, 0, 1))
@@ -330,7 +330,7 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
     )
     first = ctx.sketch_distances(box, op)
     assert ctx.sketch_distances(box, op) is first and len(calls) == 1
-    for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes)):
+    for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes), strict=True):
         np.testing.assert_array_equal(got, want)
     ctx.sketch_distances(box, Extrude(TOP, 4.0))
     ctx.sketch_distances(apply_operation(box, op), op)  # another solid: scored anew
@@ -976,7 +976,7 @@ def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
     # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
     # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
     # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
-    bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
+    bar, _top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     strokes = [cam.project(p)[0] for p in pts]
     got = interpret(
         bar,

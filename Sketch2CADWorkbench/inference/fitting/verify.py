@@ -103,7 +103,9 @@ def sketch_distances(
     return (
         DistanceField(target)(drawn.samples),
         drawn.field(ideal),
-        end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends),
+        end_gaps(
+            [p for p, c in zip(pixels, curves, strict=False) if not c.closed], drawn.open_ends
+        ),
     )
 
 
