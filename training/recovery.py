@@ -38,20 +38,14 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
+from Sketch2CADWorkbench.inference.context import Context, InterpretError
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.fitting.verify import reading_score, sketch_distances
-from Sketch2CADWorkbench.inference.interpret import (
-    TAKE_A_BOOLEAN,
-    Context,
-    InterpretError,
-    InterpretOptions,
-    fit_operation,
-    interpret,
-    other_option,
-    snap_or_keep,
-)
+from Sketch2CADWorkbench.inference.interpret import interpret, other_option, snap_or_keep
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, fit_operation
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import END, START
@@ -157,7 +151,7 @@ def recovery(
     predictor,
     limit: int,
     oracle: bool = False,
-    options: InterpretOptions = InterpretOptions(regularize=False),  # noqa: B008 (frozen)
+    options: InterpretOptions = InterpretOptions(regularize=False),
 ) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
     level) over the first `limit` samples, and the median time of one interpret step

@@ -3,7 +3,7 @@
 
 `sketch2cad head-recovery --data data/heldout-l1 --head runs/head --limit 200
 --json runs/recovery-l1.json`: interpret() hands the sketch's strokes and face-ID map to a
-predictor that has `observe` (inference/heads.py), so the whole pipeline (render,
+predictor that has `observe` (inference/head/), so the whole pipeline (render,
 networks, fitting, B-rep) runs with the head's F and C. Prints the recovery rates of
 training/recovery.py for each predictor on the same samples; `--rows unet` or `--rows
 head` runs one (each takes minutes per 100 samples), and `--json` keeps them, merged into
@@ -21,7 +21,7 @@ import torch
 
 from training.recovery import recovery
 
-from ..inference.heads import load_structured_predictor
+from ..inference.head.predictor import load_structured_predictor
 from ..inference.weights import HEAD_NAME, load_predictor
 
 

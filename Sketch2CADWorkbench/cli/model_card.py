@@ -31,7 +31,7 @@ import torch
 
 from training.report import plot_curves
 
-from ..inference.heads import sha256_of
+from ..inference.head.checkpoint import sha256_of
 from ..inference.weights import HEAD_NAME, WEIGHTS_NAME
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -168,7 +168,7 @@ def shipped_section() -> list[str]:
             )
         )
         head_lines = [
-            f"- `{HEAD_NAME}` (`inference/heads.py`): "
+            f"- `{HEAD_NAME}` (`inference/head/`): "
             f"{sum(v.numel() for v in head['model'].values())} parameters "
             f"({json.dumps(head['config'])}). It reads the frozen U-Net's features per "
             "stroke (sampled along the polyline, with its geometry) and per visible face "

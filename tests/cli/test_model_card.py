@@ -12,7 +12,7 @@ import torch
 
 from Sketch2CADWorkbench.cli import main, model_card
 from Sketch2CADWorkbench.cli.model_card import OPS, card, end_to_end, heads_section
-from Sketch2CADWorkbench.inference.heads import sha256_of
+from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, WEIGHTS_NAME
 
 

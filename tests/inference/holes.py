@@ -28,8 +28,10 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Mode, OperatorType
+from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
-from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions, interpret
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
