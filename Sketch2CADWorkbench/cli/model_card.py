@@ -383,8 +383,12 @@ def figures_section(pipeline: dict) -> list[str]:
         "",
         f"Against the paper's level-1 figures, on {name1}: {targets_met(level1['structured'])}.",
         "",
-        "Recovery of whole interpret steps, strict [with the named flip], %; curved base "
-        "faces are cylinders' and cones' sides:",
+        "Recovery of whole interpret steps, strict [with the named flip], %"
+        + (
+            "; curved base faces are cylinders' and cones' sides:"
+            if any(r["curved"] for r in sets.values())
+            else ":"
+        ),
         "",
         *recovery,
         "",
