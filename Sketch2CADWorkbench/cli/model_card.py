@@ -98,7 +98,8 @@ def table1_row(r: dict) -> list[str]:
     """An evaluation's paper metrics as cells: classification, then face IoU / curve
     accuracy per operator, in %."""
     return [pct(r.get("classification_accuracy"))] + [
-        f"{pct(r['per_operator'][op]['face_iou'])} / {pct(r['per_operator'][op]['curve_accuracy'])}"
+        f"{pct(r['per_operator'][op].get('face_iou'))} / "
+        f"{pct(r['per_operator'][op].get('curve_accuracy'))}"
         for op in OPS
     ]
 
@@ -213,7 +214,7 @@ def limits_section(pipeline: dict) -> list[str]:
         f"{name} {op} {pct(d['strict_ceiling'])}% (the pipeline {recovery_cell(d)})"
         for name, r in sets.items()
         for op, d in r["per_operator"].items()
-        if d.get("strict_ceiling") is not None
+        if d.get("strict_ceiling") is not None and d["strict_ceiling"] < 1  # a Boolean to read
     )
     rows = [
         _row(
