@@ -311,7 +311,8 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
             "shard_size",
             "hidden_lines",
             "regular_share",
-        ) + tuple(extra)
+            *tuple(extra),
+        )
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         old.setdefault("regular_share", 0.0)  # ... and before regular samples
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:

@@ -24,8 +24,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from Sketch2CADWorkbench.brep.operators import build  # noqa: E402
-from Sketch2CADWorkbench.brep.protocol import (  # noqa: E402
+from Sketch2CADWorkbench.brep.operators import build
+from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Box,
     FaceRef,

@@ -53,12 +53,12 @@ class FaceFrame:
     v: np.ndarray
 
     @staticmethod
-    def of(face: cq.Face) -> "FaceFrame":
+    def of(face: cq.Face) -> FaceFrame:
         n = np.array(face.normalAt().toTuple())
         return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
 
     @staticmethod
-    def tangent(face: cq.Face, ref: FaceRef) -> "FaceFrame":
+    def tangent(face: cq.Face, ref: FaceRef) -> FaceFrame:
         """The tangent plane T of a curved f at a step's point p_f (`ref`: p_f and n_f
         there), in which its prism's polygon or sweep's c0 lies (brep/operators): u runs
         along the surface's generatrix through p_f, v around the surface."""
@@ -106,7 +106,7 @@ class CurvedSurface:
     convex: bool
 
     @staticmethod
-    def of(face: cq.Face) -> "CurvedSurface":
+    def of(face: cq.Face) -> CurvedSurface:
         """The surface of a cylindrical or conical face (OCCT's gp_Cylinder / gp_Cone)."""
         kind = face.geomType()
         adaptor = BRepAdaptor_Surface(face.wrapped)  # also under a trimmed surface
@@ -237,7 +237,7 @@ class ResolvedFace:
     point: np.ndarray | None = None
 
     @staticmethod
-    def of(face: cq.Face) -> "ResolvedFace":
+    def of(face: cq.Face) -> ResolvedFace:
         """A planar face of the solid itself, as `resolve_face` finds it from the face's
         own `face_ref_of` (no shift): for callers that already hold the face."""
         return ResolvedFace(face, np.array(face.normalAt().toTuple()), 0.0)

@@ -33,7 +33,6 @@ import sys
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
 
 MARK = ".sketch2cad-tmp-"
 # The largest input file read, in MB; the environment variable of that name raises it.
@@ -60,10 +59,8 @@ def remove_stale_temporaries(path: str | Path) -> None:
         if name.startswith(prefix):
             pid = name[len(prefix) :].split("-")[0]
             if pid.isdigit() and not _running(int(pid)):
-                try:
+                with suppress(OSError):
                     os.unlink(path.parent / name)
-                except OSError:
-                    pass
 
 
 def _running(pid: int) -> bool:
@@ -113,8 +110,6 @@ def _commit(tmps: list[Path], targets: list[tuple[Path, bool]], paths: list[Path
     for folder in {t.parent for t, direct in targets if not direct}:
         try:
             _sync(folder)
-        except OSError:
-            pass  # some file systems cannot sync a folder; the renames are done
 
 
 def _copy_into(tmp: Path, target: Path) -> None:

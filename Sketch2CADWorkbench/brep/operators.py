@@ -20,9 +20,10 @@ curved surface (`_stand_on_curved`). A bevel needs a planar f.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -124,7 +125,7 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     else:
         inputs = ([shape], [tool])
     args, tools = TopTools_ListOfShape(), TopTools_ListOfShape()
-    for occt_list, shapes in zip((args, tools), inputs):
+    for occt_list, shapes in zip((args, tools), inputs, strict=False):
         for s in shapes:
             occt_list.Append(s.wrapped)
     algo.SetArguments(args)
@@ -707,8 +708,6 @@ def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
     there (its face gone) is left out. For measuring where a protocol with some steps
     changed ends, not for building one: `replay` names a step that fails."""
     for op in operations:
-        try:
+        with contextlib.suppress(OperationError):
             solid = apply_operation(solid, op)
-        except OperationError:
-            pass
     return solid

@@ -84,7 +84,9 @@ def _fit_extrude_on_face(
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
-    offset, sides = ([s for s, l in zip(strokes, labels) if l == part] for part in (1, 0))
+    offset, sides = (
+        [s for s, l in zip(strokes, labels, strict=True) if l == part] for part in (1, 0)
+    )
     by_ends = fit_extrude_by_ends(solid, face, cam, offset, sides)
     if by_ends is not None:
         # refused as the line search's reading would be: the outline too far off, by C's

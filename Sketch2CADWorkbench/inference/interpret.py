@@ -265,7 +265,7 @@ def interpret(
         ops,
         result,
         kind,
-        {c.value: float(p) for c, p in zip(CLASSES, probs)},
+        {c.value: float(p) for c, p in zip(CLASSES, probs, strict=True)},
         reading.index,
         reading.labels,
         ctx.camera,

@@ -96,9 +96,9 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
     tol = SAME_VOLUME * model_scale(before)
     a, b = before.BoundingBox(), after.BoundingBox()
     box = lambda bb: (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)  # noqa: E731
-    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and len(before.Faces()) == len(
-        after.Faces()
-    )
+    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b), strict=True)) and len(
+        before.Faces()
+    ) == len(after.Faces())
 
 
 def builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:

@@ -22,19 +22,17 @@ from Sketch2CADWorkbench.brep import files
 def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
     path = tmp_path / "p.json"
     path.write_text("old")
-    with pytest.raises(RuntimeError):
-        with files.atomic_path(path) as tmp:
-            tmp.write_text("half")
-            raise RuntimeError("the writer failed")
+    with pytest.raises(RuntimeError), files.atomic_path(path) as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("the writer failed")
     assert path.read_text() == "old" and os.listdir(tmp_path) == ["p.json"]
 
 
 def test_outputs_are_replaced_all_or_none(tmp_path):
     a, b = tmp_path / "a.step", tmp_path / "b.png"
     a.write_text("old a")
-    with pytest.raises(OSError):
-        with files.atomic_outputs([a, b]) as (ta, tb):
-            ta.write_text("new a")  # b's writer writes nothing: an error, as OCCT's can
+    with pytest.raises(OSError), files.atomic_outputs([a, b]) as (ta, tb):
+        ta.write_text("new a")  # b's writer writes nothing: an error, as OCCT's can
     assert a.read_text() == "old a" and not b.exists()
     assert sorted(os.listdir(tmp_path)) == ["a.step"]
     with files.atomic_outputs([a, b]) as (ta, tb):
@@ -108,9 +106,9 @@ def test_two_writers_of_one_path_never_leave_a_reader_a_broken_file(tmp_path):
 
 
 def test_an_output_on_an_input_or_on_another_output_is_refused():
-    with pytest.raises(ValueError, match="--step p.json is the same file as PROTOCOL"):
+    with pytest.raises(ValueError, match=r"--step p.json is the same file as PROTOCOL"):
         files.check_outputs({"PROTOCOL": "p.json"}, {"--step": "p.json", "--png": None})
-    with pytest.raises(ValueError, match="--png ./x is the same file as --step"):
+    with pytest.raises(ValueError, match=r"--png ./x is the same file as --step"):
         files.check_outputs({"PROTOCOL": "p.json"}, {"--step": "x", "--png": "./x"})
     files.check_outputs({"PROTOCOL": "p.json"}, {"--step": "p.step", "--png": None})
 

@@ -63,7 +63,7 @@ def test_extrude_moves_the_face_by_d(box, d):
 
 
 def test_extrude_through_the_whole_solid_is_an_error(box):
-    with pytest.raises(OperationError, match="empty|no volume"):
+    with pytest.raises(OperationError, match=r"empty|no volume"):
         apply_operation(box, Extrude(TOP, -LZ - 1))
 
 
@@ -131,8 +131,8 @@ def test_curved_sweep_volume_matches_pappus(box):
             6 * (1 - t) * t - 3 * t * t,
             3 * t * t,
         ]
-        r = sum(w * p[0] for w, p in zip(b, ctrl))
-        dh = sum(w * p[1] for w, p in zip(db, ctrl))
+        r = sum(w * p[0] for w, p in zip(b, ctrl, strict=False))
+        dh = sum(w * p[1] for w, p in zip(db, ctrl, strict=False))
         vol += math.pi * r * r * dh / n
     assert out.Volume() == pytest.approx(BOX_VOLUME + vol, rel=1e-5)
 
@@ -142,8 +142,8 @@ def test_bevel_with_straight_profile_cuts_a_triangular_prism(box):
     a, b = (LX / 2 - 6, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 4)
     chord = (
         a,
-        tuple(x + (y - x) / 3 for x, y in zip(a, b)),
-        tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b)),
+        tuple(x + (y - x) / 3 for x, y in zip(a, b, strict=False)),
+        tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b, strict=False)),
         b,
     )
     out = apply_operation(box, Bevel(FRONT, c, (LX / 2, LY / 2, LZ / 2), chord))
@@ -163,9 +163,14 @@ def test_rounded_bevel_removes_less_than_the_chamfer(box):
         t = i / 2000
         w = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2, t**3]
         pts.append(
-            (sum(wi * p[0] for wi, p in zip(w, arc)), sum(wi * p[2] for wi, p in zip(w, arc)))
+            (
+                sum(wi * p[0] for wi, p in zip(w, arc, strict=False)),
+                sum(wi * p[2] for wi, p in zip(w, arc, strict=False)),
+            )
         )
-    area = 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
+    area = 0.5 * abs(
+        sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True))
+    )
     assert area == pytest.approx(36 - math.pi * 9, rel=5e-3)
     assert BOX_VOLUME - out.Volume() == pytest.approx(area * LY, rel=1e-5)
 

@@ -133,7 +133,7 @@ def _classify(fn, case: str) -> tuple[str, float, str]:
         outcome = "accepted"
     except CLEAN as e:
         outcome = "clean" if str(e) else "crash"
-    except Exception as e:  # noqa: BLE001 (what the fuzzing is for)
+    except Exception as e:
         outcome = "crash"
         case = f"{case}: {type(e).__name__}: {e}"[:300]
     return outcome, time.perf_counter() - t, case
@@ -147,7 +147,7 @@ def _mutated(examples: str, n: int, seed: int, read) -> Tally:
     ]
     for i in range(n):
         text = mutate(rng.choice(docs), rng)
-        tally.add(*_classify(lambda: read(text, i), f"{examples} {i}"))
+        tally.add(*_classify(lambda text=text, i=i: read(text, i), f"{examples} {i}"))
     return tally
 
 
@@ -201,7 +201,7 @@ def random_strokes(n: int, seed: int, predictor=None) -> Tally:
             )
         except (InterpretError, OperationError) as e:
             outcome = "clean" if str(e) else "crash"
-        except Exception as e:  # noqa: BLE001
+        except Exception as e:
             outcome = "crash"
             tally.crashes.append(f"strokes {i}: {type(e).__name__}: {e}"[:300])
         if to_brep_text(solid) != before:

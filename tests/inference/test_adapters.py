@@ -81,10 +81,10 @@ def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_s
     pts, labels = sketch(box, op, cam)
     strokes = [
         cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
-        for p, label in zip(pts, labels)
+        for p, label in zip(pts, labels, strict=False)
     ]
     ctx = to_context(box, strokes, cam, renderer)
-    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels) if label == BEVEL_L]
+    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels, strict=False) if label == BEVEL_L]
     assert face_at(
         box, face_under_stroke(drawn_l, ctx.maps.face_id)
     ).normalAt().toTuple() == pytest.approx((0, 0, 1))

@@ -279,7 +279,7 @@ def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
     # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
     # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
     # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
-    bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
+    bar, _top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     strokes = [cam.project(p)[0] for p in pts]
     got = interpret(
         bar,

@@ -51,8 +51,8 @@ def test_session_round_trips_through_a_file(tmp_path):
     assert back.base == s.base
     assert [st.camera for st in back.steps] == [st.camera for st in s.steps]
     assert [st.choices for st in back.steps] == [st.choices for st in s.steps]
-    for a, b in zip(back.steps, s.steps):
-        assert all(np.allclose(x, y, atol=1e-3) for x, y in zip(a.strokes, b.strokes))
+    for a, b in zip(back.steps, s.steps, strict=True):
+        assert all(np.allclose(x, y, atol=1e-3) for x, y in zip(a.strokes, b.strokes, strict=True))
 
 
 def test_one_step_round_trips_as_json_and_a_bad_one_names_its_field():
@@ -168,7 +168,7 @@ def test_malformed_session_names_field_and_value(mutate, message):
 
 def test_unreadable_session_names_the_file(tmp_path):
     (tmp_path / "s.json").write_text("{nope")
-    with pytest.raises(SessionError, match="s.json: not valid JSON"):
+    with pytest.raises(SessionError, match=r"s.json: not valid JSON"):
         load_session(tmp_path / "s.json")
 
 

@@ -187,7 +187,7 @@ def sweep_fit(
     Returns:
         The fit, its Sweep operation unrefined.
     """
-    groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
+    groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 1, 2)}
     if not groups[0] or not groups[2]:
         raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])

@@ -175,7 +175,9 @@ def sketch_fit(
     return SketchFit(
         DistanceField(target)(drawn.samples),
         drawn.field(ideal),
-        end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends),
+        end_gaps(
+            [p for p, c in zip(pixels, curves, strict=False) if not c.closed], drawn.open_ends
+        ),
     )
 
 

@@ -11,8 +11,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-from harness import TMP, check, close, finish, run_checks  # noqa: E402
+import FreeCAD
+from harness import TMP, check, close, finish, run_checks
 
 EDITS = json.load(open(os.path.join(TMP, "edits.json")))
 
