@@ -317,7 +317,7 @@ def _plane(face) -> tuple[np.ndarray, float] | None:
         -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
     )
     n = tuple(sign * x for x in frame.Direction().Coord())
-    offset = sum(a * b for a, b in zip(n, frame.Location().Coord()))
+    offset = sum(a * b for a, b in zip(n, frame.Location().Coord(), strict=False))
     return np.array(n), float(offset)
 
 

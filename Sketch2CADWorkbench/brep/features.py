@@ -99,7 +99,7 @@ class Outline:
         """Each named dimension and its value (mm)."""
         out: dict[str, float] = {}
         for p in self.points:
-            for name, value in zip(p.dims, p.at):
+            for name, value in zip(p.dims, p.at, strict=False):
                 if name is not None:
                     out.setdefault(name, value)
         return out
@@ -225,7 +225,7 @@ def _extrude(rf, op: Extrude, step: int, scale: float) -> Feature:
         names = tuple((f"{k}_r", f"{k}_h") for k in ("p0", "p1", "q1", "q0"))
     pts = tuple(
         _point(k, names[i], q, scale)
-        for i, (k, q) in enumerate(zip(("p0", "p1", "q1", "q0"), (p0, p1, q1, q0)))
+        for i, (k, q) in enumerate(zip(("p0", "p1", "q1", "q0"), (p0, p1, q1, q0), strict=False))
     )
     outline = Outline(pts, (("p0", "p1"), ("p1", "q1"), ("q1", "q0"), ("q0", "p0")))
     frame = Frame(_tup(surface.origin), _tup(radial), _tup(np.cross(radial, surface.axis)))
@@ -255,7 +255,7 @@ def _bevel(solid, rf, op: Bevel, step: int, scale: float) -> Feature:
     flat = _flat(frame, ctrl)
     names = ("l_start", "l_control1", "l_control2", "l_end")
     pts = (Point("c", (None, None), (0.0, 0.0)),) + tuple(
-        _point(k, (f"{k}_u", f"{k}_v"), q, scale) for k, q in zip(names, flat)
+        _point(k, (f"{k}_u", f"{k}_v"), q, scale) for k, q in zip(names, flat, strict=False)
     )
     outline = Outline(pts, (("c", "l_start"), names, ("l_end", "c")))
     depth = -float(at.crease @ n)
@@ -286,8 +286,10 @@ def _prism(rf, op: AddSubPrism, step: int, scale: float) -> Feature:
     frame = Frame(_tup(origin), _tup(u), _tup(n))
     flat = _flat(frame, pts3)
     names = tuple(f"c{k + 1}" for k in range(len(flat)))
-    pts = tuple(_point(k, (f"{k}_u", f"{k}_v"), q, scale) for k, q in zip(names, flat))
-    segments = tuple((a, b) for a, b in zip(names, names[1:] + names[:1]))
+    pts = tuple(
+        _point(k, (f"{k}_u", f"{k}_v"), q, scale) for k, q in zip(names, flat, strict=False)
+    )
+    segments = tuple((a, b) for a, b in zip(names, names[1:] + names[:1], strict=False))
     outline = Outline(pts, segments)
     back, clip = 0.0, None
     if rf.surface is not None:
@@ -348,7 +350,7 @@ def _flat(frame: Frame, pts: np.ndarray) -> np.ndarray:
 def _point(name: str, dims: tuple[str, str], q, scale: float) -> Point:
     """A point whose coordinates within SAME_REL of 0 are 0 (no dimension)."""
     at = tuple(0.0 if abs(float(x)) <= SAME_REL * scale else float(x) for x in q)
-    return Point(name, tuple(d if x != 0.0 else None for d, x in zip(dims, at)), at)
+    return Point(name, tuple(d if x != 0.0 else None for d, x in zip(dims, at, strict=False)), at)
 
 
 def _tup(v) -> Vec3:

@@ -31,7 +31,8 @@ import secrets
 import stat
 import sys
 import tempfile
-from contextlib import contextmanager
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 MARK = ".sketch2cad-tmp-"
@@ -96,19 +97,20 @@ def _commit(tmps: list[Path], targets: list[tuple[Path, bool]], paths: list[Path
     """Make the finished temporaries the files at `targets`: every one checked, given its
     mode and flushed to disk before the first is renamed (a path written directly gets
     the temporary's bytes)."""
-    for tmp, (target, direct), path in zip(tmps, targets, paths):
+    for tmp, (target, direct), path in zip(tmps, targets, paths, strict=False):
         if not tmp.exists():
             raise OSError(f"{path}: the writer produced no file")
         if not direct:
             os.chmod(tmp, _mode_for(target))
             _sync(tmp)
-    for tmp, (target, direct) in zip(tmps, targets):
+    for tmp, (target, direct) in zip(tmps, targets, strict=False):
         if direct:
             _copy_into(tmp, target)
         else:
             os.replace(tmp, target)
     for folder in {t.parent for t, direct in targets if not direct}:
-        try:
+        # some file systems cannot sync a folder; the renames are done
+        with suppress(OSError):
             _sync(folder)
 
 
@@ -200,7 +202,7 @@ def _beside(target: Path, direct: bool) -> Path:
 
 def _named(e: OSError, tmps: list[Path], paths: list[Path]) -> OSError:
     """`e` told about the path the user gave instead of a temporary; its errno kept."""
-    names = {str(t): str(p) for t, p in zip(tmps, paths)}
+    names = {str(t): str(p) for t, p in zip(tmps, paths, strict=False)}
     path = names.get(str(e.filename), str(e.filename) if e.filename else None)
     if e.errno in (errno.ENOSPC, errno.EDQUOT):
         text = f"{path or ', '.join(names.values())}: the disk is full (no space left)"

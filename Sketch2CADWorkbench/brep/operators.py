@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -390,7 +391,7 @@ def prism_footprint(pts: np.ndarray) -> np.ndarray:
     return np.concatenate(
         [
             a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
-            for a, b in zip(closed[:-1], closed[1:])
+            for a, b in itertools.pairwise(closed)
         ]
     )
 

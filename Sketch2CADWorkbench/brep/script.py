@@ -32,7 +32,8 @@ def face_at(solid, point, normal):
     tol = 1e-6 * max(solid.BoundingBox().DiagonalLength, 1.0)
     at, n = cq.Vector(*point), cq.Vector(*normal)
     for face in solid.Faces():
-        if face.distance(cq.Vertex.makeVertex(*point)) <= tol and face.normalAt(at).dot(n) > 0.999999:
+        on_face = face.distance(cq.Vertex.makeVertex(*point)) <= tol
+        if on_face and face.normalAt(at).dot(n) > 0.999999:
             return face
     raise ValueError(f"no face through {{point}} with outward normal {{normal}}")
 
@@ -42,7 +43,8 @@ def combine(solid, tool, mode):
     if mode == "replace":
         result = tool
     else:
-        result = {{"add": solid.fuse, "subtract": solid.cut, "intersect": solid.intersect}}[mode](tool)
+        combine_with = {{"add": solid.fuse, "subtract": solid.cut, "intersect": solid.intersect}}
+        result = combine_with[mode](tool)
     solids = result.clean().Solids()
     if len(solids) != 1:
         raise ValueError(f"a {{mode}} gives {{len(solids)}} solids, not one")

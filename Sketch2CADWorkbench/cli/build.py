@@ -73,11 +73,14 @@ def write_outputs(
 
         outputs.append((png, lambda: png_bytes(shaded_picture(solid))))
     if fcstd:
-        outputs.append((fcstd, lambda: fcstd_bytes(protocol)))
+        if protocol is None:
+            raise ValueError("--fcstd needs the protocol the solid was built from")
+        model = protocol
+        outputs.append((fcstd, lambda: fcstd_bytes(model)))
     for path, _ in outputs:
         path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_outputs([path for path, _ in outputs]) as tmps:
-        for tmp, (_, data) in zip(tmps, outputs):
+        for tmp, (_, data) in zip(tmps, outputs, strict=False):
             tmp.write_bytes(data())
 
 

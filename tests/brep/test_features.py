@@ -40,7 +40,7 @@ def test_a_changed_dimension_changes_the_solid(plan):
 
 
 def test_a_sweeps_outline_holds_its_parameters_by_name(plan):
-    for feature, op in zip(plan.features[1:], plan.protocol.operations):
+    for feature, op in zip(plan.features[1:], plan.protocol.operations, strict=False):
         if not isinstance(op, Sweep):
             continue
         dims = feature.outline.dims

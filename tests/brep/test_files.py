@@ -189,7 +189,7 @@ def test_a_link_to_a_process_descriptor_is_written_into(tmp_path):
 def test_a_folder_is_refused_as_an_output(tmp_path):
     with pytest.raises(IsADirectoryError, match="is a folder"):
         files.write_atomically(tmp_path, "x")
-    with pytest.raises(ValueError, match="--step .* is a folder"):
+    with pytest.raises(ValueError, match=r"--step .* is a folder"):
         files.check_outputs({}, {"--step": tmp_path})
 
 

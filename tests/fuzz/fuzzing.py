@@ -365,6 +365,6 @@ def hostile_geometry(n: int, seed: int) -> Tally:
             h2 = -rng.uniform(0.2, 2.0) * d
             face = FaceRef((0.0, 0.0, lz / 2), (0.0, 0.0, 1.0))
             op = Sweep(face, (0.0, 0.0, lz / 2), r, r, d, ((r, h1), (r, h2)))
-        tally.add(*_classify(lambda: build(Protocol(box, (op,))), f"geometry {i}"))
+        tally.add(*_classify(lambda box=box, op=op: build(Protocol(box, (op,))), f"geometry {i}"))
     tally.counts["invalid"] += tally.counts.pop("accepted", 0)
     return tally

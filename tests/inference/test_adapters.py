@@ -183,7 +183,7 @@ def test_readings_whose_sketches_all_lie_outside_the_view_end_in_an_error_saying
 ):
     # every reading's own sketch projects wholly outside the context image: each lies
     # infinitely far from the strokes (verify.sketch_fit), none can be scored
-    box, op, labels, ctx, index, curve = top_prism(renderer)
+    box, _op, labels, ctx, index, curve = top_prism(renderer)
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
     monkeypatch.setattr(adapters, "stroke_roles", lambda *a, **k: other)
     monkeypatch.setattr(context, "sketch_fit", lambda *a, **k: SketchFit.undrawn())

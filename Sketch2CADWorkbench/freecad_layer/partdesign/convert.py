@@ -155,7 +155,8 @@ def _native(doc, body, plan: Plan, feature: Feature, name: str) -> tuple[str, fl
     objects added (its sketch, then the feature)."""
     if feature.mode is Mode.INTERSECT:
         return (
-            "PartDesign has no feature that keeps only the common part of the Body and a sketched primitive",
+            "PartDesign has no feature that keeps only the common part of the Body and a "
+            "sketched primitive",
             None,
             [],
         )

@@ -64,7 +64,7 @@ def draw_outline(sketch, outline: Outline) -> None:
                 constraints.append(Sketcher.Constraint("Weight", circle, 1.0))
             if index in (1, 2):
                 uses[seg[index]].append((circle, CENTER))
-    for name, occurrences in uses.items():
+    for occurrences in uses.values():
         first = occurrences[0]
         constraints += [Sketcher.Constraint("Coincident", *first, *o) for o in occurrences[1:]]
     named: dict[tuple[int, str], str] = {}  # (coordinate, dimension) -> the point holding it

@@ -163,7 +163,7 @@ def converted_documents_saved_with_one_edit_per_feature():
         path = os.path.join(TMP, f"{name}.FCStd")
         doc.saveAs(path)
         body = conversion.body
-        for feature, step in zip(plan.features, conversion.steps):
+        for feature, step in zip(plan.features, conversion.steps, strict=False):
             obj = doc.getObject(step.feature)
             if obj not in body.Group or feature.mode is Mode.REPLACE:
                 continue  # a Body before a "replace by" is not the model

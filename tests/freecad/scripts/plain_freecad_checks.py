@@ -14,7 +14,8 @@ sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad
 import FreeCAD
 from harness import TMP, check, close, finish, run_checks
 
-EDITS = json.load(open(os.path.join(TMP, "edits.json")))
+with open(os.path.join(TMP, "edits.json")) as _edits:
+    EDITS = json.load(_edits)
 
 
 def errors(doc) -> list:

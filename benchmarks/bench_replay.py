@@ -3,7 +3,7 @@
 1000 x 1000 x 20 mm plate, one subtracted prism each, and the seconds of each block of
 steps (each step works on a solid with more faces, so the later blocks are slower).
 
-    .bin/python scripts/bench_replay.py [--steps 100 200 400] [--block 50] [--profile]
+    .bin/python benchmarks/bench_replay.py [--steps 100 200 400] [--block 50] [--profile]
 
 Every stage of a step handles the whole solid: OCCT's Boolean builds the whole result,
 unifying its faces and checking its validity look at every face, and the face a step
@@ -65,12 +65,12 @@ def main() -> int:
     for steps in a.steps:
         marks, t0 = [], time.perf_counter()
 
-        def mark(i: int) -> None:
+        def mark(i: int, marks: list[float] = marks, t0: float = t0) -> None:
             if i % a.block == 0:
                 marks.append(time.perf_counter() - t0)
 
         build(holes(steps), on_step=mark)
-        blocks = [b - a_ for a_, b in zip([0.0] + marks, marks)]
+        blocks = [b - a_ for a_, b in zip([0.0] + marks, marks, strict=False)]
         print(
             f"{steps} steps: {time.perf_counter() - t0:.1f} s; per {a.block} steps: "
             + " ".join(f"{s:.1f}" for s in blocks),
