@@ -34,6 +34,7 @@ import numpy as np
 from tqdm import tqdm
 
 from datagen.dataset import Dataset
+from datagen.hand import join_end_to_start
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
@@ -152,6 +153,7 @@ def recovery(
     limit: int,
     oracle: bool = False,
     options: InterpretOptions = InterpretOptions(regularize=False),
+    join_px: float = 0.0,
 ) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
     level) over the first `limit` samples, and the median time of one interpret step
@@ -162,7 +164,9 @@ def recovery(
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
     tells a network shortfall from a fitting one. `options`: regularization (off by
-    default) and its grid step.
+    default) and its grid step. With `join_px`, each sample's strokes are first joined
+    end to start within that many pixels (`hand.join_end_to_start`: outlines drawn in
+    one go).
     """
     renderer = MapRenderer()
     ds = Dataset(data)
@@ -185,6 +189,8 @@ def recovery(
                 if bar.n >= limit:
                     break
                 context = replay(s.context)[-1]
+                if join_px:
+                    s = dataclasses.replace(s, strokes=join_end_to_start(s.strokes, join_px))
                 other, flipped, iou, nearer = None, False, 0.0, False
                 try:
                     truth = apply_operation(context, s.operation)
