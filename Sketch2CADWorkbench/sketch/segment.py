@@ -192,13 +192,13 @@ def _continuation(
     corner or a reversal does; and no end in `others` (the other pieces' ends) lies at
     the junction (a third curve ending there makes it a corner of the drawing)."""
     tol, reach = TRACE_TOL * extent, JOIN_GAP * extent
-    gap = float(np.linalg.norm(q[0] - p[-1]))
-    on_p = float(distances_to(q[:1], p)[0]) <= tol
-    if not on_p and gap > reach:
-        return None
     if len(others) and float(np.linalg.norm(others - p[-1], axis=1).min()) <= (
         CORNER_CLEAR * extent
     ):
+        return None
+    gap = float(np.linalg.norm(q[0] - p[-1]))
+    on_p = gap <= tol or float(distances_to(q[:1], p)[0]) <= tol
+    if not on_p and gap > reach:
         return None
     cost, tail = gap, q
     if on_p:  # q traces over p's end, then leaves it
@@ -262,13 +262,14 @@ def _best_join(
     low = np.array([q.min(axis=0) for q in pieces]) - margin
     high = np.array([q.max(axis=0) for q in pieces]) + margin
     near = ((low[:, None] <= high[None]) & (low[None] <= high[:, None])).all(axis=-1)
+    lengths = [_length(q) for q in pieces]
     best = None
     for i, p in enumerate(pieces):
         for j, q in enumerate(pieces):
             if i == j or not near[i, j]:
                 continue
             others = np.delete(ends, [i, j], axis=0).reshape(-1, 2)
-            if _length(q) <= _length(p) and _absorbs(p, q, extent, others):
+            if lengths[j] <= lengths[i] and _absorbs(p, q, extent, others):
                 cand = (0.0, i, j, None)
                 if best is None or cand[:3] < best[:3]:
                     best = cand
