@@ -50,6 +50,7 @@ from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, fit_operation
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import END, START
+from Sketch2CADWorkbench.sketch.segment import segment_strokes
 
 RECOVERY_IOU = 0.95
 
@@ -69,7 +70,8 @@ def read_step(
 ) -> StepReading:
     """Read one sample's step: by the whole pipeline with `predictor`, or with None by
     the fitting stage alone, given the sample's true class, F and C in its own context
-    maps.
+    maps (and the strokes cut and joined into curves first, as interpret does, unless
+    `options.segment` is off).
 
     Raises:
         InterpretError: the strokes do not fit; OperationError: the result does not build.
@@ -79,7 +81,7 @@ def read_step(
         return StepReading(got.operations[0], got.solid, got.other_option, got.timings_ms["total"])
     ctx = Context(
         sample.camera,
-        sample.strokes,
+        segment_strokes(sample.strokes) if options.segment else sample.strokes,
         ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
         sample.inputs(),
     )

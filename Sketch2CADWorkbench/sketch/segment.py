@@ -41,7 +41,7 @@ CORNER_DEG = 45.0
 CORNER_SHARPNESS = 0.7
 # A turn beyond this is a reversal (the tip of a thin ellipse, drawn without lifting
 # the pen), not a corner between two curves.
-REVERSAL_DEG = 165.0
+REVERSAL_DEG = 175.0
 # Pieces that continue one another have ends at most this far apart (of the extent; a
 # person's split edge leaves a gap of a few percent of it) ...
 JOIN_GAP = 0.06
@@ -90,20 +90,9 @@ def _is_corner(turn: float, half_turn: float) -> bool:
     return turn >= np.radians(REVERSAL_DEG) or half_turn >= CORNER_SHARPNESS * turn
 
 
-def corner_spans(stroke: np.ndarray, extent: float) -> list[tuple[float, float]]:
-    """The arc-length spans (start, end) of a stroke's corners, in drawing order.
-
-    Args:
-        stroke: (K, 2) polyline.
-        extent: the sketch's extent (`sketch_extent`), the unit of the thresholds.
-    Returns:
-        For each corner, the stretch of arc length around it where the turn over the
-        window exceeds CORNER_DEG; [] for a smooth stroke.
-    """
-    p = np.asarray(stroke, float)
-    s = arc_lengths(p)
-    w = CORNER_WINDOW * extent
-    if len(p) < 3 or s[-1] < 2 * w:
+def _spans_at(p: np.ndarray, s: np.ndarray, w: float) -> list[tuple[float, float]]:
+    """`corner_spans` measured over one window w."""
+    if s[-1] < 2 * w:
         return []
     step = w / 6
     at = np.arange(w, s[-1] - w + step / 2, step)
@@ -119,10 +108,40 @@ def corner_spans(stroke: np.ndarray, extent: float) -> list[tuple[float, float]]
         while j + 1 < len(at) and over[j + 1]:
             j += 1
         peak = k + int(np.argmax(turn[k : j + 1]))
-        half = _turn(p, s, at[peak : peak + 1], w / 2)[0]
+        # the sharpest half-window turn anywhere in the run: a jump of the pen can move
+        # a corner's bend off the peak of the wider turn
+        half = float(_turn(p, s, at[k : j + 1], w / 2).max())
         if turn[peak] < np.radians(REVERSAL_DEG) and _is_corner(turn[peak], half):
             spans.append((float(at[k]), float(at[j])))
         k = j + 1
+    return spans
+
+
+def corner_spans(stroke: np.ndarray, extent: float) -> list[tuple[float, float]]:
+    """The arc-length spans (start, end) of a stroke's corners, in drawing order.
+
+    Args:
+        stroke: (K, 2) polyline.
+        extent: the sketch's extent (`sketch_extent`), the unit of the thresholds.
+    Returns:
+        For each corner, the stretch of arc length around it where the turn over the
+        window exceeds CORNER_DEG, over CORNER_WINDOW and over twice that (a corner
+        whose turn a short jump of the pen splits in two bends is one corner at the
+        wider window); spans less than a window apart are one corner. [] for a smooth
+        stroke.
+    """
+    p = np.asarray(stroke, float)
+    if len(p) < 3:
+        return []
+    s = arc_lengths(p)
+    w = CORNER_WINDOW * extent
+    found = sorted(_spans_at(p, s, w) + _spans_at(p, s, 2 * w))
+    spans: list[tuple[float, float]] = []
+    for a, b in found:
+        if spans and a - spans[-1][1] < w:
+            spans[-1] = (spans[-1][0], max(b, spans[-1][1]))
+        else:
+            spans.append((a, b))
     return spans
 
 
