@@ -57,7 +57,7 @@ class Interpretation:
     op_type: OperatorType
     probabilities: dict[str, float]
     base_face: int
-    stroke_labels: list[int]
+    stroke_labels: list[int]  # one per piece of curve read (sketch/segment.py)
     camera: OrthoCamera  # the context camera (maps' pixels)
     # ms per stage: render, networks, fitting, brep (every Boolean built: the readings'
     # results, which fitting builds to refuse one that fails or changes nothing, and the
