@@ -13,10 +13,13 @@ of curves:
    curve's turn, however tight, does not);
 2. join: two pieces that continue one another (the second starts near the first one's
    end, or on it, and the pen turns little from one to the other) become one, the
-   part drawn twice once; a piece lying along another is absorbed by it; a junction where a third piece
-   also ends is a corner of the drawing and is not joined across;
-3. close: a piece that turns through most of a loop and whose ends lie close compared
-   with its length is closed by a straight bridge.
+   part drawn twice once; a piece lying along another is absorbed by it; a junction
+   where a third piece also ends is a corner of the drawing and is not joined across;
+3. close: a piece that turns through most of a loop and whose ends lie apart by a
+   gap no hand leaves at the end of a curve is closed by a straight bridge.
+
+Not found: a corner where two curves run on in line in the view (a stroke drawing
+both is not cut), and a vertex that a stroke runs through without turning.
 
 Lengths are fractions of the sketch's extent (the diagonal of all the strokes' bounding
 box), so the result does not depend on the view's pixel size; nor does it depend on the
@@ -34,7 +37,7 @@ from ..brep.geometry import arc_lengths, resample_every
 # jitter of a hand (real strokes deviate about 1% of a curve's length), narrower than
 # a polygon's shortest side.
 CORNER_WINDOW = 0.03
-# A corner turns more than this over the window...
+# A corner turns more than this over the window (or over twice it)...
 CORNER_DEG = 45.0
 # ... and at least this share of that turn lies within half the window (a circle's turn
 # is spread evenly: half of it; a corner's is concentrated: nearly all of it).
@@ -84,10 +87,11 @@ def _turn(points: np.ndarray, s: np.ndarray, at: np.ndarray, half: float) -> np.
 
 def _is_corner(turn: float, half_turn: float) -> bool:
     """Whether a turn over the window (rad), of which `half_turn` lies within half of
-    it, is a corner or a reversal rather than the bend of a smooth curve."""
-    if turn <= np.radians(CORNER_DEG):
-        return False
-    return turn >= np.radians(REVERSAL_DEG) or half_turn >= CORNER_SHARPNESS * turn
+    it, is a corner: not the bend of a smooth curve, nor a reversal."""
+    return (
+        np.radians(CORNER_DEG) < turn < np.radians(REVERSAL_DEG)
+        and half_turn >= CORNER_SHARPNESS * turn
+    )
 
 
 def _spans_at(p: np.ndarray, s: np.ndarray, w: float) -> list[tuple[float, float]]:
@@ -111,7 +115,7 @@ def _spans_at(p: np.ndarray, s: np.ndarray, w: float) -> list[tuple[float, float
         # the sharpest half-window turn anywhere in the run: a jump of the pen can move
         # a corner's bend off the peak of the wider turn
         half = float(_turn(p, s, at[k : j + 1], w / 2).max())
-        if turn[peak] < np.radians(REVERSAL_DEG) and _is_corner(turn[peak], half):
+        if _is_corner(turn[peak], half):
             spans.append((float(at[k]), float(at[j])))
         k = j + 1
     return spans
