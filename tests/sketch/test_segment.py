@@ -148,6 +148,6 @@ def test_order_and_direction_of_strokes_do_not_matter(seed):
 
 def test_a_line_running_on_into_an_arc_stays_two_curves():
     """A sweep's profile line meets the visible half of its circle tangentially."""
-    arc = ellipse(0.0, np.pi, axes=(60, 20))  # from (188, 128) round to (68, 128)
-    line = polyline([(188, 230), (188, 128)])  # up into the arc's start, tangent to it
+    arc = ellipse(0.0, np.pi, axes=(20, 60))  # from (148, 128) down round to (108, 128)
+    line = polyline([(148, 40), (148, 128)])  # down into the arc's start, tangent to it
     assert len(segment_strokes([line, arc])) == 2
