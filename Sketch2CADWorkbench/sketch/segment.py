@@ -62,9 +62,6 @@ LOOP_GAP = 0.2
 # drawing and are not joined there: the ends of a corner drawn with level-1 noise lie
 # within 14 px of each other on 256 px (CORNER_REACH in inference/drawing.py).
 CORNER_CLEAR = 0.12
-# A line's chord is at least this share of its length (a bowed line's: 0.997 for a bow
-# of 3% of its length; an arc of 40 degrees: 0.98).
-STRAIGHT = 0.97
 # Cut-off bits shorter than this (of the extent) are the pen's hooks, not curves.
 MIN_PIECE = 0.02
 
@@ -191,17 +188,11 @@ def distances_to(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
 
 
 def total_turn(p: np.ndarray, extent: float) -> float:
-    """How far (rad) a polyline's direction turns along it, signed turns summed (a
-    hand's jitter cancels out), at the window's scale: 2 pi for a loop."""
-    q = resample_every(p, CORNER_WINDOW * extent)
+    """How far (rad) a polyline's direction turns along it, at the window's scale."""
+    q = resample_every(p, CORNER_WINDOW * extent / 2)
     d = np.diff(q, axis=0)
     ang = np.arctan2(d[:, 1], d[:, 0])
-    return abs(float(np.angle(np.exp(1j * np.diff(ang))).sum()))
-
-
-def is_straight(p: np.ndarray) -> bool:
-    """Whether a piece is a line rather than an arc: its chord is nearly its length."""
-    return float(np.linalg.norm(p[-1] - p[0])) >= STRAIGHT * _length(p)
+    return float(np.abs(np.angle(np.exp(1j * np.diff(ang)))).sum())
 
 
 def is_closed(p: np.ndarray, extent: float) -> bool:
@@ -240,12 +231,9 @@ def _continuation(
             return None  # q lies along p all the way (absorbed), or branches off it
         cost, tail = float(near.mean()) * reach, q[leave:]
     joined = np.vstack([p, tail])
-    if is_closed(joined, extent):  # two arcs closing a loop may meet at a thin ellipse's tip
-        return cost, joined
-    if is_straight(p) != is_straight(tail):
-        return None  # a line running on into an arc (a profile into an outline seen
-        # tangent): two curves
-    if _junction_turn(p, tail, CORNER_WINDOW * extent) > np.radians(JOIN_DEG):
+    if not is_closed(joined, extent) and _junction_turn(
+        p, tail, CORNER_WINDOW * extent
+    ) > np.radians(JOIN_DEG):  # (two arcs closing a loop may meet at a thin ellipse's tip)
         return None
     return cost, joined
 

@@ -144,10 +144,3 @@ def test_order_and_direction_of_strokes_do_not_matter(seed):
     assert len(got) == len(base) == 6
     for p in base:
         assert min(far(p, q) for q in got) < 4.0  # cuts fall on a grid along the stroke
-
-
-def test_a_line_running_on_into_an_arc_stays_two_curves():
-    """A sweep's profile line meets the visible half of its circle tangentially."""
-    arc = ellipse(0.0, np.pi, axes=(20, 60))  # from (148, 128) down round to (108, 128)
-    line = polyline([(148, 40), (148, 128)])  # down into the arc's start, tangent to it
-    assert len(segment_strokes([line, arc])) == 2
