@@ -100,6 +100,7 @@ def make_shards(
             n,
             settings.shard_size,
             settings.regular_share,
+            settings.hand,
         ): k
         for k, n in sorted(counts.items())
     }

@@ -26,6 +26,7 @@ from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
+from .hand import P_HIDDEN_OUT, people_strokes
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
@@ -102,6 +103,7 @@ def generate_block(
     size: int = IMAGE_SIZE,
     hidden_lines: bool = True,
     regular_share: float = 0.0,
+    hand: str = "generator",
 ) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
@@ -109,7 +111,8 @@ def generate_block(
     generator; sample i draws everything else from sample_rng(seed, i). Without
     `hidden_lines` the strokes draw only what the view sees (`view_sample`). Each
     operation, of the context and last, is regular (datagen/regular.py) with
-    probability `regular_share`, decided by the generator that draws it.
+    probability `regular_share`, decided by the generator that draws it. `hand`: who
+    draws the strokes (datagen/hand.py).
     """
     context = Context(
         sample_sequence(
@@ -125,6 +128,7 @@ def generate_block(
             size,
             hidden_lines=hidden_lines,
             regular_share=regular_share,
+            hand=hand,
         )
         for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)
     ]
@@ -139,6 +143,7 @@ def sample_on(
     kind: OperatorType | None = None,
     hidden_lines: bool = True,
     regular_share: float = 0.0,
+    hand: str = "generator",
 ) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
     on `context`; every operation drawn is regular with probability `regular_share`.
@@ -159,7 +164,7 @@ def sample_on(
             )
             tries = 0
             continue
-        sample = view_sample(rng, context, drawn, noise_level, renderer, size, hidden_lines)
+        sample = view_sample(rng, context, drawn, noise_level, renderer, size, hidden_lines, hand)
         if sample is not None:
             return sample
         tries += 1
@@ -173,6 +178,7 @@ def view_sample(
     renderer: MapRenderer,
     size: int = IMAGE_SIZE,
     hidden_lines: bool = True,
+    hand: str = "generator",
 ) -> Sample | None:
     """The sample of the operation drawn on `context` from a random informative view, or
     None when VIEW_TRIES views all hide too much of the relevant curve or of the base
@@ -180,7 +186,9 @@ def view_sample(
 
     With `hidden_lines` False the strokes draw only what the view sees of the model
     after the operation (`sketch.visible.visible_curves`), as a designer who leaves the
-    hidden lines out; the training data draws every line."""
+    hidden lines out; the training data draws every line. With `hand` "people" the
+    strokes are drawn as a person does (datagen/hand.py), who also leaves the hidden
+    lines out of a sample with probability P_HIDDEN_OUT."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
     rf = drawn.face.resolved()  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
@@ -210,14 +218,19 @@ def view_sample(
                 continue
         if not shows_base_face(maps, face):
             continue
+        if hand == "people" and hidden_lines and rng.random() < P_HIDDEN_OUT:
+            hidden_lines = False
         if not hidden_lines:
             if result_mesh is None:
                 result_mesh = tessellate(
                     result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)
                 )
             curves = visible_curves(curves, camera, renderer.render(result_mesh, camera))
-        strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
-        ink = stroke_maps(strokes, labels, size, size)
+        if hand == "people":
+            strokes, labels, ink = people_strokes(curves, camera, rng, noise_level)
+        else:
+            strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
+            ink = stroke_maps(strokes, labels, size, size)
         return Sample(
             op_type=op.type,
             sketch=ink.sketch,

@@ -45,6 +45,7 @@ from .dataset import (
     write_shard,
 )
 from .generate import IMAGE_SIZE, PER_CONTEXT, generate_block
+from .hand import HANDS
 from .preview import write_preview
 
 SHARD_SIZE = 256  # a multiple of PER_CONTEXT: shards hold whole blocks
@@ -73,6 +74,7 @@ class DatagenSettings:
     ray: str | None = None  # a Ray cluster's address ("local": start one of
     # `workers` CPUs here); None: a process pool
     regular_share: float = 0.0  # share of operations drawn regular (datagen/regular.py)
+    hand: str = "generator"  # one of hand.HANDS: who draws the strokes
 
 
 @dataclass(frozen=True)
@@ -84,6 +86,7 @@ class BlockJob:
     noise: str  # one of NOISE_CHOICES
     hidden: str  # one of HIDDEN_CHOICES
     regular_share: float = 0.0
+    hand: str = "generator"  # one of hand.HANDS
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -109,6 +112,7 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
         "noise_levels": levels,
         "hidden_lines": settings.hidden_lines,
         "regular_share": settings.regular_share,
+        "hand": settings.hand,
         "image_size": IMAGE_SIZE,
         "shard_size": settings.shard_size,
         "per_context": PER_CONTEXT,
@@ -126,11 +130,12 @@ def shard_jobs(
     count: int,
     shard_size: int,
     regular_share: float = 0.0,
+    hand: str = "generator",
 ) -> list[BlockJob]:
     """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
     first = k * shard_size // PER_CONTEXT
     return [
-        BlockJob(seed, b, noise, hidden, regular_share)
+        BlockJob(seed, b, noise, hidden, regular_share, hand)
         for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)
     ]
 
@@ -173,6 +178,7 @@ def make_block(job: BlockJob) -> list[Record]:
             _RENDERER,
             hidden_lines=hidden_lines_of_block(job.hidden, b),
             regular_share=job.regular_share,
+            hand=job.hand,
         )
     ]
 
@@ -186,12 +192,13 @@ def make_shard(
     count: int,
     shard_size: int,
     regular_share: float = 0.0,
+    hand: str = "generator",
 ) -> int:
     """Make and write shard k of data set `seed` (count samples; the unit of work of a
     cluster); returns k. The same bytes as the process pool writes."""
     records = [
         r
-        for job in shard_jobs(seed, noise, hidden, k, count, shard_size, regular_share)
+        for job in shard_jobs(seed, noise, hidden, k, count, shard_size, regular_share, hand)
         for r in make_block(job)
     ]
     write_shard(Path(out), k, records[:count])
@@ -311,10 +318,12 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
             "shard_size",
             "hidden_lines",
             "regular_share",
+            "hand",
             *tuple(extra),
         )
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         old.setdefault("regular_share", 0.0)  # ... and before regular samples
+        old.setdefault("hand", "generator")  # ... and before people's hand
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
             return (
                 f"{out} holds a different data set ({'/'.join(keys)} "
@@ -338,6 +347,8 @@ def generate_dataset(settings: DatagenSettings) -> int:
         return _error(f"--shard-size must be a positive multiple of {PER_CONTEXT}")
     if settings.workers <= 0:
         return _error("--workers must be positive")
+    if settings.hand not in HANDS:
+        return _error(f"--hand must be one of {', '.join(HANDS)}, got {settings.hand}")
     if not 0.0 <= settings.regular_share <= 1.0:
         return _error(f"--regular-share must be between 0 and 1, got {settings.regular_share}")
     if settings.ray is not None:
@@ -388,6 +399,7 @@ def generate_dataset(settings: DatagenSettings) -> int:
                     counts[k],
                     size,
                     settings.regular_share,
+                    settings.hand,
                 )
             ]
             if settings.workers == 1:

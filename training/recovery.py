@@ -34,6 +34,7 @@ import numpy as np
 from tqdm import tqdm
 
 from datagen.dataset import Dataset
+from datagen.hand import join_end_to_start
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
@@ -49,6 +50,7 @@ from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, fit_operation
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import END, START
+from Sketch2CADWorkbench.sketch.segment import segment_strokes
 
 RECOVERY_IOU = 0.95
 
@@ -68,7 +70,8 @@ def read_step(
 ) -> StepReading:
     """Read one sample's step: by the whole pipeline with `predictor`, or with None by
     the fitting stage alone, given the sample's true class, F and C in its own context
-    maps.
+    maps (and the strokes cut and joined into curves first, as interpret does, unless
+    `options.segment` is off).
 
     Raises:
         InterpretError: the strokes do not fit; OperationError: the result does not build.
@@ -78,7 +81,7 @@ def read_step(
         return StepReading(got.operations[0], got.solid, got.other_option, got.timings_ms["total"])
     ctx = Context(
         sample.camera,
-        sample.strokes,
+        segment_strokes(sample.strokes) if options.segment else sample.strokes,
         ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
         sample.inputs(),
     )
@@ -152,6 +155,7 @@ def recovery(
     limit: int,
     oracle: bool = False,
     options: InterpretOptions = InterpretOptions(regularize=False),
+    join_px: float = 0.0,
 ) -> dict:
     """Recovery rate and mean and median volume IoU per operator (and the rate per noise
     level) over the first `limit` samples, and the median time of one interpret step
@@ -162,7 +166,9 @@ def recovery(
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
     tells a network shortfall from a fitting one. `options`: regularization (off by
-    default) and its grid step.
+    default) and its grid step. With `join_px`, each sample's strokes are first joined
+    end to start within that many pixels (`hand.join_end_to_start`: outlines drawn in
+    one go).
     """
     renderer = MapRenderer()
     ds = Dataset(data)
@@ -185,6 +191,8 @@ def recovery(
                 if bar.n >= limit:
                     break
                 context = replay(s.context)[-1]
+                if join_px:
+                    s = dataclasses.replace(s, strokes=join_end_to_start(s.strokes, join_px))
                 other, flipped, iou, nearer = None, False, 0.0, False
                 try:
                     truth = apply_operation(context, s.operation)

@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 from datagen.generate import PER_CONTEXT
+from datagen.hand import HANDS
 from datagen.parallel import (
     HIDDEN_CHOICES,
     NOISE_CHOICES,
@@ -57,6 +58,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "parameters: lengths on a 1 mm grid or equal to earlier ones, "
         "features centred or on centre lines or concentric, outlines "
         "aligned with the face's edges (datagen/regular.py); default 0",
+    )
+    p.add_argument(
+        "--hand",
+        default="generator",
+        choices=HANDS,
+        help="who draws the strokes: the generator (one whole stroke per curve, "
+        "Gaussian end noise: the paper's sketches) or people (outlines in one "
+        "stroke, curves split and traced over, stopping short, loops left open, "
+        "hidden lines often left out: datagen/hand.py); default generator",
     )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument(
@@ -104,11 +114,16 @@ def run(args: argparse.Namespace) -> int:
         if args.count <= 0:
             print("sketch2cad datagen: error: --curved needs a positive --count", file=sys.stderr)
             return 2
-        if args.ray is not None or args.hidden_lines != "draw" or args.regular_share:
+        if (
+            args.ray is not None
+            or args.hidden_lines != "draw"
+            or args.regular_share
+            or args.hand != "generator"
+        ):
             print(
                 "sketch2cad datagen: error: --curved makes its set in one process with "
-                "every line drawn and random parameters: leave out --ray, --hidden-lines "
-                "and --regular-share",
+                "every line drawn and random parameters: leave out --ray, --hidden-lines, "
+                "--regular-share and --hand",
                 file=sys.stderr,
             )
             return 2
@@ -127,5 +142,6 @@ def run(args: argparse.Namespace) -> int:
             args.preview,
             args.ray,
             args.regular_share,
+            args.hand,
         )
     )

@@ -64,6 +64,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="with --regularize, round lengths to this step (default 0: no grid)",
     )
     p.add_argument(
+        "--no-segment",
+        action="store_true",
+        help="in the recovery runs, read whole strokes without cutting and joining them "
+        "into pieces of curves first (sketch/segment.py): what that stage gains",
+    )
+    p.add_argument(
+        "--join-strokes",
+        type=float,
+        default=0.0,
+        metavar="PX",
+        help="in the recovery runs, first join each stroke to the next one starting "
+        "within PX pixels of its end, at most four in one (outlines drawn in one go; "
+        "default 0: as stored)",
+    )
+    p.add_argument(
         "--fitting-recovery",
         action="store_true",
         help="also the recovery rate of the fitting stage alone, given the "
@@ -83,14 +98,29 @@ def run(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
         elif args.recovery:
-            options = InterpretOptions(regularize=args.regularize, snap_step=args.snap_step)
-            rec = recovery(args.data, load_predictor(args.weights), args.recovery, options=options)
+            options = InterpretOptions(
+                regularize=args.regularize, snap_step=args.snap_step, segment=not args.no_segment
+            )
+            rec = recovery(
+                args.data,
+                load_predictor(args.weights),
+                args.recovery,
+                options=options,
+                join_px=args.join_strokes,
+            )
             for op, v in rec["per_operator"].items():
                 result["per_operator"][op].update(v)
             result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
             result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
             if args.fitting_recovery:
-                fit = recovery(args.data, None, args.recovery, oracle=True, options=options)
+                fit = recovery(
+                    args.data,
+                    None,
+                    args.recovery,
+                    oracle=True,
+                    options=options,
+                    join_px=args.join_strokes,
+                )
                 for op, v in fit["per_operator"].items():
                     result["per_operator"][op]["fitting_recovery_rate"] = v["recovery_rate"]
                     result["per_operator"][op]["fitting_recovery_rate_with_flip"] = v[

@@ -36,6 +36,7 @@ from ..brep.protocol import Mode, Operation, OperatorType
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from ..sketch.labels import CLASSES
+from ..sketch.segment import segment_strokes
 from .context import Context, InterpretError, check_sketch, to_context
 from .fitting.common import FitError
 from .fitting.primitive import other_option_fits
@@ -56,7 +57,7 @@ class Interpretation:
     op_type: OperatorType
     probabilities: dict[str, float]
     base_face: int
-    stroke_labels: list[int]
+    stroke_labels: list[int]  # one per piece of curve read (sketch/segment.py)
     camera: OrthoCamera  # the context camera (maps' pixels)
     # ms per stage: render, networks, fitting, brep (every Boolean built: the readings'
     # results, which fitting builds to refuse one that fails or changes nothing, and the
@@ -199,7 +200,8 @@ def interpret(
 
     Args:
         solid: the current model (not modified).
-        strokes: pixel polylines (K, 2) in `view`'s pixels.
+        strokes: pixel polylines (K, 2) in `view`'s pixels, in any order and direction,
+            several curves in one stroke or one curve in several (`segment_strokes`).
         view: the orthographic camera the strokes were drawn in.
         predictor: the networks.
         renderer: a reusable MapRenderer (one is made if None).
@@ -213,6 +215,8 @@ def interpret(
         InterpretError: with the reason, when the sketch matches no operation.
     """
     check_sketch(strokes)
+    if options.segment:  # roles and faces are read per piece of a curve, not per stroke
+        strokes = segment_strokes(strokes)
     solid = solid.copy()  # rendering meshes it and fitting adds p-curves: the caller's stays
     t0 = time.perf_counter()
     ctx = to_context(solid, strokes, view, renderer or MapRenderer())

@@ -27,3 +27,6 @@ class InterpretOptions:
     snap_step: float = 0.0
     snap_px: float = SNAP_PX
     skip_snaps: frozenset[str] = frozenset()
+    # Read pieces of curves, not whole strokes (sketch/segment.py); off only to measure
+    # what that stage gains.
+    segment: bool = True

@@ -102,6 +102,27 @@ def test_the_manifest_records_the_regular_share_and_a_resume_must_match(tmp_path
     assert "--regular-share must be between 0 and 1, got 1.5" in capsys.readouterr().err
 
 
+def test_people_s_hand_is_its_own_set_and_a_cluster_shard_carries_it(tmp_path, capsys):
+    args = ["--count", 4, "--seed", 3, "--shard-size", 4, "--workers", 1]
+    assert datagen("--out", tmp_path / "people", *args, "--hand", "people") == 0
+    people = Dataset(tmp_path / "people")
+    assert people.manifest["hand"] == "people"
+    assert datagen("--out", tmp_path / "people", *args) == 2  # another hand: not a resume
+    assert "holds a different data set" in capsys.readouterr().err
+    assert datagen("--out", tmp_path / "generator", *args) == 0
+    drawn = [
+        [s.strokes for s in Dataset(tmp_path / hand).samples(0)] for hand in ("people", "generator")
+    ]
+    assert not all(
+        len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b, strict=False))
+        for a, b in zip(*drawn, strict=False)
+    )
+    task = tmp_path / "task"
+    task.mkdir()
+    assert make_shard(str(task), 3, "1", "draw", 0, 4, 4, hand="people") == 0
+    _same_shards(tmp_path / "people", task, shards=(0,))
+
+
 def test_a_cluster_shard_carries_the_regular_share(tmp_path):
     pool, task = tmp_path / "pool", tmp_path / "task"
     assert (

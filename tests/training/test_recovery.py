@@ -8,6 +8,7 @@ import pytest
 from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
 from Sketch2CADWorkbench.cli import main
+from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from training.recovery import RECOVERY_IOU, recovery, strokes_favour, the_other_boolean_draws_it
@@ -57,6 +58,21 @@ def test_the_mean_volume_iou_is_reported_per_operator(generated):
             assert 0.0 <= v["median_iou"] <= 1.0
         else:
             assert v["mean_iou"] is None and v["median_iou"] is None
+
+
+def _recovered(r: dict) -> float:
+    return sum(v["recovery_rate"] * v["recovery_n"] for v in r["per_operator"].values())
+
+
+def test_outlines_drawn_in_one_go_are_read_once_cut_into_curves(generated):
+    """Strokes joined end to start (a polygon without lifting the pen) lose the one
+    curve a stroke the fitting reads; cut at their corners they read as drawn apart."""
+    drawn = _recovered(recovery(generated, None, 16, oracle=True))
+    joined = InterpretOptions(regularize=False, segment=False)
+    whole = _recovered(recovery(generated, None, 16, oracle=True, options=joined, join_px=10))
+    cut = _recovered(recovery(generated, None, 16, oracle=True, join_px=10))
+    assert whole < drawn
+    assert cut > whole
 
 
 def test_recovery_limit_counts_samples(generated):
