@@ -47,9 +47,8 @@ from Sketch2CADWorkbench.inference.interpret import (
     Context,
     InterpretError,
     InterpretOptions,
-    fit_operation,
     interpret,
-    other_option,
+    read_operation,
     snap_or_keep,
 )
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
@@ -87,13 +86,15 @@ def read_step(
         sample.strokes,
         ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
         sample.inputs(),
+        renderer=renderer,
     )
     try:
-        op, index, _ = fit_operation(
+        reading = read_operation(
             context, sample.op_type, sample.face_label, sample.curve_label, ctx, options
         )
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
+    op, index = reading.op, reading.index
     result = None
     if options.regularize:  # as interpret() does after fitting
         op, _, result, _ = snap_or_keep(
@@ -108,7 +109,7 @@ def read_step(
     return StepReading(
         op,
         apply_operation(context, op) if result is None else result,
-        other_option(context, op, index, ctx.camera, options),
+        reading.alternative.op.mode if reading.alternative else None,
         None,
     )
 

@@ -75,6 +75,7 @@ FACING_COS = 0.05
 # it, along the view rays (examples/sessions/lamp.json, step 3). Such a reading ranks
 # with those on hidden faces. A few pixels: a centre on f sees f itself (depth equal).
 BEHIND_PX = 4.0
+from .alternative import Alternative, explained, seen_distances, the_meant
 from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import bevel_fit
@@ -227,15 +228,20 @@ class Interpretation:
     # results, which fitting builds to refuse one that fails or changes nothing, and the
     # step's mirror image or regularized rebuild) and total
     timings_ms: dict[str, float] = field(default_factory=dict)
-    # The Boolean that explains the same strokes as well (a boss on f and a hole into f
-    # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
-    other_option: Mode | None = None
+    # The other Boolean's reading when it explains the same strokes too (a boss on f and
+    # a hole into f draw the same lines in a parallel view, paper Fig. 5b): alternative.py
+    alternative: Alternative | None = None
     # How well the operation's own sketch and the strokes explain each other.
     fit: SketchFit | None = None
     # The snaps regularization applied, in order (InterpretOptions.skip_snaps undoes one).
     snaps: tuple[Snap, ...] = ()
     # Why the snaps found were not applied (the snapped shape does not build); "" if none.
     unsnapped: str = ""
+
+    @property
+    def other_option(self) -> Mode | None:
+        """The Boolean that reads the strokes too (the alternative's); None when none does."""
+        return self.alternative.option if self.alternative else None
 
     @property
     def misfit_px(self) -> float:
@@ -290,6 +296,9 @@ class Context:
     # seconds spent building readings' results (`_builds_a_change`): B-rep work done while
     # reading, timed as the B-rep stage
     build_s: float = field(default=0.0, compare=False)
+    # renders what a reading's result lets the view see (`_weigh_the_other_boolean`);
+    # None: readings are weighed by every line only
+    renderer: MapRenderer | None = field(default=None, repr=False, compare=False)
 
     @cached_property
     def drawn(self) -> DrawnStrokes:
@@ -329,7 +338,7 @@ def to_context(
     maps = renderer.render(solid, cam)
     sketch = rasterize(ctx, cam.width, cam.height)
     inputs = np.concatenate([sketch[None], maps.depth[None], maps.normal]).astype(np.float32)
-    return Context(cam, ctx, maps, inputs)
+    return Context(cam, ctx, maps, inputs, renderer=renderer)
 
 
 Fit = tuple[Operation, int, list[int]]  # an operation, the face it stands on, stroke labels
@@ -350,21 +359,32 @@ class Reading:
     refused: str = ""  # why it cannot be the step: its Boolean fails or changes nothing
     # read with the other Boolean because none with the first built: no flip back to it
     flip_refused: bool = False
+    # `distances` of the lines its result lets the view see, once weighed against its
+    # other Boolean (`_weigh_the_other_boolean`); None until then
+    seen: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    # its other Boolean's reading when that explains the strokes too (alternative.py)
+    alternative: "Reading | None" = None
+
+    @property
+    def explained(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """`distances` or `seen`, whichever explains the strokes better
+        (`alternative.explained`)."""
+        return explained(self.distances, self.seen)
 
     @property
     def error(self) -> float:
-        """Symmetric mean distance (pixels), `verify.mean_distance`."""
-        return mean_distance(self.distances)
+        """Symmetric mean distance (pixels) of `explained`, `verify.mean_distance`."""
+        return mean_distance(self.explained)
 
     @property
     def score(self) -> float:
-        """What readings are ranked by (pixels), `verify.reading_score`."""
-        return reading_score(self.distances)
+        """What readings are ranked by (pixels), `verify.reading_score` of `explained`."""
+        return reading_score(self.explained)
 
     @property
     def doubtful(self) -> bool:
         """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
-        return SketchFit.of_distances(*self.distances[:2], 1.0).doubtful
+        return SketchFit.of_distances(*self.explained[:2], 1.0).doubtful
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
@@ -563,7 +583,7 @@ def read_operation(
                 and not reading.hidden
                 and _builds_a_change(solid, reading, ctx)
             ):
-                return reading
+                return _weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
     readings.sort(key=lambda r: (r.hidden, r.score))
     if readings and not _builds_a_change(solid, readings[0], ctx):
         # the best reading's other Boolean draws its lines too (paper Fig. 5b): it competes
@@ -575,10 +595,50 @@ def read_operation(
         )
     for reading in readings:
         if _builds_a_change(solid, reading, ctx):
-            return reading
+            return _weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
     if readings:
         raise FitError(readings[0].refused)
     raise first
+
+
+def _weigh_the_other_boolean(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    reading: Reading,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> Reading:
+    """Of a primitive's built reading and the one of its other Boolean on its face, the
+    one the strokes mean, with the other as its `alternative` when that is offered
+    (alternative.py: each weighed by its lines drawn all or only where its result lets
+    the view see them). Weighed only when the designer chose no Boolean, the reading is
+    not already the other Boolean of one that did not build, and its far outline stands
+    on f (`other_option_fits`: the other one's base must, to be read); and against an
+    other reading that builds a change and is not hidden where the reading is not."""
+    if (
+        ctx.renderer is None
+        or options.option is not None
+        or op_type not in TAKE_A_BOOLEAN
+        or reading.flip_refused
+        or not other_option_fits(face_at(solid, reading.index), ctx.camera, reading.op)
+    ):
+        return reading
+    hidden = hidden_faces(solid, ctx.camera)
+    others = _with_the_other_boolean(solid, op_type, [reading], curve, ctx, options, hidden)
+    other = next(
+        (r for r in others if r.hidden <= reading.hidden and _builds_a_change(solid, r, ctx)),
+        None,
+    )
+    if other is None:
+        return reading
+    for r in (reading, other):
+        face = ctx.resolved(solid, r.op.face)
+        r.seen = seen_distances(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, face)
+    flip, offered = the_meant(reading.score, other.score)
+    taken, left = (other, reading) if flip else (reading, other)
+    taken.alternative = left if offered else None
+    return taken
 
 
 def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
@@ -626,19 +686,6 @@ def _with_the_other_boolean(
     for reading in readings:
         reading.flip_refused = True
     return readings
-
-
-def fit_operation(
-    solid: cq.Shape,
-    op_type: OperatorType,
-    face_prob: np.ndarray,
-    curve: np.ndarray,
-    ctx: Context,
-    options: InterpretOptions,
-) -> Fit:
-    """`read_operation`'s (operation, base face index, per-stroke labels)."""
-    r = read_operation(solid, op_type, face_prob, curve, ctx, options)
-    return r.op, r.index, r.labels
 
 
 def _fit_on_face(
@@ -907,18 +954,6 @@ _FIT_ON_FACE = per_operator(
 )
 
 
-def other_option(
-    solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera, options: InterpretOptions
-) -> Mode | None:
-    """The flipped Boolean when it reads the strokes as well as the one chosen (only
-    when the designer did not choose one): see `Interpretation.other_option`."""
-    if options.option is not None or op.type not in TAKE_A_BOOLEAN:
-        return None
-    if not other_option_fits(face_at(solid, base_face), camera, op):
-        return None
-    return op.mode.flipped
-
-
 def apply_with_symmetry(
     solid: cq.Shape, op: Operation, symmetry: str | None, result: cq.Solid | None = None
 ) -> tuple[tuple[Operation, ...], cq.Solid]:
@@ -942,6 +977,20 @@ def _rounds_the_same_edge(op: Operation, mirrored: Operation) -> bool:
     ends = np.array([op.corner, op.opposite], float)
     image = np.array([mirrored.opposite, mirrored.corner], float)
     return bool(np.allclose(ends, image, rtol=0, atol=1e-9 * max(1.0, float(np.abs(ends).max()))))
+
+
+def _alternative(
+    solid: cq.Shape, other: Reading | None, options: InterpretOptions
+) -> Alternative | None:
+    """The step's Alternative from the reading not taken (`Reading.alternative`), with
+    its mirror image if asked; None when there is none or that image does not build."""
+    if other is None:
+        return None
+    try:
+        ops, result = apply_with_symmetry(solid, other.op, options.symmetry, other.result)
+    except OperationError:
+        return None
+    return Alternative(ops, result, other.score)
 
 
 def check_sketch(strokes: list[np.ndarray]) -> None:
@@ -1078,14 +1127,10 @@ def interpret(
             op, snaps, built, unsnapped = reading.op, (), reading.result, ""
             if options.regularize:
                 op, snaps, built, unsnapped = _snapped(solid, reading, ctx, view, options)
-            other = (
-                None
-                if reading.flip_refused
-                else other_option(solid, op, reading.index, ctx.camera, options)
-            )
             tc = time.perf_counter()
             times["fitting"] += tc - tb
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)
+            other = _alternative(solid, reading.alternative, options)
             break
         except (FitError, OperationError) as e:
             times["fitting"] += time.perf_counter() - tb
@@ -1093,7 +1138,7 @@ def interpret(
     td = time.perf_counter()
     confidence = float(probs[CLASSES.index(kind)])
     fit = (
-        SketchFit.of_distances(*reading.distances[:2], confidence)
+        SketchFit.of_distances(*reading.explained[:2], confidence)
         if op is reading.op
         else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence)
     )

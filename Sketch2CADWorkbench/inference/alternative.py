@@ -1,0 +1,91 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Which Boolean a primitive's strokes mean, and the other one when it explains them too.
+
+Drawn with every line, a boss on f and a hole into f whose rim is the boss's top outline
+draw the same lines in a parallel view (paper, Fig. 5b). Designers leave out the lines
+the view hides, and then the two differ: a hole's material hides the near part of its
+floor outline (and all of a deep hole's depth lines and floor), a boss hides the back of
+its own base outline (sketch/visible.py). So each of the two readings is weighed by how
+well it explains the strokes drawn either way: the better of its score with every line
+and with only the lines its own result lets the view see (`explained_score`, both
+`verify.reading_score`). Of a reading and its other Boolean, the other is taken when it
+explains the strokes better by more than TIE_PX; within TIE_PX the strokes do not tell
+them apart, and the fitted choice stands (`primitive.choose_option`: where each would
+stand on f). The one not taken is offered as the alternative when it builds and
+explains the strokes within OFFER_PX of the one taken.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import numpy as np
+
+from ..brep.protocol import Mode, Operation
+from ..render.camera import OrthoCamera
+from ..render.maps import MapRenderer
+from .fitting.verify import DrawnStrokes, reading_score, sketch_distances
+
+# A reading's other Boolean replaces it only when it explains the strokes better by more
+# than this (pixels of reading_score): a level-1 hand's median misfit is 1.4 px, so a
+# lead of a pixel is the strokes' own word, not the hand's noise (docs/NOTES.md).
+TIE_PX = 1.0
+# The reading not taken is offered when its score lies within this (pixels) of the one
+# taken: a clear fit's margin (interpret.GOOD_FIT_PX), wider than TIE_PX so that the one
+# click stays offered where the strokes lean one way but the hand could mean the other.
+OFFER_PX = 3.0
+
+Distances = tuple[np.ndarray, np.ndarray, np.ndarray]  # `verify.sketch_distances`
+
+
+@dataclass(frozen=True, eq=False)
+class Alternative:
+    """Another reading of the same strokes, the other Boolean of the one taken: it builds
+    and explains the strokes within OFFER_PX of it, so one click may take it instead."""
+
+    operations: tuple[Operation, ...]  # as Interpretation.operations (its mirror image too)
+    solid: cq.Solid  # the model with them applied
+    score_px: float  # how well it explains the strokes (`explained_score`)
+
+    @property
+    def option(self) -> Mode:
+        """Its Boolean (the designer's choice that reads it)."""
+        return self.operations[0].mode
+
+
+def seen_distances(
+    solid: cq.Shape,
+    op: Operation,
+    result: cq.Shape,
+    camera: OrthoCamera,
+    drawn: DrawnStrokes,
+    renderer: MapRenderer,
+    face=None,
+) -> Distances:
+    """`verify.sketch_distances` of op's lines that the view sees of its `result`: what a
+    designer draws who leaves the hidden lines out."""
+    seen = renderer.render(result, camera)
+    return sketch_distances(solid, op, camera, drawn, seen, face)
+
+
+def explained(every: Distances, seen: Distances | None) -> Distances:
+    """Of a reading's distances with every line and with the lines its result lets the
+    view see (None: not known), those that explain the strokes better."""
+    if seen is None or reading_score(every) <= reading_score(seen):
+        return every
+    return seen
+
+
+def explained_score(every: Distances, seen: Distances | None) -> float:
+    """`verify.reading_score` of `explained`."""
+    return reading_score(explained(every, seen))
+
+
+def the_meant(first: float, other: float) -> tuple[bool, bool]:
+    """Of a reading scoring `first` and its other Boolean scoring `other`
+    (`explained_score`): whether the other is the meaning, and whether the one not taken
+    is offered as the alternative."""
+    flip = other < first - TIE_PX
+    taken, left = (other, first) if flip else (first, other)
+    return flip, left - taken <= OFFER_PX
