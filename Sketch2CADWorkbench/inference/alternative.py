@@ -5,14 +5,23 @@ Drawn with every line, a boss on f and a hole into f whose rim is the boss's top
 draw the same lines in a parallel view (paper, Fig. 5b). Designers leave out the lines
 the view hides, and then the two differ: a hole's material hides the near part of its
 floor outline (and all of a deep hole's depth lines and floor), a boss hides the back of
-its own base outline (sketch/visible.py). So each of the two readings is weighed by how
-well it explains the strokes drawn either way: the better of its score with every line
-and with only the lines its own result lets the view see (`explained_score`, both
-`verify.reading_score`). Of a reading and its other Boolean, the other is taken when it
-explains the strokes better by more than TIE_PX; within TIE_PX the strokes do not tell
-them apart, and the fitted choice stands (`primitive.choose_option`: where each would
-stand on f). The one not taken is offered as the alternative when it builds and
-explains the strokes within OFFER_PX of the one taken.
+its own base outline (sketch/visible.py). So the two readings are weighed by how well
+they explain the strokes drawn the one way, with every line or with only the lines each
+reading's own result lets the view see, that explains them best for either
+(`one_way_scores`, each `verify.reading_score`): were each allowed its better way, the
+boss would explain a seen-drawn hole by every line nearly as well as the hole, the lines
+it adds being the few a shallow hole hides. Of a reading and its other Boolean, the
+other is taken when it explains the strokes better by more than TIE_PX and stands on f
+as fully as the fitted
+one (its base outline's share on f at least the fitted one's, up to
+`primitive.ON_FACE_FRACTION`): drawn as a cylinder shows itself, a hole's floor outline
+loses the half its own cylinder hides, just as the boss standing on that floor outline
+slid back along the view onto f would (its base's back half), so the lines alone may
+favour that boss, which then stands off f's outline where the hole's rim lies on f.
+Within TIE_PX the strokes do not tell them apart, and the fitted choice stands
+(`primitive.choose_option`: where each would stand on f). The one not taken is offered
+as the alternative when it builds and explains the strokes within OFFER_PX of the one
+taken.
 """
 
 from __future__ import annotations
@@ -46,7 +55,7 @@ class Alternative:
 
     operations: tuple[Operation, ...]  # as Interpretation.operations (its mirror image too)
     solid: cq.Solid  # the model with them applied
-    score_px: float  # how well it explains the strokes (`explained_score`)
+    score_px: float  # how well it explains the strokes (`verify.reading_score`, `explained`)
 
     @property
     def option(self) -> Mode:
@@ -77,15 +86,22 @@ def explained(every: Distances, seen: Distances | None) -> Distances:
     return seen
 
 
-def explained_score(every: Distances, seen: Distances | None) -> float:
-    """`verify.reading_score` of `explained`."""
-    return reading_score(explained(every, seen))
+def one_way_scores(
+    first: tuple[Distances, Distances], other: tuple[Distances, Distances]
+) -> tuple[float, float]:
+    """The `verify.reading_score`s of two readings, each given as its distances with every
+    line and with the lines its result lets the view see, both with the lines drawn the
+    way (every line, or those seen) in which either reading explains the strokes best."""
+    scores = np.array([[reading_score(d) for d in pair] for pair in (first, other)])
+    way = int(np.argmin(scores.min(axis=0)))
+    return float(scores[0, way]), float(scores[1, way])
 
 
-def the_meant(first: float, other: float) -> tuple[bool, bool]:
+def the_meant(first: float, other: float, other_stands: bool) -> tuple[bool, bool]:
     """Of a reading scoring `first` and its other Boolean scoring `other`
-    (`explained_score`): whether the other is the meaning, and whether the one not taken
-    is offered as the alternative."""
-    flip = other < first - TIE_PX
+    (`one_way_scores`), that one standing on f as fully as the reading (`other_stands`):
+    whether the other is the meaning, and whether the one not taken is offered as the
+    alternative."""
+    flip = other_stands and other < first - TIE_PX
     taken, left = (other, first) if flip else (first, other)
     return flip, left - taken <= OFFER_PX

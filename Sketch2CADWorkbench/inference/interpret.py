@@ -75,13 +75,13 @@ FACING_COS = 0.05
 # it, along the view rays (examples/sessions/lamp.json, step 3). Such a reading ranks
 # with those on hidden faces. A few pixels: a centre on f sees f itself (depth equal).
 BEHIND_PX = 4.0
-from .alternative import Alternative, explained, seen_distances, the_meant
+from .alternative import Alternative, explained, one_way_scores, seen_distances, the_meant
 from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
-from .fitting.primitive import base_centre, other_option_fits
+from .fitting.primitive import ON_FACE_FRACTION, base_centre, base_share, other_option_fits
 from .fitting.regularize import Snap, StrokeFit, hand_tolerance, regularize_operation
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
@@ -612,7 +612,7 @@ def _weigh_the_other_boolean(
     """Of a primitive's built reading and the one of its other Boolean on its face, the
     one the strokes mean, with the other as its `alternative` when that is offered
     (alternative.py: each weighed by its lines drawn all or only where its result lets
-    the view see them). Weighed only when the designer chose no Boolean, the reading is
+    the view see them, and where each would stand on f). Weighed only when the designer chose no Boolean, the reading is
     not already the other Boolean of one that did not build, and its far outline stands
     on f (`other_option_fits`: the other one's base must, to be read); and against an
     other reading that builds a change and is not hidden where the reading is not."""
@@ -635,7 +635,10 @@ def _weigh_the_other_boolean(
     for r in (reading, other):
         face = ctx.resolved(solid, r.op.face)
         r.seen = seen_distances(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, face)
-    flip, offered = the_meant(reading.score, other.score)
+    face = face_at(solid, reading.index)
+    share = [base_share(face, ctx.camera, r.op) for r in (reading, other)]
+    scores = one_way_scores((reading.distances, reading.seen), (other.distances, other.seen))
+    flip, offered = the_meant(*scores, share[1] >= min(share[0], ON_FACE_FRACTION))
     taken, left = (other, reading) if flip else (reading, other)
     taken.alternative = left if offered else None
     return taken
