@@ -19,8 +19,8 @@ test: setup
 
 # Not part of demo or test: the shipped weights from scratch (data, 90 min of
 # training on 2 CPU cores, evaluation, model card), then the structured head on the
-# U-Net's frozen features, trained on planar samples and samples on curved faces (#16;
-# the planar set ~13 min and the curved set ~6 min on 2 cores; tokens once, ~6 min; the
+# U-Net's frozen features, trained on planar samples and samples on curved faces (the
+# planar set ~13 min and the curved set ~6 min on 2 cores; tokens once, ~6 min; the
 # head ~16 min; the ablation without context ~2 min), both scored beside the U-Net and
 # end to end (model card).
 # Each step resumes where it stopped.

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Samples whose last operation stands on a curved face (#16, beyond the paper): a prism
+"""Samples whose last operation stands on a curved face (beyond the paper): a prism
 or a sweep on the side of a cylinder or cone that an earlier sweep made, or that side
 extruded (its radius changed).
 

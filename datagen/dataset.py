@@ -60,7 +60,7 @@ ARRAYS = {
     "op_type": "uint8",
     "noise_level": "uint8",
 }
-COMPRESS_LEVEL = 3  # zlib level of the shards: speed over size (docs/NOTES.md)
+COMPRESS_LEVEL = 3  # zlib level of the shards: speed over size (docs/measurements.md)
 CACHED_SHARDS = 2  # decoded shards kept by a reader (a shard is ~100 MB decoded)
 
 

@@ -53,7 +53,7 @@ NOISE_CHOICES = ["1", "2", "3", "mix"]
 HIDDEN_CHOICES = ["draw", "omit", "mix"]
 # Each worker runs on one thread: the workers already fill the cores, and threads of
 # OpenBLAS (spinning while they wait) and of Mesa's software rasteriser would only
-# compete with the other workers (docs/NOTES.md).
+# compete with the other workers (docs/measurements.md, parallel.SINGLE_THREAD_ENV).
 SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "LP_NUM_THREADS": "1"}
 
 

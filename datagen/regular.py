@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Regular operations: parameters as a designer sets them (#16, beyond the paper).
+"""Regular operations: parameters as a designer sets them (beyond the paper).
 
 `sketch2cad datagen --regular-share P` draws that share of the operations with these
 samplers instead of datagen/operations.py's random ones, to measure on held-out data
@@ -61,7 +61,7 @@ from .operations import (
 )
 
 GRID = 1.0  # mm: the step regular lengths and offsets are multiples of; the
-# held-out measure snaps with `--snap-step 1` (docs/NOTES.md)
+# held-out measure snaps with `--snap-step 1` (docs/measurements.md, regular.GRID)
 SAME_SIZE = 0.2  # share of lengths taken equal to an earlier one, where one fits
 CONCENTRIC = 0.5  # share of centres on an earlier round feature's axis, where one is
 ON_CENTRE = 0.5  # of the other centres: f's centre; the rest on a centre line

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Time of one interpret step on held-out sketches, stage by stage (#13: <= 100 ms median
-on 2 CPU cores).
+"""Time of one interpret step on held-out sketches, stage by stage (the requirement:
+a median of at most 100 ms on 2 CPU cores).
 
     .bin/python scripts/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
 
@@ -32,11 +32,9 @@ from machine import machine_line  # noqa: E402
 
 from datagen.dataset import Dataset  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
-from Sketch2CADWorkbench.inference.interpret import (  # noqa: E402
-    InterpretError,
-    InterpretOptions,
-    interpret,
-)
+from Sketch2CADWorkbench.inference.context import InterpretError  # noqa: E402
+from Sketch2CADWorkbench.inference.interpret import interpret  # noqa: E402
+from Sketch2CADWorkbench.inference.options import InterpretOptions  # noqa: E402
 from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
 from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
 

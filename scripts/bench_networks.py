@@ -105,13 +105,10 @@ def head_latency_ms(
     (observe, classify, segment for the likeliest operator: "unet + head"), and its
     stages: the U-Net's feature maps, the tokens, the head, the decoding and painting."""
     from datagen.dataset import Dataset
-    from Sketch2CADWorkbench.inference.heads import (
-        collate,
-        feature_maps,
-        load_structured_predictor,
-        painted,
-        tokens,
-    )
+    from Sketch2CADWorkbench.inference.head.model import collate
+    from Sketch2CADWorkbench.inference.head.paint import painted
+    from Sketch2CADWorkbench.inference.head.predictor import load_structured_predictor
+    from Sketch2CADWorkbench.inference.head.tokens import feature_maps, tokens
     from Sketch2CADWorkbench.inference.weights import HEAD_NAME
     from Sketch2CADWorkbench.sketch.labels import CLASSES
 

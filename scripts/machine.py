@@ -1,12 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """What a benchmark ran on, printed beside its figures so that they compare across
-stops: the CPU model, cores, load, the versions of the libraries that do the work, and
+hosts and days: the CPU model, cores, load, the versions of the libraries that do the work, and
 how fast the host runs two fixed workloads right now.
 
-Stop 24 found the CPU per data sample doubled with the same code and could not say
-whether the host or the reinstalled libraries were the cause; stop 27 saw the same code
-run 134 and 157 ms per interpret step minutes apart on an idle machine (docs/NOTES.md).
-The host's speed drifts: compare figures only beside equal host speeds.
+The same code has measured twice the CPU per data sample on another host, and 134 and
+157 ms per interpret step minutes apart on one idle machine. The host's speed drifts:
+compare figures only beside equal host speeds.
 """
 
 from __future__ import annotations

@@ -39,13 +39,10 @@ from datagen.sequences import random_box
 from datagen.views import view_direction
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.operators import make_box, replay
-from Sketch2CADWorkbench.inference.interpret import (
-    DOUBT,
-    InterpretError,
-    InterpretOptions,
-    SketchFit,
-    interpret,
-)
+from Sketch2CADWorkbench.inference.context import InterpretError
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.reading import DOUBT, SketchFit
 from Sketch2CADWorkbench.inference.weights import load_predictor
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer

@@ -5,7 +5,7 @@
         --limit 200 --json runs/recovery-l1.json
 
 interpret() hands the sketch's strokes and face-ID map to a predictor that has `observe`
-(inference/heads.py), so the whole pipeline (render, networks, fitting, B-rep) runs with
+(inference/head/), so the whole pipeline (render, networks, fitting, B-rep) runs with
 the head's F and C. Prints the recovery rates of training/recovery.py for each predictor
 on the same samples; `--rows unet` or `--rows head` runs one (each takes minutes per 100
 samples), and `--json` keeps them, merged into what the file already holds, so the two
@@ -22,7 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import torch  # noqa: E402
 
-from Sketch2CADWorkbench.inference.heads import load_structured_predictor  # noqa: E402
+from Sketch2CADWorkbench.inference.head.predictor import load_structured_predictor  # noqa: E402
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_predictor  # noqa: E402
 from training.recovery import recovery  # noqa: E402
 

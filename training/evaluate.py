@@ -18,16 +18,10 @@ import torch
 from tqdm import tqdm
 
 from datagen.dataset import Dataset, decode_inputs
-from Sketch2CADWorkbench.inference.heads import (
-    StructureHead,
-    Tokens,
-    UNetPass,
-    collate,
-    feature_maps,
-    load_head,
-    painted,
-    tokens,
-)
+from Sketch2CADWorkbench.inference.head.checkpoint import load_head
+from Sketch2CADWorkbench.inference.head.model import StructureHead, collate
+from Sketch2CADWorkbench.inference.head.paint import painted
+from Sketch2CADWorkbench.inference.head.tokens import Tokens, UNetPass, feature_maps, tokens
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import load_model, resolve
 

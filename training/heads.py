@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Training and evaluating the structured heads (inference/heads.py) on the frozen U-Net.
+"""Training and evaluating the structured heads (inference/head/) on the frozen U-Net.
 
 `extract` runs the U-Net once over a data set and keeps each sample's tokens and targets
 (cached in the run folder: the U-Net is frozen, so every epoch reuses them); `train_head`
@@ -31,19 +31,15 @@ from tqdm import tqdm
 
 from datagen.dataset import Dataset, decode_inputs
 from Sketch2CADWorkbench.brep.files import atomic_path
-from Sketch2CADWorkbench.inference.heads import (
+from Sketch2CADWorkbench.inference.head.checkpoint import load_head, save_head, sha256_of
+from Sketch2CADWorkbench.inference.head.model import (
     ROLE_OFFSETS,
     ROLES,
     HeadConfig,
     StructureHead,
-    Tokens,
     collate,
-    feature_channels,
-    feature_maps,
-    load_head,
-    save_head,
-    sha256_of,
 )
+from Sketch2CADWorkbench.inference.head.tokens import Tokens, feature_channels, feature_maps
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 

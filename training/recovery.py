@@ -38,19 +38,14 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
+from Sketch2CADWorkbench.inference.context import Context, InterpretError
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.fitting.verify import reading_score, sketch_distances
-from Sketch2CADWorkbench.inference.interpret import (
-    TAKE_A_BOOLEAN,
-    Context,
-    InterpretError,
-    InterpretOptions,
-    interpret,
-    read_operation,
-    snap_or_keep,
-)
+from Sketch2CADWorkbench.inference.interpret import interpret, snap_or_keep
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, read_operation
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import END, START

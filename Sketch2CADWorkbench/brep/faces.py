@@ -337,8 +337,8 @@ def points_on_face(
     strictly inside ones do. On a planar f whose sides are all straight this is told in
     f's plane: by counting crossings of the sides (even-odd) and by the distance to the
     nearest side, within tol plus the sides' own tolerance (`_straight_sides`), which
-    is OCCT's classifier's answer but for 0.02% of points within 2 tol of a side, where
-    its band is a little wider (docs/NOTES.md, stop 26), without a call per point. Other
+    is OCCT's classifier's answer but for a few points within 2 tol of a side, where
+    its band is a little wider, without a call per point. Other
     faces go to OCCT's face classifier, point by point.
     """
     points = np.asarray(points, float).reshape(-1, 3)

@@ -115,8 +115,7 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     """`shape` fused with, cut by or intersected with `tool` (ADD, SUBTRACT, INTERSECT):
     cadquery's fuse, cut and intersect, with four OCCT options that leave the result the
     same (its BREP text, on each of 1,096 Booleans that data generation made, on planar
-    and curved faces) and together save 5-11% of a Boolean's CPU (docs/NOTES.md, stop
-    23)."""
+    and curved faces) and together save 5-11% of a Boolean's CPU."""
     algo = BOOLEANS[mode]()
     if isinstance(shape, cq.Compound):  # as cadquery: the compound's shapes stand for it,
         parts = list(shape)  # a fuse's first one alone as the argument

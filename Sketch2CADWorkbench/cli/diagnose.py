@@ -25,7 +25,8 @@ from ..brep.compare import volume_iou
 from ..brep.faces import OperationError
 from ..brep.operators import apply_operation, replay
 from ..brep.protocol import OperatorType, describe
-from ..inference.interpret import InterpretError, InterpretOptions
+from ..inference.context import InterpretError
+from ..inference.options import InterpretOptions
 from ..render.maps import MapRenderer
 
 

@@ -20,8 +20,9 @@ from ..brep.compare import volume_iou
 from ..brep.files import check_outputs
 from ..brep.operators import apply_what_builds, make_box, replay
 from ..brep.protocol import Protocol, ProtocolError, describe, load
+from ..inference.context import InterpretError
 from ..inference.fitting.regularize import SNAP_PX
-from ..inference.interpret import InterpretError, interpret
+from ..inference.interpret import interpret
 from ..inference.session import load_session
 from .build import write_outputs
 

@@ -151,7 +151,7 @@ def heads_section(
     recovery: dict[str, dict] | None = None,
     shipped: bool = False,
 ) -> list[str]:
-    """The model card's section on the structured heads (inference/heads.py): `runs`,
+    """The model card's section on the structured heads (inference/head/): `runs`,
     each run's `train-head --json` scores and head checkpoint dictionary (or None), the
     first being the head that ships when `shipped`; `recovery`, per data set the
     end-to-end rows of scripts/recovery_with_head.py --json."""
@@ -342,7 +342,7 @@ def _heads(args: argparse.Namespace) -> list[str]:
     if not args.heads:
         return []
     if args.ship_head:
-        from ..inference.heads import sha256_of
+        from ..inference.head.checkpoint import sha256_of
 
         head = _head_beside(args.heads[0])
         if head is None or head.get("unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
@@ -403,7 +403,7 @@ def run(args: argparse.Namespace) -> int:
 def _drop_stale_head() -> None:
     """Remove a shipped head that another U-Net's features trained: the predictor would
     refuse it (the new U-Net's card says whether a head for it ships)."""
-    from ..inference.heads import sha256_of
+    from ..inference.head.checkpoint import sha256_of
 
     path = WEIGHTS / HEAD_NAME
     if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(

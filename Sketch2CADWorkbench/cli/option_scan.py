@@ -22,8 +22,9 @@ from training.recovery import read_step
 from ..brep.faces import OperationError, resolve_face
 from ..brep.operators import replay
 from ..brep.protocol import OperatorType
+from ..inference.context import InterpretError
 from ..inference.fitting.primitive import far_outline_share
-from ..inference.interpret import InterpretError, InterpretOptions
+from ..inference.options import InterpretOptions
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from training.heads import HeadSettings, evaluate_head, train_head
 
-from ..inference.heads import HeadConfig
+from ..inference.head.model import HeadConfig
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

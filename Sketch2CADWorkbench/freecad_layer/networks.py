@@ -2,8 +2,9 @@
 """The networks the workbench interprets with, loaded once per FreeCAD session.
 
 Importing cadquery, torch and the interpret pipeline and reading the weights takes seconds
-(see docs/NOTES.md), so the workbench starts it in a background thread when it is
-activated (`load_in_background`), while the user draws; the status bar says so
+(docs/measurements.md, "The networks loaded in a background thread"), so the workbench
+starts it in a background thread when it is activated (`load_in_background`), while the
+user draws; the status bar says so
 (`show_status`) and so does the Sketch panel (`when_loaded`). `predictor()` waits for
 that load instead of starting a second one, and loads in the calling thread when none was
 started (freecadcmd, scripts).

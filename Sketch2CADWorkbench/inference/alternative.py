@@ -21,7 +21,7 @@ favour that boss, which then stands off f's outline where the hole's rim lies on
 Within TIE_PX the strokes do not tell them apart, and the fitted choice stands
 (`primitive.choose_option`: where each would stand on f). The one not taken is offered
 as the alternative when it builds and explains the strokes within OFFER_PX of the one
-taken.
+taken (or within that one's own score of it).
 """
 
 from __future__ import annotations
@@ -31,18 +31,23 @@ from dataclasses import dataclass
 import cadquery as cq
 import numpy as np
 
+from ..brep.faces import OperationError
 from ..brep.protocol import Mode, Operation
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from .fitting.verify import DrawnStrokes, reading_score, sketch_distances
+from .mirror import apply_with_symmetry
 
 # A reading's other Boolean replaces it only when it explains the strokes better by more
 # than this (pixels of reading_score): a level-1 hand's median misfit is 1.4 px, so a
 # lead of a pixel is the strokes' own word, not the hand's noise (docs/NOTES.md).
 TIE_PX = 1.0
 # The reading not taken is offered when its score lies within this (pixels) of the one
-# taken: a clear fit's margin (interpret.GOOD_FIT_PX), wider than TIE_PX so that the one
-# click stays offered where the strokes lean one way but the hand could mean the other.
+# taken, or within the taken one's own score of it: a clear fit's margin
+# (reading.GOOD_FIT_PX), wider than TIE_PX so that the one click stays offered where the
+# strokes lean one way but the hand could mean the other, and wider still where the
+# taken reading itself explains the strokes poorly (a hole drawn without its hidden
+# lines, fitted as if every line were drawn).
 OFFER_PX = 3.0
 
 Distances = tuple[np.ndarray, np.ndarray, np.ndarray]  # `verify.sketch_distances`
@@ -61,6 +66,19 @@ class Alternative:
     def option(self) -> Mode:
         """Its Boolean (the designer's choice that reads it)."""
         return self.operations[0].mode
+
+    @staticmethod
+    def of(
+        solid: cq.Shape, op: Operation, result: cq.Solid, score_px: float, symmetry: str | None
+    ) -> Alternative | None:
+        """The alternative of op, built on `solid` as `result`, with its mirror image
+        through the mid-plane `symmetry` if asked (`mirror.apply_with_symmetry`); None
+        when that image does not build."""
+        try:
+            ops, solid = apply_with_symmetry(solid, op, symmetry, result)
+        except OperationError:
+            return None
+        return Alternative(ops, solid, score_px)
 
 
 def seen_distances(
@@ -104,4 +122,4 @@ def the_meant(first: float, other: float, other_stands: bool) -> tuple[bool, boo
     alternative."""
     flip = other_stands and other < first - TIE_PX
     taken, left = (other, first) if flip else (first, other)
-    return flip, left - taken <= OFFER_PX
+    return flip, left - taken <= max(OFFER_PX, taken)

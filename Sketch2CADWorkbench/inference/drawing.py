@@ -8,7 +8,7 @@ are found as the triples of stroke ends of three different strokes that lie clos
 together (an exact cover of the ends, least total spread); the labellings are then the
 few ways the corner graph splits into two n-cycles and a matching (one split for a
 triangle, pentagon or hexagon, three for a quadrilateral: a cube's graph), each outline
-as start or as end. The structured head (heads.py) chooses among them.
+as start or as end. The structured head (head/decode.py) chooses among them.
 """
 
 from __future__ import annotations

@@ -115,8 +115,8 @@ class Sketch2CADNet(nn.Module):
         self.heads = nn.Conv2d(w[0], 2 * N_OPS, 1)  # channels: F logits of 4 ops, then C
         with torch.no_grad():  # start C at the middle of the labels' range 0..2
             self.heads.bias[N_OPS:].fill_(1.0)
-        # channels-last: oneDNN's preferred layout on the CPU (docs/NOTES.md); loading a
-        # state dict keeps the layout
+        # channels-last: oneDNN's preferred layout on the CPU (docs/measurements.md, "The
+        # U-Net in channels-last layout"); loading a state dict keeps the layout
         self.to(memory_format=torch.channels_last)
 
     # ------------------------------------------------------------ shapes
@@ -192,7 +192,7 @@ class Sketch2CADNet(nn.Module):
         self, x: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, list[torch.Tensor]]:
         """`forward`, plus the decoder's feature maps that the structured heads
-        (inference/heads.py) pool along strokes and over faces.
+        (inference/head/) pool along strokes and over faces.
 
         Returns:
             forward's three outputs and the decoder maps, coarsest first:

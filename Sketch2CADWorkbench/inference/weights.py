@@ -3,7 +3,7 @@
 
 The weights live inside the package (inference/weights/sketch2cad_net.pt, described by
 inference/weights/MODEL_CARD.md) and load from disk only: nothing is downloaded. A
-structured head (inference/heads.py) beside a U-Net's file, sketch2cad_head.pt, is loaded
+structured head (inference/head/) beside a U-Net's file, sketch2cad_head.pt, is loaded
 with it; the head records the SHA-256 of the U-Net it was trained on, and a head beside
 another U-Net is refused.
 """
@@ -100,7 +100,7 @@ def load_predictor(path: str | Path | None = None, structured: bool = True) -> N
     unet = resolve(path)
     head = shipped_head(path)
     if structured and head is not None:
-        from .heads import load_structured_predictor  # heads builds on this module
+        from .head.predictor import load_structured_predictor  # it builds on this module
 
         return load_structured_predictor(head, unet)
     model, _ = load_model(unet)

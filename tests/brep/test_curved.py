@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Operators on curved faces (#16, beyond the paper): a boss, slot, peg or drilled hole
+"""Operators on curved faces (beyond the paper): a boss, slot, peg or drilled hole
 standing on a cylinder's side meets the curved wall as a designer expects, an extrusion
 of a cylinder's side changes its radius, and anything else is a clear error."""
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Editing an earlier step moves the later steps as a CAD user expects (#17 item 1): each
+"""Editing an earlier step moves the later steps as a CAD user expects: each
 operator after an edit of each earlier kind of step keeps its shape and follows the face
 it was sketched on, or goes into error saying why it no longer fits."""
 
@@ -178,8 +178,8 @@ def test_a_later_step_follows_an_edit_of_an_earlier_one(earlier, later_kind):
 
 
 def test_the_reported_case_a_bevel_under_a_longer_extrusion_moves_to_the_new_top():
-    """#17: the Extrude's offset from 9.54 to 15 mm left both rounds as grooves 5 mm below
-    the new top, and every step said it was valid."""
+    """The Extrude's offset from 9.54 to 15 mm used to leave both rounds as grooves 5 mm
+    below the new top, and every step said it was valid."""
     bevel = round_corner(
         FRONT, (20.0, -15.0, 19.54), (-1, 0, 0), (0, 0, -1), (20.0, 15.0, 19.54), 5.0
     )
@@ -222,7 +222,7 @@ def test_a_bevel_whose_corner_no_longer_fits_goes_into_error_saying_why():
 
 
 def test_a_bevel_whose_corner_is_not_a_vertex_of_the_face_is_refused_naming_it():
-    """#12 item 11: c in the middle of the front face's top edge, with a 1 mm crease that
+    """c in the middle of the front face's top edge, with a 1 mm crease that
     no corner of f has, is refused (not built, and not moved to a corner)."""
     op = Bevel(
         FRONT,

@@ -114,7 +114,7 @@ def test_a_head_ships_only_when_trained_on_the_shipped_unet(tmp_path, monkeypatc
     import torch
 
     from Sketch2CADWorkbench.cli import main, model_card
-    from Sketch2CADWorkbench.inference.heads import sha256_of
+    from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
 
     weights = tmp_path / "weights"
     weights.mkdir()
@@ -148,7 +148,7 @@ def test_a_new_unet_drops_a_shipped_head_trained_on_another(tmp_path, monkeypatc
     import torch
 
     from Sketch2CADWorkbench.cli import model_card
-    from Sketch2CADWorkbench.inference.heads import sha256_of
+    from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
 
     monkeypatch.setattr(model_card, "WEIGHTS", tmp_path)
     (tmp_path / "sketch2cad_net.pt").write_bytes(b"the new U-Net")

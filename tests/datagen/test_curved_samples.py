@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Samples on curved faces (#16): the last operation stands on a cylinder's or cone's side
+"""Samples on curved faces: the last operation stands on a cylinder's or cone's side
 of its context, builds there, and its labels name that face and the stroke parts; the
 bound that rejects candidates before their Booleans holds. A curved set takes the noise
 levels in turns with "mix", is the same for the same seed, and resumes by shard."""

@@ -172,7 +172,8 @@ def random_strokes(n: int, seed: int, predictor=None) -> Tally:
     from random views, through the whole interpret pipeline."""
     from datagen.sequences import random_box
     from datagen.views import view_direction
-    from Sketch2CADWorkbench.inference.interpret import InterpretError, interpret
+    from Sketch2CADWorkbench.inference.context import InterpretError
+    from Sketch2CADWorkbench.inference.interpret import interpret
     from Sketch2CADWorkbench.inference.weights import load_predictor
     from Sketch2CADWorkbench.render.frustum import fit_camera
     from Sketch2CADWorkbench.render.maps import MapRenderer

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The full fuzzing campaigns, with their counts (docs/NOTES.md quotes them):
+"""The full fuzzing campaigns, with their counts:
 
 .bin/python tests/fuzz/run.py [--protocols 300] [--sessions 300] [--strokes 1000]
     [--kills 36] [--concurrent-seconds 20] [--seed 0]

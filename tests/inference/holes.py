@@ -37,8 +37,10 @@ from Sketch2CADWorkbench.brep.protocol import (
     Protocol,
     Sweep,
 )
+from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
-from Sketch2CADWorkbench.inference.interpret import InterpretError, InterpretOptions, interpret
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves

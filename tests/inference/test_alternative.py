@@ -23,10 +23,13 @@ def test_the_other_boolean_standing_off_f_more_than_the_reading_is_not_taken_but
     assert the_meant(5.0, 5.0 - 2 * TIE_PX, False) == (False, True)
 
 
-def test_the_one_not_taken_is_offered_only_within_offer_px_of_the_one_taken():
+def test_the_one_not_taken_is_offered_only_within_offer_px_of_the_one_taken_or_its_score():
     assert the_meant(2.0, 2.0 + OFFER_PX + 0.5, True) == (False, False)
     assert the_meant(2.0 + OFFER_PX + 0.5, 2.0, True) == (True, False)
     assert the_meant(2.0 + OFFER_PX - 0.5, 2.0, True) == (True, True)
+    # a taken reading that explains the strokes poorly leaves room for the other
+    assert the_meant(4 * OFFER_PX, 6 * OFFER_PX, True) == (False, True)
+    assert the_meant(4 * OFFER_PX, 9 * OFFER_PX, True) == (False, False)
 
 
 def test_a_reading_is_explained_by_its_seen_lines_only_when_they_fit_the_strokes_better():

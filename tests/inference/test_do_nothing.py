@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A reading that would not change the model is never offered as the step, a face the
 user cannot see from the sketch view comes after the ones they can, and a hole whose face
-the networks get wrong is still cut into the face it is drawn on (#17 item 2)."""
+the networks get wrong is still cut into the face it is drawn on."""
 
 import numpy as np
 import pytest
@@ -11,14 +11,12 @@ from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
-from Sketch2CADWorkbench.inference import interpret as pipeline
-from Sketch2CADWorkbench.inference.interpret import (
-    InterpretError,
-    InterpretOptions,
-    hidden_faces,
-    interpret,
-    leaves_unchanged,
-)
+from Sketch2CADWorkbench.inference import search
+from Sketch2CADWorkbench.inference.context import InterpretError
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.reading import leaves_unchanged
+from Sketch2CADWorkbench.inference.search import hidden_faces
 from Sketch2CADWorkbench.render.maps import MapRenderer
 
 BOSS_TOP = FaceRef((-12.5, 0.0, 20.0), (0.0, 0.0, 1.0))
@@ -65,7 +63,7 @@ class SaysBossTop(Oracle):
 
     def segment(self, inputs, op_type):
         face, curve = super().segment(inputs, op_type)
-        from Sketch2CADWorkbench.inference.interpret import to_context
+        from Sketch2CADWorkbench.inference.context import to_context
 
         strokes = [self.view.project(p)[0] for p in self.strokes3d]
         ids = to_context(self.solid, strokes, self.view, self.renderer).maps.face_id
@@ -103,8 +101,8 @@ def test_a_reading_that_would_change_nothing_is_refused_saying_so(stepped, rende
     strokes, cam, oracle = _hole_drawn(stepped, renderer)
     # every face reads as the cut into the air (as the GUI check saw on a face above)
     monkeypatch.setattr(
-        pipeline,
-        "_fit_on_face",
+        search,
+        "fit_on_face",
         lambda solid, kind, index, *a: [(IN_THE_AIR, index, [0] * len(strokes))],
     )
     with pytest.raises(InterpretError, match="would leave the model as it is"):
@@ -122,12 +120,12 @@ def test_a_reading_that_changes_nothing_is_not_offered_even_when_it_fits_best(
     oracle = SaysBossTop(stepped, IN_THE_AIR, pts, labels, cam, renderer)
     top = resolve_face(stepped, BOSS_TOP).face
     on_top = next(i for i, f in enumerate(stepped.Faces()) if f.isSame(top))
-    fit = pipeline._fit_on_face
+    fit = search.fit_on_face
 
     def the_air_on_the_blocks_top(solid, kind, index, *a):  # as its own sketch: 0 px off
         return [(IN_THE_AIR, index, labels)] if index == on_top else fit(solid, kind, index, *a)
 
-    monkeypatch.setattr(pipeline, "_fit_on_face", the_air_on_the_blocks_top)
+    monkeypatch.setattr(search, "fit_on_face", the_air_on_the_blocks_top)
     try:
         got = interpret(
             stepped,

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Holes drawn as a designer draws them are read as those holes by the shipped networks
-(#17 item 2): subtract prisms on visible faces of random models, drawn through the data
+"""Holes drawn as a designer draws them are read as those holes by the shipped networks:
+subtract prisms on visible faces of random models, drawn through the data
 generator's synthesis with level-1 wobble (tests/inference/holes.py), with subtract
 chosen in the panel. Without a choice a hole and a boss standing on its rim draw the
 same lines (paper, Fig. 5b): `scripts/hole_rate.py` prints both rates for more holes."""

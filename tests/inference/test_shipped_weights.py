@@ -13,7 +13,8 @@ from pathlib import Path
 
 import torch
 
-from Sketch2CADWorkbench.inference.heads import StructuredPredictor, sha256_of
+from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
+from Sketch2CADWorkbench.inference.head.predictor import StructuredPredictor
 from Sketch2CADWorkbench.inference.weights import (
     DEFAULT_WEIGHTS,
     HEAD_NAME,
@@ -59,7 +60,7 @@ def test_shipped_weights_meet_the_model_cards_thresholds(tmp_path):
 
 
 def test_the_shipped_head_reads_the_shipped_unets_features_and_is_the_default():
-    # the model card ships it (docs/NOTES.md, stop 22: end to end at least as well)
+    # the model card ships it (end to end at least as well as the U-Net alone)
     head = torch.load(WEIGHTS_DIR / HEAD_NAME, map_location="cpu", weights_only=False)
     assert head["unet_sha256"] == sha256_of(DEFAULT_WEIGHTS)
     assert (WEIGHTS_DIR / HEAD_NAME).stat().st_size < 5 * 2**20

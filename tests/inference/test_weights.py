@@ -47,14 +47,10 @@ def test_a_garbage_weights_file_is_a_clean_error_naming_it(tmp_path):
 
 
 def test_a_head_beside_the_weights_loads_with_them_and_only_for_that_unet(tiny_config, tmp_path):
-    from Sketch2CADWorkbench.inference.heads import (
-        HeadConfig,
-        StructuredPredictor,
-        StructureHead,
-        feature_channels,
-        save_head,
-        sha256_of,
-    )
+    from Sketch2CADWorkbench.inference.head.checkpoint import save_head, sha256_of
+    from Sketch2CADWorkbench.inference.head.model import HeadConfig, StructureHead
+    from Sketch2CADWorkbench.inference.head.predictor import StructuredPredictor
+    from Sketch2CADWorkbench.inference.head.tokens import feature_channels
 
     net = Sketch2CADNet(tiny_config)
     unet = tmp_path / weights.WEIGHTS_NAME

@@ -13,13 +13,9 @@ from network_fixtures import SIZE, synthetic_record
 
 from datagen.dataset import FORMAT, VERSION, Record, write_shard
 from Sketch2CADWorkbench.cli import main
-from Sketch2CADWorkbench.inference.heads import (
-    HeadConfig,
-    StructureHead,
-    feature_channels,
-    load_head,
-    save_head,
-)
+from Sketch2CADWorkbench.inference.head.checkpoint import load_head, save_head
+from Sketch2CADWorkbench.inference.head.model import HeadConfig, StructureHead
+from Sketch2CADWorkbench.inference.head.tokens import feature_channels
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet, load_checkpoint, save_checkpoint
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME
 from training.heads import HeadSettings, evaluate_head, extract, train_head

@@ -225,7 +225,7 @@ class SketchPanel:
     # ------------------------------------------------------------ reading
 
     def options(self):
-        from ...inference.interpret import InterpretOptions
+        from ...inference.options import InterpretOptions
 
         opt = self.option.currentText()
         sym = self.symmetry.currentText()
@@ -283,7 +283,8 @@ class SketchPanel:
                 tr("<i>Loading networks…</i> The reading follows when they are ready.")
             )
             self.text.repaint()  # the imports and predictor() below wait for the load
-        from ...inference.interpret import InterpretError, interpret
+        from ...inference.context import InterpretError
+        from ...inference.interpret import interpret
         from ...inference.session import SketchStep
         from ..make.make_model import FEATURE_OF_OPERATION
 

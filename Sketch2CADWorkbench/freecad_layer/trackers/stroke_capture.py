@@ -8,12 +8,12 @@ overlay is updated once per turn of the event loop, so the view redraws at its o
 while every move is kept. While the left button is down Qt's merging of queued mouse
 moves (AA_CompressHighFrequencyEvents, on by default on X11) is off: with it, a view
 that renders slowly (software OpenGL) received a quarter of the moves and circles came
-out as polygons (docs/NOTES.md). Left presses, moves and releases and the hover moves
+out as polygons. Left presses, moves and releases and the hover moves
 never reach Coin, so navigation styles do not take left drags and faces do not
 pre-highlight while drawing. Enter and Escape are read by the same filter, on the view
 and its viewport (whichever has the keyboard focus). The viewer's Python object
 (`view.getViewer()`) is never asked for: FreeCAD 1.1.3 with Python 3.14 crashes when a
-document whose viewer it handed out is closed (docs/NOTES.md).
+document whose viewer it handed out is closed.
 The overlay is an SoAnnotation, so the model never hides it.
 
 Each stroke point is kept in world coordinates, on the camera's focal plane at the time

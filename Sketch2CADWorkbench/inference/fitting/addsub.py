@@ -25,7 +25,8 @@ from .refine import prism_from_ends, refine_prism
 from .surface import back_project, face_frame, face_ref, option_frame
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
-# length matches: above the noisiest strokes the generator draws (docs/NOTES.md).
+# length matches: above the noisiest strokes the generator draws (docs/measurements.md,
+# addsub.MAX_MISMATCH_PX).
 MAX_MISMATCH_PX = 20.0
 # Base outline corners closer than this (px) are one corner: too few sides for N.
 MIN_SIDE_PX = 2.0

@@ -41,9 +41,8 @@ HEAD_ON_COS = 0.995
 # shrunk to its axis is no solid (brep/operators refuses |d| >= the radius).
 MAX_SHRINK = 0.95
 # How much the strokes' ends count against the corners and moved corners in the line
-# search (`line_search`): with 1, held-out extrusions read closer on average than with
-# 0 or 0.3 (test-l1 mean volume IoU 0.957 -> 0.960 with the final code; docs/NOTES.md,
-# stop 30).
+# search (`line_search`), against the moved edges' closeness to the strokes
+# (docs/measurements.md, extrude.END_WEIGHT).
 END_WEIGHT = 1.0
 # A stroke whose ends lie farther than this (px, the root of the two ends' summed
 # squares) from every line of the extrusion it could draw was drawn for something else
@@ -177,8 +176,8 @@ def _curved_by_ends(
     is p + d n(p), linear in d, so each candidate d (the line search's range) is scored
     cheaply; the best is polished by a bounded scalar search. Closeness along an open
     stroke follows the hand's miss (the pipe session's step 2: +1 mm read as -0.67 by
-    closeness, +0.79 so). Held-out curved extrusions: level 1 97.9 -> 99.0%, level 3
-    97.8 -> 95.5% (docs/NOTES.md, stop 35). None when no stroke pairs with a curve."""
+    closeness, +0.79 so). Kept for the level-1 hand, though at level 3 the side edges
+    at the seam's corners pair badly. None when no stroke pairs with a curve."""
     surface = CurvedSurface.of(face)
     # open curves: a seam edge (both ends move with d), a side edge from each corner
     # to its moved copy (its first end stays); rims: the closed edges, moving with d
@@ -274,17 +273,16 @@ def fit_extrude_by_ends(
     takes the line that fits its ends best at every candidate d (search_range, its cost
     capped at TIP_CAP_PX); at the best d the pairing is fixed and d solved in closed form,
     twice more with the pairing renewed. Beyond the paper's line search, which matches
-    the moved outline to the strokes' pixels: at noise level 3 that reads d within the
-    0.95 test for 69% of held-out extrusions, this for 76% (heldout-l3c; docs/NOTES.md,
-    stop 34).
+    the moved outline to the strokes' pixels (docs/measurements.md, "Extrusions read from
+    their strokes' ends").
 
     On a curved f (a cylinder's or cone's side) the moved rims are loops: `_curved_by_ends`.
 
     Returns:
         The Extrude on a curved f, or on a planar f whose outline is a polygon; or None
         (a disk, no offset stroke, a view along f, or no stroke within the cap). An
-        outline with arcs is left to the line search: read so, heldout-l3c's extrusions
-        fell (75.9 -> 75.3%; docs/NOTES.md, stop 34).
+        outline with arcs is left to the line search: its curved sides draw silhouettes
+        that end nowhere near a corner.
     """
     if is_curved(face):
         return _curved_by_ends(solid, face, camera, offset_strokes + profile_strokes)

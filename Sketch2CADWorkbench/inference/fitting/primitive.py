@@ -13,7 +13,8 @@ from ...render.camera import OrthoCamera
 from .common import FitError
 
 # Fraction of a back-projected outline's samples on f for it to lie on f; below it, an
-# outline that is mostly on f still decides when the other one is less so.
+# outline that is mostly on f still decides when the other one is less so
+# (docs/measurements.md, primitive.MOSTLY_FRACTION).
 ON_FACE_FRACTION = 0.9
 MOSTLY_FRACTION = 0.25
 # Share of f an outline's region must cover to stand on f when its outline does not lie
@@ -21,8 +22,8 @@ MOSTLY_FRACTION = 0.25
 COVER_FRACTION = 0.5
 # An outline sample back-projected within this many context pixels of f counts as on f:
 # the hand's slack where a boss stands at f's edge (a fitted base outline 1-2 px over the
-# edge read the boss as the hole its top draws). Held-out level 1, seed 30001: add/sub
-# strict 86.1 -> 88.0%, no reading lost; 4 px the same (docs/NOTES.md, stop 22).
+# edge read the boss as the hole its top draws): docs/measurements.md,
+# primitive.ON_FACE_TOL_PX.
 ON_FACE_TOL_PX = 2.0
 
 
@@ -190,9 +191,9 @@ def other_option_fits(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Swee
     outline, seen along the view, draw the same lines. The flipped reading stands on the
     fitted primitive's far outline, back-projected along the view onto f; it is named
     when that outline stands on f by the test a forced Boolean must pass
-    (`stands_on_face`), so that choosing it reads it. (Until stop 21 half the outline had
-    to lie on f, a stricter test than the forced one: a boss overhanging f's edge, read
-    as the hole its top draws, named no flip.)
+    (`stands_on_face`), so that choosing it reads it. A stricter test than the forced
+    one (half the outline on f) would name no flip for a boss overhanging f's edge, read
+    as the hole its top draws.
     """
     if op.mode not in (Mode.ADD, Mode.SUBTRACT):
         return False

@@ -20,10 +20,8 @@ stroke that draws it (`match_ends`), the hand's error model replacing closeness 
 the two disagree (END_WEIGHT). From the refined prism, `prism_from_ends` then reads it
 from the ends alone (closeness, robust loss and all left behind): under that hand the
 ends are all a straight stroke tells, and their least squares is the likeliest prism.
-Held-out add/sub prisms read so, with the refined one kept only where that one is
-degenerate: level 3 (heldout-l3c, 610) 77.9 -> 80.2% recovered, mean volume IoU .963 ->
-.965; level 1 (heldout-l1c, 617) 86.7% as before, mean .9775 -> .9783 (docs/NOTES.md,
-stop 35).
+The refined prism is kept only where that reading is degenerate (docs/measurements.md,
+"Prisms read from their strokes' ends").
 
 A sweep is refined alike (`refine_sweep`): its centre on f, radii and offset d move
 together, the profile keeping its fitted shape, until both circles and both profile
@@ -32,19 +30,17 @@ point of those curves is affine in the parameters, so this runs in 2D too. The p
 fits each circle to its own outline alone (an ellipse with five free parameters, when
 the image of a circle about a known axis has three), and a loop or an overshoot at a
 hand-drawn ellipse's end pulls it off; the side lines then see the same centre and
-radii. (Tried at stop 12 with the profile refined too, before the profiles were read in
-the silhouette plane and before readings were scored by their reprojection, it measured
-no better; the caller now scores the refined sweep beside the fitted one: docs/NOTES.md,
-stop 29.)
+radii. The profile keeps its fitted shape: refined with the rest, its control points
+follow the noise of short profile strokes. The caller scores the refined sweep beside
+the fitted one.
 
 A bevel is refined alike (`refine_bevel`): its profile l's ends slide along the two
 edges of f that meet at the corner and its inner control points move in f's plane,
 until l and its copy l' at the opposite corner lie closest to both strokes, both ways.
 The paper fits l to one stroke back-projected onto f, where a hand's error grows by
 1 / cos at a slant; l' is the same curve moved along the crease, so the second stroke
-sees it too. Held-out bevels read with l fitted alone, then with the refined l beside
-it (the one that explains the strokes better kept): level 3, 111 -> 116 of 140 recovered;
-level 1, 144 -> 149 of 151 (docs/NOTES.md, stop 31).
+sees it too. The refined l is a reading beside the fitted one, and the one that explains
+the strokes better is kept (docs/measurements.md, "Bevel profiles found in the image").
 """
 
 from __future__ import annotations
@@ -62,8 +58,7 @@ EDGE_SAMPLES = 8  # points per prism edge for the edge-to-stroke distances
 STROKE_STEP_PX = 3.0  # spacing of the stroke points
 MAX_EVALUATIONS = 30  # of the residuals; the fit starts close, so few are needed
 # Each end gap's residual is scaled by this times the square root of the stroke points
-# per end, so that the ends outweigh closeness: with 3, held-out level-3 add/sub prisms
-# and sweeps read closer on average than with 0, 0.3, 1 or 10 (docs/NOTES.md, stop 30).
+# per end, so that the ends outweigh closeness (docs/measurements.md, refine.END_WEIGHT).
 END_WEIGHT = 3.0
 # The weight (relative to a stroke end's) that holds a vertex no end sees where it was.
 HOLD_WEIGHT = 1e-3
@@ -280,8 +275,7 @@ def refine_sweep(
 ) -> np.ndarray:
     """Move a sweep's centre, radii and offset together to fit all its strokes, its
     profile keeping its fitted shape (`SweepImage`): refined with the rest, the profile's
-    control points followed the noise of short profile strokes (heldout-l3's 48 sweeps:
-    66.7% recovered so, 75.0% keeping its shape; docs/NOTES.md, stop 29).
+    control points followed the noise of short profile strokes.
 
     Args:
         image: how its curves move with the parameters.

@@ -82,8 +82,8 @@ def equalize(poly: np.ndarray) -> np.ndarray:
     when their two side lengths (each the mean of a pair of opposite sides) differ by
     at most LENGTH_TOL of their mean: the paper's "differences of side lengths within
     20% of the average", which a 16 x 22 rectangle, each side within 20% of the mean
-    of all four, does not meet (regular-l1f: 8 of the 10 add/sub readings that
-    regularization made worse were rectangles squared so; docs/NOTES.md, stop 38).
+    of all four, does not meet (docs/measurements.md, regularize.ANGLE_TOL_DEG,
+    LENGTH_TOL).
     Other N-gons become regular when their angles are close and each side lies within
     LENGTH_TOL of their mean: a designer rarely means a hexagon with equal angles and
     unequal sides, and a hand's sides vary more the more it draws. The centre and the
@@ -143,11 +143,12 @@ def align_to_edges(poly: np.ndarray, edge_dirs: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------- intent-aware snapping
 
 # A value snaps to a target within this many pixels of the view the strokes were drawn
-# in (the hand's error): 10 px lost held-out recoveries, 5 did not (docs/NOTES.md).
+# in (the hand's error): docs/measurements.md, regularize.SNAP_PX.
 SNAP_PX = 5.0
 # The tolerance grows with the hand: a reading whose own sketch lies m pixels from its
 # strokes (its misfit) was drawn by a hand that misses by about that much, so a target
-# within HAND_SNAP * m view pixels is taken as meant (docs/NOTES.md, stop 27).
+# within HAND_SNAP * m view pixels is taken as meant (docs/measurements.md,
+# regularize.HAND_SNAP).
 HAND_SNAP = 3.0
 # A displacement seen nearly along the view looks short on screen but is not: it counts
 # at least this share of its true length in pixels.
@@ -158,13 +159,14 @@ STRAIGHT_TOL = 0.08
 # A target point (fixing both coordinates) is taken over a target line when it lies at
 # most this many view pixels farther from the feature: a point much farther than a line
 # is a coincidence the strokes do not draw (mixer session step 2: a block drawn along the
-# column's side, 0.5 px from it, jumped 2.85 mm onto the column's corner, 11.5 px away).
+# column's side, 0.5 px from it, jumped 2.85 mm onto the column's corner, 11.5 px away;
+# docs/measurements.md, regularize.POINT_OVER_LINE_PX).
 POINT_OVER_LINE_PX = SNAP_PX
 # A target point beyond the tolerance, up to FIT_REACH times as far, is still taken when
 # the strokes fit the feature put there (the caller's `StrokeFit`: a clear fit): a hand that
 # draws a whole outline a few pixels off, seen at a grazing angle, misses by more than its
 # lines' wobble says (pipe session step 3: a bore 8 mm off its tube's axis). The nearest
-# FIT_TRIES such moves are tried.
+# FIT_TRIES such moves are tried (docs/measurements.md, regularize.FIT_REACH).
 FIT_REACH, FIT_TRIES = 3.0, 3
 # Designers size long features in round numbers (a 70 mm tube, a 90 mm handle), and a hand
 # misjudges where a long outline ends by more than its lines wobble (pipe session: a tube
@@ -175,8 +177,8 @@ FIT_REACH, FIT_TRIES = 3.0, 3
 # it (the caller's StrokeFit) and lie at most ROUND_PX (pixels of the fitting camera)
 # farther from its sketch on average than from the grid value's. Shorter lengths keep the
 # grid: from 20 mm on, 5 mm steps cost held-out sweeps whose regular lengths are any whole
-# mm; and a sloppy hand's strokes, which fit neither clearly, do not choose (docs/NOTES.md,
-# stop 37).
+# mm; and a sloppy hand's strokes, which fit neither clearly, do not choose
+# (docs/measurements.md, regularize.ROUND_STEPS).
 ROUND_STEPS, ROUND_MIN, ROUND_PX = (10.0, 5.0), 8, 0.3
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1

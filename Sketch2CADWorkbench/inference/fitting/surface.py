@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Back-projecting strokes onto a base face f that may be curved (#16, beyond the paper).
+"""Back-projecting strokes onto a base face f that may be curved (beyond the paper).
 
 On a planar f a stroke's pixels are back-projected onto f's plane (the paper). On a
 cylinder's or cone's side they are back-projected onto the surface itself: each pixel's
@@ -32,9 +32,8 @@ from ...render.camera import OrthoCamera
 from .common import FitError
 
 # A ray that misses the curved f by at most this many pixels still meets it (a corner
-# drawn past a cylinder's outline or rim by the hand; level-1 profile strokes end up to
-# ~10 px from the true corners): curved-50003, fitting alone, prisms and sweeps refused
-# 5 at 2 px, 2 at 6 px (docs/NOTES.md, stop 28).
+# drawn past a cylinder's outline or rim by the hand; level-1 profile strokes end several
+# pixels from the true corners): docs/measurements.md, surface.SURFACE_SLACK_PX.
 SURFACE_SLACK_PX = 6.0
 
 

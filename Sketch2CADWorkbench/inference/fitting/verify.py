@@ -39,9 +39,8 @@ from .common import (
 )
 
 # Readings are ranked by closeness plus this times the rms gap between the strokes' ends
-# and their curves' (`reading_score`): a pixel at an end weighs a pixel of closeness.
-# Held-out level-3 add/sub and sweeps read alike with 0, 0.3 and 1, worse with 3 (sweeps'
-# mean volume IoU .9532 -> .9491; docs/NOTES.md, stop 30).
+# and their curves' (`reading_score`): a pixel at an end weighs a pixel of closeness
+# (docs/measurements.md, verify.END_WEIGHT).
 END_WEIGHT = 1.0
 
 

@@ -106,7 +106,7 @@ def edit_and_recompute():
 
 @check
 def bevel_follows_an_edit_of_an_earlier_extrude():
-    # #17 item 1: a longer Extrude under a Bevel used to leave the round as a groove below
+    # a longer Extrude under a Bevel used to leave the round as a groove below
     # the new top, every feature saying Valid; the bevel now moves to the new corner
     from Sketch2CADWorkbench.brep.operators import locate_bevel
     from Sketch2CADWorkbench.brep.protocol import Bevel, Box, Extrude, FaceRef, Protocol

@@ -374,12 +374,11 @@ def hole_outlines(bb, count: int = 10):
 
 @check
 def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
-    """Ten holes drawn in the top face with every edge (#17 item 2): with subtract chosen in
+    """Ten holes drawn in the top face with every edge: with subtract chosen in
     the panel at least nine are read as those holes. Without a choice a hole and a boss on
     its rim draw the same lines (paper, Fig. 5b) and + is the default: at least nine are
     read as the hole or as that boss with subtract named as the other Boolean (one click
-    in the panel); how many are the hole outright is printed, not checked (docs/NOTES.md,
-    stop 20)."""
+    in the panel); how many are the hole outright is printed, not checked."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
 
@@ -427,7 +426,7 @@ def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
             panel.reject()
             settle()
     say(f"HOLES READ {read}")
-    with open(os.path.join(TMP, "holes-read.json"), "w") as f:  # for docs/NOTES.md's figure
+    with open(os.path.join(TMP, "holes-read.json"), "w") as f:  # the counts, kept
         json.dump(read, f)
     assert read["subtract chosen"] >= 9 and read["no choice, subtract named"] >= 9, read
 

@@ -5,8 +5,7 @@ torch, the networks load in the background (said in the status bar and the Sketc
 and an interpret waits for that load instead of starting a second one; every mouse move
 of a stroke reaches the capture while the view redraws.
 
-Lines "FIGURE <name> <value>" report what was measured (docs/NOTES.md); no check asserts
-a duration.
+Lines "FIGURE <name> <value>" report what was measured; no check asserts a duration.
 """
 
 import math

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Impossible property values typed into the features (#12), run by test_values.py in one
+"""Impossible property values typed into the features, run by test_values.py in one
 freecadcmd process: each puts its own step in error with a message that names the
 property (or the parameter and its range) and no OCCT text, the later steps follow it
 into error, and typing the old value back rebuilds the model as it was."""

@@ -40,8 +40,8 @@ def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):
 
 def test_a_hole_whose_rim_boss_overhangs_f_still_names_that_boss_which_a_click_reads(box, camera):
     # seen along the view, the 9 mm hole's floor falls two thirds off the top face: the boss
-    # standing there overhangs f's corner, yet draws the same lines and builds (stop 21: a
-    # rule stricter than the forced choice's named no flip for such a step)
+    # standing there overhangs f's corner, yet draws the same lines and builds (a rule
+    # stricter than the forced choice's would name no flip for such a step)
     face = face_towards(box, (0, 0, 1))
     strokes, labels = prism_sketch(camera, QUAD + [-8, -6, 0], 9.0, -1)
     hole = fit_prism(box, face, camera, strokes, labels)

@@ -483,7 +483,7 @@ def test_a_handle_read_with_a_bulge_and_thin_ends_becomes_the_cone_its_sides_dra
     assert apply_operation(box, got).Volume() - box.Volume() == pytest.approx(drawn, rel=0.06)
 
 
-# ------------------------------------------------ on a curved face (a pipe's side, #16)
+# ------------------------------------------------ on a curved face (a pipe's side)
 
 R_PIPE, H_PIPE = 12.0, 70.0  # a pipe on the z axis, from z = 0 up: its side's middle is 35
 
