@@ -40,7 +40,7 @@ from .mirror import apply_with_symmetry
 
 # A reading's other Boolean replaces it only when it explains the strokes better by more
 # than this (pixels of reading_score): a level-1 hand's median misfit is 1.4 px, so a
-# lead of a pixel is the strokes' own word, not the hand's noise (docs/NOTES.md).
+# lead of a pixel is the strokes' own word, not the hand's noise.
 TIE_PX = 1.0
 # The reading not taken is offered when its score lies within this (pixels) of the one
 # taken, or within the taken one's own score of it: a clear fit's margin
