@@ -10,8 +10,9 @@ view turned a little, as a designer draws it: the rim, the depth lines and the b
 circle where the view sees them (hidden lines left out), each stroke a freehand one of
 the data generator's hand. Each drawing is interpreted with the shipped networks and no
 Boolean chosen; per face the script prints how many were read as the hole (a
-subtraction, volume IoU >= 0.95), as a boss (an addition), as something else, and how
-many of the misses offer the hole as the alternative reading (one click).
+subtraction, volume IoU >= 0.95), as a boss (an addition), as something else, how
+many of the misses offer the hole as the alternative reading (one click), and how many
+readings carry an alternative at all.
 """
 
 import argparse
@@ -54,10 +55,12 @@ def main() -> int:
                 print(f"  {face}: {miss[:100]}")
             got[kind] += 1
             got["offered"] += bool(miss) and other is Mode.SUBTRACT
+            got["alternative"] += other is not None
         print(
             f"{face:>4}: read as the hole {got['hole']}/{a.count}, as a boss {got['boss']}, "
             f"other {got['other']}; misses offering the hole as the alternative "
-            f"{got['offered']}/{a.count - got['hole']}"
+            f"{got['offered']}/{a.count - got['hole']}; readings carrying an alternative "
+            f"{got['alternative']}/{a.count}"
         )
     return 0
 
