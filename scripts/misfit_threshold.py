@@ -10,9 +10,10 @@ interpret's doubt thresholds (readings past them are flagged as doubtful).
 
 Interprets every sample of a held-out generated set (level 1) and random scribbles over
 random boxes (or reads what an earlier run wrote with --features), and records for each
-accepted reading its SketchFit: how far the strokes lie from the operation's own sketch
-and the sketch from the strokes, and the classifier's confidence. It prints the shares of
-real sketches and of scribbles that the shipped rule (`SketchFit.doubtful`) flags, and
+accepted reading its doubt measures (`reading.doubt_measures`): how far the strokes lie
+from the operation's own sketch and the sketch from the strokes, and the classifier's
+confidence. It prints the shares of
+real sketches and of scribbles that the shipped rule (`reading.doubts`) flags, and
 with --choose the rule (one or two measures, thresholds at high quantiles of the real
 ones) that lets the fewest scribbles through while flagging at most 1% of the real
 sketches. Choose on one set, report on another (another datagen seed and
@@ -42,7 +43,7 @@ from Sketch2CADWorkbench.brep.operators import make_box, replay
 from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
-from Sketch2CADWorkbench.inference.reading import DOUBT, SketchFit
+from Sketch2CADWorkbench.inference.reading import DOUBT, DOUBT_MEASURES, doubts
 from Sketch2CADWorkbench.inference.weights import load_predictor
 from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.render.maps import MapRenderer
@@ -75,7 +76,7 @@ def fits_of_samples(data: str, predictor, renderer, limit: int, skip: int = 0) -
                     renderer,
                     InterpretOptions(regularize=False),
                 )
-                out.append(got.fit)
+                out.append(got.measures())
             except InterpretError:
                 out.append(None)
     return out
@@ -93,7 +94,7 @@ def fits_of_scribbles(n: int, predictor, renderer, seed: int) -> list:
             for _ in range(k)
         ]
         try:
-            out.append(interpret(solid, strokes, cam, predictor, renderer).fit)
+            out.append(interpret(solid, strokes, cam, predictor, renderer).measures())
         except InterpretError:
             out.append(None)
     return out
@@ -106,8 +107,8 @@ def recovery_of_flagged(data: str, real: list, skip: int, seed: int) -> None:
     from Sketch2CADWorkbench.brep.operators import apply_operation
     from training.recovery import RECOVERY_IOU
 
-    flagged = [skip + i for i, f in enumerate(real) if f is not None and f.doubtful]
-    unflagged = [skip + i for i, f in enumerate(real) if f is not None and not f.doubtful]
+    flagged = [skip + i for i, f in enumerate(real) if f is not None and doubts(f)]
+    unflagged = [skip + i for i, f in enumerate(real) if f is not None and not doubts(f)]
     control = sorted(
         int(i)
         for i in np.random.default_rng(seed).choice(
@@ -131,7 +132,7 @@ def recovery_of_flagged(data: str, real: list, skip: int, seed: int) -> None:
                     InterpretOptions(regularize=False),
                 )
                 iou = volume_iou(got.solid, apply_operation(context, s.operation))
-                note = f"IoU {iou:.3f}, flagged now {got.fit.doubtful}"
+                note = f"IoU {iou:.3f}, flagged now {got.doubtful}"
             except (InterpretError, OperationError) as e:
                 iou, note = 0.0, f"failed: {str(e)[:60]}"
             misread += iou < RECOVERY_IOU
@@ -146,15 +147,13 @@ def choose(real: list, scrib: list) -> list:
     r = [f for f in real if f is not None]
     s = [f for f in scrib if f is not None]
     options = {}
-    for name in SketchFit.MEASURES:
-        rv = np.array([getattr(f, name) for f in r])
+    for name in DOUBT_MEASURES:
+        rv = np.array([f[name] for f in r])
         qs = [1 - q for q in QUANTILES] if name == "confidence" else QUANTILES
         options[name] = sorted({float(np.quantile(rv, q)) for q in qs})
 
     def flags(f, rule):
-        return any(
-            getattr(f, k) < v if k == "confidence" else getattr(f, k) > v for k, v in rule.items()
-        )
+        return any(f[k] < v if k == "confidence" else f[k] > v for k, v in rule.items())
 
     found = []
     for names in [(n,) for n in options] + list(combinations(options, 2)):
@@ -194,9 +193,7 @@ def main() -> int:
         p.error("--recovery needs --from")
     if a.features_in:
         saved = [json.loads(Path(f).read_text()) for f in a.features_in]
-        real, scrib = (
-            [f and SketchFit(**f) for one in saved for f in one[k]] for k in ("real", "scribbles")
-        )
+        real, scrib = ([f for one in saved for f in one[k]] for k in ("real", "scribbles"))
     elif a.data:
         predictor, renderer = load_predictor(), MapRenderer()
         real = fits_of_samples(a.data, predictor, renderer, a.limit, a.skip)
@@ -207,17 +204,17 @@ def main() -> int:
         Path(a.features).write_text(
             json.dumps(
                 {
-                    "real": [f and f.to_dict() for f in real],
-                    "scribbles": [f and f.to_dict() for f in scrib],
+                    "real": real,
+                    "scribbles": scrib,
                 }
             )
         )
     r = [f for f in real if f is not None]
     s = [f for f in scrib if f is not None]
     print(f"real sketches: {len(real)}, read {len(r)}; scribbles: {len(scrib)}, read {len(s)}")
-    for name in SketchFit.MEASURES:
-        rv = np.array([getattr(f, name) for f in r])
-        sv = np.array([getattr(f, name) for f in s])
+    for name in DOUBT_MEASURES:
+        rv = np.array([f[name] for f in r])
+        sv = np.array([f[name] for f in s])
         print(
             f"  {name}: real 1/50/99/max {np.quantile(rv, 0.01):.3f} / "
             f"{np.quantile(rv, 0.5):.3f} / {np.quantile(rv, 0.99):.3f} / {rv.max():.3f}; "
@@ -230,13 +227,13 @@ def main() -> int:
                 f"  rule {rule}: flags {100 * flagged:.2f}% of the real sketches, "
                 f"scribbles read without a flag {100 * passed:.1f}%"
             )
-    flagged = sum(f.doubtful for f in r)
+    flagged = sum(bool(doubts(f)) for f in r)
     print(
         f"the shipped rule {DOUBT}: flags {flagged} of the {len(r)} real readings "
         f"({100 * flagged / len(real):.1f}% of the real sketches; refused "
         f"{100 * (len(real) - len(r)) / len(real):.1f}%); scribbles read without a flag: "
-        f"{sum(not f.doubtful for f in s)} of {len(scrib)} "
-        f"({100 * sum(not f.doubtful for f in s) / len(scrib):.1f}%)"
+        f"{sum(not doubts(f) for f in s)} of {len(scrib)} "
+        f"({100 * sum(not doubts(f) for f in s) / len(scrib):.1f}%)"
     )
     if a.recovery:
         recovery_of_flagged(a.recovery, real, a.skip, a.control_seed)

@@ -19,7 +19,7 @@ boss on its rim, the paper's default; a boss overhanging f read as the hole its 
 outline rims). Other cues (a reading that builds nothing) can beat it.
 `strokes_ceiling` is the most a reading chosen by how well its own sketch explains the
 strokes can reach on these samples: the share of samples not missed by a reading that
-explains them better than the truth does (`verify.reading_score`, the score readings are
+explains them better than the truth does (`SketchFit.score`, the score readings are
 ranked by), where the hand drew the reading more than the truth.
 """
 
@@ -42,7 +42,7 @@ from Sketch2CADWorkbench.inference.context import Context, InterpretError
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
-from Sketch2CADWorkbench.inference.fitting.verify import reading_score, sketch_distances
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret, snap_or_keep
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, read_operation
@@ -96,7 +96,7 @@ def read_step(
             context,
             op,
             context.Faces()[index],
-            lambda moved: ctx.sketch_distances(context, moved),
+            lambda moved: ctx.sketch_fit(context, moved),
             ctx.camera,
             sample.camera,
             options,
@@ -139,11 +139,11 @@ def the_other_boolean_draws_it(context: cq.Shape, sample) -> bool:
 
 def strokes_favour(context: cq.Shape, reading: Operation, sample) -> bool:
     """Whether the reading's own sketch explains the sample's strokes better than the
-    true operation's (`verify.reading_score`, both reprojected in the sample's camera):
+    true operation's (`SketchFit.score`, both reprojected in the sample's camera):
     a miss the strokes favour."""
 
     def score(op: Operation) -> float:
-        return reading_score(sketch_distances(context, op, sample.camera, sample.strokes))
+        return sketch_fit(context, op, sample.camera, sample.strokes).score
 
     return score(reading) < score(sample.operation)
 

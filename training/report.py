@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from .metrics import NAMES, PAPER, curve_classes, face_iou
+from .metrics import NAMES, PAPER_TABLE_1, curve_classes, face_iou
 
 
 def plot_curves(log_path: Path, png: Path, face_dice: float = 0.0) -> None:
@@ -95,9 +95,9 @@ def report(result: dict, examples: list[dict], path: Path) -> None:
     per = result["per_operator"]
     for dx, values, label, alpha in (
         (-0.3, [per[n]["face_iou"] or 0 for n in NAMES], "face IoU", 1.0),
-        (-0.1, [PAPER[n][0] for n in NAMES], "face IoU, paper", 0.4),
+        (-0.1, [PAPER_TABLE_1["face_iou"][n] for n in NAMES], "face IoU, paper", 0.4),
         (0.1, [per[n]["curve_accuracy"] or 0 for n in NAMES], "curve accuracy", 1.0),
-        (0.3, [PAPER[n][1] for n in NAMES], "curve accuracy, paper", 0.4),
+        (0.3, [PAPER_TABLE_1["curve_accuracy"][n] for n in NAMES], "curve accuracy, paper", 0.4),
     ):
         bars = ax.bar(x + dx, values, 0.2, label=label, alpha=alpha)
         ax.bar_label(bars, fmt="%.3f", fontsize=6)

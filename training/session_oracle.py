@@ -57,7 +57,7 @@ from Sketch2CADWorkbench.inference.fitting.common import (
     match_ends,
     open_ends,
 )
-from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit, sketch_fit
 from Sketch2CADWorkbench.inference.interpret import snap_or_keep
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.camera import OrthoCamera
@@ -248,11 +248,11 @@ def oracle_reading(solid: cq.Shape, truth: Operation, step: SketchStep) -> Oracl
         context = context_camera(camera, np.concatenate(step.strokes))
         strokes = [context.project(camera.unproject(np.asarray(s, float)))[0] for s in step.strokes]
 
-        def distances(op: Operation) -> tuple[np.ndarray, ...]:
-            return sketch_distances(solid, op, context, strokes)
+        def fit_of(op: Operation) -> SketchFit:
+            return sketch_fit(solid, op, context, strokes)
 
         snapped = snap_or_keep(
-            solid, reading, resolve_face(solid, reading.face).face, distances, context, camera, c
+            solid, reading, resolve_face(solid, reading.face).face, fit_of, context, camera, c
         )[0]
     truth_solid = apply_operation(solid, truth)
     return OracleStep(

@@ -6,7 +6,7 @@
 The fitting/ package fits one operator to strokes whose roles are known; these adapters
 decide the roles (C's, and those read from the strokes' geometry), try the readings
 they allow, and rank the operations by how well their own sketches explain the strokes
-(`verify.reading_score`), the best first: an extrusion by a line search then a search on
+(`SketchFit.score`), the best first: an extrusion by a line search then a search on
 that score, a bevel by the strokes C votes for as its profile, a prism or a sweep by each
 reading of the stroke roles.
 """
@@ -32,7 +32,7 @@ from .fitting.extrude import fit_extrude, fit_extrude_by_ends
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
-from .fitting.verify import mean_distance, reading_score
+from .fitting.verify import SketchFit
 from .options import InterpretOptions
 from .reading import GOOD_FIT_PX, Fit
 
@@ -75,10 +75,10 @@ def _fit_extrude_on_face(
     polygon, d read from the strokes' ends, on a cylinder's or cone's side from the ends
     of its lines and its rims' loops (`fit_extrude_by_ends`, the likeliest d under the
     hand's noise), refused where the line search's would be (the moved outline
-    MAX_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
+    EXTRUDE_MISMATCH_PX from the strokes). Elsewhere (a disk, an outline with arcs), or when
     no stroke pairs with a curve, or that reading is refused, the paper's line search:
-    d read with the strokes' ends (`fit_extrude`'s END_WEIGHT) and d read by closeness
-    alone when that differs, the one that explains the strokes better (`reading_score`)
+    d read with the strokes' ends (`fit_extrude`'s LINE_SEARCH_END_WEIGHT) and d read by closeness
+    alone when that differs, the one that explains the strokes better (`SketchFit.score`)
     first, the other built if that one is refused (a top pushed down past a hole's rim,
     say, falls apart)."""
     face = face_at(solid, index)
@@ -108,7 +108,7 @@ def _fit_extrude_on_face(
 
     def score(op: Operation) -> float:
         try:
-            return reading_score(ctx.sketch_distances(solid, op))
+            return ctx.sketch_fit(solid, op).score
         except OperationError:
             return np.inf
 
@@ -121,7 +121,7 @@ def _fit_extrude_on_face(
 def _extrusion_by_score(
     ops: list[Extrude], score: Callable[[Operation], float], pixel: float, least: float
 ) -> Extrude:
-    """The extrusion whose d minimises `score` (`verify.reading_score`, the score readings
+    """The extrusion whose d minimises `score` (`SketchFit.score`, the score readings
     are ranked by, of which the line search's terms are cheaper stand-ins) within the
     range of the line search's readings `ops` widened by SCORE_SEARCH_SPAN of their d or
     SCORE_SEARCH_PX, whichever is more, to a quarter pixel (`pixel`: mm per pixel); an
@@ -205,10 +205,10 @@ def _scored_readings(
     fits: list[tuple[PrismFit | SweepFit, list[int]]], solid: cq.Shape, ctx: Context
 ) -> list[tuple[float, Operation, list[int]]]:
     """Each (fit, stroke roles) as (score, operation, roles), the best first
-    (`verify.reading_score`). A primitive's joint refinement costs more than the rest of
+    (`SketchFit.score`). A primitive's joint refinement costs more than the rest of
     its fit, and readings of the roles far apart before it refine to nearly one
     primitive: of several readings only those within REFINE_WITHIN of the closest
-    unrefined one (by mean distance) are refined, and a lone prism is refined without
+    unrefined one (by misfit_px) are refined, and a lone prism is refined without
     being scored first. A refined sweep is a reading beside the fitted one, each scored:
     the refinement's robust loss is not the score, and OCCT refuses some refined
     profiles.
@@ -221,19 +221,19 @@ def _scored_readings(
     """
     errors: list[OperationError] = []
 
-    def distances(op: Operation) -> tuple[np.ndarray, ...] | None:
+    def fit_of(op: Operation) -> SketchFit | None:
         try:
-            return ctx.sketch_distances(solid, op)
+            return ctx.sketch_fit(solid, op)
         except OperationError as e:
             errors.append(e)
             return None
 
     before = {
-        id(got): distances(got.operation)
+        id(got): fit_of(got.operation)
         for got, _ in fits
         if len(fits) > 1 or isinstance(got, SweepFit)
     }
-    apart = {k: np.inf if d is None else mean_distance(d) for k, d in before.items()}
+    apart = {k: np.inf if d is None else d.misfit_px for k, d in before.items()}
     closest = min(apart.values(), default=np.inf)
     scored = []
     for got, roles in sorted(fits, key=lambda f: apart.get(id(f[0]), np.inf)):
@@ -241,18 +241,18 @@ def _scored_readings(
             continue  # its sketch could not be drawn
         far = apart.get(id(got), closest) > REFINE_WITHIN * closest
         op = got.operation if far else got.refined()
-        after = distances(op)
+        after = fit_of(op)
         if isinstance(got, SweepFit) and op is not got.operation:
             # the fitted sweep stays a reading: the better one first, and the other one
             # built if that one is not a valid solid (OCCT refuses some refined profiles)
-            scored.append((reading_score(before[id(got)]), got.operation, roles))
+            scored.append((before[id(got)].score, got.operation, roles))
         if after is not None:
-            scored.append((reading_score(after), op, roles))
+            scored.append((after.score, op, roles))
         if isinstance(got, SweepFit) and not far and not got.straight:
             line = got.refined(straight=True)
-            straight = distances(line)
+            straight = fit_of(line)
             if straight is not None:
-                scored.append((reading_score(straight), line, roles))
+                scored.append((straight.score, line, roles))
     if not scored:
         raise errors[0]
     return sorted(scored, key=lambda f: f[0])
@@ -285,12 +285,12 @@ def _fit_bevel_readings(
         for face_index in faces:
             try:
                 got = bevel_fit(solid, face_at(solid, face_index), cam, strokes[pick])
-                error = mean_distance(ctx.sketch_distances(solid, got.operation))
+                misfit = ctx.sketch_fit(solid, got.operation).misfit_px
             except (FitError, OperationError) as e:
                 first = first or e
                 continue
-            if best is None or error < best[0]:
-                best = (error, got, face_index, [int(i == pick) for i in range(len(strokes))])
+            if best is None or misfit < best[0]:
+                best = (misfit, got, face_index, [int(i == pick) for i in range(len(strokes))])
         if best is not None and best[0] <= GOOD_FIT_PX:
             break
     if best is None:
@@ -302,7 +302,7 @@ def _fit_bevel_readings(
     scored = []
     for op in (got.refined(strokes), got.operation):
         try:
-            scored.append((reading_score(ctx.sketch_distances(solid, op)), op))
+            scored.append((ctx.sketch_fit(solid, op).score, op))
         except OperationError:
             continue
     return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])]

@@ -8,7 +8,7 @@ floor outline (and all of a deep hole's depth lines and floor), a boss hides the
 its own base outline (sketch/visible.py). So the two readings are weighed by how well
 they explain the strokes drawn the one way, with every line or with only the lines each
 reading's own result lets the view see, that explains them best for either
-(`one_way_scores`, each `verify.reading_score`): were each allowed its better way, the
+(`one_way_scores`, each `SketchFit.score`): were each allowed its better way, the
 boss would explain a seen-drawn hole by every line nearly as well as the hole, the lines
 it adds being the few a shallow hole hides. Of a reading and its other Boolean, the
 other is taken when it explains the strokes better by more than TIE_PX and stands on f
@@ -35,11 +35,11 @@ from ..brep.faces import OperationError
 from ..brep.protocol import Mode, Operation
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
-from .fitting.verify import DrawnStrokes, reading_score, sketch_distances
+from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 
 # A reading's other Boolean replaces it only when it explains the strokes better by more
-# than this (pixels of reading_score): a level-1 hand's median misfit is 1.4 px, so a
+# than this (pixels of SketchFit.score): a level-1 hand's median misfit is 1.4 px, so a
 # lead of a pixel is the strokes' own word, not the hand's noise.
 TIE_PX = 1.0
 # The reading not taken is offered when its score lies within this (pixels) of the one
@@ -50,8 +50,6 @@ TIE_PX = 1.0
 # lines, fitted as if every line were drawn).
 OFFER_PX = 3.0
 
-Distances = tuple[np.ndarray, np.ndarray, np.ndarray]  # `verify.sketch_distances`
-
 
 @dataclass(frozen=True, eq=False)
 class Alternative:
@@ -60,7 +58,7 @@ class Alternative:
 
     operations: tuple[Operation, ...]  # as Interpretation.operations (its mirror image too)
     solid: cq.Solid  # the model with them applied
-    score_px: float  # how well it explains the strokes (`verify.reading_score`, `explained`)
+    score_px: float  # how well it explains the strokes (`SketchFit.score` of `explained`)
 
     @property
     def option(self) -> Mode:
@@ -81,7 +79,7 @@ class Alternative:
         return Alternative(ops, solid, score_px)
 
 
-def seen_distances(
+def seen_fit(
     solid: cq.Shape,
     op: Operation,
     result: cq.Shape,
@@ -89,28 +87,25 @@ def seen_distances(
     drawn: DrawnStrokes,
     renderer: MapRenderer,
     face=None,
-) -> Distances:
-    """`verify.sketch_distances` of op's lines that the view sees of its `result`: what a
+) -> SketchFit:
+    """`verify.sketch_fit` of op's lines that the view sees of its `result`: what a
     designer draws who leaves the hidden lines out."""
-    seen = renderer.render(result, camera)
-    return sketch_distances(solid, op, camera, drawn, seen, face)
+    return sketch_fit(solid, op, camera, drawn, renderer.render(result, camera), face)
 
 
-def explained(every: Distances, seen: Distances | None) -> Distances:
-    """Of a reading's distances with every line and with the lines its result lets the
-    view see (None: not known), those that explain the strokes better."""
-    if seen is None or reading_score(every) <= reading_score(seen):
-        return every
-    return seen
+def explained(every: SketchFit, seen: SketchFit | None) -> SketchFit:
+    """Of a reading's fits with every line and with the lines its result lets the view
+    see (None: not known), the one that explains the strokes better (`SketchFit.score`)."""
+    return every if seen is None or every.score <= seen.score else seen
 
 
 def one_way_scores(
-    first: tuple[Distances, Distances], other: tuple[Distances, Distances]
+    first: tuple[SketchFit, SketchFit], other: tuple[SketchFit, SketchFit]
 ) -> tuple[float, float]:
-    """The `verify.reading_score`s of two readings, each given as its distances with every
-    line and with the lines its result lets the view see, both with the lines drawn the
-    way (every line, or those seen) in which either reading explains the strokes best."""
-    scores = np.array([[reading_score(d) for d in pair] for pair in (first, other)])
+    """The `SketchFit.score`s of two readings, each given as its fit with every line and
+    with the lines its result lets the view see, both with the lines drawn the way (every
+    line, or those seen) in which either reading explains the strokes best."""
+    scores = np.array([[fit.score for fit in pair] for pair in (first, other)])
     way = int(np.argmin(scores.min(axis=0)))
     return float(scores[0, way]), float(scores[1, way])
 

@@ -24,7 +24,7 @@ from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
 from ..render.strokes import rasterize
-from .fitting.verify import DrawnStrokes, sketch_distances
+from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
 
 # What one sketch step may hold: a person draws tens of strokes for an operation.
 MAX_STROKES, MAX_POINTS = 200, 20000
@@ -43,9 +43,9 @@ class Context:
     strokes: list[np.ndarray]
     maps: ContextMaps
     inputs: np.ndarray
-    # `sketch_distances` by (solid, operation): a face's fit scores its readings, and the
-    # one it keeps is scored again among the faces' readings
-    scores: dict[tuple[cq.Shape, Operation], tuple[np.ndarray, np.ndarray]] = field(
+    # `sketch_fit` by (solid, operation): a face's fit scores its readings, and the one it
+    # keeps is scored again among the faces' readings
+    fits: dict[tuple[cq.Shape, Operation], SketchFit] = field(
         default_factory=dict, repr=False, compare=False
     )
     # base faces resolved by (solid, reference): every reading on one planar face names
@@ -71,15 +71,13 @@ class Context:
             self.faces[solid, ref] = resolve_face(solid, ref)
         return self.faces[solid, ref]
 
-    def sketch_distances(
-        self, solid: cq.Shape, op: Operation
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """`verify.sketch_distances` of op on `solid` and the strokes, once for each."""
-        if (solid, op) not in self.scores:
-            self.scores[solid, op] = sketch_distances(
+    def sketch_fit(self, solid: cq.Shape, op: Operation) -> SketchFit:
+        """`verify.sketch_fit` of op on `solid` and the strokes, once for each."""
+        if (solid, op) not in self.fits:
+            self.fits[solid, op] = sketch_fit(
                 solid, op, self.camera, self.drawn, face=self.resolved(solid, op.face)
             )
-        return self.scores[solid, op]
+        return self.fits[solid, op]
 
 
 def to_context(

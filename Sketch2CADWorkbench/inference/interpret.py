@@ -39,11 +39,11 @@ from ..sketch.labels import CLASSES
 from .alternative import Alternative
 from .context import Context, InterpretError, check_sketch, to_context
 from .fitting.common import FitError
-from .fitting.regularize import Snap, StrokeFit, hand_tolerance, regularize_operation
-from .fitting.verify import mean_distance
+from .fitting.regularize import Snap, StrokeCheck, hand_tolerance, regularize_operation
+from .fitting.verify import SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 from .options import InterpretOptions
-from .reading import GOOD_FIT_PX, Reading, SketchFit
+from .reading import GOOD_FIT_PX, Reading, doubt_measures, doubts
 from .search import TAKE_A_BOOLEAN, Predictor, read_operators
 
 
@@ -78,32 +78,36 @@ class Interpretation:
         return self.alternative.option if self.alternative else None
 
     @property
-    def misfit_px(self) -> float:
-        """How far (px, symmetric mean) the operation's own sketch lies from the strokes."""
-        return self.fit.misfit_px if self.fit else 0.0
+    def confidence(self) -> float:
+        """The classifier's probability of the operator read."""
+        return self.probabilities[self.op_type.value]
+
+    def measures(self) -> dict[str, float]:
+        """What the doubt rule reads (`reading.doubt_measures`); {} without a fit."""
+        return {} if self.fit is None else doubt_measures(self.fit, self.confidence)
 
     @property
     def doubtful(self) -> bool:
-        """The strokes do not look like this operation (SketchFit's DOUBT): say so."""
-        return self.fit is not None and self.fit.doubtful
+        """The strokes do not look like this operation (`reading.doubts`): say so."""
+        return self.fit is not None and bool(doubts(self.measures()))
 
     def doubt(self) -> str:
         """The warning for a doubtful reading ("" when it is not)."""
         if not self.doubtful:
             return ""
-        f, what = self.fit, self.op_type.value
+        m, what = self.measures(), self.op_type.value
         why = {
-            "misfit_px": f"its own sketch lies {f.misfit_px:.1f} px from them",
-            "strokes_off_px": f"the strokes lie {f.strokes_off_px:.1f} px from its sketch",
-            "sketch_off_px": f"its sketch lies {f.sketch_off_px:.1f} px from the strokes",
-            "strokes_unexplained": f"{f.strokes_unexplained:.0%} of the strokes are not "
+            "misfit_px": f"its own sketch lies {m['misfit_px']:.1f} px from them",
+            "strokes_off_px": f"the strokes lie {m['strokes_off_px']:.1f} px from its sketch",
+            "sketch_off_px": f"its sketch lies {m['sketch_off_px']:.1f} px from the strokes",
+            "strokes_unexplained": f"{m['strokes_unexplained']:.0%} of the strokes are not "
             "lines of it",
-            "sketch_unexplained": f"{f.sketch_unexplained:.0%} of its lines were not drawn",
-            "confidence": f"the networks are {1 - f.confidence:.0%} unsure",
+            "sketch_unexplained": f"{m['sketch_unexplained']:.0%} of its lines were not drawn",
+            "confidence": f"the networks are {1 - m['confidence']:.0%} unsure",
         }
         return (
             f"the strokes do not look much like this {what}: "
-            + "; ".join(why[k] for k in f.passed())
+            + "; ".join(why[k] for k in doubts(m))
             + " (beyond 99.5% of held-out synthetic sketches); check it, or clear and "
             "draw again"
         )
@@ -113,7 +117,7 @@ def snap_or_keep(
     solid: cq.Shape,
     op: Operation,
     face: cq.Face,
-    distances: Callable[[Operation], tuple[np.ndarray, ...]],
+    fit_of: Callable[[Operation], SketchFit],
     context: OrthoCamera,
     view: OrthoCamera,
     options: InterpretOptions,
@@ -124,19 +128,19 @@ def snap_or_keep(
     `op` itself, no snaps, None (the caller holds its result) and why not, if it did not
     build. Snapping never costs a reading that builds.
 
-    `distances(op)`: an operation's `sketch_distances` to the strokes in pixels of the
-    `context` camera it was fitted in. Their mean is op's misfit, and snapping asks it of
-    the operations it moves (`StrokeFit`, a clear fit within GOOD_FIT_PX; one whose sketch
-    cannot be drawn lies infinitely far): a target beyond the tolerance, or a round
-    length, is taken where the strokes still fit the operation moved there."""
+    `fit_of(op)`: an operation's SketchFit to the strokes in pixels of the `context` camera
+    it was fitted in. Snapping asks it of the operations it moves (`StrokeCheck`, a clear
+    fit within GOOD_FIT_PX; one whose sketch cannot be drawn lies infinitely far): a
+    target beyond the tolerance, or a round length, is taken where the strokes still fit
+    the operation moved there."""
 
-    def distance(moved: Operation) -> float:
+    def fit_or_undrawn(moved: Operation) -> SketchFit:
         try:
-            return mean_distance(distances(moved))
+            return fit_of(moved)
         except OperationError:
-            return float("inf")
+            return SketchFit.undrawn()
 
-    tol = hand_tolerance(options.snap_px, mean_distance(distances(op)), context, view)
+    tol = hand_tolerance(options.snap_px, fit_of(op).misfit_px, context, view)
     reg = regularize_operation(
         solid,
         op,
@@ -145,7 +149,7 @@ def snap_or_keep(
         options.snap_step,
         tol,
         options.skip_snaps,
-        StrokeFit(distance, GOOD_FIT_PX),
+        StrokeCheck(fit_or_undrawn, GOOD_FIT_PX),
     )
     if not reg.snaps:
         return op, (), None, ""
@@ -165,7 +169,7 @@ def _snapped(
         solid,
         reading.op,
         face_at(solid, reading.index),
-        lambda moved: ctx.sketch_distances(solid, moved),
+        lambda moved: ctx.sketch_fit(solid, moved),
         ctx.camera,
         view,
         options,
@@ -240,19 +244,14 @@ def interpret(
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)
             left = reading.alternative
             other = left and Alternative.of(
-                solid, left.op, left.result, left.score, options.symmetry
+                solid, left.op, left.result, left.fit.score, options.symmetry
             )
             break
         except (FitError, OperationError) as e:
             times["fitting"] += time.perf_counter() - tb
             errors.append(f"read as {kind.value}, but {e}")
     td = time.perf_counter()
-    confidence = float(probs[CLASSES.index(kind)])
-    fit = (
-        SketchFit.of_distances(*reading.explained[:2], confidence)
-        if op is reading.op
-        else SketchFit.of(solid, op, ctx.camera, ctx.strokes, confidence)
-    )
+    fit = reading.fit if op is reading.op else sketch_fit(solid, op, ctx.camera, ctx.strokes)
     return Interpretation(
         ops,
         result,

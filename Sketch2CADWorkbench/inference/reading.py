@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """One fitted reading of a sketch step: how well it explains the strokes, and its result.
 
-A reading is an operation fitted on one base face (`Reading`), scored by how far its own
-sketch (the lines the data generator draws for it) lies from the strokes; `SketchFit`
-says whether that is close enough to trust; `builds_a_change` builds it and refuses a
-reading whose Boolean fails or leaves the model as it was.
+A reading is an operation fitted on one base face (`Reading`), with the SketchFit of its
+own sketch (the lines the data generator draws for it) and the strokes; `doubts` says
+whether that fit is too poor to trust; `builds_a_change` builds it and refuses a reading
+whose Boolean fails or leaves the model as it was.
 """
 
 from __future__ import annotations
@@ -13,25 +13,21 @@ import time
 from dataclasses import dataclass
 
 import cadquery as cq
-import numpy as np
 
 from ..brep.faces import OperationError, model_scale
 from ..brep.operators import apply_operation
 from ..brep.protocol import Operation
-from ..render.camera import OrthoCamera
-from .alternative import explained
 from .context import Context
-from .fitting.verify import mean_distance, reading_score, sketch_distances
+from .fitting.verify import SketchFit
 
-# A reading is flagged as doubtful when a measure of SketchFit passes its threshold
+# A reading is flagged as doubtful when a measure of its SketchFit passes its threshold
 # here (context pixels): the strokes' mean distance to the reading's own sketch, or the
 # sketch's to the strokes (their mean, misfit_px, then passes neither): each the 99.5%
 # quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py; see
 # docs/measurements.md, reading.DOUBT).
 DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7}
-# A sample of the strokes or of the sketch farther than this (context pixels) from the
-# other is not explained by it.
-EXPLAINED_PX = 4.0
+# What a doubt rule may read (`doubt_measures`).
+DOUBT_MEASURES = (*SketchFit.MEASURES, "confidence")
 # A result whose volume (and bounding box, in model diagonals) differs from the model's by
 # less than this share is the model unchanged: such a step is refused.
 SAME_VOLUME = 1e-6
@@ -45,80 +41,32 @@ GOOD_FIT_PX = 3.0
 Fit = tuple[Operation, int, list[int]]  # an operation, the face it stands on, stroke labels
 
 
-@dataclass(frozen=True)
-class SketchFit:
-    """How well a reading's own sketch (the lines the data generator draws for it)
-    explains the strokes, and the strokes it: scribbles are otherwise read as something.
+def doubt_measures(fit: SketchFit, confidence: float) -> dict[str, float]:
+    """What a doubt rule reads of a reading: its SketchFit's MEASURES and the classifier's
+    probability of its operator ("confidence")."""
+    return {**fit.measures(), "confidence": float(confidence)}
 
-    A reading is doubtful when any measure passes its threshold in DOUBT (above it; the
-    confidence below it), each set on held-out level-1 sketches
-    (scripts/misfit_threshold.py; see docs/measurements.md, reading.DOUBT). The measures DOUBT
-    leaves out tell scribbles from real sketches less well.
-    """
 
-    misfit_px: float  # symmetric mean distance between strokes and sketch
-    strokes_off_px: float  # mean distance of the strokes' samples to the sketch
-    sketch_off_px: float  # mean distance of the sketch's samples to the strokes
-    strokes_unexplained: float  # share of stroke samples over EXPLAINED_PX from the sketch
-    sketch_unexplained: float  # share of sketch samples over EXPLAINED_PX from the strokes
-    confidence: float  # the classifier's probability of the operator read
-
-    MEASURES = (
-        "misfit_px",
-        "strokes_off_px",
-        "sketch_off_px",
-        "strokes_unexplained",
-        "sketch_unexplained",
-        "confidence",
-    )
-
-    @staticmethod
-    def of(
-        solid: cq.Shape,
-        op: Operation,
-        camera: OrthoCamera,
-        strokes: list[np.ndarray],
-        confidence: float,
-    ) -> "SketchFit":
-        return SketchFit.of_distances(*sketch_distances(solid, op, camera, strokes)[:2], confidence)
-
-    @staticmethod
-    def of_distances(
-        to_sketch: np.ndarray, to_strokes: np.ndarray, confidence: float
-    ) -> "SketchFit":
-        """From `verify.sketch_distances`' first two arrays."""
-        return SketchFit(
-            mean_distance((to_sketch, to_strokes)),
-            float(to_sketch.mean()),
-            float(to_strokes.mean()),
-            float(np.mean(to_sketch > EXPLAINED_PX)),
-            float(np.mean(to_strokes > EXPLAINED_PX)),
-            float(confidence),
-        )
-
-    def to_dict(self) -> dict[str, float]:
-        return {k: getattr(self, k) for k in self.MEASURES}
-
-    def passed(self) -> list[str]:
-        """The measures past their DOUBT thresholds."""
-        return [
-            k
-            for k, limit in DOUBT.items()
-            if (getattr(self, k) < limit if k == "confidence" else getattr(self, k) > limit)
-        ]
-
-    @property
-    def doubtful(self) -> bool:
-        return bool(self.passed())
+def doubts(measures: dict[str, float]) -> list[str]:
+    """The measures (`doubt_measures`) past their DOUBT thresholds: above it, the
+    confidence below it. A reading with any is doubtful: scribbles are otherwise read as
+    something. Each threshold is set on held-out level-1 sketches
+    (scripts/misfit_threshold.py; see docs/measurements.md, reading.DOUBT); the measures DOUBT
+    leaves out tell scribbles from real sketches less well."""
+    return [
+        k
+        for k, limit in DOUBT.items()
+        if (measures[k] < limit if k == "confidence" else measures[k] > limit)
+    ]
 
 
 @dataclass
 class Reading:
-    """One base face's fitted operation: how far its own sketch lies from the strokes,
-    whether it is hidden from the sketch view (its face, or a primitive's base behind the
-    model), and (once built) the result."""
+    """One base face's fitted operation: how well its own sketch and the strokes explain
+    each other, whether it is hidden from the sketch view (its face, or a primitive's base
+    behind the model), and (once built) the result."""
 
-    distances: tuple[np.ndarray, np.ndarray, np.ndarray]  # `verify.sketch_distances`
+    fit: SketchFit
     op: Operation
     index: int
     labels: list[int]
@@ -127,32 +75,13 @@ class Reading:
     refused: str = ""  # why it cannot be the step: its Boolean fails or changes nothing
     # read with the other Boolean because none with the first built: no flip back to it
     flip_refused: bool = False
-    # `distances` of the lines its result lets the view see, once weighed against its
-    # other Boolean (`search.weigh_the_other_boolean`); None until then
-    seen: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     # its other Boolean's reading when that explains the strokes too (alternative.py)
     alternative: Reading | None = None
 
     @property
-    def explained(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """`distances` or `seen`, whichever explains the strokes better
-        (`alternative.explained`)."""
-        return explained(self.distances, self.seen)
-
-    @property
-    def error(self) -> float:
-        """Symmetric mean distance (pixels) of `explained`, `verify.mean_distance`."""
-        return mean_distance(self.explained)
-
-    @property
-    def score(self) -> float:
-        """What readings are ranked by (pixels), `verify.reading_score` of `explained`."""
-        return reading_score(self.explained)
-
-    @property
     def doubtful(self) -> bool:
-        """Its own sketch and the strokes lie apart past DOUBT (SketchFit)."""
-        return SketchFit.of_distances(*self.explained[:2], 1.0).doubtful
+        """Its own sketch and the strokes lie apart past DOUBT (`doubts`)."""
+        return bool(doubts(doubt_measures(self.fit, 1.0)))
 
 
 def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:

@@ -24,7 +24,7 @@ from ..brep.protocol import AddSubPrism, Operation, OperatorType, Sweep
 from ..render.camera import OrthoCamera
 from ..sketch.labels import CLASSES
 from .adapters import fit_on_face
-from .alternative import one_way_scores, seen_distances, the_meant
+from .alternative import explained, one_way_scores, seen_fit, the_meant
 from .context import Context
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
@@ -52,7 +52,7 @@ ON_CURVED_FACES = (OperatorType.EXTRUDE, OperatorType.ADDSUB, OperatorType.SWEEP
 # too, in the order of their probability p. Another operator's reading replaces it only
 # when the classifier gives it at least OVERRULE_PROB and it reads the strokes within
 # GOOD_FIT_PX (a clear fit, not the better of two poor ones: thirty random short strokes
-# fit some prism to 3-5 px), and then only if its score, its reprojection error plus
+# fit some prism to 3-5 px), and then only if its score, its misfit_px (SketchFit) plus
 # PRIOR_PX per decade of doubt (-log10 p), is the lower. When the reading it would replace
 # is doubtful (SketchFit), a score within RESCUE_SCORE_PX is enough: a fit just past
 # GOOD_FIT_PX that the classifier finds likely (a level-3 extrusion at 3.4 px, p 0.5,
@@ -128,7 +128,7 @@ def read_operation(
     own sketch more than GOOD_FIT_PX from the strokes, the next faces are fitted too
     (`candidate_faces`): of the readings that build and change the model, one on a face
     the user sees wins over one on a hidden face or standing behind the model (BEHIND_PX),
-    then the one whose sketch reprojects best (`verify.reading_score`). A reading that
+    then the one whose sketch reprojects best (`SketchFit.score`). A reading that
     changes nothing (a hole cut into the air above a lower face) is never the step; when
     the best one builds nothing, its other Boolean (`_with_the_other_boolean`) competes
     with the others by the same ranking.
@@ -164,19 +164,19 @@ def read_operation(
                 continue
             readings.append(reading)
             if (
-                reading.error <= GOOD_FIT_PX
+                reading.fit.misfit_px <= GOOD_FIT_PX
                 and not reading.hidden
                 and builds_a_change(solid, reading, ctx)
             ):
                 return weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
-    readings.sort(key=lambda r: (r.hidden, r.score))
+    readings.sort(key=lambda r: (r.hidden, r.fit.score))
     if readings and not builds_a_change(solid, readings[0], ctx):
         # the best reading's other Boolean draws its lines too (paper Fig. 5b): it competes
         # by its score with the rest, before a reading that explains the strokes worse
         readings = sorted(
             readings
             + _with_the_other_boolean(solid, op_type, readings, curve, ctx, options, hidden),
-            key=lambda r: (r.hidden, r.score),
+            key=lambda r: (r.hidden, r.fit.score),
         )
     for reading in readings:
         if builds_a_change(solid, reading, ctx):
@@ -195,13 +195,14 @@ def weigh_the_other_boolean(
     options: InterpretOptions,
 ) -> Reading:
     """Of a primitive's built reading and the one of its other Boolean on its face, the
-    one the strokes mean, with the other as its `alternative` when that is offered
-    (alternative.py: both weighed by their lines drawn all or only where each one's
-    result lets the view see them, and by where each would stand on f). Weighed only
-    when the designer chose no Boolean, the reading is not already the other Boolean of
-    one that did not build, and its far outline stands on f (`other_option_fits`: the
-    other one's base must, to be read); and against an other reading that builds a
-    change and is not hidden where the reading is not."""
+    one the strokes mean, its fit the better of its lines drawn all or only where its
+    result lets the view see them (`alternative.explained`), with the other as its
+    `alternative` when that is offered (alternative.py: both weighed by their lines
+    drawn the one way that explains the strokes best, and by where each would stand on
+    f). Weighed only when the designer chose no Boolean, the reading is not already the
+    other Boolean of one that did not build, and its far outline stands on f
+    (`other_option_fits`: the other one's base must, to be read); and against an other
+    reading that builds a change and is not hidden where the reading is not."""
     if (
         ctx.renderer is None
         or options.option is not None
@@ -218,13 +219,15 @@ def weigh_the_other_boolean(
     )
     if other is None:
         return reading
-    for r in (reading, other):
-        face = ctx.resolved(solid, r.op.face)
-        r.seen = seen_distances(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, face)
     face = face_at(solid, reading.index)
-    share = [base_share(face, ctx.camera, r.op) for r in (reading, other)]
-    scores = one_way_scores((reading.distances, reading.seen), (other.distances, other.seen))
-    flip, offered = the_meant(*scores, share[1] >= min(share[0], ON_FACE_FRACTION))
+    fits, share = [], []
+    for r in (reading, other):
+        held = ctx.resolved(solid, r.op.face)
+        seen = seen_fit(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, held)
+        fits.append((r.fit, seen))
+        share.append(base_share(face, ctx.camera, r.op))
+        r.fit = explained(r.fit, seen)
+    flip, offered = the_meant(*one_way_scores(*fits), share[1] >= min(share[0], ON_FACE_FRACTION))
     taken, left = (other, reading) if flip else (reading, other)
     taken.alternative = left if offered else None
     return taken
@@ -235,7 +238,7 @@ def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Readi
     stands behind the model."""
     op, used, labels = fit
     return Reading(
-        ctx.sketch_distances(solid, op),
+        ctx.sketch_fit(solid, op),
         op,
         used,
         labels,
@@ -271,7 +274,9 @@ def _with_the_other_boolean(
         return []
     # a primitive's fits were scored by `_scored_readings`, which drops any that cannot be
     # drawn: no OperationError to guard against here
-    readings = sorted((_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.score)
+    readings = sorted(
+        (_reading(solid, fit, ctx, hidden) for fit in fits), key=lambda r: r.fit.score
+    )
     for reading in readings:
         reading.flip_refused = True
     return readings
@@ -291,7 +296,7 @@ def read_operators(
     """Read the operators of `order` (taken from it, but for those too unlikely to replace
     a reading) until one reads the strokes within GOOD_FIT_PX, adding (score, operator,
     reading) to `read`: the first reading when `read` is empty, and any later one that may
-    replace the best there (see OVERRULE_PROB), the score its reprojection error plus
+    replace the best there (see OVERRULE_PROB), the score its misfit_px plus
     PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
     `errors`; seconds spent go to `times`."""
     for kind in list(order):
@@ -310,8 +315,8 @@ def read_operators(
             continue
         finally:
             times["fitting"] += time.perf_counter() - tb
-        good = reading.error <= GOOD_FIT_PX
-        score = reading.error + PRIOR_PX * -np.log10(max(p, 1e-12))
+        good = reading.fit.misfit_px <= GOOD_FIT_PX
+        score = reading.fit.misfit_px + PRIOR_PX * -np.log10(max(p, 1e-12))
         if (
             not read
             or good

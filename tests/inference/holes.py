@@ -38,7 +38,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference.context import InterpretError
-from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
@@ -172,7 +172,7 @@ def rim_boss(hole: DrawnHole) -> AddSubPrism:
 
 
 def seen_errors(hole: DrawnHole, renderer: MapRenderer) -> tuple[float, float] | None:
-    """How far (px, `verify.reprojection_error` with only the lines each result lets the
+    """How far (px, `SketchFit.misfit_px` with only the lines each result lets the
     view see) the hole's own sketch and that of the boss on its rim lie from the
     strokes; None when that boss cannot stand there (then nothing is ambiguous)."""
     out = []
@@ -182,7 +182,7 @@ def seen_errors(hole: DrawnHole, renderer: MapRenderer) -> tuple[float, float] |
         except OperationError:
             return None
         seen = renderer.render(result, hole.camera)
-        out.append(reprojection_error(hole.solid, op, hole.camera, hole.strokes, seen))
+        out.append(sketch_fit(hole.solid, op, hole.camera, hole.strokes, seen).misfit_px)
     return out[0], out[1]
 
 

@@ -36,7 +36,7 @@ from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.base_face import face_under_stroke
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.sweep import SweepFit, sweep_fit
-from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
@@ -134,8 +134,8 @@ def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, m
     scored = []
     monkeypatch.setattr(
         context,
-        "sketch_distances",
-        lambda *a, **k: scored.append(a[1]) or sketch_distances(*a, **k),
+        "sketch_fit",
+        lambda *a, **k: scored.append(a[1]) or sketch_fit(*a, **k),
     )
     ((fitted, _, _),) = adapters._fit_by_roles(
         lambda *a: prism_fit(*a[:4], labels, a[5]),
@@ -166,12 +166,12 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
             undrawable.append(got.operation)
         return got
 
-    def distances(solid, op, *args, **kwargs):  # the other reading leaves a curved face
+    def fit_of(solid, op, *args, **kwargs):  # the other reading leaves a curved face
         if any(op is u or op == u for u in undrawable):
             raise OperationError("the outline leaves the face")
-        return sketch_distances(solid, op, *args, **kwargs)
+        return sketch_fit(solid, op, *args, **kwargs)
 
-    monkeypatch.setattr(context, "sketch_distances", distances)
+    monkeypatch.setattr(context, "sketch_fit", fit_of)
     ((fitted, _, _),) = adapters._fit_by_roles(
         fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions()
     )

@@ -11,6 +11,7 @@ from Sketch2CADWorkbench.inference.alternative import (
     one_way_scores,
     the_meant,
 )
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit
 
 
 def test_the_other_boolean_is_taken_only_when_it_explains_the_strokes_clearly_better():
@@ -33,8 +34,8 @@ def test_the_one_not_taken_is_offered_only_within_offer_px_of_the_one_taken_or_i
 
 
 def test_a_reading_is_explained_by_its_seen_lines_only_when_they_fit_the_strokes_better():
-    every = (np.full(10, 3.0), np.full(10, 3.0), np.zeros(0))
-    seen = (np.full(10, 1.0), np.full(10, 2.0), np.zeros(0))
+    every = SketchFit(np.full(10, 3.0), np.full(10, 3.0), np.zeros(0))
+    seen = SketchFit(np.full(10, 1.0), np.full(10, 2.0), np.zeros(0))
     assert explained(every, None) is every
     assert explained(every, seen) is seen
     assert explained(seen, every) is seen
@@ -42,7 +43,7 @@ def test_a_reading_is_explained_by_its_seen_lines_only_when_they_fit_the_strokes
 
 def test_two_readings_are_weighed_with_the_lines_drawn_the_way_that_explains_the_strokes_best():
     def way(px):
-        return (np.full(10, px), np.full(10, px), np.zeros(0))
+        return SketchFit(np.full(10, px), np.full(10, px), np.zeros(0))
 
     # a seen-drawn hole against the boss on its rim: the boss's every line lies near the
     # strokes too, but the hole's seen lines lie nearest, so both are weighed by those

@@ -10,7 +10,7 @@ from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import Extrude
 from Sketch2CADWorkbench.inference import context
 from Sketch2CADWorkbench.inference.context import InterpretError, check_sketch
-from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 
 
 def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch):
@@ -18,15 +18,16 @@ def test_a_context_scores_each_reading_once_as_verify_does(renderer, monkeypatch
     calls = []
     monkeypatch.setattr(
         context,
-        "sketch_distances",
-        lambda *a, **k: calls.append(a) or sketch_distances(*a, **k),
+        "sketch_fit",
+        lambda *a, **k: calls.append(a) or sketch_fit(*a, **k),
     )
-    first = ctx.sketch_distances(box, op)
-    assert ctx.sketch_distances(box, op) is first and len(calls) == 1
-    for got, want in zip(first, sketch_distances(box, op, ctx.camera, ctx.strokes)):
-        np.testing.assert_array_equal(got, want)
-    ctx.sketch_distances(box, Extrude(TOP, 4.0))
-    ctx.sketch_distances(apply_operation(box, op), op)  # another solid: scored anew
+    first = ctx.sketch_fit(box, op)
+    assert ctx.sketch_fit(box, op) is first and len(calls) == 1
+    want = sketch_fit(box, op, ctx.camera, ctx.strokes)
+    for name in ("to_sketch", "to_strokes", "end_gaps"):
+        np.testing.assert_array_equal(getattr(first, name), getattr(want, name))
+    ctx.sketch_fit(box, Extrude(TOP, 4.0))
+    ctx.sketch_fit(apply_operation(box, op), op)  # another solid: scored anew
     assert len(calls) == 3
 
 
@@ -35,11 +36,11 @@ def test_a_context_resolves_each_base_face_once_for_all_its_readings(renderer, m
     resolved = []
     monkeypatch.setattr(context, "resolve_face", lambda *a: resolved.append(a) or resolve_face(*a))
     for d in (9.0, 4.0, -3.0):
-        ctx.sketch_distances(box, Extrude(TOP, d))
+        ctx.sketch_fit(box, Extrude(TOP, d))
     assert len(resolved) == 1
     assert ctx.resolved(box, TOP).face.isSame(resolve_face(box, TOP).face)
     other = apply_operation(box, op)
-    ctx.sketch_distances(other, op)  # another solid: its own face
+    ctx.sketch_fit(other, op)  # another solid: its own face
     assert len(resolved) == 2
 
 

@@ -73,7 +73,7 @@ def test_snapping_asks_whether_the_strokes_still_fit_a_feature_moved(renderer, m
     assert strokes.fits(reading.op)
     moved = replace(reading.op, polygon=tuple((x - 4, y, z) for x, y, z in reading.op.polygon))
     assert not strokes.fits(moved)
-    assert strokes.distance(moved) > strokes.distance(reading.op)
+    assert strokes.misfit_px(moved) > strokes.misfit_px(reading.op)
 
 
 def test_a_meaningless_sketch_is_refused_and_the_solid_kept(renderer):

@@ -1,22 +1,35 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """A reading's fit to the strokes: when it is flagged as doubtful."""
 
+from dataclasses import replace
+
+import numpy as np
+
 from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit
+from Sketch2CADWorkbench.inference.interpret import Interpretation
+from Sketch2CADWorkbench.inference.reading import DOUBT, doubts
+
+
+def off_by(strokes_px: float, sketch_px: float) -> SketchFit:
+    """A fit whose strokes lie `strokes_px` from the sketch and the sketch `sketch_px`
+    from the strokes, everywhere."""
+    return SketchFit(np.full(20, strokes_px), np.full(10, sketch_px), np.zeros(0))
 
 
 def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged():
-    from dataclasses import replace as with_
-
-    from Sketch2CADWorkbench.inference.interpret import Interpretation
-    from Sketch2CADWorkbench.inference.reading import DOUBT, SketchFit
-
-    ok = SketchFit(**{k: 0.0 for k in SketchFit.MEASURES if k != "confidence"}, confidence=1.0)
-    ok = with_(ok, **{k: v for k, v in DOUBT.items() if k != "confidence"})
-    base = Interpretation((), None, OperatorType.BEVEL, {}, 0, [], None, fit=ok)
+    limits = {k: v for k, v in DOUBT.items() if k != "confidence"}
+    at = off_by(limits.get("strokes_off_px", 0.0), limits.get("sketch_off_px", 0.0))
+    base = Interpretation((), None, OperatorType.BEVEL, {"bevel": 1.0}, 0, [], None, fit=at)
     assert not base.doubtful and base.doubt() == ""
+    beyond = {
+        "strokes_off_px": off_by(limits.get("strokes_off_px", 0.0) + 0.2, 0.0),
+        "sketch_off_px": off_by(0.0, limits.get("sketch_off_px", 0.0) + 0.2),
+    }
     for name, limit in DOUBT.items():
-        far = with_(
-            base, fit=with_(ok, **{name: limit - 0.2 if name == "confidence" else limit + 0.2})
-        )
-        assert far.doubtful and far.fit.passed() == [name]
+        if name == "confidence":
+            far = replace(base, probabilities={"bevel": limit - 0.2})
+        else:
+            far = replace(base, fit=beyond[name])
+        assert far.doubtful and doubts(far.measures()) == [name]
         assert far.doubt().startswith("the strokes do not look much like this bevel: ")

@@ -35,7 +35,7 @@ from Sketch2CADWorkbench.inference import adapters, context, reading, search
 from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.fitting import sweep as sweep_fitting
 from Sketch2CADWorkbench.inference.fitting.sweep import SweepFit
-from Sketch2CADWorkbench.inference.fitting.verify import sketch_distances
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit, sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.reading import Reading
@@ -107,7 +107,7 @@ def test_a_doubtful_reading_gives_way_only_to_a_likely_near_fit(
 
     def read_operation(solid, kind, face_prob, curve, ctx, options):
         d = np.full(8, error_px[kind])
-        return Reading((d, d), None, 0, [], False)
+        return Reading(SketchFit(d, d, np.zeros(0)), None, 0, [], False)
 
     class Segments:
         def segment(self, inputs, op_type):
@@ -171,14 +171,14 @@ def test_a_face_whose_reading_cannot_be_drawn_leaves_the_next_face_to_read(rende
             return fit(solid, face, camera, offset, sides, **ends)
         return Extrude(FaceRef(face.Center().toTuple(), face.normalAt().toTuple()), 5.0)
 
-    def distances(solid, op, *args, **kwargs):
+    def fit_of(solid, op, *args, **kwargs):
         if op.face.normal != pytest.approx((0, 0, 1)):
             raise OperationError("the outline leaves the face")
-        return sketch_distances(solid, op, *args, **kwargs)
+        return sketch_fit(solid, op, *args, **kwargs)
 
     monkeypatch.setattr(adapters, "fit_extrude", fit_extrude)
     no_polygon_reading(monkeypatch)
-    monkeypatch.setattr(context, "sketch_distances", distances)
+    monkeypatch.setattr(context, "sketch_fit", fit_of)
     got = search.read_operation(
         box, OperatorType.EXTRUDE, face_prob, curve, ctx, InterpretOptions()
     )

@@ -25,9 +25,9 @@ from .refine import prism_from_ends, refine_prism
 from .surface import back_project, face_frame, face_ref, option_frame
 
 # Mean distance (px) from the far outline at the best length to its strokes above which no
-# length matches: above the noisiest strokes the generator draws (docs/measurements.md,
-# addsub.MAX_MISMATCH_PX).
-MAX_MISMATCH_PX = 20.0
+# length matches: above the noisiest strokes the generator draws (see
+# docs/measurements.md, addsub.PRISM_MISMATCH_PX).
+PRISM_MISMATCH_PX = 20.0
 # Base outline corners closer than this (px) are one corner: too few sides for N.
 MIN_SIDE_PX = 2.0
 
@@ -157,7 +157,7 @@ def prism_fit(
     field = DistanceField(stroke_pixels(other, (camera.height, camera.width)))
     cands = search_range(scale, 0.0075, 1.5)
     d, err = line_search(edge_pts, direction, camera, field, cands)
-    if err > MAX_MISMATCH_PX:
+    if err > PRISM_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
     op = AddSubPrism(
         face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d), float(d), mode

@@ -17,7 +17,7 @@ the data generator models misses a curve's ends by Gaussian noise and spreads th
 along the stroke, so the strokes' ends say where the edges' ends are (`verify.end_gaps`).
 Both refinements therefore also pull each open curve's ends towards the ends of the
 stroke that draws it (`match_ends`), the hand's error model replacing closeness where
-the two disagree (END_WEIGHT). From the refined prism, `prism_from_ends` then reads it
+the two disagree (REFINE_END_WEIGHT). From the refined prism, `prism_from_ends` then reads it
 from the ends alone (closeness, robust loss and all left behind): under that hand the
 ends are all a straight stroke tells, and their least squares is the likeliest prism.
 The refined prism is kept only where that reading is degenerate (docs/measurements.md,
@@ -58,8 +58,10 @@ EDGE_SAMPLES = 8  # points per prism edge for the edge-to-stroke distances
 STROKE_STEP_PX = 3.0  # spacing of the stroke points
 MAX_EVALUATIONS = 30  # of the residuals; the fit starts close, so few are needed
 # Each end gap's residual is scaled by this times the square root of the stroke points
-# per end, so that the ends outweigh closeness (docs/measurements.md, refine.END_WEIGHT).
-END_WEIGHT = 3.0
+# per end, so that the ends outweigh closeness: with 3, held-out level-3 add/sub prisms
+# and sweeps read closer on average than with 0, 0.3, 1 or 10 (see docs/measurements.md,
+# refine.REFINE_END_WEIGHT).
+REFINE_END_WEIGHT = 3.0
 # The weight (relative to a stroke end's) that holds a vertex no end sees where it was.
 HOLD_WEIGHT = 1e-3
 
@@ -127,7 +129,7 @@ def refine_prism(
     d: float,
     step: np.ndarray,
     strokes: list[np.ndarray],
-    end_weight: float = END_WEIGHT,
+    end_weight: float = REFINE_END_WEIGHT,
 ) -> tuple[np.ndarray, float]:
     """Move a prism's base polygon and length together to fit all its strokes.
 
@@ -271,7 +273,10 @@ class SweepImage:
 
 
 def refine_sweep(
-    image: SweepImage, x: np.ndarray, strokes: list[np.ndarray], end_weight: float = END_WEIGHT
+    image: SweepImage,
+    x: np.ndarray,
+    strokes: list[np.ndarray],
+    end_weight: float = REFINE_END_WEIGHT,
 ) -> np.ndarray:
     """Move a sweep's centre, radii and offset together to fit all its strokes, its
     profile keeping its fitted shape (`SweepImage`): refined with the rest, the profile's
@@ -394,7 +399,10 @@ class BevelImage:
 
 
 def refine_bevel(
-    image: BevelImage, x: np.ndarray, strokes: list[np.ndarray], end_weight: float = END_WEIGHT
+    image: BevelImage,
+    x: np.ndarray,
+    strokes: list[np.ndarray],
+    end_weight: float = REFINE_END_WEIGHT,
 ) -> np.ndarray:
     """Move a bevel's profile l, its ends sliding along their edges of f, to fit l and
     l' to all the strokes (beyond the paper, which fits l to one stroke: l' draws the

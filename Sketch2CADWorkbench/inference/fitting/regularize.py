@@ -11,7 +11,7 @@ snaps only to a target that lies within `snap_px` pixels of it in the view the s
 were drawn in, where the hand's error lives, or within HAND_SNAP times as far as the
 strokes miss the reading's own lines, when that is farther (`hand_tolerance`); a target
 point up to FIT_REACH times farther is taken when the strokes still fit the feature put
-there (the caller's `StrokeFit`), and a point wins over a line only when about as close
+there (the caller's `StrokeCheck`), and a point wins over a line only when about as close
 (POINT_OVER_LINE_PX); a long d or radius on the grid moves, as far, onto a round number
 (a multiple of ROUND_STEPS) the strokes fit about as well. Targets:
 the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
@@ -44,6 +44,7 @@ from ...brep.protocol import (
 )
 from ...brep.snap_targets import FACE_EDGE, SnapTargets, snap_targets
 from ...render.camera import OrthoCamera
+from .verify import SketchFit
 
 ANGLE_TOL_DEG = 20.0
 LENGTH_TOL = 0.20
@@ -163,7 +164,7 @@ STRAIGHT_TOL = 0.08
 # docs/measurements.md, regularize.POINT_OVER_LINE_PX).
 POINT_OVER_LINE_PX = SNAP_PX
 # A target point beyond the tolerance, up to FIT_REACH times as far, is still taken when
-# the strokes fit the feature put there (the caller's `StrokeFit`: a clear fit): a hand that
+# the strokes fit the feature put there (the caller's `StrokeCheck`: a clear fit): a hand that
 # draws a whole outline a few pixels off, seen at a grazing angle, misses by more than its
 # lines' wobble says (pipe session step 3: a bore 8 mm off its tube's axis). The nearest
 # FIT_TRIES such moves are tried (docs/measurements.md, regularize.FIT_REACH).
@@ -174,7 +175,7 @@ FIT_REACH, FIT_TRIES = 3.0, 3
 # for 90). A length read at least ROUND_MIN round steps long (40 mm for 5, 80 for 10: a
 # step is at most an eighth of it) moves from the grid onto the nearest multiple of the
 # step, coarser first, within FIT_REACH times the tolerance, where the strokes clearly fit
-# it (the caller's StrokeFit) and lie at most ROUND_PX (pixels of the fitting camera)
+# it (the caller's StrokeCheck) and lie at most ROUND_PX (pixels of the fitting camera)
 # farther from its sketch on average than from the grid value's. Shorter lengths keep the
 # grid: from 20 mm on, 5 mm steps cost held-out sweeps whose regular lengths are any whole
 # mm; and a sloppy hand's strokes, which fit neither clearly, do not choose
@@ -227,19 +228,22 @@ class Snap:
 
 
 @dataclass(frozen=True)
-class StrokeFit:
-    """How well the strokes fit an operation that snapping moved, as the caller measures.
+class StrokeCheck:
+    """Whether the strokes fit an operation that snapping moved, as the caller measures.
 
-    `distance(op)`: the strokes' mean distance from op's sketch, in pixels of the camera
-    the reading was fitted in (inf where op cannot be drawn); within `good_px` they fit it
-    clearly.
+    `fit(op)`: op's SketchFit to the strokes, in pixels of the camera the reading was
+    fitted in (`SketchFit.undrawn()` where op cannot be drawn); within `good_px` of them
+    (its misfit_px) they fit it clearly.
     """
 
-    distance: Callable[[Operation], float]
+    fit: Callable[[Operation], SketchFit]
     good_px: float
 
+    def misfit_px(self, op: Operation) -> float:
+        return self.fit(op).misfit_px
+
     def fits(self, op: Operation) -> bool:
-        return self.distance(op) <= self.good_px
+        return self.misfit_px(op) <= self.good_px
 
 
 @dataclass(frozen=True)
@@ -260,7 +264,7 @@ class _Snapper:
         tol_px: float,
         step: float,
         skip: frozenset[str],
-        strokes: StrokeFit | None = None,
+        strokes: StrokeCheck | None = None,
     ):
         self.frame, self.view, self.tol, self.step, self.skip = frame, view, tol_px, step, skip
         self.strokes = strokes
@@ -347,8 +351,8 @@ class _Snapper:
             ):
                 continue
             if at_grid is None:
-                at_grid = self.strokes.distance(rebuilt(sign * grid[1]))
-            at = self.strokes.distance(rebuilt(sign * value))
+                at_grid = self.strokes.misfit_px(rebuilt(sign * grid[1]))
+            at = self.strokes.misfit_px(rebuilt(sign * value))
             if at <= min(self.strokes.good_px, at_grid + ROUND_PX):
                 return abs(value - mag), value, f"a round {q:g} mm, where the strokes fit as well"
         return grid
@@ -617,7 +621,7 @@ def regularize_operation(
     step: float = 0.0,
     tol_px: float = SNAP_PX,
     skip: frozenset[str] = frozenset(),
-    strokes: StrokeFit | None = None,
+    strokes: StrokeCheck | None = None,
 ) -> Regularized:
     """Rectify a fitted operation and snap it to what its strokes are close to.
 

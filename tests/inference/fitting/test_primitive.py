@@ -20,7 +20,7 @@ from Sketch2CADWorkbench.sketch.curves import operation_curves
 def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(box, camera):
     # seen along the view, the 6 mm boss's top outline falls inside the top face: a hole
     # with that rim, 6 mm deep, draws the same nine lines (paper, Fig. 5b)
-    from Sketch2CADWorkbench.inference.fitting.verify import reprojection_error
+    from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 
     face = face_towards(box, (0, 0, 1))
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
@@ -28,7 +28,7 @@ def test_a_low_boss_whose_top_also_lies_on_f_names_the_hole_that_draws_the_same(
     assert boss.mode is Mode.ADD and other_option_fits(face, camera, boss)
     hole = fit_prism(box, face, camera, strokes, labels, option=Mode.SUBTRACT)
     assert hole.d == pytest.approx(6.0, abs=0.2)
-    assert reprojection_error(box, hole, camera, strokes) < 1.0
+    assert sketch_fit(box, hole, camera, strokes).misfit_px < 1.0
 
 
 def test_a_tall_boss_whose_top_leaves_f_names_no_other_option(box, camera):

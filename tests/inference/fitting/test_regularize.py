@@ -25,15 +25,21 @@ from Sketch2CADWorkbench.inference.fitting.regularize import (
     HAND_SNAP,
     ROUND_PX,
     SNAP_PX,
-    StrokeFit,
+    StrokeCheck,
     hand_tolerance,
     regularize_operation,
 )
 from Sketch2CADWorkbench.inference.fitting.sweep import fit_sweep
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
 BIG = (400.0, 300.0, 100.0)
 TOP = BIG[2] / 2
+
+
+def misfit_check(misfit_px, good_px: float) -> StrokeCheck:
+    """A StrokeCheck whose SketchFit of an operation lies `misfit_px(op)` off both ways."""
+    return StrokeCheck(lambda op: SketchFit(*[np.full(1, misfit_px(op))] * 2, np.zeros(0)), good_px)
 
 
 @pytest.fixture
@@ -144,7 +150,7 @@ def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big,
         return 1.0
 
     got = regularize_operation(
-        solid, post, top, near, tol_px=off_px / 2, strokes=StrokeFit(distance, 3.0)
+        solid, post, top, near, tol_px=off_px / 2, strokes=misfit_check(distance, 3.0)
     )
     assert asked == [pytest.approx((*axis, TOP), abs=1e-9)]  # asked of the post moved
     assert got.operation.center == pytest.approx((*axis, TOP), abs=1e-9)
@@ -154,14 +160,19 @@ def test_a_centre_beyond_the_tolerance_is_taken_where_the_strokes_still_fit(big,
     # strokes that do not fit it there keep it where drawn
     assert (
         regularize_operation(
-            solid, post, top, near, tol_px=off_px / 2, strokes=StrokeFit(lambda moved: 3.5, 3.0)
+            solid, post, top, near, tol_px=off_px / 2, strokes=misfit_check(lambda moved: 3.5, 3.0)
         ).snaps
         == ()
     )
     # past FIT_REACH times the tolerance, the strokes are not asked
     asked.clear()
     far = regularize_operation(
-        solid, post, top, near, tol_px=off_px / (FIT_REACH + 0.5), strokes=StrokeFit(distance, 3.0)
+        solid,
+        post,
+        top,
+        near,
+        tol_px=off_px / (FIT_REACH + 0.5),
+        strokes=misfit_check(distance, 3.0),
     )
     assert far.snaps == () and asked == []
 
@@ -268,7 +279,7 @@ def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(bi
             asked.append(op.d)
             return 1.0 + px_per_mm * abs(op.d - 68.3)
 
-        return StrokeFit(distance, 3.0)
+        return misfit_check(distance, 3.0)
 
     got = regularize_operation(
         big, tube(top, 68.3), top, view, step=0.5, tol_px=20.0, strokes=strokes(0.1)
@@ -287,7 +298,7 @@ def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(bi
         view,
         step=0.5,
         tol_px=20.0,
-        strokes=StrokeFit(lambda op: 1.0, 3.0),
+        strokes=misfit_check(lambda op: 1.0, 3.0),
     )
     assert handle.operation.d == pytest.approx(90.0)
     assert "a round 10 mm" in handle.snaps[-1].target
@@ -305,7 +316,7 @@ def test_a_long_length_rounds_to_a_round_number_the_strokes_fit_about_as_well(bi
         view,
         step=0.5,
         tol_px=20.0,
-        strokes=StrokeFit(lambda op: 3.5, 3.0),
+        strokes=misfit_check(lambda op: 3.5, 3.0),
     )
     assert sloppy.operation.d == pytest.approx(68.5)
     # beyond FIT_REACH times the tolerance the strokes are not asked
@@ -335,13 +346,13 @@ def test_a_short_length_keeps_the_grid_however_well_a_round_one_fits(big, view):
             view,
             step=0.5,
             tol_px=20.0,
-            strokes=StrokeFit(lambda op: 1.0, 3.0),
+            strokes=misfit_check(lambda op: 1.0, 3.0),
         )
         assert got.operation.d == pytest.approx(grid)
     # nor any length with the grid off: round numbers are multiples of the designer's grid
     assert (
         regularize_operation(
-            big, tube(top, 68.3), top, view, tol_px=20.0, strokes=StrokeFit(lambda op: 1.0, 3.0)
+            big, tube(top, 68.3), top, view, tol_px=20.0, strokes=misfit_check(lambda op: 1.0, 3.0)
         ).operation.d
         == 68.3
     )

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Reprojection error: the operation that was drawn explains its strokes best."""
+"""A reading's SketchFit: the operation that was drawn explains its strokes best."""
 
 import numpy as np
 import pytest
@@ -8,11 +8,9 @@ from Sketch2CADWorkbench.brep.operators import make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.verify import (
     DrawnStrokes,
+    SketchFit,
     end_gaps,
-    mean_distance,
-    reading_score,
-    reprojection_error,
-    sketch_distances,
+    sketch_fit,
 )
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import operation_curves
@@ -40,9 +38,9 @@ def drawn_sweep():
 
 def test_the_drawn_sweep_explains_its_strokes_better_than_a_longer_wider_one():
     box, cam, drawn, strokes = drawn_sweep()
-    exact = reprojection_error(box, drawn, cam, strokes)
+    exact = sketch_fit(box, drawn, cam, strokes).misfit_px
     assert exact == pytest.approx(0.0, abs=1.0)
-    assert reprojection_error(box, sweep(9.0, 16.0), cam, strokes) > exact + 5.0
+    assert sketch_fit(box, sweep(9.0, 16.0), cam, strokes).misfit_px > exact + 5.0
 
 
 def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lines():
@@ -63,14 +61,14 @@ def test_seen_lines_tell_a_hole_from_the_boss_on_its_rim_that_draws_the_same_lin
     floor_on_f = rim - (0, 0, 6.0) - v * (6.0 / -v[2])  # back up along the view onto f
     boss = AddSubPrism(TOP, tuple(map(tuple, floor_on_f)), 6.0, Mode.ADD)
     every = [cam.project(c.points)[0] for c in operation_curves(box, hole, cam.direction)]
-    assert reprojection_error(box, boss, cam, every) == pytest.approx(0.0, abs=0.5)
+    assert sketch_fit(box, boss, cam, every).misfit_px == pytest.approx(0.0, abs=0.5)
     maps = {op: renderer.render(apply_operation(box, op), cam) for op in (hole, boss)}
     drawn = [
         cam.project(c.points)[0]
         for c in visible_curves(operation_curves(box, hole, cam.direction), cam, maps[hole])
     ]
-    assert reprojection_error(box, hole, cam, drawn, maps[hole]) == pytest.approx(0.0, abs=0.5)
-    assert reprojection_error(box, boss, cam, drawn, maps[boss]) > 3.0
+    assert sketch_fit(box, hole, cam, drawn, maps[hole]).misfit_px == pytest.approx(0.0, abs=0.5)
+    assert sketch_fit(box, boss, cam, drawn, maps[boss]).misfit_px > 3.0
 
 
 def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themselves():
@@ -82,14 +80,18 @@ def test_strokes_scored_once_for_many_readings_score_them_as_the_strokes_themsel
     ]
     drawn = DrawnStrokes(strokes, (cam.height, cam.width))
     for op in (sweep(4.0, 10.0), sweep(9.0, 16.0)):
-        for got, want in zip(
-            sketch_distances(box, op, cam, drawn), sketch_distances(box, op, cam, strokes)
-        ):
-            np.testing.assert_array_equal(got, want)
+        got, want = sketch_fit(box, op, cam, drawn), sketch_fit(box, op, cam, strokes)
+        for name in ("to_sketch", "to_strokes", "end_gaps"):
+            np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
 
 
-def test_the_reprojection_error_weighs_both_ways_alike_however_many_samples_each_has():
-    assert mean_distance((np.array([1.0, 1.0, 1.0, 5.0]), np.array([4.0]))) == 3.0
+def test_the_misfit_weighs_both_ways_alike_however_many_samples_each_has():
+    fit = SketchFit(np.array([1.0, 1.0, 1.0, 5.0]), np.array([4.0]), np.zeros(0))
+    assert fit.misfit_px == 3.0 and (fit.strokes_off_px, fit.sketch_off_px) == (2.0, 4.0)
+
+
+def test_a_sketch_that_cannot_be_drawn_fits_nothing():
+    assert SketchFit.undrawn().misfit_px == np.inf
 
 
 def test_the_strokes_ends_are_scored_against_the_ends_of_the_curves_they_draw():
@@ -102,13 +104,14 @@ def test_the_strokes_ends_are_scored_against_the_ends_of_the_curves_they_draw():
 def test_a_reading_whose_lines_run_past_the_strokes_ends_scores_worse_however_close():
     # a reading along a displaced stroke lies closer to it (0 px for 2) but runs 200 px
     # past its end: ranked by closeness plus the end gaps, the one meant comes first
-    meant = (np.full(50, 2.0), np.full(10, 2.0), np.array([2.0, 2.0]))
-    along = (np.zeros(50), np.r_[np.zeros(10), np.full(10, 50.0)], np.array([0.0, 200.0]))
-    assert reading_score(meant) < reading_score(along)
-    assert reading_score((meant[0], meant[1], np.zeros(0))) == mean_distance(meant) == 2.0
+    meant = SketchFit(np.full(50, 2.0), np.full(10, 2.0), np.array([2.0, 2.0]))
+    along = SketchFit(np.zeros(50), np.r_[np.zeros(10), np.full(10, 50.0)], np.array([0.0, 200.0]))
+    assert meant.score < along.score
+    no_ends = SketchFit(meant.to_sketch, meant.to_strokes, np.zeros(0))
+    assert no_ends.score == meant.misfit_px == 2.0
 
 
 def test_a_sketch_is_scored_by_its_closeness_both_ways_and_its_end_gaps():
     box, cam, drawn, strokes = drawn_sweep()
-    to_sketch, to_strokes, ends = sketch_distances(box, drawn, cam, strokes)
+    ends = sketch_fit(box, drawn, cam, strokes).end_gaps
     assert len(ends) == 4 and np.all(ends < 1e-6)  # the two profile lines' ends; circles none
