@@ -54,7 +54,7 @@ weights: setup
 	    --eval data/head-test-l1 data/head-test-l3 data/curved-50003 \
 	    --json runs/head-noctx/scores.json
 	for n in 1 3; do \
-	    .bin/python scripts/recovery_with_head.py --data data/heldout-l$$n --head runs/head \
+	    .bin/sketch2cad head-recovery --data data/heldout-l$$n --head runs/head \
 	        --weights runs/main --limit 200 --json runs/head-recovery/heldout-l$$n.json \
 	        || exit 1; done
 	.bin/sketch2cad model-card --run runs/main \

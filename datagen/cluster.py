@@ -20,7 +20,7 @@ import contextlib
 import logging
 import os
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from tqdm import tqdm
 

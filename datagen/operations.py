@@ -164,7 +164,9 @@ def sample_sweep(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Op
     else:
         h = np.sort(rng.uniform(0.1, 0.9, 2)) * d
         on_line = r0 + (r1 - r0) * h / d
-        inner = tuple((float(b * rng.uniform(0.5, 1.6)), float(hh)) for b, hh in zip(on_line, h))
+        inner = tuple(
+            (float(b * rng.uniform(0.5, 1.6)), float(hh)) for b, hh in zip(on_line, h, strict=False)
+        )
     mode = Mode.ADD if rng.random() < 0.5 else Mode.SUBTRACT
     return Sweep(
         f.ref,

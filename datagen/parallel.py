@@ -19,6 +19,7 @@ import json
 import multiprocessing as mp
 import os
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -143,6 +144,21 @@ def _init_worker() -> None:
     _RENDERER = MapRenderer()
 
 
+def _init_pool_worker(parent: int) -> None:
+    """A pool worker's start: its renderer, and a watch that ends it when the main
+    process `parent` is gone (killed: its queue's pipe stays open in the workers, so they
+    would wait on it for ever, holding hundreds of MB and multiprocessing's resource
+    tracker), even if that happened while the worker was still importing."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="exit-with-the-main-process", daemon=True).start()
+    _init_worker()
+
+
 def make_block(job: BlockJob) -> list[Record]:
     """The packed samples of block `job`."""
     if _RENDERER is None:
@@ -209,6 +225,8 @@ R = TypeVar("R")
 # every core busy while a slow block holds up the order, and a bound on the results held
 # in memory however large the set.
 LOOK_AHEAD = 4
+# How often a pool worker looks whether the main process is still there (seconds).
+PARENT_POLL_S = 0.5
 
 
 def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Iterator[R]:
@@ -226,7 +244,9 @@ def made_in_pool(make: Callable[[J], R], jobs: Sequence[J], workers: int) -> Ite
     """
     yielded = 0
     for attempt in (1, 2):
-        pool = ProcessPoolExecutor(workers, mp.get_context("spawn"), initializer=_init_worker)
+        pool = ProcessPoolExecutor(
+            workers, mp.get_context("spawn"), initializer=_init_pool_worker, initargs=(os.getpid(),)
+        )
         try:
             with single_threaded_children():  # the first jobs queued spawn all workers
                 queued = collections.deque(
@@ -291,7 +311,8 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
             "shard_size",
             "hidden_lines",
             "regular_share",
-        ) + tuple(extra)
+            *tuple(extra),
+        )
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         old.setdefault("regular_share", 0.0)  # ... and before regular samples
         if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:

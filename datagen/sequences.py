@@ -21,8 +21,8 @@ the same as without the option.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cadquery as cq
 import numpy as np

@@ -111,7 +111,10 @@ def sketch_strokes(
     sigma = noise_sigma(noise_level, camera.width, camera.height)
     pixels = camera.project(np.concatenate([c.points for c in curves]))[0]
     ends = np.cumsum([len(c.points) for c in curves])[:-1]
-    strokes = [perturb(p, rng, sigma, c.closed) for p, c in zip(np.split(pixels, ends), curves)]
+    strokes = [
+        perturb(p, rng, sigma, c.closed)
+        for p, c in zip(np.split(pixels, ends), curves, strict=False)
+    ]
     order = rng.permutation(len(strokes))
     return [strokes[i] for i in order], [int(curves[i].label) for i in order]
 

@@ -158,7 +158,7 @@ def choose(real: list, scrib: list) -> list:
     found = []
     for names in [(n,) for n in options] + list(combinations(options, 2)):
         for values in product(*(options[n] for n in names)):
-            rule = dict(zip(names, values))
+            rule = dict(zip(names, values, strict=False))
             real_flagged = sum(flags(f, rule) for f in r) / len(real)
             if real_flagged <= MAX_REAL_FLAGGED:
                 found.append((sum(not flags(f, rule) for f in s) / len(scrib), real_flagged, rule))

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The README's test command (make test): the whole suite on the host's FreeCAD 0.20.2, then
-# the FreeCAD tests (tests/freecad: document, GUI, STEP, FCStd reopening, a session
+# The README's test command (make test): ruff (lint and format) over the repository and mypy
+# over the core (pyproject.toml says which), then the whole suite on the host's FreeCAD
+# 0.20.2, then the FreeCAD tests (tests/freecad: document, GUI, STEP, FCStd reopening, a session
 # interpreted inside FreeCAD) on FreeCAD 1.0 and 1.1.3 in their Debian chroots
 # (scripts/chroot.sh builds each the first time and reuses it after). With arguments, only
 # `pytest ARGS` here, on this machine's FreeCAD. pytest's exit 5 (no tests) is a failure.
@@ -46,6 +47,21 @@ run() {  # run LABEL COMMAND...: one pytest run, its closing line kept for the s
     rm -f "$log"
 }
 
+check() {  # check LABEL COMMAND...: a linter; its failure fails the run
+    local label=$1
+    shift
+    if "$@"; then
+        summary+=("$label: clean")
+    else
+        summary+=("$label: FAILED")
+        failed=$((failed + 1))
+        rc=1
+    fi
+}
+
+check "ruff check" .bin/python -m ruff check .
+check "ruff format --check" .bin/python -m ruff format --check .
+check "mypy (the core)" .bin/python -m mypy
 run "FreeCAD 0.20.2 (host), whole suite" pytest_here
 for suite in trixie forky; do
     run "FreeCAD $( [ $suite = trixie ] && echo 1.0 || echo 1.1.3 ) ($suite chroot), tests/freecad" \

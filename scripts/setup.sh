@@ -58,9 +58,9 @@ if [ "$(readlink -f "$MOD/Sketch2CAD" 2>/dev/null)" != "$ROOT" ]; then
 fi
 
 # The workbench's installer, as the Install button runs it.
-# The test tools and the cluster extra (Ray: `datagen --ray` and its tests); the chroots,
-# which run only tests/freecad, ask for "test" alone (no Ray wheels for Python 3.14).
-export SKETCH2CAD_EXTRAS=${SKETCH2CAD_EXTRAS:-test,cluster}
+# The test tools, the linters and the cluster extra (Ray: `datagen --ray` and its tests); the
+# chroots, which run only tests/freecad, ask for "test" alone (no Ray wheels for Python 3.14).
+export SKETCH2CAD_EXTRAS=${SKETCH2CAD_EXTRAS:-test,lint,cluster}
 if [ "$TORCH" = pip ]; then
     export SKETCH2CAD_TORCH_REQUIREMENT=torch==2.13.0 SKETCH2CAD_TORCH_INDEX=""
 fi

@@ -39,7 +39,7 @@ class PooledData:
     def __len__(self) -> int:
         return len(self.op)
 
-    def subset(self, idx) -> "PooledData":
+    def subset(self, idx) -> PooledData:
         return PooledData(self.x[idx], self.labels[idx], self.op[idx], self.noise[idx])
 
     def batch(

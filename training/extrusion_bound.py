@@ -82,7 +82,7 @@ def moved_corner_tips(
     sigma = noise_sigma(sample.noise_level, sample.camera.width, sample.camera.height)
     moved = corners_px + sample.operation.d * step_px
     tips, owners = [], []
-    for stroke, part in zip(sample.strokes, sample.stroke_parts):
+    for stroke, part in zip(sample.strokes, sample.stroke_parts, strict=True):
         a, b = np.asarray(stroke[0], float), np.asarray(stroke[-1], float)
         if part == EXTRUDE_PROFILE:
             fit_ab = np.linalg.norm(corners_px - a, axis=1) + np.linalg.norm(moved - b, axis=1)

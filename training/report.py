@@ -33,6 +33,7 @@ def plot_curves(log_path: Path, png: Path, face_dice: float = 0.0) -> None:
             "base face F (MSE + Dice)" if face_dice else "base face F (MSE)",
             "curve C on strokes (MSE)",
         ),
+        strict=False,
     ):
         ax.plot([r["step"] for r in tr], [r[key] for r in tr], lw=0.8, label="train")
         if va:

@@ -177,14 +177,14 @@ class _Pairing:
         rows, cols, self.swapped = match_ends(
             self._curve_ends(curves, camera), ends.reshape(-1, 2, 2)
         )
-        self.open = [(opened[r], self.open_curves[c]) for r, c in zip(rows, cols)]
+        self.open = [(opened[r], self.open_curves[c]) for r, c in zip(rows, cols, strict=True)]
         self.loop_points = [loop_samples(strokes[i]) for i in loops]
         cost = np.zeros((len(loops), len(closed)))
         for r, p in enumerate(self.loop_points):
             for c, k in enumerate(closed):
                 cost[r, c] = loop_distances(p, camera.project(curves[k].points)[0]).mean()
         rows, cols = linear_sum_assignment(cost) if cost.size else ((), ())
-        self.loops = [(int(r), closed[c]) for r, c in zip(rows, cols)]
+        self.loops = [(int(r), closed[c]) for r, c in zip(rows, cols, strict=True)]
         self.stroke_ends = np.array(
             [[strokes[i][0], strokes[i][-1]] for i, _ in self.open], float
         ).reshape(-1, 2, 2)
@@ -297,14 +297,14 @@ def session_oracle(
         )
     truths = replay(protocol)
     steps = []
-    for k, (step, truth) in enumerate(zip(session.steps, protocol.operations)):
+    for k, (step, truth) in enumerate(zip(session.steps, protocol.operations, strict=True)):
         steps.append(oracle_reading(truths[k], truth, step))
         if on_step:
             on_step(k + 1)
     final, exact = truths[-1], list(protocol.operations)
 
     def alone(k: int, op: Operation) -> float:
-        return volume_iou(apply_what_builds(truths[k], [op] + exact[k + 1 :]), final)
+        return volume_iou(apply_what_builds(truths[k], [op, *exact[k + 1 :]]), final)
 
     steps = [
         replace(s, session_iou=alone(k, s.reading), snapped_session_iou=alone(k, s.snapped))

@@ -197,7 +197,8 @@ class Run:
             torch.set_rng_state(ckpt["rng"])
         elif ranks.main:
             self.log_path.write_text("")
-        self.log = open(self.log_path, "a") if ranks.main else None
+        # open for the run's life (close() closes it)
+        self.log = open(self.log_path, "a") if ranks.main else None  # noqa: SIM115
 
     def write(self, row: dict) -> None:
         """One row of log.jsonl, flushed at once (rank 0's only)."""
@@ -469,7 +470,7 @@ def _loop(run: Run) -> Path:
         bar.close()
         if not stepping:  # else the weights may be half updated: keep the last checkpoint
             with torch.no_grad():
-                for b, saved in zip(run.model.buffers(), buffers):
+                for b, saved in zip(run.model.buffers(), buffers, strict=True):
                     b.copy_(saved)
             run.save(rng)
             run.write({"kind": "event", "what": "interrupted", "step": state["step"]})

@@ -53,12 +53,12 @@ class FaceFrame:
     v: np.ndarray
 
     @staticmethod
-    def of(face: cq.Face) -> "FaceFrame":
+    def of(face: cq.Face) -> FaceFrame:
         n = np.array(face.normalAt().toTuple())
         return FaceFrame(np.array(face.Center().toTuple()), n, *plane_basis(n))
 
     @staticmethod
-    def tangent(face: cq.Face, ref: FaceRef) -> "FaceFrame":
+    def tangent(face: cq.Face, ref: FaceRef) -> FaceFrame:
         """The tangent plane T of a curved f at a step's point p_f (`ref`: p_f and n_f
         there), in which its prism's polygon or sweep's c0 lies (brep/operators): u runs
         along the surface's generatrix through p_f, v around the surface."""
@@ -106,7 +106,7 @@ class CurvedSurface:
     convex: bool
 
     @staticmethod
-    def of(face: cq.Face) -> "CurvedSurface":
+    def of(face: cq.Face) -> CurvedSurface:
         """The surface of a cylindrical or conical face (OCCT's gp_Cylinder / gp_Cone)."""
         kind = face.geomType()
         adaptor = BRepAdaptor_Surface(face.wrapped)  # also under a trimmed surface
@@ -196,7 +196,16 @@ class CurvedSurface:
 
     def solid(self, around: np.ndarray, extent: float) -> cq.Solid:
         """The solid the surface bounds (the points inside it), `extent` mm along the axis
-        either side of the foot of `around`; a cone is cut off at its apex."""
+        either side of the foot of `around`; a cone is cut off at its apex (`bounds`)."""
+        base, r_lo, r_hi, length = self.bounds(around, extent)
+        direction = cq.Vector(*self.axis)
+        if self.slope == 0.0:
+            return cq.Solid.makeCylinder(self.radius, length, cq.Vector(*base), direction)
+        return cq.Solid.makeCone(r_lo, r_hi, length, cq.Vector(*base), direction)
+
+    def bounds(self, around: np.ndarray, extent: float) -> tuple[np.ndarray, float, float, float]:
+        """The solid of `solid` as a cylinder or cone along the axis: its base centre (3,),
+        radius there and at the far end, and length (mm)."""
         h0 = float((np.asarray(around, float) - self.origin) @ self.axis)
         lo, hi = h0 - extent, h0 + extent
         r_lo, r_hi = self.radius + self.slope * lo, self.radius + self.slope * hi
@@ -206,11 +215,7 @@ class CurvedSurface:
                 lo, r_lo = apex, 0.0
             if r_hi < 0:
                 hi, r_hi = apex, 0.0
-        base = cq.Vector(*(self.origin + lo * self.axis))
-        direction = cq.Vector(*self.axis)
-        if self.slope == 0.0:
-            return cq.Solid.makeCylinder(self.radius, hi - lo, base, direction)
-        return cq.Solid.makeCone(r_lo, r_hi, hi - lo, base, direction)
+        return self.origin + lo * self.axis, r_lo, r_hi, hi - lo
 
 
 @dataclass(frozen=True)
@@ -232,7 +237,7 @@ class ResolvedFace:
     point: np.ndarray | None = None
 
     @staticmethod
-    def of(face: cq.Face) -> "ResolvedFace":
+    def of(face: cq.Face) -> ResolvedFace:
         """A planar face of the solid itself, as `resolve_face` finds it from the face's
         own `face_ref_of` (no shift): for callers that already hold the face."""
         return ResolvedFace(face, np.array(face.normalAt().toTuple()), 0.0)
@@ -293,14 +298,27 @@ def plane_normals(shape: cq.Shape) -> dict[int, np.ndarray]:
     plane's u x v, reversed with the face), by its index in shape.Faces()."""
     faces, out = indexed_faces(shape), {}
     for i in range(faces.Extent()):
-        face = TopoDS.Face_s(faces.FindKey(i + 1))
-        surface = BRepAdaptor_Surface(face)
-        if surface.GetType() != GeomAbs_Plane:
-            continue
-        frame = surface.Plane().Position()
-        n = np.cross(frame.XDirection().Coord(), frame.YDirection().Coord())
-        out[i] = -n if face.Orientation() == TopAbs_REVERSED else n
+        plane = _plane(TopoDS.Face_s(faces.FindKey(i + 1)))
+        if plane is not None:
+            out[i] = plane[0]
     return out
+
+
+def _plane(face) -> tuple[np.ndarray, float] | None:
+    """A planar TopoDS face's outward unit normal and plane offset n . p, read off its
+    plane (no area integral: resolving a face on a solid of thousands of faces would
+    cost more than the Boolean); None for a curved face."""
+    surface = BRepAdaptor_Surface(face)
+    if surface.GetType() != GeomAbs_Plane:
+        return None
+    frame = surface.Plane().Position()
+    # u x v: the frame's main direction, reversed in a left-handed frame
+    sign = (1.0 if frame.Direct() else -1.0) * (
+        -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    )
+    n = tuple(sign * x for x in frame.Direction().Coord())
+    offset = sum(a * b for a, b in zip(n, frame.Location().Coord(), strict=False))
+    return np.array(n), float(offset)
 
 
 def face_at(shape: cq.Shape, index: int) -> cq.Face:
@@ -418,11 +436,9 @@ def planar_faces(solid: cq.Shape) -> list[tuple[cq.Face, np.ndarray, float]]:
     """Each planar face with its outward unit normal and plane offset n . p."""
     out = []
     for f in solid.Faces():
-        if f.geomType() != "PLANE":
-            continue
-        n = np.array(f.normalAt().toTuple())
-        p = np.array(f.Center().toTuple())
-        out.append((f, n, float(n @ p)))
+        plane = _plane(f.wrapped)
+        if plane is not None:
+            out.append((f, *plane))
     return out
 
 

@@ -20,9 +20,11 @@ curved surface (`_stand_on_curved`). A bevel needs a planar f.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import itertools
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -37,6 +39,7 @@ from .faces import (
     face_at,
     model_box,
     model_scale,
+    points_on_face,
     resolve_face,
 )
 from .geometry import bezier, crossing_sides, plane_basis, unit
@@ -123,7 +126,7 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     else:
         inputs = ([shape], [tool])
     args, tools = TopTools_ListOfShape(), TopTools_ListOfShape()
-    for occt_list, shapes in zip((args, tools), inputs):
+    for occt_list, shapes in zip((args, tools), inputs, strict=False):
         for s in shapes:
             occt_list.Append(s.wrapped)
     algo.SetArguments(args)
@@ -243,6 +246,13 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
         _check_profile_ends(c, ctrl, here, tol)
         found = here.opposite - here.c
         return BevelPlace(c, crease if np.linalg.norm(found - crease) <= tol else found, ctrl)
+    if points_on_face(rf.face, c[None], tol, boundary=False)[0]:
+        # an edit moves a corner off f (f shrank) or along f's outline (a side moved);
+        # a point inside f was never one of its corners
+        raise OperationError(
+            f"bevel: corner c {_pt(c)} lies inside face f, not at a corner of it; c must be "
+            "a vertex of f where two of its straight edges meet"
+        )
     a, b = (unit(ctrl[k] - c) for k in (0, 3))
     moved = corner_along(corners, c, a, b, length, tol)
     if moved is None:
@@ -366,13 +376,7 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float)
     if rf.surface is None:
         wire = cq.Wire.makePolygon([_vec(p) for p in pts], close=True)
         return cq.Solid.extrudeLinear(wire, [], _vec(rf.normal * op.d * op.mode.sign))
-    closed = np.vstack([pts, pts[:1]])
-    footprint = np.concatenate(
-        [
-            a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
-            for a, b in zip(closed[:-1], closed[1:])
-        ]
-    )
+    footprint = prism_footprint(pts)
 
     def prism(start: float, length: float) -> cq.Solid:
         wire = cq.Wire.makePolygon([_vec(p + rf.normal * start) for p in pts], close=True)
@@ -381,24 +385,49 @@ def prism_tool(solid: cq.Shape, rf: ResolvedFace, op: AddSubPrism, scale: float)
     return _stand_on_curved(rf, op, footprint, prism, scale, "prism polygon c")
 
 
-def _stand_on_curved(
-    rf: ResolvedFace,
-    op: AddSubPrism | Sweep,
-    footprint: np.ndarray,
-    primitive: Callable[[float, float], cq.Solid],
-    scale: float,
-    what: str,
-) -> cq.Solid:
-    """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap.
+def prism_footprint(pts: np.ndarray) -> np.ndarray:
+    """A prism's outline on T, sampled (16 points a side) for `curved_reach`."""
+    closed = np.vstack([pts, pts[:1]])
+    return np.concatenate(
+        [
+            a + (b - a) * np.linspace(0, 1, 16, endpoint=False)[:, None]
+            for a, b in itertools.pairwise(closed)
+        ]
+    )
 
-    `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f;
-    `primitive(start, length)` is the primitive from `start` mm along n_f off T, `length`
-    mm along n_f (negative: against it). An ADD runs from below the surface under the
-    whole footprint up to d above T, and keeps what lies outside the material's side of
-    f's surface; a SUBTRACT runs from above the surface down to d below T, and keeps
-    what lies on the material's side. So a boss on a tube meets its wall all round, and
-    a slot or hole cuts through the curved wall to depth d below p_f, not a sliver of
-    it. For a cylinder, the footprint must lie within the cylinder's width.
+
+def sweep_footprint(center: np.ndarray, normal: np.ndarray, r0: float) -> np.ndarray:
+    """A sweep's circle c0 on T, sampled (96 points) for `curved_reach`."""
+    u, v = plane_basis(normal)
+    angles = np.linspace(0, 2 * np.pi, 96, endpoint=False)
+    return center + r0 * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+
+
+@dataclass(frozen=True)
+class Reach:
+    """How a prism or sweep stands on a curved f: it starts `start` mm along n_f off the
+    tangent plane T (below the surface for an ADD, above it for a SUBTRACT), and is
+    trimmed to the solid that f's surface bounds (`inside`): what lies inside it is kept
+    when `keep_inside`, else what lies outside."""
+
+    start: float
+    inside: cq.Solid
+    keep_inside: bool
+    extent: float  # how far `inside` reaches along the axis either side of p_f (mm)
+
+
+def curved_reach(
+    rf: ResolvedFace, op: AddSubPrism | Sweep, footprint: np.ndarray, scale: float, what: str
+) -> Reach:
+    """Where a prism's or sweep's primitive on a curved f starts, and what trims it.
+
+    `footprint` (K, 3) samples the primitive's outline on the tangent plane T at p_f. An
+    ADD runs from below the surface under the whole footprint up to d above T, and keeps
+    what lies outside the material's side of f's surface; a SUBTRACT runs from above the
+    surface down to d below T, and keeps what lies on the material's side. So a boss on a
+    tube meets its wall all round, and a slot or hole cuts through the curved wall to
+    depth d below p_f, not a sliver of it. For a cylinder, the footprint must lie within
+    the cylinder's width.
 
     Raises:
         OperationError: for INTERSECT/REPLACE, or a footprint wider than the surface.
@@ -419,14 +448,36 @@ def _stand_on_curved(
     margin = REACH_MARGIN_REL * scale
     if op.mode is Mode.ADD:
         start = -(max(0.0, -float(t.min())) + margin)
-        tool = primitive(start, op.d - start)
     else:
         start = max(0.0, float(t.max())) + margin
-        tool = primitive(start, -op.d - start)
     extent = 2.0 * (scale + op.d + float(np.abs(footprint - rf.plane_point).max()) + abs(start))
-    inside = surface.solid(rf.plane_point, extent)
-    keep_inside = (op.mode is Mode.ADD) != surface.convex
-    clipped = boolean(tool, inside, Mode.INTERSECT if keep_inside else Mode.SUBTRACT)
+    return Reach(
+        start,
+        surface.solid(rf.plane_point, extent),
+        (op.mode is Mode.ADD) != surface.convex,
+        extent,
+    )
+
+
+def _stand_on_curved(
+    rf: ResolvedFace,
+    op: AddSubPrism | Sweep,
+    footprint: np.ndarray,
+    primitive: Callable[[float, float], cq.Solid],
+    scale: float,
+    what: str,
+) -> cq.Solid:
+    """A prism's or sweep's primitive on a curved f, meeting f without gap or overlap
+    (`curved_reach`): `primitive(start, length)` is the primitive from `start` mm along
+    n_f off T, `length` mm along n_f (negative: against it).
+
+    Raises:
+        OperationError: as `curved_reach`, or the trimmed primitive is not one solid.
+    """
+    reach = curved_reach(rf, op, footprint, scale, what)
+    length = op.d - reach.start if op.mode is Mode.ADD else -op.d - reach.start
+    tool = primitive(reach.start, length)
+    clipped = boolean(tool, reach.inside, Mode.INTERSECT if reach.keep_inside else Mode.SUBTRACT)
     solids = clipped.Solids()
     if len(solids) != 1 or not solids[0].isValid():
         raise OperationError(
@@ -467,10 +518,7 @@ def sweep_tool(solid: cq.Shape, rf: ResolvedFace, op: Sweep, scale: float) -> cq
     """
     (center,) = on_face_plane([op.center], rf, scale, "sweep centre of c0")
     if rf.surface is not None:
-        # on a curved f: c0 on T, its footprint the circle of radius r0 there
-        u, v = plane_basis(rf.normal)
-        angles = np.linspace(0, 2 * np.pi, 96, endpoint=False)
-        footprint = center + op.r0 * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+        footprint = sweep_footprint(center, rf.normal, op.r0)  # c0 on T
 
         def primitive(start: float, length: float) -> cq.Solid:
             # the sweep itself, and a cylinder of c0 through T to the surface
@@ -630,18 +678,29 @@ def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> 
     """
     solids = [make_box(protocol.base)]
     for i, op in enumerate(protocol.operations, 1):
-        try:
-            solids.append(apply_operation(solids[-1], op))
-        except OperationError as e:
-            raise OperationError(f"step {i} ({op.type.value}): {e}") from None
+        solids.append(_step(solids[-1], op, i))
         if on_step:
             on_step(i)
     return solids
 
 
 def build(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> cq.Solid:
-    """The final solid of a protocol (on_step: as for `replay`)."""
-    return replay(protocol, on_step)[-1]
+    """The final solid of a protocol (on_step and errors: as for `replay`), holding only
+    the solid of the step being built (`replay` holds every step's)."""
+    solid = make_box(protocol.base)
+    for i, op in enumerate(protocol.operations, 1):
+        solid = _step(solid, op, i)
+        if on_step:
+            on_step(i)
+    return solid
+
+
+def _step(solid: cq.Solid, op: Operation, i: int) -> cq.Solid:
+    """Step i of a replay (OperationError: naming the step)."""
+    try:
+        return apply_operation(solid, op)
+    except OperationError as e:
+        raise OperationError(f"step {i} ({op.type.value}): {e}") from None
 
 
 def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
@@ -650,8 +709,6 @@ def apply_what_builds(solid: cq.Shape, operations: list[Operation]) -> cq.Shape:
     there (its face gone) is left out. For measuring where a protocol with some steps
     changed ends, not for building one: `replay` names a step that fails."""
     for op in operations:
-        try:
+        with contextlib.suppress(OperationError):
             solid = apply_operation(solid, op)
-        except OperationError:
-            pass
     return solid

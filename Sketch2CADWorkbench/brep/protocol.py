@@ -50,15 +50,16 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Any, Callable, ClassVar, TypeVar, Union
+from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
 from .fields import FieldError, box_size, error, header, number, obj, parse_json, points, vec
-from .files import write_atomically
+from .files import read_capped, write_atomically
 from .geometry import bezier
 
 FORMAT = "sketch2cad-protocol"
@@ -96,7 +97,7 @@ class Mode(Enum):
         return -1.0 if self is Mode.SUBTRACT else 1.0
 
     @property
-    def flipped(self) -> "Mode | None":
+    def flipped(self) -> Mode | None:
         """The other option of an addition or subtraction; None for intersect and
         replace, which have none."""
         return {Mode.ADD: Mode.SUBTRACT, Mode.SUBTRACT: Mode.ADD}.get(self)
@@ -205,7 +206,7 @@ class FaceRef:
         return out
 
     @staticmethod
-    def from_dict(v: Any, path: str) -> "FaceRef":
+    def from_dict(v: Any, path: str) -> FaceRef:
         o = obj(v, path, {"point", "normal"}, {"surface"})
         surface = Surface.PLANE
         if "surface" in o:
@@ -219,7 +220,7 @@ class FaceRef:
             vec(o["point"], f"{path}.point"), _unit(o["normal"], f"{path}.normal"), surface
         )
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "FaceRef":
+    def reflected(self, point: PointMap, vector: PointMap) -> FaceRef:
         return FaceRef(point(self.point), vector(self.normal), self.surface)
 
 
@@ -272,12 +273,12 @@ class _Operation:
         return {"type": self.type.value, "face": self.face.to_dict(), **self.parameters()}
 
     @classmethod
-    def parse(cls, face: FaceRef, o: dict, path: str) -> "_Operation":
+    def parse(cls, face: FaceRef, o: dict, path: str) -> _Operation:
         """The operation from a JSON object `o` that holds exactly its keys (checked);
         raises FieldError naming the field and value."""
         raise NotImplementedError
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "_Operation":
+    def reflected(self, point: PointMap, vector: PointMap) -> _Operation:
         """The operation mirrored: `point` and `vector` map world points and vectors."""
         raise NotImplementedError
 
@@ -309,10 +310,10 @@ class Extrude(_Operation):
         return {"d": self.d}
 
     @classmethod
-    def parse(cls, face: FaceRef, o: dict, path: str) -> "Extrude":
+    def parse(cls, face: FaceRef, o: dict, path: str) -> Extrude:
         return cls(face, number(o["d"], f"{path}.d", nonzero=True))
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "Extrude":
+    def reflected(self, point: PointMap, vector: PointMap) -> Extrude:
         return Extrude(self.face.reflected(point, vector), self.d)
 
 
@@ -354,7 +355,7 @@ class Bevel(_Operation):
         }
 
     @classmethod
-    def parse(cls, face: FaceRef, o: dict, path: str) -> "Bevel":
+    def parse(cls, face: FaceRef, o: dict, path: str) -> Bevel:
         return cls(
             face,
             vec(o["corner"], f"{path}.corner"),
@@ -362,7 +363,7 @@ class Bevel(_Operation):
             points(o["profile"], f"{path}.profile", 4, 4),
         )
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "Bevel":
+    def reflected(self, point: PointMap, vector: PointMap) -> Bevel:
         return Bevel(
             self.face.reflected(point, vector),
             point(self.corner),
@@ -400,7 +401,7 @@ class AddSubPrism(_CombinedOperation):
     type = OperatorType.ADDSUB
     KEYS = ("polygon", "d", "mode")
     NOUN = "prism"
-    NAMES = {
+    NAMES: ClassVar[dict[Mode, str]] = {
         Mode.ADD: "AddPolyhedron",
         Mode.SUBTRACT: "SubtractPolyhedron",
         Mode.INTERSECT: "IntersectPolyhedron",
@@ -425,7 +426,7 @@ class AddSubPrism(_CombinedOperation):
         return {"polygon": [list(p) for p in self.polygon], "d": self.d, "mode": self.mode.value}
 
     @classmethod
-    def parse(cls, face: FaceRef, o: dict, path: str) -> "AddSubPrism":
+    def parse(cls, face: FaceRef, o: dict, path: str) -> AddSubPrism:
         return cls(
             face,
             points(o["polygon"], f"{path}.polygon", 3, 6),
@@ -433,7 +434,7 @@ class AddSubPrism(_CombinedOperation):
             _mode(o["mode"], f"{path}.mode"),
         )
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "AddSubPrism":
+    def reflected(self, point: PointMap, vector: PointMap) -> AddSubPrism:
         """Mirrored, with the polygon's vertex order reversed so that it keeps its
         orientation on the mirrored face."""
         return AddSubPrism(
@@ -467,7 +468,7 @@ class Sweep(_CombinedOperation):
     type = OperatorType.SWEEP
     KEYS = ("center", "r0", "r1", "d", "profile", "mode")
     NOUN = "sweep"
-    NAMES = {
+    NAMES: ClassVar[dict[Mode, str]] = {
         Mode.ADD: "AddSweepShape",
         Mode.SUBTRACT: "SubtractSweepShape",
         Mode.INTERSECT: "IntersectSweepShape",
@@ -479,9 +480,17 @@ class Sweep(_CombinedOperation):
             raise OperationError(
                 f"sweep: r0, r1 and d must be positive, got r0={self.r0}, r1={self.r1}, d={self.d}"
             )
-        radii = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 65))[:, 0]
-        if radii.min() <= 0:
+        rh = bezier(np.array(self.control_points(), dtype=float), np.linspace(0, 1, 257))
+        if rh[:, 0].min() <= 0:
             raise OperationError("sweep: profile c_p crosses the axis (a radius <= 0)")
+        fall = np.diff(rh[:, 1])
+        if fall.min() < -1e-9 * self.d:
+            at = rh[int(np.argmin(fall)), 1]
+            raise OperationError(
+                f"sweep: profile c_p folds back (its height h goes down near h = {at:.4g} on "
+                f"the way from 0 to d = {_num(self.d)}), so the swept surface would cross "
+                "itself; move the profile's control points so that h only rises"
+            )
 
     def describe(self) -> str:
         ctrl = ", ".join(_fmt(p) for p in self.control_points())
@@ -502,7 +511,7 @@ class Sweep(_CombinedOperation):
         }
 
     @classmethod
-    def parse(cls, face: FaceRef, o: dict, path: str) -> "Sweep":
+    def parse(cls, face: FaceRef, o: dict, path: str) -> Sweep:
         return cls(
             face,
             vec(o["center"], f"{path}.center"),
@@ -513,7 +522,7 @@ class Sweep(_CombinedOperation):
             _mode(o["mode"], f"{path}.mode"),
         )
 
-    def reflected(self, point: PointMap, vector: PointMap) -> "Sweep":
+    def reflected(self, point: PointMap, vector: PointMap) -> Sweep:
         return Sweep(
             self.face.reflected(point, vector),
             point(self.center),
@@ -530,7 +539,7 @@ class Sweep(_CombinedOperation):
 
     def retuned(
         self, r0: float | None = None, r1: float | None = None, d: float | None = None
-    ) -> "Sweep":
+    ) -> Sweep:
         """The same sweep with new r0, r1 or d; the inner control points follow
         (`retuned_profile`)."""
         new = (
@@ -575,7 +584,7 @@ def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[V
     return (pts[0], pts[1])
 
 
-Operation = Union[Extrude, Bevel, AddSubPrism, Sweep]
+Operation = Extrude | Bevel | AddSubPrism | Sweep
 # The operation dataclass of each operator.
 OPERATIONS: dict[OperatorType, type] = per_operator(
     {
@@ -595,7 +604,7 @@ class Protocol:
     base: Box
     operations: tuple[Operation, ...] = field(default_factory=tuple)
 
-    def append(self, op: Operation) -> "Protocol":
+    def append(self, op: Operation) -> Protocol:
         return Protocol(self.base, self.operations + (op,))
 
     def to_json(self) -> str:
@@ -612,9 +621,17 @@ class Protocol:
         Raises:
             ProtocolError: naming the field the loader refuses; the file is untouched.
         """
+        write_atomically(path, self.file_text())
+
+    def file_text(self) -> str:
+        """The text `save` writes, checked to be what `load` accepts.
+
+        Raises:
+            ProtocolError: naming the field the loader refuses.
+        """
         text = self.to_json() + "\n"
         loads(text, "the protocol to save")
-        write_atomically(path, text)
+        return text
 
     def listing(self) -> str:
         """A readable listing, one line per step, like the paper's protocol figures."""
@@ -712,7 +729,7 @@ def load(path: str | Path) -> Protocol:
     """Read and validate a protocol file."""
     path = Path(path)
     try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as e:
+        text = read_capped(path).decode()
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         raise ProtocolError(f"{path}: cannot read protocol file: {e}") from None
     return loads(text, str(path))

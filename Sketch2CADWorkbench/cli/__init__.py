@@ -16,6 +16,7 @@ import sys
 # command -> one-line help
 COMMANDS = {
     "build": "replay a protocol into a solid; write STEP and a picture",
+    "export-script": "write a protocol as a CadQuery script that rebuilds the model",
     "demo": "build every bundled example protocol into STEP + PNG",
     "interpret": "interpret a sketch session into a protocol and a solid",
     "datagen": "generate synthetic training/evaluation samples",
@@ -24,7 +25,10 @@ COMMANDS = {
     "train-head": "train and score the structured heads on the frozen networks",
     "diagnose": "tally the fitting stage's misses on a data set, by cause",
     "option-scan": "how often the other Boolean is named, and the wrong options it covers",
+    "head-recovery": "end-to-end recovery with the structured head beside the U-Net alone",
     "model-card": "write the shipped weights' model card from a run and its evaluations",
+    "oracle": "how close a sketch session's strokes let a reading end",
+    "extrusion-bound": "the most any reading of a set's extrusions can recover",
 }
 
 

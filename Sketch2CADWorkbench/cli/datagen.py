@@ -80,7 +80,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         action="store_true",
         help="every sample's operation stands on a cylinder's or cone's side (a "
         "held-out set for measuring operators on curved faces, or training "
-        "data for the head; one worker, shards of %d)" % SHARD_SIZE,
+        f"data for the head; one worker, shards of {SHARD_SIZE})",
     )
 
 

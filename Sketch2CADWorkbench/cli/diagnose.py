@@ -94,3 +94,4 @@ def run(args: argparse.Namespace) -> int:
     )
     for what, count in tally.most_common():
         print(f"  {count:4d}  {what}")
+    return 0

@@ -21,6 +21,7 @@ from training.evaluate import evaluate, has_ground_truth
 from training.recovery import recovery
 from training.report import report
 
+from ..brep.files import write_atomically
 from ..inference.options import InterpretOptions
 from ..inference.weights import load_predictor, shipped_head
 
@@ -102,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"sketch2cad eval: error: {e}", file=sys.stderr)
         return 2
     args.json.parent.mkdir(parents=True, exist_ok=True)
-    args.json.write_text(json.dumps(result, indent=1) + "\n")
+    write_atomically(args.json, json.dumps(result, indent=1) + "\n")
     if args.report:
         report(result, examples, args.report)
     print(

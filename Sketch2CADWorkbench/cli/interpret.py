@@ -24,14 +24,14 @@ from ..inference.context import InterpretError
 from ..inference.fitting.regularize import SNAP_PX
 from ..inference.interpret import interpret
 from ..inference.session import load_session
-from .build import write_outputs
+from .build import output_file, replay_progress, write_outputs
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("session", type=Path, help="session JSON file")
-    p.add_argument("--protocol", type=Path, help="write the interpreted protocol (JSON)")
-    p.add_argument("--step", type=Path, help="write the final solid as STEP AP214")
-    p.add_argument("--png", type=Path, help="write a picture of the final solid")
+    p.add_argument("--protocol", type=output_file, help="write the interpreted protocol (JSON)")
+    p.add_argument("--step", type=output_file, help="write the final solid as STEP AP214")
+    p.add_argument("--png", type=output_file, help="write a picture of the final solid (PNG)")
     p.add_argument("--weights", type=Path, help="network weights (default: shipped)")
     p.add_argument(
         "--compare",
@@ -73,8 +73,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--keep-going",
         action="store_true",
-        help="skip a step that cannot be interpreted instead of stopping (the "
-        "skipped steps are listed; the exit code is then 0)",
+        help="skip a step that cannot be interpreted, or whose reading is doubtful, "
+        "instead of stopping (the skipped steps are listed; the exit code is then 0)",
+    )
+    p.add_argument(
+        "--accept-doubtful",
+        action="store_true",
+        help="add a doubtful reading (the strokes do not look much like it: a "
+        "scribble, or a sketch the networks misread) with its warning, instead of "
+        "stopping, or skipping it with --keep-going",
     )
 
 
@@ -99,6 +106,11 @@ def run(args: argparse.Namespace) -> int:
         return 2
     try:
         session = load_session(args.session)
+        if not session.steps:
+            raise ValueError(
+                f"{args.session}: the session has no sketched steps (steps: []), so there "
+                "is nothing to interpret; nothing was written"
+            )
         meant, reference = (
             _reference(args.compare, len(session.steps)) if args.compare else (None, None)
         )
@@ -128,7 +140,18 @@ def run(args: argparse.Namespace) -> int:
             print(f"step {i}: not interpreted: {e}", file=sys.stderr)
             if not args.keep_going:
                 return 2
-        else:
+        if got is not None and got.doubtful and not args.accept_doubtful:
+            failed += 1
+            print(f"step {i}: doubtful, not added: {got.doubt()}", file=sys.stderr)
+            got = None
+            if not args.keep_going:
+                print(
+                    "sketch2cad interpret: stopped, nothing written; --accept-doubtful adds "
+                    "such a reading, --keep-going skips it",
+                    file=sys.stderr,
+                )
+                return 2
+        if got is not None:
             for op in got.operations:
                 protocol = protocol.append(op)
                 print(f"step {i}: {describe(op)}")
@@ -179,10 +202,10 @@ def _reference(path: Path, steps: int) -> tuple[Protocol, list]:
     """The reference protocol and its solids (base, then after each operation), one
     operation per step."""
     meant = load(path)
-    solids = replay(meant)
-    if len(solids) != steps + 1:
+    if len(meant.operations) != steps:
         raise ProtocolError(
-            f"{path}: {len(solids) - 1} operations for {steps} sketched "
+            f"{path}: {len(meant.operations)} operations for {steps} sketched "
             "steps; --compare needs one operation per step"
         )
-    return meant, solids
+    with replay_progress(meant, f"replay {path.name}") as bar:
+        return meant, replay(meant, on_step=lambda i: bar.update(1))

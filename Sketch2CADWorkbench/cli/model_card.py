@@ -1,18 +1,27 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Ship a training run: copy its weights into the package with a model card and thresholds.
+"""Write the shipped weights' model card, whole, from the evaluations stored in docs/eval/.
 
-`sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json 2=... 3=...`: the card
-states the data, the training time and hardware, and the table measured by
-`sketch2cad eval` at each noise level; thresholds.json (level-1 figures less a margin
-for the 96-sample set of tests/inference/test_shipped_weights.py) guards against
-regressions. Run by `make weights`, which also makes the data and trains.
+`sketch2cad model-card` rewrites inference/weights/MODEL_CARD.md from the shipped files
+(their hashes, the U-Net's and the head's checkpoints) and the stored figures: each JSON
+file of docs/eval/ holds what a command printed, with the command. The card says what
+ships, what it is for and what the strokes cannot tell, the data and compute, the shipped
+pipeline's current figures and how to reproduce them; a test checks that the committed
+card is what this command writes.
+
+Shipping new weights (`make weights`) stores their evaluations first:
+`--run runs/main --eval 1=runs/eval-l1.json 2=... 3=...` copies the run's U-Net into the
+package, writes thresholds.json (level-1 figures less a margin for the 96-sample set of
+tests/inference/test_shipped_weights.py) and stores the U-Net's figures
+(docs/eval/unet.json); `--heads SCORES.json ... [--head-recovery J ...] [--ship-head]`
+stores the structured heads' figures (docs/eval/heads.json) and with --ship-head copies
+the first head beside the U-Net. The other files (the pipeline's figures per held-out set,
+the bounds, the sessions, speed) are updated by running the commands they name.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import platform
 import shutil
 import sys
 from pathlib import Path
@@ -22,109 +31,27 @@ import torch
 from training.metrics import PAPER_TABLE_1
 from training.report import plot_curves
 
-from ..inference.weights import HEAD_NAME
+from ..inference.head.checkpoint import sha256_of
+from ..inference.weights import HEAD_NAME, WEIGHTS_NAME
 
 ROOT = Path(__file__).resolve().parents[2]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
+EVAL = ROOT / "docs" / "eval"
 OPS = ("extrude", "bevel", "addsub", "sweep")
 # Margins under the level-1 figures for the regression test's small set (96 samples,
 # about 12 per operator for the rarest): wide enough for its sampling spread, narrow
 # enough that a broken network fails.
 MARGIN_CLASSIFICATION, MARGIN_SEGMENTATION = 0.06, 0.15
-
-
-def pct(x) -> str:
-    return "n/a" if x is None else f"{100 * x:.1f}"
-
-
-def recovery_count(evals: dict[str, dict]) -> int:
-    """Samples the recovery rates were measured on (per level; the first level's)."""
-    first = evals[min(evals)]["per_operator"]
-    return sum(d.get("recovery_n") or 0 for d in first.values())
-
-
-def table(evals: dict[str, dict]) -> list[str]:
-    rows = [
-        "| noise level | n | classification | "
-        + " | ".join(
-            f"{op}: face IoU / curve acc. / recovery [with flip] / fitting alone" for op in OPS
-        )
-        + " | networks ms |",
-        "|---|---|---|" + "---|" * len(OPS) + "---|",
-    ]
-    for level, r in sorted(evals.items()):
-        cells = []
-        for op in OPS:
-            d = r["per_operator"][op]
-            cells.append(
-                f"{pct(d['face_iou'])} / {pct(d['curve_accuracy'])} / "
-                f"{pct(d.get('recovery_rate'))} [{pct(d.get('recovery_rate_with_flip'))}] / "
-                f"{pct(d.get('fitting_recovery_rate'))}"
-            )
-        rows.append(
-            f"| {level} | {r['n']} | {pct(r['classification_accuracy'])} | "
-            + " | ".join(cells)
-            + f" | {r['latency_ms']['networks_median']:.1f} |"
-        )
-    rows.append(
-        f"| paper, level 1 | | {pct(PAPER_TABLE_1['classification_accuracy'])} | "
-        + " | ".join(
-            f"{pct(PAPER_TABLE_1['face_iou'][op])} / "
-            f"{pct(PAPER_TABLE_1['curve_accuracy'][op])} / - / -"
-            for op in OPS
-        )
-        + " | (GPU) |"
-    )
-    return rows
-
-
-def ablation(runs: list[tuple[dict, dict | None]]) -> list[str]:
-    """The structured heads' ablation table from `sketch2cad train-head --json` outputs
-    (with each run's head checkpoint, or None): per held-out set, the U-Net's own maps
-    (once) and each head's choices painted into F and C, scored on the same samples with
-    the paper's metrics."""
-    out = [
-        "| data | n | reading | classification | "
-        + " | ".join(f"{op}: face IoU / curve acc." for op in OPS)
-        + " |",
-        "|---|---|---|---|" + "---|" * len(OPS),
-    ]
-    rows = []
-    for k, (scores, head) in enumerate(runs):
-        label = (
-            f"head, {head['config']['layers']} attention layers"
-            + (f", width {head['config']['width']}" if "width" in head["config"] else "")
-            if head
-            else "head"
-        )
-        for data, result in scores.items():
-            for name in ("unet", "head") if k == 0 else ("head",):
-                if name in result:
-                    rows.append((data, label if name == "head" else name, result[name]))
-    for data, name, r in sorted(rows, key=lambda row: row[0]):
-        cells = [
-            f"{pct(r['per_operator'][op]['face_iou'])} / "
-            f"{pct(r['per_operator'][op]['curve_accuracy'])}"
-            for op in OPS
-        ]
-        out.append(
-            f"| {Path(data).name} | {r['n']} | {name} | "
-            f"{pct(r['classification_accuracy'])} | " + " | ".join(cells) + " |"
-        )
-    out.append(
-        f"| paper, Table 1 | | | {pct(PAPER_TABLE_1['classification_accuracy'])} | "
-        + " | ".join(
-            f"{pct(PAPER_TABLE_1['face_iou'][op])} / {pct(PAPER_TABLE_1['curve_accuracy'][op])}"
-            for op in OPS
-        )
-        + " |"
-    )
-    return out
-
-
-HEADS_HEADING = "## Structured heads (ablation; not shipped)"
-GUARD_HEADING = "## Regression guard"
-SHIPPED_HEAD_HEADING = f"## Structured head (shipped: {HEAD_NAME})"
+# A session "holds" its protocol when a reading can end it at this volume IoU or above.
+SESSION_TARGET = 0.97
+# The commands of `make weights`, in order (N: each noise level).
+UNET_COMMANDS = [
+    "sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix",
+    "sketch2cad datagen --out data/test-lN --count 400 --seed 1000N --noise-level N",
+    "sketch2cad train --data data/train2 --out runs/main --minutes 90 --threads 2",
+    "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
+    "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
+]
 HEAD_COMMANDS = [
     "sketch2cad datagen --out data/head-train --count 27648 --seed 1 --noise-level mix",
     "sketch2cad datagen --curved --out data/curved-train --count 1536 --seed 2 --noise-level mix",
@@ -138,108 +65,502 @@ HEAD_COMMANDS = [
     "--eval data/head-test-l1 data/head-test-l3 data/curved-50003 "
     "--json runs/head-noctx/scores.json",
     "sketch2cad datagen --out data/heldout-lN --count 200 --seed 3000N --noise-level N",
-    "python scripts/recovery_with_head.py --data data/heldout-lN --head runs/head "
+    "sketch2cad head-recovery --data data/heldout-lN --head runs/head "
     "--weights runs/main --limit 200 --json runs/head-recovery/heldout-lN.json",
+    "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json 2=runs/eval-l2.json "
+    "3=runs/eval-l3.json --heads runs/head/scores.json runs/head-noctx/scores.json "
+    "--head-recovery runs/head-recovery/heldout-l1.json runs/head-recovery/heldout-l3.json "
+    "--ship-head",
 ]
 
 
-def heads_section(
-    runs: list[tuple[dict, dict | None]],
-    recovery: dict[str, dict] | None = None,
-    shipped: bool = False,
-) -> list[str]:
-    """The model card's section on the structured heads (inference/head/): `runs`,
-    each run's `train-head --json` scores and head checkpoint dictionary (or None), the
-    first being the head that ships when `shipped`; `recovery`, per data set the
-    end-to-end rows of scripts/recovery_with_head.py --json."""
-    trained = []
-    for _, head in runs:
-        if head:
-            params = sum(v.numel() for v in head["model"].values())
-            s = head["settings"]
-            trained += [
-                f"- Head, {head['config']['layers']} attention layers, width "
-                f"{head['config'].get('width')}: {params} "
-                f"parameters ({json.dumps(head['config'])}); {s['epochs']} epochs "
-                f"of {head.get('train_samples')} samples of {_trained_on(head)} in "
-                f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on "
-                f"{s['threads']} torch thread(s), on the features of the U-Net with "
-                f"SHA-256 {str(head.get('unet_sha256'))[:12]}..."
+def pct(x: float | None) -> str:
+    return "n/a" if x is None else f"{100 * x:.1f}"
+
+
+def stored(name: str) -> dict:
+    """docs/eval/NAME.json."""
+    return json.loads((EVAL / f"{name}.json").read_text())
+
+
+def _store(name: str, figures: dict) -> None:
+    EVAL.mkdir(parents=True, exist_ok=True)
+    (EVAL / f"{name}.json").write_text(json.dumps(figures, indent=1) + "\n")
+
+
+def table1_row(r: dict) -> list[str]:
+    """An evaluation's paper metrics as cells: classification, then face IoU / curve
+    accuracy per operator, in %."""
+    return [pct(r.get("classification_accuracy"))] + [
+        f"{pct(r['per_operator'][op].get('face_iou'))} / "
+        f"{pct(r['per_operator'][op].get('curve_accuracy'))}"
+        for op in OPS
+    ]
+
+
+def paper_cells() -> list[str]:
+    return [pct(PAPER_TABLE_1["classification_accuracy"])] + [
+        f"{pct(PAPER_TABLE_1['face_iou'][op])} / {pct(PAPER_TABLE_1['curve_accuracy'][op])}"
+        for op in OPS
+    ]
+
+
+def _row(cells: list[str]) -> str:
+    return "| " + " | ".join(cells) + " |"
+
+
+def table1_header(first: list[str]) -> list[str]:
+    cells = first + ["classification"] + [f"{op}: face IoU / curve acc." for op in OPS]
+    return [_row(cells), "|" + "---|" * len(cells)]
+
+
+def targets_met(r: dict) -> str:
+    """Which of the paper's level-1 figures `r` (an evaluation) reaches, in words."""
+    met: list[str] = []
+    missed: list[str] = []
+    ok = r["classification_accuracy"] >= PAPER_TABLE_1["classification_accuracy"]
+    (met if ok else missed).append("classification")
+    for metric, name in (("face_iou", "face IoU"), ("curve_accuracy", "curve accuracy")):
+        for op in OPS:
+            ours = r["per_operator"][op][metric]
+            (met if ours >= PAPER_TABLE_1[metric][op] else missed).append(f"{op} {name}")
+    return f"met: {', '.join(met) or 'none'}; not met: {', '.join(missed) or 'none'}"
+
+
+def recovery_cell(d: dict) -> str:
+    """Strict recovery [with the named flip], in %."""
+    flip = d.get("recovery_rate_with_flip")
+    cell = pct(d.get("recovery_rate"))
+    return cell if flip is None or d.get("recovery_n") == 0 else f"{cell} [{pct(flip)}]"
+
+
+def shipped_section() -> list[str]:
+    """What ships: each file with its size and SHA-256, the networks' shapes."""
+    unet = torch.load(WEIGHTS / WEIGHTS_NAME, map_location="cpu", weights_only=False)
+    config = unet["config"]
+    rows = [
+        _row(["file", "what", "size", "SHA-256"]),
+        "|---|---|---|---|",
+        _row(
+            [
+                f"`{WEIGHTS_NAME}`",
+                "U-Net: operator classifier, base-face (F) and curve (C) maps",
+                f"{(WEIGHTS / WEIGHTS_NAME).stat().st_size / 2**20:.1f} MB",
+                f"`{sha256_of(WEIGHTS / WEIGHTS_NAME)}`",
             ]
-    return [
-        SHIPPED_HEAD_HEADING if shipped else HEADS_HEADING,
-        "The heads read the frozen U-Net's features per stroke (sampled along the polyline, "
-        "with its geometry) and per visible face (pooled over the face-ID map), with a "
-        "small transformer for the context between them (its attention biased by how near "
-        "two strokes' ends lie and by how much of a stroke lies on a face), and choose each "
-        "stroke's role (with the counts the operator's drawing has: a prism's n start, n "
-        "profile and n end strokes, a sweep's 1, 2, 1, a bevel's one l) and the base face; "
-        "the choices are painted back into C and F, so the paper's curve "
-        "accuracy and face IoU score them unchanged. Rows: `unet`, this network's own maps; "
-        "`head`, the head's choices; each segmentation on the ground-truth operator's maps, "
-        "as the paper scores them. Printed by `sketch2cad train-head ... --eval DIR ...` "
-        "(`make weights`); figures in %."
-        + (
-            f" The predictor loads `{HEAD_NAME}` with the U-Net beside it and refuses it "
-            "for any U-Net but the one whose SHA-256 it records."
-            if shipped
-            else ""
         ),
+    ]
+    head_lines = []
+    if (WEIGHTS / HEAD_NAME).exists():
+        head = torch.load(WEIGHTS / HEAD_NAME, map_location="cpu", weights_only=False)
+        rows.append(
+            _row(
+                [
+                    f"`{HEAD_NAME}`",
+                    "structured head: each stroke's role and the base face",
+                    f"{(WEIGHTS / HEAD_NAME).stat().st_size / 2**20:.1f} MB",
+                    f"`{sha256_of(WEIGHTS / HEAD_NAME)}`",
+                ]
+            )
+        )
+        head_lines = [
+            f"- `{HEAD_NAME}` (`inference/head/`): "
+            f"{sum(v.numel() for v in head['model'].values())} parameters "
+            f"({json.dumps(head['config'])}). It reads the frozen U-Net's features per "
+            "stroke (sampled along the polyline, with its geometry) and per visible face "
+            "(pooled over the face-ID map), with a small transformer for the context "
+            "between them (its attention biased by how near two strokes' ends lie and by "
+            "how much of a stroke lies on a face), and chooses each stroke's role (with the "
+            "counts the operator's drawing has: a prism's n start, n profile and n end "
+            "strokes, a sweep's 1, 2, 1, a bevel's one l) and the base face; the choices are "
+            "painted back into C and F, which the fitting reads. The predictor loads it with "
+            "the U-Net beside it and refuses it for any U-Net but the one whose SHA-256 it "
+            f"records (`{head['unet_sha256'][:12]}...`).",
+        ]
+    return [
+        "## What ships",
+        "In `Sketch2CADWorkbench/inference/weights/`, loaded from disk only:",
         "",
-        *trained,
+        *rows,
         "",
-        *ablation(runs),
-        "",
-        *(end_to_end(recovery) if recovery else []),
-        "How to reproduce (`make weights`):",
-        "```",
-        *HEAD_COMMANDS,
-        "```",
+        f"- `{WEIGHTS_NAME}` (`inference/models.py`): one shared-encoder U-Net over the "
+        "sketch S, depth D and normals N (5 channels), pooled from 256x256 to an internal "
+        f"{config['internal_size']}x{config['internal_size']}, with the operator classifier "
+        f"on the bottleneck and per-operator F and C heads; widths {tuple(config['widths'])}.",
+        *head_lines,
+        "- `thresholds.json`: the regression guard (below).",
         "",
     ]
 
 
-def _trained_on(head: dict) -> str:
-    """The head's training data: each set with its count when it trained on several."""
-    counts = head.get("data_counts") or {}
+def limits_section(pipeline: dict) -> list[str]:
+    """Intended use, and what the strokes cannot tell with the bounds the project
+    computes (docs/eval/extrusion_bound.json, oracle.json, sessions.json)."""
+    bounds = stored("extrusion_bound")
+    oracle, sessions = stored("oracle")["sessions"], stored("sessions")
+    sets = pipeline["sets"]
+    extrude = "; ".join(
+        f"{name} (noise level {sets[name]['noise_level']}): at most "
+        f"{pct(b['expected_bound'])}% expected, the pipeline "
+        f"{pct(sets[name]['per_operator']['extrude']['recovery_rate'])}%"
+        for name, b in bounds["sets"].items()
+    )
+    ceilings = "; ".join(
+        f"{name} {op} {pct(d['strict_ceiling'])}% (the pipeline {recovery_cell(d)})"
+        for name, r in sets.items()
+        for op, d in r["per_operator"].items()
+        if d.get("strict_ceiling") is not None and d["strict_ceiling"] < 1  # a Boolean to read
+    )
+    rows = [
+        _row(
+            [
+                "session",
+                "oracle: final (as read / snapped)",
+                "oracle: weakest step, the session so ended",
+                "pipeline: final (own choices / regularization off)",
+                "pipeline: each step read alone, the session so ended",
+            ]
+        ),
+        "|---|---|---|---|---|",
+    ]
+    short = []
+    for name, o in oracle.items():
+        p = sessions["sessions"][name]
+        rows.append(
+            _row(
+                [
+                    name,
+                    f"{o['final_iou']:.3f} / {o['regularized_iou']:.3f}",
+                    f"{o['weakest_step']}: {o['weakest_session_iou']:.3f}",
+                    f"{p['final_iou']:.3f} / {p['final_iou_regularization_off']:.3f}",
+                    " ".join(f"{x:.3f}" for x in p["each_step"]),
+                ]
+            )
+        )
+        if o["weakest_session_iou"] < SESSION_TARGET:
+            short.append(name)
+    return [
+        "## Intended use",
+        "Reading one modeling operation at a time from freehand strokes drawn over a model "
+        "in an orthographic view, in the FreeCAD workbench or `sketch2cad interpret`: "
+        "extruding a face, beveling an edge, adding or subtracting a prism, a sweep. The "
+        "networks saw only synthetic sketches (`sketch2cad datagen`: random modeling "
+        "sequences, strokes with the generator's hand at noise levels 1 to 3, 1.4%, 2.8% "
+        "and 4.1% of the image diagonal); other operations, several operations in one "
+        "sketch, or photographs of paper sketches are outside what they were trained and "
+        "measured on.",
+        "",
+        "## Limits: what the strokes cannot tell",
+        "- A hole and the boss on its rim draw the same lines (paper, Fig. 5b). The "
+        "pipeline reads the +/- option by a rule and names the other Boolean as a one-click "
+        "flip; `sketch2cad eval --recovery` prints `strict_ceiling`, the most a strict "
+        f"reading by the rule can reach: {ceilings}.",
+        "- An extrusion's distance is told only by where the strokes end. "
+        "`sketch2cad extrusion-bound DATA` (an oracle that knows f, which stroke tip was "
+        "drawn at which corner, the generator's noise and its prior on d, taking the d most "
+        f"likely to pass the 0.95 test) bounds any reading: {extrude}.",
+        "- Which end face a bevel's l lies on is not in the strokes where both ends face the "
+        "viewer alike; the bevel figures move by a few points from set to set.",
+        "- Sketch sessions: `sketch2cad oracle --examples` reads each step of the example "
+        "sessions knowing the protocol's structure and which stroke draws which curve, its "
+        "numbers by least squares on the strokes; each step's reading put alone into the "
+        "true protocol says how far its strokes let the session go, the weakest step bounds "
+        "it (generously: numbers the strokes do not tell stay the truth's). Final volume IoU "
+        "with the protocol each session was drawn from:",
+        "",
+        *rows,
+        "",
+        f"No reading that follows the strokes ends {', '.join(short) or 'none'} at "
+        f"{SESSION_TARGET} or above: a step's strokes there, read by their likeliest numbers, "
+        "end the session below it with every other step exact.",
+        "",
+    ]
+
+
+def compute_section() -> list[str]:
+    """The data and compute of both networks, and the speed of the pipeline."""
+    unet = torch.load(WEIGHTS / WEIGHTS_NAME, map_location="cpu", weights_only=False)
+    key, s = unet["data_key"], unet["settings"]
+    lines = [
+        "## Data and compute",
+        f"- U-Net: `sketch2cad datagen` v{key['version']}, {key['count']} samples, seed "
+        f"{key['seed']}, noise `{key['noise']}` (levels 1, 2, 3 take turns); "
+        f"{unet['trained_steps']} steps of {s['batch_size']} samples "
+        f"({unet['trained_epochs']:.2f} epochs) in {unet['trained_minutes']:.0f} min of "
+        f"optimisation on {s['threads']} torch threads on `{s['device']}` (2 CPU cores, no "
+        "GPU). The loss: the paper's (Eq. 1, class-weighted cross entropy; Eq. 2, F over "
+        "the image and C on stroke pixels)"
+        + (
+            f", plus a soft Dice term on F of weight {s['face_dice']}, so that small base "
+            "faces count as much as large ones."
+            if s.get("face_dice")
+            else "."
+        ),
+        f"  Settings: {json.dumps({k: v for k, v in s.items() if k != 'model'})}. Loss "
+        "curves: `docs/loss_curves.png`.",
+    ]
+    if (WEIGHTS / HEAD_NAME).exists():
+        head = torch.load(WEIGHTS / HEAD_NAME, map_location="cpu", weights_only=False)
+        hs = head["settings"]
+        lines.append(
+            f"- Structured head: {hs['epochs']} epochs of {head['train_samples']} samples "
+            f"({_trained_on(head.get('data_counts') or {}, head.get('data'))}) in "
+            f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on {hs['threads']} torch "
+            "thread(s), on the frozen U-Net's features (read once into a token cache). "
+            f"Settings: {json.dumps({k: v for k, v in hs.items() if k != 'head'})}."
+        )
+    speed = stored("speed")
+    lines += [
+        f"- Speed, {speed['about']}: an interpret step (render, networks, fitting, B-rep) "
+        f"{speed['interpret']['median_ms']} ms median, 90% within "
+        f"{speed['interpret']['p90_ms']} ms (`{speed['interpret']['command']}`); the U-Net "
+        f"with the head {speed['networks']['unet_and_head_median_ms']} ms "
+        f"(`{speed['networks']['command']}`).",
+        "",
+    ]
+    return lines
+
+
+def _trained_on(counts: dict, data: str | None) -> str:
+    """A head's training data: each set with its count when it trained on several."""
     if len(counts) > 1:
         return "the union of " + ", ".join(f"{n} of `{d}`" for d, n in counts.items())
-    return f"`{head.get('data')}`"
+    return f"`{data}`"
+
+
+def figures_section(pipeline: dict) -> list[str]:
+    """The shipped pipeline's current figures: the paper's metrics of the readings the
+    fitting gets, and recovery per held-out set."""
+    sets = pipeline["sets"]
+    metrics = table1_header(["data", "n", "reading"])
+    for name, r in sets.items():
+        if "structured" in r:
+            if "face_iou" in r["per_operator"]["extrude"]:
+                metrics.append(_row([name, str(r["n"]), "U-Net alone", *table1_row(r)]))
+            metrics.append(
+                _row([name, str(r["n"]), "U-Net and head (shipped)", *table1_row(r["structured"])])
+            )
+    metrics.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells()]))
+    name1, level1 = next(
+        (k, r) for k, r in sets.items() if r["noise_level"] == 1 and "structured" in r
+    )
+    recovery = [
+        _row(["data", "base faces", "noise level", "n", "regularization", *OPS]),
+        "|---|---|---|---|---|" + "---|" * len(OPS),
+    ]
+    for name, r in sets.items():
+        recovery.append(
+            _row(
+                [
+                    name,
+                    "curved" if r["curved"] else "planar",
+                    str(r["noise_level"]),
+                    str(r["n"]),
+                    "on" if r["regularize"] else "off",
+                    *(
+                        recovery_cell(r["per_operator"][op])
+                        if "recovery_rate" in r["per_operator"][op]
+                        else "-"
+                        for op in OPS
+                    ),
+                ]
+            )
+        )
+    return [
+        "## The shipped pipeline's figures",
+        f"{pipeline['about'][0].upper()}{pipeline['about'][1:]}. Each set: how it was made "
+        "and the commands that printed its figures are in `docs/eval/pipeline.json`.",
+        "",
+        "The paper's metrics (Table 1: classification accuracy, face IoU and curve "
+        "accuracy on the ground-truth operator's maps), %; the head's choices are scored "
+        "painted into F and C, since they are what the fitting reads:",
+        "",
+        *metrics,
+        "",
+        f"Against the paper's level-1 figures, on {name1}: {targets_met(level1['structured'])}.",
+        "",
+        "Recovery of whole interpret steps, strict [with the named flip], %"
+        + (
+            "; curved base faces are cylinders' and cones' sides:"
+            if any(r["curved"] for r in sets.values())
+            else ":"
+        ),
+        "",
+        *recovery,
+        "",
+    ]
+
+
+def unet_section(unet: dict) -> list[str]:
+    rows = table1_header(["noise level", "n"])
+    rows[0] = rows[0][:-1] + "| networks ms |"
+    rows[1] += "---|"
+    for level, r in sorted(unet["levels"].items()):
+        rows.append(
+            _row([level, str(r["n"]), *table1_row(r), f"{r['latency_ms']['networks_median']:.1f}"])
+        )
+    return [
+        "## The U-Net alone",
+        f"{unet['about'][0].upper()}{unet['about'][1:]} (`{unet['commands'][-1]}`), %; the "
+        "networks' median latency on 2 CPU threads:",
+        "",
+        *rows,
+        "",
+        "Pictures of its maps: `docs/eval-l1.png`, `docs/eval-l2.png`, `docs/eval-l3.png`; "
+        "recovery with the U-Net alone, as bars: `docs/recovery.png`.",
+        "",
+    ]
+
+
+def heads_section(heads: dict) -> list[str]:
+    """The structured heads' ablation: each head trained (its size and training), and per
+    held-out set the U-Net's own maps (once) and each head's choices, scored on the same
+    samples with the paper's metrics; the end-to-end table when stored."""
+    trained, rows = [], []
+    for k, run in enumerate(heads["runs"]):
+        h = run["head"]
+        label = f"head, {h['layers']} attention layers, width {h['width']}"
+        threads = f" on {h['threads']} torch thread(s)" if "threads" in h else ""
+        trained.append(
+            f"- {label}{' (shipped)' if k == 0 else ''}: {h['parameters']} parameters "
+            f"({json.dumps(h['config'])}); {h['epochs']} epochs of {h['train_samples']} "
+            f"samples of {_trained_on(h.get('data_counts') or {}, h.get('data'))} in "
+            f"{h['minutes']:.1f} min{threads}"
+        )
+        for data, result in run["scores"].items():
+            for name in ("unet", "head"):
+                if name in result:
+                    rows.append((data, label if name == "head" else "U-Net alone", result[name]))
+    table = table1_header(["data", "n", "reading"])
+    for data, name, r in sorted(rows, key=lambda row: row[0]):
+        table.append(_row([Path(data).name, str(r["n"]), name, *table1_row(r)]))
+    table.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells()]))
+    return [
+        "## Structured heads: the ablation",
+        "The head that ships and the same head without context (no attention layers), "
+        "trained on the same samples; %, printed by:",
+        "",
+        *(f"    {c}" for c in heads["commands"]),
+        "",
+        *trained,
+        "",
+        *table,
+        "",
+        *(end_to_end(heads["end_to_end"]) if heads.get("end_to_end") else []),
+    ]
 
 
 def end_to_end(recovery: dict[str, dict]) -> list[str]:
     """Recovery of whole interpret steps with the U-Net alone and with the head, per
-    data set (scripts/recovery_with_head.py --json), strict [with the flip]."""
+    data set (`sketch2cad head-recovery --json`), strict [with the flip]."""
     out = [
-        "End to end (interpret, regularization off; recovered: volume IoU >= 0.95 with "
-        "the truth; in brackets with the named one-click flip of the Boolean), %; "
-        "interpret ms is wall time on the shared project machine, comparable only between "
-        "rows run at the same load:",
+        "End to end (`sketch2cad head-recovery`; interpret, regularization off; recovered: "
+        "volume IoU >= 0.95 with the truth; in brackets with the named one-click flip of the "
+        "Boolean), %; interpret ms is wall time, comparable only between rows run at the "
+        "same load:",
         "",
-        "| data | reading | "
-        + " | ".join(f"{op} (n)" for op in OPS)
-        + " | interpret ms (median) |",
+        _row(["data", "reading", *(f"{op} (n)" for op in OPS), "interpret ms (median)"]),
         "|---|---|" + "---|" * len(OPS) + "---|",
     ]
     for data, rows in recovery.items():
         for name, r in rows.items():
             per = r["per_operator"]
             out.append(
-                f"| {data} | {name} | "
-                + " | ".join(
-                    f"{pct(per[op]['recovery_rate'])} [{pct(per[op]['recovery_rate_with_flip'])}]"
-                    f" ({per[op]['recovery_n']})"
-                    for op in OPS
+                _row(
+                    [
+                        data,
+                        name,
+                        *(f"{recovery_cell(per[op])} ({per[op]['recovery_n']})" for op in OPS),
+                        f"{r['interpret_median_ms']:.0f}",
+                    ]
                 )
-                + f" | {r['interpret_median_ms']:.0f} |"
             )
     return out + [""]
 
 
-def _head_beside(scores: Path) -> dict | None:
-    """The head checkpoint in the scores' run folder, if there is one."""
+def reproduce_section(pipeline: dict) -> list[str]:
+    sets = pipeline["sets"]
+    return [
+        "## How to reproduce",
+        "The weights: `make weights` (data, 90 min of training on 2 CPU cores, evaluation, "
+        "the structured heads, this card), that is:",
+        "```",
+        *UNET_COMMANDS,
+        *HEAD_COMMANDS,
+        "```",
+        "The figures above: each held-out set made and measured by",
+        "```",
+        *(c for r in sets.values() for c in (r["made_by"], *r["commands"])),
+        stored("extrusion_bound")["command"],
+        stored("oracle")["command"],
+        *stored("sessions")["commands"].values(),
+        stored("speed")["interpret"]["command"],
+        stored("speed")["networks"]["command"],
+        "```",
+        "then the figures they print stored in `docs/eval/*.json` and this card written from "
+        "them by `sketch2cad model-card`.",
+        "",
+    ]
+
+
+def guard_section() -> list[str]:
+    return [
+        "## Regression guard",
+        "`thresholds.json`: the U-Net's level-1 figures less "
+        f"{MARGIN_CLASSIFICATION} (classification) and {MARGIN_SEGMENTATION} (face IoU, "
+        "curve accuracy); `tests/inference/test_shipped_weights.py` evaluates these weights "
+        "on 96 freshly generated samples (seed 9090) against them.",
+    ]
+
+
+def card() -> str:
+    """The whole model card, from the shipped files and docs/eval/."""
+    pipeline = stored("pipeline")
+    lines = [
+        "# Model card: Sketch2CAD's networks",
+        "",
+        "Written by `sketch2cad model-card` from the shipped files and the figures stored in "
+        "`docs/eval/` (each with the command that printed it); do not edit by hand.",
+        "",
+        *shipped_section(),
+        *limits_section(pipeline),
+        *compute_section(),
+        *figures_section(pipeline),
+        *unet_section(stored("unet")),
+        *(heads_section(stored("heads")) if (EVAL / "heads.json").exists() else []),
+        *reproduce_section(pipeline),
+        *guard_section(),
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def head_summary(head: dict) -> dict:
+    """What the card says of a head, from its checkpoint (`sketch2cad train-head`)."""
+    return {
+        "layers": head["config"]["layers"],
+        "width": head["config"].get("width"),
+        "parameters": sum(v.numel() for v in head["model"].values()),
+        "config": head["config"],
+        "epochs": head["settings"]["epochs"],
+        "train_samples": head.get("train_samples"),
+        "data": head.get("data"),
+        "data_counts": head.get("data_counts") or {},
+        "minutes": round(sum(r["seconds"] for r in head["log"]) / 60, 1),
+        "threads": head["settings"]["threads"],
+        "unet_sha256": head.get("unet_sha256"),
+    }
+
+
+def _head_beside(scores: Path) -> dict:
+    """The head checkpoint in the scores' run folder.
+
+    Raises:
+        FileNotFoundError: naming it, when there is none.
+    """
     path = scores.parent / HEAD_NAME
-    return torch.load(path, map_location="cpu", weights_only=False) if path.exists() else None
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no head beside {scores}")
+    return torch.load(path, map_location="cpu", weights_only=False)
 
 
 def plot_recovery(evals: dict[str, dict], path: Path) -> None:
@@ -258,7 +579,7 @@ def plot_recovery(evals: dict[str, dict], path: Path) -> None:
         ("fitting_recovery_rate", "fitting alone (ground-truth maps)", 0.3),
     )
     fig, axes = plt.subplots(1, len(levels), figsize=(4.2 * len(levels), 3.6), sharey=True)
-    for ax, level in zip(np.atleast_1d(axes), levels):
+    for ax, level in zip(np.atleast_1d(axes), levels, strict=True):
         per = evals[level]["per_operator"]
         x = np.arange(len(OPS))
         for k, (key, label, alpha) in enumerate(kinds):
@@ -282,29 +603,11 @@ def plot_recovery(evals: dict[str, dict], path: Path) -> None:
     plt.close(fig)
 
 
-def targets_met(level1: dict) -> str:
-    """Which of the paper's level-1 figures these weights reach, in words."""
-    met, missed = [], []
-    (
-        met
-        if level1["classification_accuracy"] >= PAPER_TABLE_1["classification_accuracy"]
-        else missed
-    ).append("classification")
-    for metric, name in (("face_iou", "face IoU"), ("curve_accuracy", "curve accuracy")):
-        for op in OPS:
-            ours = level1["per_operator"][op][metric]
-            (met if ours >= PAPER_TABLE_1[metric][op] else missed).append(f"{op} {name}")
-    return (
-        f"these are met: {', '.join(met) or 'none'}; these are not: {', '.join(missed) or 'none'}"
-    )
-
-
 def add_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument(
         "--run",
         type=Path,
-        help="training run folder (with --eval; without "
-        "both, only the card's heads section is rewritten)",
+        help="training run folder (with --eval): ship its U-Net and store its figures",
     )
     ap.add_argument(
         "--eval",
@@ -318,14 +621,14 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
         nargs="+",
         metavar="JSON",
         help="`sketch2cad train-head --json` scores, one per head (the head "
-        "checkpoint beside each): the heads' ablation section",
+        "checkpoint beside each), the shipped or shipping head first: store the ablation",
     )
     ap.add_argument(
         "--head-recovery",
         type=Path,
         nargs="+",
         metavar="JSON",
-        help="scripts/recovery_with_head.py --json results: the heads' end-to-end table",
+        help="`sketch2cad head-recovery --json` results: the heads' end-to-end table",
     )
     ap.add_argument(
         "--ship-head",
@@ -335,99 +638,43 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
     )
 
 
-def _heads(args: argparse.Namespace) -> list[str]:
-    """The heads section from the arguments; with --ship-head, the head copied into the
-    package first. Raises ValueError for a head of another U-Net."""
-    if not args.heads:
-        return []
-    if args.ship_head:
-        from ..inference.head.checkpoint import sha256_of
-
-        head = _head_beside(args.heads[0])
-        if head is None or head.get("unet_sha256") != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
-            raise ValueError(
-                f"{args.heads[0].parent / HEAD_NAME}: not a head trained on "
-                f"the features of {WEIGHTS / 'sketch2cad_net.pt'}"
-            )
-        shutil.copyfile(args.heads[0].parent / HEAD_NAME, WEIGHTS / HEAD_NAME)
-    recovery = {p.stem: json.loads(p.read_text()) for p in args.head_recovery or []}
-    return heads_section(
-        [(json.loads(p.read_text()), _head_beside(p)) for p in args.heads],
-        recovery,
-        shipped=(WEIGHTS / HEAD_NAME).exists(),
-    )
-
-
-def replace_heads_section(card: str, section: list[str]) -> str:
-    """The card with its heads section (from either heading up to the next "## ")
-    replaced by `section`, or `section` put before the regression guard."""
-    lines = card.splitlines()
-    starts = [i for i, ln in enumerate(lines) if ln in (HEADS_HEADING, SHIPPED_HEAD_HEADING)]
-    if starts:
-        end = next(
-            (i for i in range(starts[0] + 1, len(lines)) if lines[i].startswith("## ")), len(lines)
-        )
-    else:
-        starts = [end] = [next(i for i, ln in enumerate(lines) if ln == GUARD_HEADING)]
-    return "\n".join(lines[: starts[0]] + section + lines[end:]) + "\n"
+def _error(text: str) -> int:
+    print(f"sketch2cad model-card: error: {text}", file=sys.stderr)
+    return 2
 
 
 def run(args: argparse.Namespace) -> int:
-    if (args.run is None) != (args.eval is None) or (args.run is None and not args.heads):
-        print(
-            "sketch2cad model-card: error: give --run with --eval (the whole card), or "
-            "--heads alone (its heads section)",
-            file=sys.stderr,
-        )
-        return 2
-    if args.run is None:
-        return _write(args, WEIGHTS / "MODEL_CARD.md", None)
+    if (args.run is None) != (args.eval is None):
+        return _error("give --run with --eval (a new U-Net), or neither")
+    if (args.ship_head or args.head_recovery) and not args.heads:
+        return _error("--ship-head and --head-recovery go with --heads")
     evals = {}
-    for item in args.eval:
+    for item in args.eval or []:
         level, _, path = item.partition("=")
         evals[level] = json.loads(Path(path).read_text())
-    if "1" not in evals:
-        print(
-            "sketch2cad model-card: error: the level-1 evaluation sets the thresholds: pass 1=JSON",
-            file=sys.stderr,
-        )
-        return 2
-    ckpt = torch.load(args.run / "sketch2cad_net.pt", map_location="cpu", weights_only=False)
-    WEIGHTS.mkdir(exist_ok=True)
-    shutil.copyfile(args.run / "sketch2cad_net.pt", WEIGHTS / "sketch2cad_net.pt")
-    _drop_stale_head()
-    return _write(args, WEIGHTS / "MODEL_CARD.md", (ckpt, evals))
-
-
-def _drop_stale_head() -> None:
-    """Remove a shipped head that another U-Net's features trained: the predictor would
-    refuse it (the new U-Net's card says whether a head for it ships)."""
-    from ..inference.head.checkpoint import sha256_of
-
-    path = WEIGHTS / HEAD_NAME
-    if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(
-        "unet_sha256"
-    ) != sha256_of(WEIGHTS / "sketch2cad_net.pt"):
-        path.unlink()
-        print(f"removed {path}: trained on another U-Net's features")
-
-
-def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None) -> int:
-    """The card written: whole (`full`: the U-Net's checkpoint and evaluations) or only
-    its heads section; the head shipped first with --ship-head."""
+    if args.run is not None and "1" not in evals:
+        return _error("the level-1 evaluation sets the thresholds: pass 1=JSON")
     try:
-        heads = _heads(args)
+        heads = [(json.loads(p.read_text()), _head_beside(p)) for p in args.heads or []]
+        recovery = {p.stem: json.loads(p.read_text()) for p in args.head_recovery or []}
+        if args.run is not None:
+            _ship_unet(args.run, evals)
+        if heads:
+            _ship_heads(heads, recovery, args.ship_head, args.heads[0].parent / HEAD_NAME)
     except (FileNotFoundError, ValueError) as e:
-        print(f"sketch2cad model-card: error: {e}", file=sys.stderr)
-        return 2
-    if full is None:
-        card.write_text(replace_heads_section(card.read_text(), heads))
-        print(
-            f"wrote the heads section of {card}"
-            + (f" and {WEIGHTS / HEAD_NAME}" if args.ship_head else "")
-        )
-        return 0
-    ckpt, evals = full
+        return _error(str(e))
+    (WEIGHTS / "MODEL_CARD.md").write_text(card())
+    print(f"wrote {WEIGHTS / 'MODEL_CARD.md'}")
+    return 0
+
+
+def _ship_unet(run_dir: Path, evals: dict[str, dict]) -> None:
+    """The run's U-Net copied into the package with its thresholds, its figures stored,
+    a head trained on another U-Net dropped, and the pictures drawn."""
+    ckpt = torch.load(run_dir / WEIGHTS_NAME, map_location="cpu", weights_only=False)
+    WEIGHTS.mkdir(exist_ok=True)
+    shutil.copyfile(run_dir / WEIGHTS_NAME, WEIGHTS / WEIGHTS_NAME)
+    _drop_stale_head()
     one = evals["1"]
     limits = {
         "classification_accuracy": round(one["classification_accuracy"] - MARGIN_CLASSIFICATION, 3),
@@ -440,91 +687,69 @@ def _write(args: argparse.Namespace, card: Path, full: tuple[dict, dict] | None)
         },
     }
     (WEIGHTS / "thresholds.json").write_text(json.dumps(limits, indent=1) + "\n")
-
-    key, s = ckpt["data_key"], ckpt["settings"]
-    size_mb = (WEIGHTS / "sketch2cad_net.pt").stat().st_size / 2**20
-    lines = [
-        "# Model card: sketch2cad_net.pt",
-        "",
-        "One network (`inference/models.py`): a shared-encoder U-Net over the sketch S, "
-        "depth D and normals N (5 channels), pooled from 256x256 to an internal "
-        f"{ckpt['config']['internal_size']}x{ckpt['config']['internal_size']}, with the "
-        "operator classifier on the bottleneck and per-operator F and C heads. "
-        f"Widths {tuple(ckpt['config']['widths'])}; {size_mb:.1f} MB.",
-        "Loss: the paper's (Eq. 1, class-weighted cross entropy; Eq. 2, F over the image "
-        "and C on stroke pixels)"
-        + (
-            f", plus a soft Dice term on F of weight {s['face_dice']}, so that small base "
-            "faces count as much as large ones."
-            if s.get("face_dice")
-            else "."
-        ),
-        "",
-        "## Training",
-        f"- Data: `sketch2cad datagen` v{key['version']}, {key['count']} samples, seed "
-        f"{key['seed']}, noise `{key['noise']}` (levels 1, 2, 3 take turns).",
-        f"- {ckpt['trained_steps']} steps of {s['batch_size']} samples "
-        f"({ckpt['trained_epochs']:.2f} epochs) in {ckpt['trained_minutes']:.0f} min of "
-        f"optimisation, {s['threads']} torch threads on `{s['device']}` ({platform.machine()}; "
-        "the project machine: 2 cores, no GPU).",
-        f"- Settings: {json.dumps({k: v for k, v in s.items() if k != 'model'})}",
-        "- Loss curves: `docs/loss_curves.png`.",
-        "",
-        "## Measured on held-out sets (seeds 10001, 10002, 10003; 400 samples each)",
-        "Face IoU, curve accuracy (paper's definitions), end-to-end recovery rate "
-        "(interpreted operation within volume IoU 0.95 of the truth, regularization off; "
-        f"first {recovery_count(evals)} samples; in brackets, counting as recovered a step "
-        "the other Boolean recovers when the pipeline named it: a boss and a hole that draw "
-        "the same lines, paper Fig. 5b) and the same for the fitting stage alone "
-        "given the ground-truth operator, F and C, in %; networks' median latency on 2 CPU "
-        "threads.",
-        "",
-        *table(evals),
-        "",
-        "Recovery per operator and noise level, as bars: `docs/recovery.png`.",
-        "",
-        "Median interpret step (render + networks + fitting + B-rep), ms: "
-        + ", ".join(
-            f"level {lvl}: {r['latency_ms'].get('interpret_median', float('nan')):.0f}"
-            for lvl, r in sorted(evals.items())
-        )
-        + ".",
-        "",
-        "Against the paper: classification at noise level 3 is "
-        f"{pct(evals[max(evals)]['classification_accuracy'])}% (the paper's classifier: 53.2%); "
-        f"of the level-1 targets {targets_met(evals[min(evals)])}. "
-        "The paper's networks trained for 160k-630k iterations on 4 GPUs, these "
-        "within the 2-hour budget of a 2-core CPU. The fitting stage "
-        "reads stroke roles from geometry when the curve map's do not fit "
-        "(`fitting/stroke_roles.py`), which recovers many sketches the networks mislabel.",
-        "",
-        "## How to reproduce",
-        "`make weights` (data, training, evaluation, this card), that is:",
-        "```",
-        "sketch2cad datagen --out data/train2 --count 20000 --seed 1 --noise-level mix",
-        "sketch2cad datagen --out data/test-lN --count 400 --seed 1000N --noise-level N",
-        f"sketch2cad train --data data/train2 --out runs/main --minutes {s['minutes']:g} "
-        f"--threads {s['threads']}",
-        "sketch2cad eval --data data/test-lN --weights runs/main --json runs/eval-lN.json "
-        "--report docs/eval-lN.png --recovery 400 --fitting-recovery",
-        "(the structured heads: their section's commands)",
-        "sketch2cad model-card --run runs/main --eval 1=runs/eval-l1.json ... --heads "
-        "runs/head/scores.json runs/head-noctx/scores.json --head-recovery "
-        "runs/head-recovery/heldout-l1.json runs/head-recovery/heldout-l3.json [--ship-head]",
-        "```",
-        "",
-        *heads,
-        GUARD_HEADING,
-        "`thresholds.json`: the level-1 figures less "
-        f"{MARGIN_CLASSIFICATION} (classification) and {MARGIN_SEGMENTATION} (face IoU, "
-        "curve accuracy); `tests/inference/test_shipped_weights.py` evaluates these weights "
-        "on 96 freshly generated samples (seed 9090) against them.",
-    ]
-    (WEIGHTS / "MODEL_CARD.md").write_text("\n".join(lines) + "\n")
-    plot_curves(args.run / "log.jsonl", ROOT / "docs" / "loss_curves.png", s.get("face_dice", 0.0))
-    plot_recovery(evals, ROOT / "docs" / "recovery.png")
-    print(
-        f"wrote {WEIGHTS / 'sketch2cad_net.pt'} ({size_mb:.1f} MB), thresholds.json, "
-        "MODEL_CARD.md, docs/loss_curves.png, docs/recovery.png"
+    _store(
+        "unet",
+        {
+            "about": "the U-Net alone, its own maps, on the test sets it was evaluated on "
+            "when trained",
+            "commands": UNET_COMMANDS[1:],
+            "levels": {
+                level: {
+                    "n": r["n"],
+                    "classification_accuracy": r["classification_accuracy"],
+                    "per_operator": {
+                        op: {k: r["per_operator"][op][k] for k in ("face_iou", "curve_accuracy")}
+                        for op in OPS
+                    },
+                    "latency_ms": {"networks_median": r["latency_ms"]["networks_median"]},
+                }
+                for level, r in evals.items()
+            },
+        },
     )
-    return 0
+    s = ckpt["settings"]
+    plot_curves(run_dir / "log.jsonl", ROOT / "docs" / "loss_curves.png", s.get("face_dice", 0.0))
+    plot_recovery(evals, ROOT / "docs" / "recovery.png")
+
+
+def _ship_heads(
+    heads: list[tuple[dict, dict]], recovery: dict[str, dict], ship: bool, first: Path
+) -> None:
+    """The heads' figures stored; with `ship`, the first head (file `first`) copied
+    beside the shipped U-Net.
+
+    Raises:
+        ValueError: for a head trained on another U-Net's features.
+    """
+    if ship:
+        if heads[0][1].get("unet_sha256") != sha256_of(WEIGHTS / WEIGHTS_NAME):
+            raise ValueError(
+                f"{first}: not a head trained on the features of {WEIGHTS / WEIGHTS_NAME}"
+            )
+        shutil.copyfile(first, WEIGHTS / HEAD_NAME)
+    runs = []
+    for k, (scores, head) in enumerate(heads):
+        runs.append(
+            {
+                "head": head_summary(head),
+                "scores": {
+                    data: {n: r[n] for n in (("unet", "head") if k == 0 else ("head",)) if n in r}
+                    for data, r in scores.items()
+                },
+            }
+        )
+    figures = {"commands": HEAD_COMMANDS[4:6], "runs": runs}
+    if recovery:
+        figures["end_to_end"] = recovery
+    _store("heads", figures)
+
+
+def _drop_stale_head() -> None:
+    """Remove a shipped head that another U-Net's features trained: the predictor would
+    refuse it (the new U-Net's card says whether a head for it ships)."""
+    path = WEIGHTS / HEAD_NAME
+    if path.exists() and torch.load(path, map_location="cpu", weights_only=False).get(
+        "unet_sha256"
+    ) != sha256_of(WEIGHTS / WEIGHTS_NAME):
+        path.unlink()
+        print(f"removed {path}: trained on another U-Net's features")

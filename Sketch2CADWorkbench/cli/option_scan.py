@@ -56,3 +56,4 @@ def run(args: argparse.Namespace) -> int:
             f"  threshold {th:.2f}: named for {100 * named.mean():.0f}% of steps, covers "
             f"{int((named & wrong).sum())} of {int(wrong.sum())} wrong options"
         )
+    return 0

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from training.heads import HeadSettings, evaluate_head, train_head
 
+from ..brep.files import write_atomically
 from ..inference.head.model import HeadConfig
 
 
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
             print(_row("head", r["head"]))
         if args.json:
             args.json.parent.mkdir(parents=True, exist_ok=True)
-            args.json.write_text(json.dumps(scores, indent=1))
+            write_atomically(args.json, json.dumps(scores, indent=1))
     except KeyboardInterrupt:
         return 130
     except (FileNotFoundError, ValueError) as e:

@@ -4,6 +4,7 @@ or the core, and changes the document in one undo step; errors go to a message b
 
 from .export import ExportStep
 from .model import NewModel
+from .partdesign import ConvertToPartDesign
 from .protocol import LoadProtocol, ReplayProtocol, SaveProtocol
 from .sketch import Sketch
 
@@ -14,6 +15,7 @@ COMMANDS = {
     "Sketch2CAD_SaveProtocol": SaveProtocol(),
     "Sketch2CAD_ReplayProtocol": ReplayProtocol(),
     "Sketch2CAD_ExportStep": ExportStep(),
+    "Sketch2CAD_ConvertToPartDesign": ConvertToPartDesign(),
 }
 TOOLBAR = [
     "Sketch2CAD_NewModel",
@@ -24,5 +26,6 @@ TOOLBAR = [
     "Sketch2CAD_ReplayProtocol",
     "Separator",
     "Sketch2CAD_ExportStep",
+    "Sketch2CAD_ConvertToPartDesign",
 ]
 MENU = TOOLBAR

@@ -25,8 +25,8 @@ import subprocess
 import sys
 import tempfile
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, Optional
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PYPROJECT = os.path.join(ROOT, "pyproject.toml")
@@ -141,7 +141,7 @@ def find_python() -> str:
     )
 
 
-def _python_version(path: str) -> Optional[tuple]:
+def _python_version(path: str) -> tuple | None:
     try:
         out = subprocess.run(
             [path, "-c", "import sys; print(*sys.version_info[:2])"],
@@ -185,9 +185,9 @@ def system_has(python: str, requirement: str) -> bool:
 def plan(
     target: str,
     extras: tuple = (),
-    python: Optional[str] = None,
-    torch_spec: Optional[str] = None,
-    torch_index: Optional[str] = None,
+    python: str | None = None,
+    torch_spec: str | None = None,
+    torch_index: str | None = None,
 ) -> InstallPlan:
     """What to install into `target`.
 

@@ -14,5 +14,5 @@ except ImportError:  # pragma: no cover (every supported FreeCAD has FreeCAD.Qt)
     def translate(context: str, text: str) -> str:
         return QtCore.QCoreApplication.translate(context, text)
 
-    def QT_TRANSLATE_NOOP(context: str, text: str) -> str:  # noqa: N802 (Qt's name)
+    def QT_TRANSLATE_NOOP(context: str, text: str) -> str:
         return text

@@ -84,7 +84,9 @@ def _fit_extrude_on_face(
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[OperatorType.EXTRUDE][:1])
-    offset, sides = ([s for s, l in zip(strokes, labels) if l == part] for part in (1, 0))
+    offset, sides = (
+        [s for s, l in zip(strokes, labels, strict=True) if l == part] for part in (1, 0)
+    )
     by_ends = fit_extrude_by_ends(solid, face, cam, offset, sides)
     if by_ends is not None:
         # refused as the line search's reading would be: the outline too far off, by C's
@@ -217,7 +219,8 @@ def _scored_readings(
     curved face) is dropped; the others stand.
 
     Raises:
-        OperationError: no reading could be scored (the first one's reason).
+        OperationError: no reading could be scored (the first one's reason, or that every
+            reading's sketch lies outside the view: infinitely far from the strokes).
     """
     errors: list[OperationError] = []
 
@@ -254,7 +257,14 @@ def _scored_readings(
             if straight is not None:
                 scored.append((straight.score, line, roles))
     if not scored:
-        raise errors[0]
+        raise (
+            errors[0]
+            if errors
+            else OperationError(
+                "the sketch of every reading lies wholly outside the view, so none could be "
+                "compared with the strokes"
+            )
+        )
     return sorted(scored, key=lambda f: f[0])
 
 

@@ -75,7 +75,7 @@ def corners(strokes: list[np.ndarray], size: int) -> np.ndarray | None:
             best[:] = [cost, list(chosen)]
             return
         free = (~covered & (covered + 1)).bit_length() - 1  # the lowest end not covered
-        for (c, mask, t), low in zip(triples[free], bound[free]):
+        for (c, mask, t), low in zip(triples[free], bound[free], strict=True):
             if not covered & mask:
                 search(covered | mask, chosen + [t], cost + c, rest - low)
 

@@ -88,7 +88,8 @@ class Interpretation:
 
     @property
     def doubtful(self) -> bool:
-        """The strokes do not look like this operation (`reading.doubts`): say so."""
+        """The strokes do not look like this operation (`reading.doubts`): say so
+        (`doubt()`), and add it only when the user accepts it."""
         return self.fit is not None and bool(doubts(self.measures()))
 
     def doubt(self) -> str:
@@ -103,7 +104,7 @@ class Interpretation:
             "strokes_unexplained": f"{m['strokes_unexplained']:.0%} of the strokes are not "
             "lines of it",
             "sketch_unexplained": f"{m['sketch_unexplained']:.0%} of its lines were not drawn",
-            "confidence": f"the networks are {1 - m['confidence']:.0%} unsure",
+            "confidence": f"the networks give a {what} a probability of only {m['confidence']:.2g}",
         }
         return (
             f"the strokes do not look much like this {what}: "
@@ -256,7 +257,7 @@ def interpret(
         ops,
         result,
         kind,
-        {c.value: float(p) for c, p in zip(CLASSES, probs)},
+        {c.value: float(p) for c, p in zip(CLASSES, probs, strict=True)},
         reading.index,
         reading.labels,
         ctx.camera,

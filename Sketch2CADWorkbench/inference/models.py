@@ -4,7 +4,7 @@
 The paper trains a VGG-like classifier and one two-branch U-Net per operator, all on
 5 x 256 x 256 inputs (sketch S, depth D, normal N) with 32..512 channels, on 4 GPUs.
 Training from scratch here must fit in 2 hours on 2 CPU cores, so one small network
-does all five jobs (scripts/bench_networks.py measures the choices):
+does all five jobs (benchmarks/bench_networks.py measures the choices):
 
     x (B, 5, 256, 256)                       S, D, N at full size
       pool -> (B, 5, I, I)                   I = 128: max-pool S (1-px strokes survive),
@@ -162,7 +162,7 @@ class Sketch2CADNet(nn.Module):
             maps, size=(self.config.image_size,) * 2, mode="bilinear", align_corners=False
         )
 
-    def fused(self) -> "Sketch2CADNet":
+    def fused(self) -> Sketch2CADNet:
         """An eval-mode copy for inference with each batch norm folded into the
         convolution before it (its running statistics are constants there): the same
         outputs within float rounding, 0.45 ms a sketch less of the U-Net's 4.5."""
@@ -205,7 +205,7 @@ class Sketch2CADNet(nn.Module):
             h = block(h if level == 0 else F.max_pool2d(h, 2))  # (B, w_l, I/2^l, I/2^l)
             skips.append(h)
         logits = self.classifier(torch.cat([h.mean((2, 3)), h.amax((2, 3))], 1))  # (B, 4)
-        for up, block, skip in zip(self.up, self.decoder, reversed(skips[:-1])):
+        for up, block, skip in zip(self.up, self.decoder, reversed(skips[:-1]), strict=True):
             h = block(torch.cat([up(h), skip], 1))  # (B, w_l, I/2^l, I/2^l), l = 3..0
             decoded.append(h)
         out = self.heads(h)  # (B, 8, I, I)

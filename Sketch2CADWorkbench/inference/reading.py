@@ -21,11 +21,14 @@ from .context import Context
 from .fitting.verify import SketchFit
 
 # A reading is flagged as doubtful when a measure of its SketchFit passes its threshold
-# here (context pixels): the strokes' mean distance to the reading's own sketch, or the
-# sketch's to the strokes (their mean, misfit_px, then passes neither): each the 99.5%
-# quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py; see
-# docs/measurements.md, reading.DOUBT).
-DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7}
+# here: the strokes' mean distance to the reading's own sketch, or the sketch's to the
+# strokes (context pixels; their mean, misfit_px, then passes neither): each the 99.5%
+# quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py); or the
+# classifier's probability of the operator read below search.OVERRULE_PROB, the least
+# with which another operator may replace its own: the search fell back to an operator
+# the networks all but rule out, as it does for scribbles (see docs/measurements.md,
+# reading.DOUBT).
+DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7, "confidence": 1e-3}
 # What a doubt rule may read (`doubt_measures`).
 DOUBT_MEASURES = (*SketchFit.MEASURES, "confidence")
 # A result whose volume (and bounding box, in model diagonals) differs from the model's by
@@ -80,7 +83,8 @@ class Reading:
 
     @property
     def doubtful(self) -> bool:
-        """Its own sketch and the strokes lie apart past DOUBT (`doubts`)."""
+        """Its own sketch and the strokes lie apart past DOUBT (`doubts`; the classifier's
+        confidence is the search's to weigh, not asked here)."""
         return bool(doubts(doubt_measures(self.fit, 1.0)))
 
 
@@ -94,9 +98,9 @@ def leaves_unchanged(before: cq.Shape, after: cq.Shape) -> bool:
     tol = SAME_VOLUME * model_scale(before)
     a, b = before.BoundingBox(), after.BoundingBox()
     box = lambda bb: (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)  # noqa: E731
-    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b))) and len(before.Faces()) == len(
-        after.Faces()
-    )
+    return all(abs(x - y) <= tol for x, y in zip(box(a), box(b), strict=True)) and len(
+        before.Faces()
+    ) == len(after.Faces())
 
 
 def builds_a_change(solid: cq.Shape, reading: Reading, ctx: Context) -> bool:

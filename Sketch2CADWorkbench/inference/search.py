@@ -183,7 +183,7 @@ def read_operation(
             return weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
     if readings:
         raise FitError(readings[0].refused)
-    raise first
+    raise first or FitError("no face of the model gave a reading of the strokes")
 
 
 def weigh_the_other_boolean(

@@ -31,8 +31,18 @@ from typing import Any
 
 import numpy as np
 
-from ..brep.fields import FieldError, box_size, error, header, number, obj, parse_json, vec
-from ..brep.files import write_atomically
+from ..brep.fields import (
+    MAX_BOX_MM,
+    FieldError,
+    box_size,
+    error,
+    header,
+    number,
+    obj,
+    parse_json,
+    vec,
+)
+from ..brep.files import read_capped, write_atomically
 from ..brep.protocol import Box, Mode, ProtocolError
 from ..render.camera import OrthoCamera
 from .fitting.regularize import SNAP_KINDS
@@ -45,6 +55,10 @@ DEFAULTS = InterpretOptions()
 # Largest grid step and snap tolerance a session may ask for: beyond them snapping would
 # move what the designer drew, not the hand's error.
 MAX_SNAP_STEP, MAX_SNAP_PX = 100.0, 100.0
+# Where a view may be: its centre within MAX_VIEW_MM of the origin on each axis, its half
+# height from MIN_SCALE_MM to MAX_VIEW_MM, strokes within MAX_VIEW_MM pixels of the image.
+# Ten times the largest base box; beyond them the arithmetic of the maps overflows.
+MAX_VIEW_MM, MIN_SCALE_MM = 10 * MAX_BOX_MM, 1e-4
 
 
 class SessionError(ProtocolError):
@@ -132,7 +146,15 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
     try:
         for k, n in (("center", 3), ("direction", 3), ("up", 3)):
             vec(o[k], f"{path}.{k}", n)
-        number(o["scale"], f"{path}.scale")
+        center, scale = o["center"], number(o["scale"], f"{path}.scale")
+        if max(map(abs, center)) > MAX_VIEW_MM:
+            raise _err(
+                f"{path}.center", f"expected coordinates within +-{MAX_VIEW_MM:g} mm", center
+            )
+        if scale > 0 and not MIN_SCALE_MM <= scale <= MAX_VIEW_MM:
+            raise _err(
+                f"{path}.scale", f"expected from {MIN_SCALE_MM:g} to {MAX_VIEW_MM:g} mm", scale
+            )
         return OrthoCamera.from_dict(o)
     except FieldError as e:  # already names the field
         raise SessionError(str(e)) from None
@@ -186,7 +208,12 @@ def _step(v: Any, path: str) -> SketchStep:
     for i, s in enumerate(strokes):
         if not isinstance(s, list) or len(s) < 2:
             raise _err(f"{path}.strokes[{i}]", "expected a list of at least 2 points", s)
-        out.append(np.array([vec(p, f"{path}.strokes[{i}][{j}]", 2) for j, p in enumerate(s)]))
+        pts = np.array([vec(p, f"{path}.strokes[{i}][{j}]", 2) for j, p in enumerate(s)])
+        if np.abs(pts).max() > MAX_VIEW_MM:
+            raise _err(
+                f"{path}.strokes[{i}]", f"expected pixels within +-{MAX_VIEW_MM:g} of the image", s
+            )
+        out.append(pts)
     return SketchStep(cam, out, _choices(o.get("choices", {}), f"{path}.choices"))
 
 
@@ -211,8 +238,8 @@ def load_session(path: str | Path) -> Session:
     """Read and validate a session file; errors name the file, the field and the value."""
     path = Path(path)
     try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as e:
+        text = read_capped(path).decode()
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         raise SessionError(f"{path}: cannot read session file: {e}") from None
     data = parse_json(text, str(path), SessionError, "session")
     try:

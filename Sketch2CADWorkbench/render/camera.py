@@ -135,7 +135,7 @@ class OrthoCamera:
         }
 
     @staticmethod
-    def from_dict(d: dict) -> "OrthoCamera":
+    def from_dict(d: dict) -> OrthoCamera:
         """A camera from `to_dict` values (the constructor's checks apply)."""
         return OrthoCamera(
             tuple(d["center"]),
@@ -146,7 +146,7 @@ class OrthoCamera:
             d["height"],
         )
 
-    def with_size(self, width: int, height: int) -> "OrthoCamera":
+    def with_size(self, width: int, height: int) -> OrthoCamera:
         """The same view at another image size (the visible height is kept)."""
         return OrthoCamera(self.center, self.direction, self.up, self.scale, width, height)
 

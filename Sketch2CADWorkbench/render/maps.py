@@ -267,7 +267,7 @@ def _surface_maps(
     n /= np.maximum(np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1e-12)
     n += 1.0
     normal = np.zeros((3, h * w), np.float32)
-    for channel, row in zip(normal, n):
+    for channel, row in zip(normal, n, strict=False):
         channel[index] = row
     face_id = np.full(h * w, -1, np.int32)
     face_id[index] = np.take(mesh.face_index, seen)

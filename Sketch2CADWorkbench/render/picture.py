@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from ..brep.faces import model_scale
-from ..brep.files import atomic_path
+from ..brep.files import write_atomically
 from .camera import OrthoCamera
 from .frustum import fit_camera
 from .maps import ContextMaps, MapRenderer
@@ -161,15 +161,22 @@ def draw_strokes(picture: np.ndarray, strokes: list[np.ndarray]) -> None:
 
 
 def write_png(rgb: np.ndarray, path: str | Path) -> None:
-    """Write an RGB (or grey) uint8 picture as PNG; the file appears only once complete.
+    """Write an RGB (or grey) uint8 picture as PNG, whatever the name's extension; the file
+    appears only once complete (brep/files.py).
 
     Raises:
         OSError: the file cannot be written.
     """
+    write_atomically(path, png_bytes(rgb))
+
+
+def png_bytes(rgb: np.ndarray) -> bytes:
+    """An RGB (or grey) uint8 picture encoded as PNG."""
     bgr = rgb[..., ::-1] if rgb.ndim == 3 else rgb
-    with atomic_path(path) as tmp:
-        if not cv2.imwrite(str(tmp), np.ascontiguousarray(bgr)):
-            raise OSError(f"{path}: cannot write the picture")
+    ok, data = cv2.imencode(".png", np.ascontiguousarray(bgr))
+    if not ok:
+        raise ValueError(f"cannot encode a {rgb.shape} {rgb.dtype} picture as PNG")
+    return data.tobytes()
 
 
 def contact_sheet(

@@ -22,7 +22,7 @@ def _cv_points(polyline: np.ndarray) -> np.ndarray:
 
 
 def _draw(out: np.ndarray, polylines: list[np.ndarray], values, thickness: int) -> np.ndarray:
-    for line, value in zip(polylines, values):
+    for line, value in zip(polylines, values, strict=False):
         if len(line):
             cv2.polylines(out, [_cv_points(line)], False, value, thickness, cv2.LINE_8, _SHIFT)
     return out

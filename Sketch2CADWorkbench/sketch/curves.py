@@ -21,8 +21,8 @@ point of f's edges along the normal there.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import cadquery as cq
 import numpy as np
@@ -138,7 +138,7 @@ def prism_curves(rf: ResolvedFace, op: AddSubPrism, direction: np.ndarray) -> li
     far_sides = [_segment(far[i], far[(i + 1) % k]) for i in range(k)]
     out = []
     on_f = [(sides, True), (far_sides, False)]
-    for (outline, relevant), label in zip(_start_end(*on_f, op.mode), (START, END)):
+    for (outline, relevant), label in zip(_start_end(*on_f, op.mode), (START, END), strict=True):
         out += [Curve(side, label, relevant=relevant) for side in outline]
     start, end = _start_end(base_ends, far, op.mode)
     out += [Curve(_segment(start[i], end[i]), PROFILE) for i in range(k)]

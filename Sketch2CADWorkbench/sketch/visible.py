@@ -52,7 +52,7 @@ def visible_curves(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) 
             pts, seen = np.roll(pts[:-1], -k, axis=0), np.roll(seen[:-1], -k)
             pts, seen = np.concatenate([pts, pts[:1]]), np.concatenate([seen, seen[:1]])
         edges = np.flatnonzero(np.diff(np.concatenate([[0], seen.astype(int), [0]])))
-        for a, b in zip(edges[::2], edges[1::2]):
+        for a, b in zip(edges[::2], edges[1::2], strict=False):
             piece = pts[a:b]
             if len(piece) >= 2 and arc_lengths(camera.project(piece)[0])[-1] >= MIN_PIECE_PX:
                 out.append(Curve(piece, c.label, relevant=c.relevant))

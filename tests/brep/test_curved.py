@@ -212,8 +212,8 @@ def test_a_step_on_a_cylinders_side_follows_an_edit_of_its_radius():
                 straight(13, 13, H),
                 Mode.REPLACE,
             ),
-        )
-        + PIPE.operations[1:],
+            *PIPE.operations[1:],
+        ),
     )
     after = replay(wider)[-1]
     bb0, bb1 = before.BoundingBox(), after.BoundingBox()

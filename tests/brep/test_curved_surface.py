@@ -84,7 +84,7 @@ def test_lines_that_miss_or_only_touch_the_surface_do_not_cross_it():
             [5.0, 0.0, 30.0],
         ]
     )  # runs along the axis, inside
-    for p, direction in zip(points, ([-1.0, 0, 0], [-1.0, 0, 0], [0, 0, 1.0])):
+    for p, direction in zip(points, ([-1.0, 0, 0], [-1.0, 0, 0], [0, 0, 1.0]), strict=False):
         assert np.isnan(surface.crossings(p[None], np.array(direction), 100.0)).all()
     # only the nearer crossing within the span counts
     (t,) = surface.crossings(np.array([[20.0, 0.0, 30.0]]), np.array([-1.0, 0, 0]), 15.0)

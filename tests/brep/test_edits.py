@@ -44,9 +44,9 @@ def round_corner(face, corner, along_a, along_b, opposite, r):
     """A quarter-round-like bevel of corner c on face f: l from r along edge a to r along
     edge b, its inner control points pulled towards c."""
     c = tuple(corner)
-    pa = tuple(ci + r * ai for ci, ai in zip(c, along_a))
-    pb = tuple(ci + r * bi for ci, bi in zip(c, along_b))
-    inner = [tuple(p + 0.55 * (ci - p) for p, ci in zip(q, c)) for q in (pa, pb)]
+    pa = tuple(ci + r * ai for ci, ai in zip(c, along_a, strict=False))
+    pb = tuple(ci + r * bi for ci, bi in zip(c, along_b, strict=False))
+    inner = [tuple(p + 0.55 * (ci - p) for p, ci in zip(q, c, strict=False)) for q in (pa, pb)]
     return Bevel(face, c, tuple(opposite), (pa, inner[0], inner[1], pb))
 
 

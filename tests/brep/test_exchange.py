@@ -32,7 +32,7 @@ def test_brep_text_round_trip_keeps_the_solid(examples_dir):
 
 def test_unreadable_step_is_an_operation_error(tmp_path):
     (tmp_path / "junk.step").write_text("not a step file")
-    with pytest.raises(OperationError, match="junk.step"):
+    with pytest.raises(OperationError, match=r"junk.step"):
         import_step(tmp_path / "junk.step")
     with pytest.raises(OperationError, match="no such STEP file"):
         import_step(tmp_path / "absent.step")

@@ -63,7 +63,7 @@ def test_extrude_moves_the_face_by_d(box, d):
 
 
 def test_extrude_through_the_whole_solid_is_an_error(box):
-    with pytest.raises(OperationError, match="empty|no volume"):
+    with pytest.raises(OperationError, match=r"empty|no volume"):
         apply_operation(box, Extrude(TOP, -LZ - 1))
 
 
@@ -131,8 +131,8 @@ def test_curved_sweep_volume_matches_pappus(box):
             6 * (1 - t) * t - 3 * t * t,
             3 * t * t,
         ]
-        r = sum(w * p[0] for w, p in zip(b, ctrl))
-        dh = sum(w * p[1] for w, p in zip(db, ctrl))
+        r = sum(w * p[0] for w, p in zip(b, ctrl, strict=False))
+        dh = sum(w * p[1] for w, p in zip(db, ctrl, strict=False))
         vol += math.pi * r * r * dh / n
     assert out.Volume() == pytest.approx(BOX_VOLUME + vol, rel=1e-5)
 
@@ -142,8 +142,8 @@ def test_bevel_with_straight_profile_cuts_a_triangular_prism(box):
     a, b = (LX / 2 - 6, -LY / 2, LZ / 2), (LX / 2, -LY / 2, LZ / 2 - 4)
     chord = (
         a,
-        tuple(x + (y - x) / 3 for x, y in zip(a, b)),
-        tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b)),
+        tuple(x + (y - x) / 3 for x, y in zip(a, b, strict=False)),
+        tuple(x + 2 * (y - x) / 3 for x, y in zip(a, b, strict=False)),
         b,
     )
     out = apply_operation(box, Bevel(FRONT, c, (LX / 2, LY / 2, LZ / 2), chord))
@@ -163,9 +163,14 @@ def test_rounded_bevel_removes_less_than_the_chamfer(box):
         t = i / 2000
         w = [(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2, t**3]
         pts.append(
-            (sum(wi * p[0] for wi, p in zip(w, arc)), sum(wi * p[2] for wi, p in zip(w, arc)))
+            (
+                sum(wi * p[0] for wi, p in zip(w, arc, strict=False)),
+                sum(wi * p[2] for wi, p in zip(w, arc, strict=False)),
+            )
         )
-    area = 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
+    area = 0.5 * abs(
+        sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True))
+    )
     assert area == pytest.approx(36 - math.pi * 9, rel=5e-3)
     assert BOX_VOLUME - out.Volume() == pytest.approx(area * LY, rel=1e-5)
 
@@ -272,6 +277,25 @@ def test_bevel_profile_crossing_an_edge_is_refused_not_emptied(box):
         apply_operation(box, Bevel(FRONT, (-20, -15, 10), (-20, 15, 10), bulging))
 
 
+def test_a_bevel_whose_corner_is_inside_f_is_refused_naming_the_corner():
+    # the middle of the front face of a 60 x 20 x 40 box; l reaches 5 mm from it, and
+    # the box's corner at (-30, -10, 20) has its edges along l's ends
+    box = make_box(Box((60.0, 20.0, 40.0)))
+    front = FaceRef((0.0, -10.0, 0.0), (0.0, -1.0, 0.0))
+    profile = ((0.0, -10.0, -5.0), (0.0, -10.0, -2.0), (2.0, -10.0, 0.0), (5.0, -10.0, 0.0))
+    with pytest.raises(OperationError, match=r"corner c \(0, -10, 0\) lies inside face f"):
+        apply_operation(box, Bevel(front, (0.0, -10.0, 0.0), (0.0, 10.0, 0.0), profile))
+
+
+def test_a_sweep_profile_whose_height_folds_back_is_refused_naming_the_profile(box):
+    folding = Sweep(TOP, (0.0, 0.0, LZ / 2), 5.0, 5.0, 10.0, ((6.0, 30.0), (6.0, -20.0)))
+    with pytest.raises(OperationError, match="profile c_p folds back"):
+        apply_operation(box, folding)
+    # a profile bulging outwards (r not monotonic) with h rising builds
+    bulge = Sweep(TOP, (0.0, 0.0, LZ / 2), 5.0, 5.0, 10.0, ((9.0, 3.0), (9.0, 7.0)))
+    assert apply_operation(box, bulge).isValid()
+
+
 @pytest.mark.parametrize(
     "op,boolean,name",
     [
@@ -346,3 +370,32 @@ def test_the_operators_boolean_gives_what_cadquery_s_gives(mode, cadquery_op, co
     ours = boolean(body, tool, mode)
     body, tool = inputs()
     assert to_brep_text(ours) == to_brep_text(getattr(body, cadquery_op)(tool))
+
+
+def test_build_holds_only_the_solid_of_the_step_it_builds(box, monkeypatch):
+    # a long protocol's replay must not keep every step's solid (memory grows with the
+    # square of the steps: each holds the faces of all before it)
+    import gc
+    import weakref
+
+    from Sketch2CADWorkbench.brep import operators
+
+    made, alive = [], []
+    apply = operators.apply_operation
+
+    def tracked(solid, op, face=None):
+        out = apply(solid, op, face)
+        made.append(weakref.ref(out))
+        return out
+
+    monkeypatch.setattr(operators, "apply_operation", tracked)
+
+    def step(i):
+        gc.collect()
+        alive.append(sum(r() is not None for r in made))
+
+    ops = tuple(
+        AddSubPrism(TOP, square(1.0, LZ / 2, -15 + 6 * k), 2.0, Mode.SUBTRACT) for k in range(5)
+    )
+    operators.build(Protocol(Box((LX, LY, LZ)), ops), on_step=step)
+    assert max(alive) == 1, alive

@@ -172,7 +172,7 @@ def test_missing_and_binary_files_are_protocol_errors(tmp_path):
     with pytest.raises(ProtocolError, match="cannot read"):
         load(tmp_path / "absent.json")
     (tmp_path / "bin.json").write_bytes(b"\xff\xfe\x00\x81")
-    with pytest.raises(ProtocolError, match="bin.json"):
+    with pytest.raises(ProtocolError, match=r"bin.json"):
         load(tmp_path / "bin.json")
 
 
@@ -193,7 +193,7 @@ def test_a_protocol_the_loader_would_refuse_is_not_saved(tmp_path, examples_dir)
     p = load(examples_dir / "nut.json")
     f = tmp_path / "p.json"
     f.write_text("previous")
-    nan = replace(p, operations=(replace(p.operations[0], d=float("nan")),) + p.operations[1:])
+    nan = replace(p, operations=(replace(p.operations[0], d=float("nan")), *p.operations[1:]))
     with pytest.raises(ProtocolError, match="NaN"):
         nan.save(f)
     flat = replace(p, base=replace(p.base, size=(0.0, 10.0, 10.0)))

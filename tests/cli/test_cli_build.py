@@ -2,12 +2,16 @@
 """`sketch2cad build` writes STEP for a good protocol and a clear error for a bad one."""
 
 import json
+import os
 import shutil
+import stat
 import subprocess
 import sys
+import time
 
 import pytest
 
+from Sketch2CADWorkbench.brep import files
 from Sketch2CADWorkbench.brep.exchange import import_step
 from Sketch2CADWorkbench.brep.operators import build
 from Sketch2CADWorkbench.brep.protocol import load
@@ -81,3 +85,60 @@ def test_a_replaced_output_keeps_its_mode(tmp_path, examples_dir):
     assert run("build", examples_dir / "nut.json", "--step", step).returncode == 0
     assert step.stat().st_mode & 0o777 == 0o644
     assert "ISO-10303-21" in step.read_text()[:100]
+
+
+def test_a_device_output_is_written_into_and_stays_a_device(tmp_path, examples_dir):
+    null = tmp_path / "null"
+    try:
+        os.mknod(null, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # as /dev/null, made here
+    except PermissionError:
+        pytest.skip("making a device node needs root")
+    out = run("build", examples_dir / "nut.json", "--step", null, "--quiet")
+    assert out.returncode == 0, out.stderr
+    assert stat.S_ISCHR(null.stat().st_mode) and os.listdir(tmp_path) == ["null"]
+
+
+def test_a_picture_without_an_extension_is_still_a_png(tmp_path, examples_dir):
+    args = ["build", str(examples_dir / "nut.json"), "--png", "noext", "--quiet"]
+    out = subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "noext").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_an_empty_output_path_is_refused_naming_the_option(tmp_path, examples_dir):
+    out = run("build", examples_dir / "nut.json", "--step", "")
+    assert out.returncode == 2 and "--step: an empty path" in out.stderr, out.stderr
+    assert "PosixPath" not in out.stderr
+
+
+def test_an_endless_input_is_refused_at_the_cap(tmp_path):
+    zero = tmp_path / "zero"
+    try:
+        os.mknod(zero, 0o666 | stat.S_IFCHR, os.makedev(1, 5))  # as /dev/zero, made here
+    except PermissionError:
+        pytest.skip("making a device node needs root")
+    out = run("build", zero)
+    assert out.returncode == 2
+    assert "larger than 64 MB" in out.stderr and "SKETCH2CAD_MAX_INPUT_MB" in out.stderr
+
+
+# A build that stops for good just before it moves its output into place.
+STALLED = (
+    "import os, sys, time; os.replace = lambda *a: time.sleep(600); "
+    "from Sketch2CADWorkbench.cli import main; sys.exit(main(sys.argv[1:]))"
+)
+
+
+def test_the_temporaries_of_a_killed_build_are_removed_by_the_next(tmp_path, examples_dir):
+    step = tmp_path / "out.step"
+    args = ["build", str(examples_dir / "nut.json"), "--step", str(step), "--quiet"]
+    stalled = subprocess.Popen([sys.executable, "-c", STALLED, *args])
+    deadline = time.monotonic() + 120
+    while not any(files.MARK in p.name for p in tmp_path.iterdir()):
+        assert stalled.poll() is None and time.monotonic() < deadline
+        time.sleep(0.2)
+    time.sleep(1.0)  # the writing done, the move never comes
+    stalled.kill()
+    stalled.wait()
+    assert run(*args).returncode == 0
+    assert os.listdir(tmp_path) == ["out.step"]

@@ -114,3 +114,38 @@ def test_each_step_is_read_on_the_compared_models_own_step(tmp_path):
         timeout=120,
     )
     assert out.returncode == 2 and "--each-step needs --compare" in out.stderr
+
+
+def test_a_session_without_steps_is_refused_and_nothing_written(tmp_path):
+    s = json.loads(SESSION.read_text())
+    s["steps"] = []
+    (tmp_path / "s.json").write_text(json.dumps(s))
+    out = subprocess.run(
+        [*CLI, "interpret", str(tmp_path / "s.json"), "--step", str(tmp_path / "x.step")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2 and "has no sketched steps" in out.stderr, out.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]
+
+
+def test_a_doubtful_step_stops_the_run_unless_accepted_or_skipped(tmp_path, monkeypatch, capsys):
+    from Sketch2CADWorkbench.cli import main
+    from Sketch2CADWorkbench.inference import reading
+
+    s = json.loads(SESSION.read_text())
+    s["steps"] = s["steps"][:1]
+    (tmp_path / "s.json").write_text(json.dumps(s))
+    monkeypatch.setattr(reading, "DOUBT", {"confidence": 2.0})  # every reading doubtful
+    step = tmp_path / "out.step"
+    args = ["interpret", str(tmp_path / "s.json"), "--step", str(step)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "step 1: doubtful, not added: the strokes do not look much like" in err
+    assert "--accept-doubtful adds" in err and not step.exists()
+    assert main([*args, "--keep-going"]) == 0
+    assert "0 of 1 steps interpreted" in capsys.readouterr().out
+    assert main([*args, "--accept-doubtful"]) == 0
+    out = capsys.readouterr().out
+    assert "1 of 1 steps interpreted" in out and "(warning: the strokes do not look" in out

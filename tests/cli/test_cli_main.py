@@ -34,6 +34,9 @@ def test_help_lists_every_command_without_loading_the_heavy_libraries():
         "diagnose",
         "option-scan",
         "model-card",
+        "head-recovery",
+        "oracle",
+        "extrusion-bound",
     ):
         assert f"    {name}" in text, name
     assert "LOADED\n" in text or text.rstrip().endswith("LOADED"), text

@@ -1,10 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """`sketch2cad datagen`: the same data with any worker count, resumable, with a preview;
-a killed worker is replaced, and bad input is refused saying why."""
+a killed worker is replaced, a killed main process takes its workers with it, and bad
+input is refused saying why."""
 
 import contextlib
 import os
 import signal
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -201,3 +204,50 @@ def test_workers_that_keep_dying_stop_the_run_with_the_reason_keeping_shards_wri
     assert Dataset(tmp_path).manifest["complete"] == [0]
     assert datagen("--out", tmp_path, *ARGS, "--workers", 2) == 0  # the same command finishes
     _same_shards(one_worker, tmp_path)
+
+
+def _children(pid: int) -> dict[int, bytes]:
+    """The live child processes of `pid`, with their command lines."""
+    out = {}
+    for p in (p for p in os.listdir("/proc") if p.isdigit()):
+        try:
+            stat = Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()
+            title = Path(f"/proc/{p}/cmdline").read_bytes()
+        except OSError:
+            continue
+        if stat[1] == str(pid) and stat[0] != "Z":
+            out[int(p)] = title
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def test_the_workers_and_resource_tracker_exit_when_the_main_process_is_killed(tmp_path):
+    cmd = [sys.executable, "-m", "Sketch2CADWorkbench.cli", "datagen", "--out", str(tmp_path)]
+    main_process = subprocess.Popen(
+        [*cmd, "--count", "400", "--seed", "3", "--workers", "2"], stderr=subprocess.DEVNULL
+    )
+    deadline = time.monotonic() + 120
+    try:
+        while True:
+            kids = _children(main_process.pid)
+            workers = [p for p, title in kids.items() if b"spawn_main" in title]
+            if len(workers) == 2 and any(b"resource_tracker" in t for t in kids.values()):
+                break
+            assert main_process.poll() is None and time.monotonic() < deadline, kids
+            time.sleep(0.1)
+    finally:
+        main_process.kill()
+        main_process.wait()
+    deadline = time.monotonic() + 90  # a worker still importing exits once it is done
+    while any(_alive(p) for p in kids) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    left = {p: t[:80] for p, t in kids.items() if _alive(p)}
+    for p in left:
+        os.kill(p, signal.SIGKILL)
+    assert not left

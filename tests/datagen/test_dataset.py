@@ -46,7 +46,9 @@ def test_the_reader_returns_what_was_written(written):
             assert np.array_equal(getattr(back, name), getattr(s, name)), name
         assert np.allclose(back.depth, s.depth, atol=1e-3)  # float16
         assert np.allclose(back.normal, s.normal, atol=1e-3)
-        assert all(np.allclose(a, b, atol=1e-3) for a, b in zip(back.strokes, s.strokes))
+        assert all(
+            np.allclose(a, b, atol=1e-3) for a, b in zip(back.strokes, s.strokes, strict=True)
+        )
 
 
 def test_fast_access_gives_the_network_inputs_and_labels(written):

@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Generated samples: labels per operator, base face, context maps, view filter, determinism."""
 
+import itertools
+
 import numpy as np
 
 from datagen.generate import MESH_REL_TOLERANCE, PER_CONTEXT, generate_block, generate_sample
@@ -36,7 +38,7 @@ def _all(per_operator):
 def _dense(polyline: np.ndarray, step: float = 0.5) -> np.ndarray:
     out = [
         np.linspace(a, b, max(int(np.linalg.norm(b - a) / step), 2))
-        for a, b in zip(polyline[:-1], polyline[1:])
+        for a, b in itertools.pairwise(polyline)
     ]
     return np.concatenate(out)
 
@@ -128,13 +130,13 @@ def test_samples_are_a_function_of_the_seed(renderer):
 
 def test_a_block_shares_one_context_and_cycles_its_length(renderer):
     blocks = [generate_block(3, b, 1, renderer) for b in (0, 5)]
-    for b, samples in zip((0, 5), blocks):
+    for b, samples in zip((0, 5), blocks, strict=False):
         assert len(samples) == PER_CONTEXT
         assert len({s.context for s in samples}) == 1
         assert len(samples[0].context.operations) == b % 4
     again = generate_block(3, 5, 1, renderer)
     assert [s.operation for s in again] == [s.operation for s in blocks[1]]
-    assert all(np.array_equal(x.sketch, y.sketch) for x, y in zip(again, blocks[1]))
+    assert all(np.array_equal(x.sketch, y.sketch) for x, y in zip(again, blocks[1], strict=True))
 
 
 def test_a_block_drawn_without_hidden_lines_shows_the_same_steps_with_less_ink(renderer):

@@ -82,7 +82,7 @@ def test_the_share_decides_how_many_operations_are_regular():
 
 def test_regular_prisms_are_aligned_rectangles_or_regular_polygons_placed_regularly():
     seen = 0
-    for stage, drawn, frame, targets in _drawn(OperatorType.ADDSUB):
+    for _stage, drawn, frame, targets in _drawn(OperatorType.ADDSUB):
         poly = frame.to_2d(np.array(drawn.op.polygon))
         sides = np.roll(poly, -1, axis=0) - poly
         lengths = np.linalg.norm(sides, axis=1)
@@ -101,7 +101,7 @@ def test_regular_prisms_are_aligned_rectangles_or_regular_polygons_placed_regula
 
 def test_regular_sweeps_are_straight_with_regular_radii_and_place():
     seen = 0
-    for stage, drawn, frame, targets in _drawn(OperatorType.SWEEP):
+    for _stage, drawn, frame, targets in _drawn(OperatorType.SWEEP):
         op = drawn.op
         chord = [[op.r0 + (op.r1 - op.r0) * k / 3, op.d * k / 3] for k in (1, 2)]
         assert np.allclose(op.profile, chord)
@@ -113,9 +113,9 @@ def test_regular_sweeps_are_straight_with_regular_radii_and_place():
 
 
 def test_regular_extrusions_and_bevels_use_regular_lengths():
-    for stage, drawn, frame, targets in _drawn(OperatorType.EXTRUDE):
+    for _stage, drawn, _frame, targets in _drawn(OperatorType.EXTRUDE):
         assert _regular_length(drawn.op.d, targets.sizes)
-    for stage, drawn, frame, targets in _drawn(OperatorType.BEVEL):
+    for _stage, drawn, _frame, _targets in _drawn(OperatorType.BEVEL):
         p = np.array(drawn.op.profile)
         spans = np.linalg.norm(p[[0, 3]] - np.array(drawn.op.corner), axis=1)
         assert spans[0] == pytest.approx(spans[1]) and _on_grid(spans[0])

@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Random sequences: valid, deterministic, with the paper's type frequencies and sizes."""
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -25,7 +27,7 @@ def test_every_sampled_protocol_replays_to_one_valid_solid(seed, length):
     seq = sample_sequence(np.random.default_rng(seed), length)
     assert len(seq.protocol.operations) == length
     solids = replay(seq.protocol)
-    for before, after in zip(solids, solids[1:]):
+    for before, after in itertools.pairwise(solids):
         assert len(after.Solids()) == 1 and after.isValid()
         assert abs(after.Volume() - before.Volume()) >= MIN_VOLUME_CHANGE * before.Volume()
     assert solids[-1].Volume() == pytest.approx(seq.stages[-1].volume, rel=1e-9)

@@ -54,7 +54,7 @@ def test_strokes_follow_their_curves_and_carry_their_labels():
     ]
     strokes, labels = sketch_strokes(curves, camera, np.random.default_rng(7), 1)
     assert sorted(labels) == [0, 1, 2]
-    for s, label in zip(strokes, labels):
+    for s, label in zip(strokes, labels, strict=False):
         exact = camera.project(curves[[c.label for c in curves].index(label)].points)[0]
         assert np.linalg.norm(s[[0, -1]] - exact, axis=1).max() < 25.0
     maps = stroke_maps(strokes, labels, 256, 256)

@@ -33,7 +33,7 @@ def freecad_env(tmp_path) -> dict:
 
 
 def run_script(
-    script: str, tmp_path, gui: bool, timeout: int, env: dict = None
+    script: str, tmp_path, gui: bool, timeout: int, env: dict | None = None
 ) -> subprocess.CompletedProcess:
     """Run the script (in `env`, default `_env(tmp_path)`); past `timeout` seconds FreeCAD
     (and Xvfb) are killed, and the output so far comes back with return code -9."""

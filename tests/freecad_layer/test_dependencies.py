@@ -80,9 +80,10 @@ def test_without_a_usable_torch_the_cpu_build_is_asked_for(tmp_path):
     assert any(deps.distribution(r) == "torch" for r in plan.requirements)
     if sys.platform != "darwin":
         assert plan.torch_index == deps.CPU_TORCH_INDEX
-        assert ["--extra-index-url", deps.CPU_TORCH_INDEX] == plan.pip_command("X")[
-            plan.pip_command("X").index("--extra-index-url") :
-        ][:2]
+        assert plan.pip_command("X")[plan.pip_command("X").index("--extra-index-url") :][:2] == [
+            "--extra-index-url",
+            deps.CPU_TORCH_INDEX,
+        ]
     pinned = deps.plan(
         str(tmp_path / "deps"), python=old_torch, torch_spec="torch==2.13.0", torch_index=""
     )
@@ -101,7 +102,8 @@ def installing_python(tmp_path: Path, fail: bool) -> str:
                 'echo "ERROR: No matching distribution found for cadquery"; exit 1\n'
                 if fail
                 else 'while [ "$1" != "--target" ]; do shift; done\n'
-                'mkdir -p "$2/fakepkg" && echo ok > "$2/fakepkg/__init__.py"; echo Successfully installed'
+                'mkdir -p "$2/fakepkg" && echo ok > "$2/fakepkg/__init__.py"; '
+                "echo Successfully installed"
             )
         ),
     )

@@ -5,7 +5,8 @@ happened; tests/fuzz/test_fuzz.py runs small seeded campaigns, `python tests/fuz
 the full ones with their counts.
 
 Outcomes: "accepted" (a valid input, or a reading), "flagged" (a reading said to be
-doubtful: its own sketch lies far from the strokes), "clean" (the error the API documents:
+doubtful: its own sketch lies far from the strokes, or the networks all but rule out its
+operator), "clean" (the error the API documents:
 ProtocolError, SessionError, OperationError, InterpretError, a ValueError with a
 message), "crash" (anything else: a traceback), "invalid" (an accepted result that is
 not one valid solid), "changed" (the caller's solid changed), "broken" (a reader saw a
@@ -132,7 +133,7 @@ def _classify(fn, case: str) -> tuple[str, float, str]:
         outcome = "accepted"
     except CLEAN as e:
         outcome = "clean" if str(e) else "crash"
-    except Exception as e:  # noqa: BLE001 (what the fuzzing is for)
+    except Exception as e:
         outcome = "crash"
         case = f"{case}: {type(e).__name__}: {e}"[:300]
     return outcome, time.perf_counter() - t, case
@@ -146,7 +147,7 @@ def _mutated(examples: str, n: int, seed: int, read) -> Tally:
     ]
     for i in range(n):
         text = mutate(rng.choice(docs), rng)
-        tally.add(*_classify(lambda: read(text, i), f"{examples} {i}"))
+        tally.add(*_classify(lambda text=text, i=i: read(text, i), f"{examples} {i}"))
     return tally
 
 
@@ -200,7 +201,7 @@ def random_strokes(n: int, seed: int, predictor=None) -> Tally:
             )
         except (InterpretError, OperationError) as e:
             outcome = "clean" if str(e) else "crash"
-        except Exception as e:  # noqa: BLE001
+        except Exception as e:
             outcome = "crash"
             tally.crashes.append(f"strokes {i}: {type(e).__name__}: {e}"[:300])
         if to_brep_text(solid) != before:
@@ -270,4 +271,100 @@ def concurrent_writers(seconds: float) -> Tally:
             w.wait()
             if w.poll() not in (-9, 0):
                 tally.add("crash", case=w.stderr.read().decode()[-300:])
+    return tally
+
+
+def output_targets(seed: int) -> Tally:
+    """A protocol saved onto every kind of path a user may name: a new file, a file, a
+    link to one, a dangling link, a link into /proc (as /dev/stdout), a device node made
+    here (as /dev/null), a full device (as /dev/full), a FIFO with a reader, a folder, a
+    path under a file. A write must land where the path leads and leave each kind what
+    it was ("accepted"), or fail with an OSError naming the path ("clean"); a device,
+    link or FIFO turned into a regular file is "changed", a temporary left "leftover"."""
+    import errno
+    import os
+    import stat
+    import threading
+
+    rng, tally = random.Random(seed), Tally()
+    protocol = loads((ROOT / "examples" / "protocols" / "nut.json").read_text())
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        (tmp / "file.json").write_text("old")
+        (tmp / "link.json").symlink_to("file.json")
+        (tmp / "dangling.json").symlink_to("later.json")
+        (tmp / "folder").mkdir()
+        kinds = {"new": tmp / "new.json", "file": tmp / "file.json"}
+        kinds.update(link=tmp / "link.json", dangling=tmp / "dangling.json")
+        kinds.update(folder=tmp / "folder", under_file=tmp / "file.json" / "x.json")
+        try:
+            os.mknod(tmp / "null", 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+            os.mknod(tmp / "full", 0o666 | stat.S_IFCHR, os.makedev(1, 7))
+            kinds.update(device=tmp / "null", full=tmp / "full")
+        except PermissionError:  # device nodes need root: the other kinds still run
+            pass
+        os.mkfifo(tmp / "fifo")
+        kinds["fifo"] = tmp / "fifo"
+        names = sorted(kinds)
+        rng.shuffle(names)
+        for name in names:
+            path = kinds[name]
+            before = os.lstat(path).st_mode if os.path.lexists(path) else None
+            reader = None
+            if name == "fifo":
+                reader = threading.Thread(target=path.read_bytes, daemon=True)
+                reader.start()
+            t = time.perf_counter()
+            try:
+                protocol.save(path)
+                outcome = "accepted"
+            except OSError as e:
+                named = str(path) in str(e) and MARK not in str(e)
+                full = name != "full" or e.errno == errno.ENOSPC
+                outcome = "clean" if named and full else "crash"
+                case = f"{name}: {e}"
+            else:
+                case = name
+            if reader:
+                reader.join(10)
+            after = os.lstat(path).st_mode if os.path.lexists(path) else None
+            if before is not None and stat.S_IFMT(before) != stat.S_IFMT(after or 0):
+                outcome = "changed"
+            if name in ("link", "dangling") and outcome == "accepted":
+                target = path.resolve()
+                if loads(target.read_text()) != protocol:
+                    outcome = "broken"
+            tally.add(outcome, time.perf_counter() - t, case)
+        left = [p for p in tmp.rglob("*") if MARK in p.name]
+        if left:
+            tally.add("leftover", case=str(left))
+    return tally
+
+
+def hostile_geometry(n: int, seed: int) -> Tally:
+    """n protocols of a box and one operation that is not what it says: a bevel whose
+    corner c lies inside f (a random point of a side face), a sweep whose profile c_p
+    folds back in h (random inner heights outside [0, d]). Each must be refused
+    ("clean"); one that builds is "invalid"."""
+    from Sketch2CADWorkbench.brep.protocol import Bevel, Box, FaceRef, Protocol, Sweep
+
+    rng, tally = random.Random(seed), Tally()
+    for i in range(n):
+        lx, ly, lz = (rng.uniform(20, 80) for _ in range(3))
+        box = Box((lx, ly, lz))
+        if i % 2 == 0:
+            x, z = rng.uniform(-0.3, 0.3) * lx, rng.uniform(-0.3, 0.3) * lz
+            a, b = rng.uniform(2, 0.15 * lz), rng.uniform(2, 0.15 * lx)
+            y = -ly / 2
+            face = FaceRef((x, y, z), (0.0, -1.0, 0.0))
+            profile = ((x, y, z - a), (x, y, z - a / 2), (x + b / 2, y, z), (x + b, y, z))
+            op = Bevel(face, (x, y, z), (x, ly / 2, z), profile)
+        else:
+            d, r = rng.uniform(3, 20), rng.uniform(2, 8)
+            h1 = rng.uniform(1.2, 3.0) * d
+            h2 = -rng.uniform(0.2, 2.0) * d
+            face = FaceRef((0.0, 0.0, lz / 2), (0.0, 0.0, 1.0))
+            op = Sweep(face, (0.0, 0.0, lz / 2), r, r, d, ((r, h1), (r, h2)))
+        tally.add(*_classify(lambda box=box, op=op: build(Protocol(box, (op,))), f"geometry {i}"))
+    tally.counts["invalid"] += tally.counts.pop("accepted", 0)
     return tally

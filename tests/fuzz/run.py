@@ -2,7 +2,7 @@
 """The full fuzzing campaigns, with their counts:
 
 .bin/python tests/fuzz/run.py [--protocols 300] [--sessions 300] [--strokes 1000]
-    [--kills 36] [--concurrent-seconds 20] [--seed 0]
+    [--kills 36] [--concurrent-seconds 20] [--geometry 100] [--seed 0]
 """
 
 import argparse
@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import fuzzing  # noqa: E402
+import fuzzing
 
 
 def main() -> int:
@@ -21,6 +21,7 @@ def main() -> int:
     p.add_argument("--strokes", type=int, default=1000)
     p.add_argument("--kills", type=int, default=36)
     p.add_argument("--concurrent-seconds", type=float, default=20.0)
+    p.add_argument("--geometry", type=int, default=100)
     p.add_argument("--seed", type=int, default=0)
     a = p.parse_args()
     t0 = time.perf_counter()
@@ -29,6 +30,8 @@ def main() -> int:
         ("malformed sessions", fuzzing.malformed_sessions(a.sessions, a.seed)),
         ("killed writers", fuzzing.killed_writers(a.kills, a.seed)),
         ("concurrent writers", fuzzing.concurrent_writers(a.concurrent_seconds)),
+        ("output targets", fuzzing.output_targets(a.seed)),
+        ("hostile geometry", fuzzing.hostile_geometry(a.geometry, a.seed)),
         ("random strokes", fuzzing.random_strokes(a.strokes, a.seed)),
     ]
     bad = 0

@@ -36,7 +36,7 @@ from Sketch2CADWorkbench.inference.fitting.addsub import PrismFit, prism_fit
 from Sketch2CADWorkbench.inference.fitting.base_face import face_under_stroke
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 from Sketch2CADWorkbench.inference.fitting.sweep import SweepFit, sweep_fit
-from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
+from Sketch2CADWorkbench.inference.fitting.verify import SketchFit, sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
@@ -81,10 +81,10 @@ def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_s
     pts, labels = sketch(box, op, cam)
     strokes = [
         cam.project(p)[0] + (np.array([0.0, -10.0]) if label == BEVEL_L else 0.0)
-        for p, label in zip(pts, labels)
+        for p, label in zip(pts, labels, strict=False)
     ]
     ctx = to_context(box, strokes, cam, renderer)
-    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels) if label == BEVEL_L]
+    (drawn_l,) = [s for s, label in zip(ctx.strokes, labels, strict=False) if label == BEVEL_L]
     assert face_at(
         box, face_under_stroke(drawn_l, ctx.maps.face_id)
     ).normalAt().toTuple() == pytest.approx((0, 0, 1))
@@ -176,6 +176,23 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
         fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions()
     )
     assert volume_iou(apply_operation(box, fitted), apply_operation(box, op)) > 0.97
+
+
+def test_readings_whose_sketches_all_lie_outside_the_view_end_in_an_error_saying_so(
+    renderer, monkeypatch
+):
+    # every reading's own sketch projects wholly outside the context image: each lies
+    # infinitely far from the strokes (verify.sketch_fit), none can be scored
+    box, _op, labels, ctx, index, curve = top_prism(renderer)
+    other = [{0: 2, 2: 0}.get(label, label) for label in labels]
+    monkeypatch.setattr(adapters, "stroke_roles", lambda *a, **k: other)
+    monkeypatch.setattr(context, "sketch_fit", lambda *a, **k: SketchFit.undrawn())
+
+    def fit(solid, face, camera, strokes, roles, option):  # both readings fit
+        return prism_fit(solid, face, camera, strokes, labels, option)
+
+    with pytest.raises(OperationError, match="lies wholly outside the view"):
+        adapters._fit_by_roles(fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions())
 
 
 def test_an_extrusion_of_a_polygon_is_read_by_its_strokes_ends(renderer, monkeypatch):

@@ -62,7 +62,7 @@ class SaysBossTop(Oracle):
     that higher plane lies in the air beside the block."""
 
     def segment(self, inputs, op_type):
-        face, curve = super().segment(inputs, op_type)
+        _face, curve = super().segment(inputs, op_type)
         from Sketch2CADWorkbench.inference.context import to_context
 
         strokes = [self.view.project(p)[0] for p in self.strokes3d]

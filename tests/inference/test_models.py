@@ -93,10 +93,11 @@ def test_a_checkpoint_rebuilds_an_identical_model_from_the_file_alone(tiny_confi
     back, ckpt = load_checkpoint(tmp_path / "net.pt")
     assert back.config == tiny_config and ckpt["note"] == "hello"
     assert all(
-        torch.equal(a, b) for a, b in zip(model.state_dict().values(), back.state_dict().values())
+        torch.equal(a, b)
+        for a, b in zip(model.state_dict().values(), back.state_dict().values(), strict=True)
     )
     x = _batch(tiny_config, seed=5)[0]
-    for a, b in zip(model.predict(x), back.predict(x)):
+    for a, b in zip(model.predict(x), back.predict(x), strict=True):
         assert torch.equal(a, b)
 
 
@@ -116,7 +117,7 @@ def test_the_inference_copy_folds_batch_norm_and_answers_as_the_model(tiny_confi
     assert not any(isinstance(m, torch.nn.BatchNorm2d) for m in fused.modules())
     assert any(isinstance(m, torch.nn.BatchNorm2d) for m in model.modules())  # untouched
     x = _batch(tiny_config, seed=5)[0]
-    for a, b in zip(model.predict(x), fused.predict(x)):
+    for a, b in zip(model.predict(x), fused.predict(x), strict=True):
         assert torch.allclose(a, b, atol=1e-4)
 
 

@@ -33,3 +33,13 @@ def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged
             far = replace(base, fit=beyond[name])
         assert far.doubtful and doubts(far.measures()) == [name]
         assert far.doubt().startswith("the strokes do not look much like this bevel: ")
+
+
+def test_a_reading_of_an_operator_the_classifier_all_but_rules_out_is_flagged():
+    # its sketch fits the strokes well; the networks gave a sweep 1e-5 (a scribble that
+    # fits no likely operator, which the search read as a sweep)
+    close = off_by(1.0, 1.0)
+    got = Interpretation((), None, OperatorType.SWEEP, {"sweep": 1e-5}, 0, [], None, fit=close)
+    assert got.doubtful and doubts(got.measures()) == ["confidence"]
+    assert "the networks give a sweep a probability of only 1e-05" in got.doubt()
+    assert not replace(got, probabilities={"sweep": 0.6}).doubtful

@@ -8,6 +8,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from reading_fixtures import (
     TOP,
     TOP_SWEEP,
@@ -19,6 +21,8 @@ from reading_fixtures import (
     view,
 )
 
+from datagen.sequences import sample_sequence
+from datagen.views import view_direction
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
@@ -41,6 +45,7 @@ from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.reading import Reading
 from Sketch2CADWorkbench.inference.search import read_operators
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.render.frustum import fit_camera
 from Sketch2CADWorkbench.sketch.labels import CLASSES
 
 
@@ -274,7 +279,7 @@ def test_a_primitive_whose_boolean_splits_the_model_is_read_with_the_other_one(
     # Fig. 5b) cut the model in two, so no sweep was read and an extrusion 15 px off the
     # strokes was kept. Here the +/- rule is made to say subtract for a boss r 6 on a bar
     # 8 mm wide: any hole that size across the bar cuts it in two, the boss builds.
-    bar, top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
+    bar, _top, boss, cam, pts, labels = _a_boss_read_as_the_hole_that_splits_its_bar(monkeypatch)
     strokes = [cam.project(p)[0] for p in pts]
     got = interpret(
         bar,
@@ -340,3 +345,39 @@ def test_the_other_boolean_of_a_reading_that_builds_nothing_outranks_a_worse_one
     )
     assert got.operations[0].mode is Mode.ADD and got.operations[0].face == top
     assert volume_iou(got.solid, apply_operation(bar, boss)) > 0.97
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    from Sketch2CADWorkbench.inference.weights import load_predictor
+
+    return load_predictor()
+
+
+POINT = st.tuples(st.floats(-64, 320), st.floats(-64, 320))
+
+
+@settings(
+    max_examples=4,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    strokes=st.lists(st.lists(POINT, min_size=2, max_size=24), min_size=1, max_size=6),
+)
+def test_random_strokes_on_a_random_model_end_in_a_reading_or_an_interpret_error(
+    renderer, shipped, seed, strokes
+):
+    # the whole search, networks included: every way out is a reading or the error that
+    # says why (an IndexError once escaped it)
+    rng = np.random.default_rng(seed)
+    solid = sample_sequence(rng, int(rng.integers(0, 3))).stages[-1].solid
+    cam = fit_camera(solid, view_direction(rng, np.array([0.0, 0.0, 1.0])))
+    try:
+        got = interpret(solid, [np.array(s, float) for s in strokes], cam, shipped, renderer)
+    except InterpretError as e:
+        assert str(e)
+    else:
+        assert got.solid.isValid() and got.operations

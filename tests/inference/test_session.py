@@ -3,6 +3,8 @@
 
 import copy
 import json
+import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +22,7 @@ from Sketch2CADWorkbench.inference.session import (
 )
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 
+ROOT = Path(__file__).resolve().parents[2]
 CAM = OrthoCamera((0, 0, 0), (0.5, 0.6, -0.62), (0, 0, 1), 40.0, 400, 300)
 
 
@@ -48,8 +51,8 @@ def test_session_round_trips_through_a_file(tmp_path):
     assert back.base == s.base
     assert [st.camera for st in back.steps] == [st.camera for st in s.steps]
     assert [st.choices for st in back.steps] == [st.choices for st in s.steps]
-    for a, b in zip(back.steps, s.steps):
-        assert all(np.allclose(x, y, atol=1e-3) for x, y in zip(a.strokes, b.strokes))
+    for a, b in zip(back.steps, s.steps, strict=True):
+        assert all(np.allclose(x, y, atol=1e-3) for x, y in zip(a.strokes, b.strokes, strict=True))
 
 
 def test_one_step_round_trips_as_json_and_a_bad_one_names_its_field():
@@ -118,6 +121,22 @@ def test_a_step_with_default_snapping_is_written_as_before_the_snap_choices(tmp_
             r"steps\[1\].camera: camera scale must be positive",
         ),
         (
+            lambda d: d["steps"][1]["camera"].update(center=[1e300, 1e300, 0]),
+            r"steps\[1\].camera.center: expected coordinates within",
+        ),
+        (
+            lambda d: d["steps"][1]["camera"].update(scale=1e200),
+            r"steps\[1\].camera.scale: expected from",
+        ),
+        (
+            lambda d: d["steps"][1]["camera"].update(scale=1e-300),
+            r"steps\[1\].camera.scale: expected from",
+        ),
+        (
+            lambda d: d["steps"][0]["strokes"][1].__setitem__(0, [1e300, 0]),
+            r"steps\[0\].strokes\[1\]: expected pixels within",
+        ),
+        (
             lambda d: d["steps"][1]["choices"].update(symmetry="w"),
             r"steps\[1\].choices.symmetry: expected null",
         ),
@@ -149,5 +168,27 @@ def test_malformed_session_names_field_and_value(mutate, message):
 
 def test_unreadable_session_names_the_file(tmp_path):
     (tmp_path / "s.json").write_text("{nope")
-    with pytest.raises(SessionError, match="s.json: not valid JSON"):
+    with pytest.raises(SessionError, match=r"s.json: not valid JSON"):
         load_session(tmp_path / "s.json")
+
+
+def test_a_huge_view_direction_is_read_as_its_unit_one_without_numpy_warnings():
+    from Sketch2CADWorkbench.brep.operators import make_box
+    from Sketch2CADWorkbench.brep.protocol import describe
+    from Sketch2CADWorkbench.inference.interpret import interpret
+    from Sketch2CADWorkbench.inference.weights import load_predictor
+    from Sketch2CADWorkbench.render.maps import MapRenderer
+
+    d = json.loads((ROOT / "examples" / "sessions" / "camera.json").read_text())
+    d["steps"] = d["steps"][:1]
+    unit = session_from_dict(d)
+    d["steps"][0]["camera"]["direction"] = [1e300 * x for x in d["steps"][0]["camera"]["direction"]]
+    huge = session_from_dict(d)
+    predictor, renderer = load_predictor(), MapRenderer()
+    got = []
+    for s in (unit, huge):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            step = s.steps[0]
+            got.append(interpret(make_box(s.base), step.strokes, step.camera, predictor, renderer))
+    assert [describe(op) for op in got[1].operations] == [describe(op) for op in got[0].operations]

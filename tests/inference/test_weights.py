@@ -42,7 +42,7 @@ def test_a_garbage_weights_file_is_a_clean_error_naming_it(tmp_path):
 
     bad = tmp_path / "bad.pt"
     bad.write_bytes(bytes(range(256)) * 10)
-    with pytest.raises(ValueError, match="bad.pt: not a readable sketch2cad-net checkpoint"):
+    with pytest.raises(ValueError, match=r"bad.pt: not a readable sketch2cad-net checkpoint"):
         load_checkpoint(bad)
 
 

@@ -23,7 +23,7 @@ def test_a_direction_of_any_finite_length_is_the_same_view(scale):
     unit = OrthoCamera((0, 0, 0), (np.sqrt(0.5), np.sqrt(0.5), 0), (0, 0, 1), 10.0, 80, 60)
     big = OrthoCamera((0, 0, 0), (scale, scale, 0), (0, 0, scale), 10.0, 80, 60)
     points = [(1.0, 2.0, 3.0), (-4.0, 0.5, 2.0)]
-    for got, want in zip(big.project(points), unit.project(points)):
+    for got, want in zip(big.project(points), unit.project(points), strict=True):
         np.testing.assert_allclose(got, want, atol=1e-9)
 
 

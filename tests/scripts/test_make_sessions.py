@@ -8,15 +8,15 @@ from pathlib import Path
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
-def test_a_protocol_with_half_millimetres_was_designed_on_a_half_millimetre_grid(load_script):
-    grid = load_script("make_sessions").designer_grid
+def test_a_protocol_with_half_millimetres_was_designed_on_a_half_millimetre_grid(load_file):
+    grid = load_file("scripts/make_sessions").designer_grid
     assert grid('{"size": [80.0, 20.0, 20.0], "r0": 6.5}') == 0.5
     # control points at thirds of a length are on no grid and say nothing of it
     assert grid('{"size": [80.0, 20.0, 20.0], "profile": [[6.0, 0.0], [5.6667, 30.6667]]}') == 1.0
 
 
-def test_every_example_session_step_reads_with_regularization_on_its_designers_grid(load_script):
-    grid = load_script("make_sessions").designer_grid
+def test_every_example_session_step_reads_with_regularization_on_its_designers_grid(load_file):
+    grid = load_file("scripts/make_sessions").designer_grid
     sessions = sorted((EXAMPLES / "sessions").glob("*.json"))
     assert len(sessions) == 6
     for path in sessions:

@@ -84,7 +84,10 @@ def test_a_run_interrupted_and_resumed_ends_exactly_where_an_uninterrupted_one_d
     a, _ = load_checkpoint(whole)
     b, ckpt = load_checkpoint(resumed)
     assert ckpt["trained_steps"] == 12
-    assert all(torch.equal(p, q) for p, q in zip(a.state_dict().values(), b.state_dict().values()))
+    assert all(
+        torch.equal(p, q)
+        for p, q in zip(a.state_dict().values(), b.state_dict().values(), strict=True)
+    )
     events = [
         json.loads(line)
         for line in (tmp_path / "split" / "log.jsonl").read_text().splitlines()
@@ -122,7 +125,7 @@ def test_a_mirrored_sample_is_the_pooled_mirror_image_with_normal_x_negated(
     model = Sketch2CADNet(tiny_config)
     ds = Dataset(tiny_data)
     data = load_pooled(ds, model, tmp_path)
-    x, face, curve, mask, _ = data.batch(torch.arange(4), "cpu", flip=torch.ones(4, dtype=bool))
+    x, face, _curve, _mask, _ = data.batch(torch.arange(4), "cpu", flip=torch.ones(4, dtype=bool))
     full = torch.from_numpy(decode_inputs(ds.shard_arrays(0), slice(0, 4))).flip(-1)
     fg = full[:, 2:].sum(1) > 0
     full[:, 2] = torch.where(fg, 2 - full[:, 2], 0)  # n_x -> -n_x on the foreground

@@ -43,7 +43,7 @@ class BevelFeature(OperationFeature):
             obj.removeProperty("Profile")
         super().migrate(obj)
         if old is not None and len(old) == len(PROFILE_POINTS):
-            for (name, _), p in zip(PROFILE_POINTS, old):
+            for (name, _), p in zip(PROFILE_POINTS, old, strict=False):
                 setattr(obj, name, p)
 
     @classmethod
@@ -64,5 +64,5 @@ class BevelFeature(OperationFeature):
     def set_operation(self, obj, op: Bevel) -> None:
         super().set_operation(obj, op)
         obj.Corner, obj.OppositeCorner = vec(op.corner), vec(op.opposite)
-        for (name, _), p in zip(PROFILE_POINTS, op.profile):
+        for (name, _), p in zip(PROFILE_POINTS, op.profile, strict=False):
             setattr(obj, name, vec(p))

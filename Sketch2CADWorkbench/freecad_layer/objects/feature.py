@@ -9,6 +9,7 @@ into error after it (FailurePropagation); every feature keeps its property value
 the user can fix the value.
 """
 
+import contextlib
 import re
 
 import FreeCAD
@@ -219,10 +220,9 @@ class OperationFeature(Feature):
     def update_kind(self, obj, rename: bool = False) -> None:
         """After the Boolean or the offset's sign changed: the paper's operator, the icon,
         and the label too unless the user renamed the feature (or `rename`)."""
-        try:
+        # values being edited: execute() reports them
+        with contextlib.suppress(ValueError, TypeError, AttributeError):
             obj.Operator = describe(self.operation(obj)).split(" ", 1)[0]
-        except (ValueError, TypeError, AttributeError):
-            pass  # values being edited; execute() reports them
         kind = self.kind(obj)
         auto = re.fullmatch(rf"({'|'.join(ALL_KINDS)})\d*", obj.Label)
         if (rename or auto) and obj.Label.rstrip("0123456789") != kind:

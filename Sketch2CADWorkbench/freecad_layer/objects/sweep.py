@@ -73,7 +73,7 @@ class SweepFeature(CombinedFeature):
         return tuple((mm(getattr(obj, r)), mm(getattr(obj, h))) for r, h in INNER)
 
     def set_inner(self, obj, profile) -> None:
-        for (r, h), (rv, hv) in zip(INNER, profile):
+        for (r, h), (rv, hv) in zip(INNER, profile, strict=False):
             setattr(obj, r, float(rv))
             setattr(obj, h, float(hv))
 

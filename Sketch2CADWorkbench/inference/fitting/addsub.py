@@ -126,7 +126,7 @@ def prism_fit(
     Returns:
         The fit, its AddSubPrism operation unrefined.
     """
-    groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
+    groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 1, 2)}
     n = len(groups[1])
     if not 3 <= n <= 6:
         raise FitError(

@@ -41,7 +41,7 @@ def _corner_for(
     """
     best = None
     for i, (a0, a1) in enumerate(edges):
-        for j, (b0, b1) in enumerate(edges[i + 1 :], i + 1):
+        for _j, (b0, b1) in enumerate(edges[i + 1 :], i + 1):
             for p in (a0, a1):
                 for q in (b0, b1):
                     if np.linalg.norm(p - q) > 1e-6 * scale:

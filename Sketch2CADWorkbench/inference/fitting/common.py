@@ -245,7 +245,7 @@ def search_range(
     scale: float, lo: float = -1.5, hi: float = 1.5, step: float = 0.0075
 ) -> np.ndarray:
     """The paper's line-search candidates for a model of diagonal `scale` (mm)."""
-    n = int(round((hi - lo) / step)) + 1
+    n = round((hi - lo) / step) + 1
     return np.linspace(lo, hi, n) * scale
 
 

@@ -330,7 +330,7 @@ def fit_extrude_by_ends(
     for _ in range(3):  # closed form on the pairing at d, then pair again
         cost, pick = (x[0] for x in costs(np.array([d])))
         tips, owners = [], []
-        for k, (c, p) in enumerate(zip(cost, pick)):
+        for k, (c, p) in enumerate(zip(cost, pick, strict=False)):
             if c > cap:
                 continue
             if k < len(sides):  # the end drawn at the moved corner

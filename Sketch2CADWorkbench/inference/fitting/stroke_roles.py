@@ -97,16 +97,16 @@ def stroke_roles(
 ) -> list[int]:
     """Each stroke's role, START (0), PROFILE (1) or END (2), from its shape and place.
 
-    Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism)
-    or SWEEP_PROFILE_DEG (a sweep) of n_f's image, give or take PROFILE_SLACK_PX; each is ordered by n_f, giving a
-    start point and an end point. A prism's side edges are translates of each other,
-    so they must also share one chord vector (within `same_chord`: a share of its
-    length and pixels; None skips the test); the largest such set wins, so an outline
-    side that happens to run along n_f's image is not taken for a profile. Every other stroke
-    is an outline and joins the end of the profiles it touches: an open stroke by its
-    two end points, a closed one by passing through all of that end's points (of the
-    NEAR_PROFILES profiles nearest it, when there are more: the cost stays linear); of two
-    closed outlines (a sweep's circles), the one centred lower along n_f is the start.
+    Profile strokes: open strokes whose chord lies within PRISM_PROFILE_DEG (a prism) or
+    SWEEP_PROFILE_DEG (a sweep) of n_f's image, give or take PROFILE_SLACK_PX; each is ordered
+    by n_f, giving a start point and an end point. A prism's side edges are translates of each
+    other, so they must also share one chord vector (within `same_chord`: a share of its length
+    and pixels; None skips the test); the largest such set wins, so an outline side that happens
+    to run along n_f's image is not taken for a profile. Every other stroke is an outline and
+    joins the end of the profiles it touches: an open stroke by its two end points, a closed one
+    by passing through all of that end's points (of the NEAR_PROFILES profiles nearest it, when
+    there are more: the cost stays linear); of two closed outlines (a sweep's circles), the one
+    centred lower along n_f is the start.
 
     With `sides` (a prism drawn with all its edges has three strokes per side), a
     group of alike chords larger than that keeps the `sides` chords nearest the group's
@@ -165,7 +165,7 @@ def stroke_roles(
             nearest = np.argsort(np.where(kept, gap, np.inf))[:sides]
             kept = np.zeros_like(kept)
             kept[nearest] = True
-        chords = {k: chords[k] for k, keep in zip(keys, kept) if keep}
+        chords = {k: chords[k] for k, keep in zip(keys, kept, strict=True) if keep}
     if not chords and not prism:
         return _two_circles(strokes, n2)
     if not chords:
@@ -187,7 +187,7 @@ def stroke_roles(
     # an open outline (a prism's side) runs between two ends of its side
     pairs = np.array([np.asarray(strokes[k], float)[[0, -1]] for k in opened]).reshape(-1, 2, 2)
     lean = gap(pairs, end_tree) - gap(pairs, start_tree) if opened else []
-    leaning = dict(zip(opened, map(float, lean)))  # how much nearer the start ends
+    leaning = dict(zip(opened, map(float, lean), strict=True))  # how much nearer the start ends
     if sides is not None and len(leaning) == 2 * sides:
         # all edges drawn: `sides` sides of each outline, the most start-like ones start
         ranked = sorted(leaning, key=lambda k: -leaning[k])
@@ -198,7 +198,7 @@ def stroke_roles(
         a, b = closed
         roles[a], roles[b] = _ordered(strokes, a, b, n2)
     else:
-        for k, near in zip(closed, _near_profiles(strokes, closed, starts, ends)):
+        for k, near in zip(closed, _near_profiles(strokes, closed, starts, ends), strict=True):
             # a closed outline passes through all the profile ends of its side: a short
             # sweep's two ellipses cross each other, so one nearest point would not do
             q = cKDTree(resample(np.asarray(strokes[k], float)))

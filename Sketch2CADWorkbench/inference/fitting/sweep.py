@@ -78,7 +78,7 @@ def _profile_rh(
     pts = resample(stroke)
     if np.linalg.norm(pts[0] - base.center) > np.linalg.norm(pts[-1] - base.center):
         pts = pts[::-1]  # run from the base circle to the far one
-    side = silhouette_side(axis, np.asarray(camera.direction, float))
+    side = silhouette_side(axis, camera.basis()[2])
     p0 = camera.project(c0[None])[0][0]
     if (pts.mean(axis=0) - p0) @ camera.image_of(side) < 0:
         side = -side
@@ -187,7 +187,7 @@ def sweep_fit(
     Returns:
         The fit, its Sweep operation unrefined.
     """
-    groups = {k: [s for s, l in zip(strokes, labels) if l == k] for k in (0, 1, 2)}
+    groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 1, 2)}
     if not groups[0] or not groups[2]:
         raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
     e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
@@ -223,7 +223,7 @@ def sweep_fit(
     # no profile drawn: the straight one
     mid = np.mean(inner, axis=0) if inner else np.array(straight_profile(r0, r1, d))
     op = _sweep(face_ref(face, frame), c0, r0, r1, d, mid, mode)
-    side = silhouette_side(axis, np.asarray(camera.direction, float))
+    side = silhouette_side(axis, camera.basis()[2])
     other = np.cross(axis, side)
     image = SweepImage(
         camera.project(c0[None])[0][0],

@@ -162,7 +162,7 @@ def sketch_fit(
             them.
         face: op.face resolved on `solid`, when the caller holds it (`operation_curves`).
     """
-    curves = operation_curves(solid, op, camera.direction, face)
+    curves = operation_curves(solid, op, camera.basis()[2], face)
     if seen is not None:
         curves = visible_curves(curves, camera, seen)
     shape = (camera.height, camera.width)
@@ -175,7 +175,9 @@ def sketch_fit(
     return SketchFit(
         DistanceField(target)(drawn.samples),
         drawn.field(ideal),
-        end_gaps([p for p, c in zip(pixels, curves) if not c.closed], drawn.open_ends),
+        end_gaps(
+            [p for p, c in zip(pixels, curves, strict=False) if not c.closed], drawn.open_ends
+        ),
     )
 
 

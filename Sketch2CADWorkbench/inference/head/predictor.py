@@ -78,7 +78,7 @@ class StructuredPredictor(NetworkPredictor):
         if out is None:
             raise ValueError("face_probabilities needs observe(strokes, face_id) first")
         p = out[4][:, CLASSES.index(op_type)].softmax(0)
-        return {int(i): float(v) for i, v in zip(out[1].face_ids, p)}
+        return {int(i): float(v) for i, v in zip(out[1].face_ids, p, strict=False)}
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         out = self._structured(inputs)

@@ -178,7 +178,7 @@ class _Polylines:
     arc: np.ndarray
 
     @classmethod
-    def of(cls, strokes: list[np.ndarray], scale: float = 1.0) -> "_Polylines":
+    def of(cls, strokes: list[np.ndarray], scale: float = 1.0) -> _Polylines:
         p = [np.asarray(s, np.float64).reshape(-1, 2) for s in strokes]
         n = np.array([len(q) for q in p])
         if (n < 1).any():

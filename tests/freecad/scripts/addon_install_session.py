@@ -12,12 +12,12 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-import FreeCADGui  # noqa: E402
-from harness import check, finish, run_checks, say  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+import FreeCAD
+import FreeCADGui
+from harness import check, finish, run_checks, say
+from PySide import QtCore, QtGui
 
-from Sketch2CADWorkbench.freecad_layer import dependencies  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer import dependencies
 
 SEEN = {}
 

@@ -8,17 +8,17 @@ import xml.etree.ElementTree as ET
 from dataclasses import replace
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-import Part  # noqa: E402
-from harness import EXAMPLES, ROOT, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
+import FreeCAD
+import Part
+from harness import EXAMPLES, ROOT, TMP, check, close, finish, run_checks, tested_checkout
 
-from Sketch2CADWorkbench.brep.exchange import import_step  # noqa: E402
-from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
-from Sketch2CADWorkbench.brep.protocol import Sweep, load  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.export import export_step  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features, protocol_from_model  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.shapes import from_part, to_part  # noqa: E402
+from Sketch2CADWorkbench.brep.exchange import import_step
+from Sketch2CADWorkbench.brep.operators import build, replay
+from Sketch2CADWorkbench.brep.protocol import Sweep, load
+from Sketch2CADWorkbench.freecad_layer.export import export_step
+from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol
+from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features, protocol_from_model
+from Sketch2CADWorkbench.freecad_layer.shapes import from_part, to_part
 
 
 def example(name: str):
@@ -33,7 +33,10 @@ def assert_matches_core(model, protocol) -> None:
     """Every step's volume equals the core's replay of `protocol` within 1e-6 relative."""
     want = [s.Volume() for s in replay(protocol)]
     got = volumes(model)
-    assert len(got) == len(want) and all(close(a, b) for a, b in zip(got, want)), (got, want)
+    assert len(got) == len(want) and all(close(a, b) for a, b in zip(got, want, strict=False)), (
+        got,
+        want,
+    )
 
 
 @check
@@ -61,7 +64,8 @@ def addon_metadata():
     (wb,) = meta.Content["workbench"]
     assert (wb.Classname, wb.Subdirectory) == ("Sketch2CADWorkbench", "Sketch2CADWorkbench")
     assert os.path.isfile(os.path.join(ROOT, wb.Subdirectory, wb.Icon)), wb.Icon
-    init_gui = open(os.path.join(ROOT, wb.Subdirectory, "InitGui.py")).read()
+    with open(os.path.join(ROOT, wb.Subdirectory, "InitGui.py")) as f:
+        init_gui = f.read()
     assert f"class {wb.Classname}(Workbench)" in init_gui
     from Sketch2CADWorkbench.freecad_layer.icons import ICONS
 
@@ -94,14 +98,20 @@ def edit_and_recompute():
     assert not failed_features(model)
     after = volumes(model)
     assert after[0] == before[0]  # the step before the edit is untouched
-    assert all(not close(a, b) for a, b in zip(after[1:], before[1:])), (before, after)
+    assert all(not close(a, b) for a, b in zip(after[1:], before[1:], strict=False)), (
+        before,
+        after,
+    )
     assert_matches_core(model, protocol_from_model(model))
     # the base box: every step is rebuilt on the wider box
     chain[0].Width = chain[0].Width.Value + 10.0
     doc.recompute()
     assert not failed_features(model)
     assert_matches_core(model, protocol_from_model(model))
-    assert all(not close(a, b) for a, b in zip(volumes(model), after)), (after, volumes(model))
+    assert all(not close(a, b) for a, b in zip(volumes(model), after, strict=False)), (
+        after,
+        volumes(model),
+    )
 
 
 @check
@@ -127,7 +137,7 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
     p = Protocol(Box((40.0, 30.0, 20.0)), (Extrude(top, 9.535), bevel))
     doc = FreeCAD.newDocument("follow")
     model = make_model_from_protocol(doc, p)
-    box, extrude, bev = features(model)
+    _box, extrude, bev = features(model)
     removed = extrude.Shape.Volume - bev.Shape.Volume
     extrude.Offset = 15.0
     doc.recompute()
@@ -155,7 +165,7 @@ def sweep_profile_follows_its_radii():
     want = op.retuned(r1=op.r1 * 1.5)
     got = sweep.Proxy.operation(sweep)
     assert isinstance(got, Sweep) and all(
-        close(a, b, 1e-9) for a, b in zip(sum(got.profile, ()), sum(want.profile, ()))
+        close(a, b, 1e-9) for a, b in zip(sum(got.profile, ()), sum(want.profile, ()), strict=False)
     ), got
     doc.recompute()
     assert not failed_features(model)
@@ -182,7 +192,7 @@ def unbuildable_value_puts_only_that_feature_in_error():
         for i in range(4, len(chain))
     ), [o.getStatusString() for o in chain]
     assert len(prism.Proxy.polygon(prism)) == 2  # the user's value stays, for them to fix
-    assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3]))
+    assert all(close(a, b) for a, b in zip(volumes(model)[:3], before[:3], strict=False))
     assert [o.Proxy.operation(o) for o in chain[4:]] == later  # nothing after it is lost
     # export and save refuse, naming the broken step; the files are not touched
     # (Save protocol runs the same refuse_failed_steps first: commands/protocol.py)
@@ -257,7 +267,8 @@ def step_export_and_brep_transfer():
     model = make_model_from_protocol(doc, p)
     path = os.path.join(TMP, "nut.step")
     export_step(model, path)
-    assert "10303 214" in open(path).read(4000), "not AP214"
+    with open(path) as f:
+        assert "10303 214" in f.read(4000), "not AP214"
     read = Part.read(path)
     assert read.isValid() and len(read.Solids) == 1
     assert close(read.Volume, solid.Volume()) and close(import_step(path).Volume(), solid.Volume())
@@ -382,7 +393,7 @@ def a_step_read_again_replaces_its_feature_in_place():
     assert (new.Label, new.Base, chain[2].Base) == ("Pad", chain[0], new)
     assert [o.Name for o in model.Group] == [o.Name for o in features(model)]
     assert features(model)[1] == new and model.Tip == chain[-1]
-    assert protocol_from_model(model).operations == (pad,) + p.operations[1:]
+    assert protocol_from_model(model).operations == (pad, *p.operations[1:])
 
 
 @check

@@ -10,11 +10,11 @@ import sys
 from dataclasses import replace
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-import FreeCADGui  # noqa: E402
-import numpy as np  # noqa: E402
-import Part  # noqa: E402
-from harness import (  # noqa: E402
+import FreeCAD
+import FreeCADGui
+import numpy as np
+import Part
+from harness import (
     EXAMPLES,
     TMP,
     check,
@@ -25,10 +25,10 @@ from harness import (  # noqa: E402
     send_drag,
     tested_checkout,
 )
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtCore, QtGui
 
-from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
-from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
+from Sketch2CADWorkbench.brep.operators import build, replay
+from Sketch2CADWorkbench.brep.protocol import load
 
 MESSAGES = []  # (title, text) of the message boxes the commands showed
 QtGui.QMessageBox.critical = lambda parent, title, text, *a: MESSAGES.append((title, text))
@@ -220,7 +220,7 @@ def strokes_captured_from_mouse_events():
     assert len(finished) == 1, finished
     strokes, cam = finished[0]
     assert cam == view_camera(view)
-    for got, edge in zip(strokes, (top_edge, side_edge)):
+    for got, edge in zip(strokes, (top_edge, side_edge), strict=False):
         err = np.max(np.abs(got - cam.project(edge)[0]))
         assert err <= 1.5, err  # Qt mouse positions are whole device-independent pixels
     key(viewport, QtCore.Qt.Key_Escape)
@@ -264,7 +264,7 @@ def sketch_step_adds_one_undoable_feature():
     FreeCADGui.Control.showDialog(panel)
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
-    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
+    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up, strict=False)):
         drag(viewport, cam.project(np.linspace(a, b, 12))[0])
     assert len(panel.capture.strokes) == 8, len(panel.capture.strokes)
     key(viewport, QtCore.Qt.Key_Return)
@@ -281,8 +281,8 @@ def sketch_step_adds_one_undoable_feature():
     assert len(features(model)) == before
     # the step went through the console (as Draft's tools do): the same line, run as a
     # macro would run it, makes the same feature
-    import Sketch2CADWorkbench.brep.protocol  # noqa: F401 (names the line uses)
-    import Sketch2CADWorkbench.freecad_layer.make.make_model  # noqa: F401
+    import Sketch2CADWorkbench.brep.protocol
+    import Sketch2CADWorkbench.freecad_layer.make.make_model
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import add_operation_command
 
     line = add_operation_command(model, panel.result.operations[0])
@@ -334,7 +334,7 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
     for a, b in [(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)] + list(
-        zip(base, top)
+        zip(base, top, strict=False)
     ):
         drag(viewport, cam.project(np.linspace(a, b, 12))[0])
     key(viewport, QtCore.Qt.Key_Return)
@@ -363,7 +363,8 @@ def hole_outlines(bb, count: int = 10):
     for k in range(count):
         n, r = 3 + k % 4, rng.uniform(0.12, 0.22) * min(bb.XLength, bb.YLength)
         t = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n) / n
-        centre = c + [
+        centre = [
+            *c,
             rng.uniform(-0.15, 0.15) * bb.XLength,
             rng.uniform(-0.1, 0.1) * bb.YLength,
             0.0,
@@ -398,7 +399,7 @@ def holes_drawn_with_the_mouse_and_subtract_chosen_are_read_as_those_holes():
         FreeCADGui.Control.showDialog(panel)
         n = len(rim)
         for a, b in [(p[i], p[(i + 1) % n]) for p in (rim, floor) for i in range(n)] + list(
-            zip(rim, floor)
+            zip(rim, floor, strict=False)
         ):
             drag(viewport, cam.project(np.linspace(a, b, 12))[0])
         key(viewport, QtCore.Qt.Key_Return)
@@ -460,7 +461,7 @@ def load_protocol_errors_change_nothing():
     # a valid file whose last step no longer finds its face once the column is longer
     mixer = load(os.path.join(EXAMPLES, "mixer.json"))
     column = replace(mixer.operations[0], d=mixer.operations[0].d + 20)
-    longer = replace(mixer, operations=(column,) + mixer.operations[1:])
+    longer = replace(mixer, operations=(column, *mixer.operations[1:]))
     assert load_protocol_file(write_protocol(longer, "unbuildable.json")) is None
     assert "step 7" in MESSAGES[-1][1], MESSAGES[-1]
     assert (len(doc.Objects), doc.UndoCount) == (objects, undos)
@@ -478,7 +479,7 @@ def load_protocol_is_one_undo_step():
     assert model is not None and model.Label == "mixer"
     chain = features(model)
     want = [s.Volume() for s in replay(load(path))]
-    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want))
+    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want, strict=False))
     assert [o.ViewObject.Visibility for o in chain] == [False] * (len(chain) - 1) + [True]
     doc.undo()
     assert len(doc.Objects) == objects
@@ -545,7 +546,7 @@ def fcstd_reopens_with_view_providers():
     FreeCAD.closeDocument(FreeCAD.ActiveDocument.Name)
     doc = FreeCAD.openDocument(path)
     model = find_models(doc)[-1]
-    icons = {o.ViewObject.Proxy.getIcon() for o in [model] + features(model)}
+    icons = {o.ViewObject.Proxy.getIcon() for o in [model, *features(model)]}
     assert icons == {
         icon_path(n) for n in ("Model", "Box", "Boss", "Revolution", "Groove", "Bevel")
     }
@@ -584,7 +585,7 @@ def draw_pad(view, shape, height: float) -> None:
     up = top + [0, 0, height]
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
-    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
+    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up, strict=False)):
         drag(viewport, cam.project(np.linspace(a, b, 12))[0])
 
 
@@ -686,7 +687,7 @@ def sketch_panel_fits_the_default_combo_view():
     it is no wider than the task view shows, without a horizontal scroll bar."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
 
-    model, view = new_model_document("width")
+    model, _view = new_model_document("width")
     mw = FreeCADGui.getMainWindow()
     mw.showMaximized()
     settle()
@@ -799,7 +800,7 @@ def preferences_page_is_shown_and_its_values_are_used():
         # the panel lists the snap; one click reads the strokes again without it
         texts = [b.text() for b in panel.snap_buttons]
         assert any("length snapped to the 2 mm grid" in t for t in texts), texts
-        panel.snap_buttons[[i for i, t in enumerate(texts) if "length" in t][0]].click()
+        panel.snap_buttons[next(i for i, t in enumerate(texts) if "length" in t)].click()
         settle()
         assert panel.result is not None and "d" in panel.skipped, panel.text.toPlainText()
         undone = panel.result.operations[0].d

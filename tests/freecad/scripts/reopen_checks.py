@@ -6,8 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout  # noqa: E402
+import FreeCAD
+from harness import EXAMPLES, TMP, check, close, finish, run_checks, tested_checkout
 
 DATA = os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "data")
 
@@ -35,7 +35,7 @@ def reopen_and_recompute(path: str):
     doc.recompute()
     assert not failed_features(model)
     want = [s.Volume() for s in replay(p)]
-    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want))
+    assert all(close(o.Shape.Volume, v) for o, v in zip(chain, want, strict=False))
     sweep = next(o for o in chain if o.Proxy.TYPE == "Sketch2CAD::Sweep")
     inner = sweep.Proxy.inner(sweep)
     sweep.Radius0 = sweep.Radius0.Value * 1.2  # the restored proxy still retunes
@@ -46,10 +46,11 @@ def reopen_and_recompute(path: str):
 @check
 def reopen_fcstd():
     tested_checkout()
-    saved = json.load(open(os.path.join(TMP, "hammer-volumes.json")))
+    with open(os.path.join(TMP, "hammer-volumes.json")) as f:
+        saved = json.load(f)
     doc = FreeCAD.openDocument(os.path.join(TMP, "hammer.FCStd"))
     (model,) = find_models(doc)
-    assert all(close(o.Shape.Volume, v) for o, v in zip(features(model), saved))
+    assert all(close(o.Shape.Volume, v) for o, v in zip(features(model), saved, strict=False))
     FreeCAD.closeDocument(doc.Name)
     reopen_and_recompute(os.path.join(TMP, "hammer.FCStd"))
 

@@ -15,13 +15,13 @@ import threading
 import time
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-import FreeCADGui  # noqa: E402
-import numpy as np  # noqa: E402
-from harness import check, finish, run_checks, say, send_drag, tested_checkout  # noqa: E402
-from PySide import QtCore, QtGui  # noqa: E402
+import FreeCAD
+import FreeCADGui
+import numpy as np
+from harness import check, finish, run_checks, say, send_drag, tested_checkout
+from PySide import QtCore, QtGui
 
-from Sketch2CADWorkbench.freecad_layer import networks  # noqa: E402
+from Sketch2CADWorkbench.freecad_layer import networks
 
 HEAVY = ("cadquery", "OCP", "torch", "vtkmodules")
 LOADS = []  # one entry per call of networks._load
@@ -133,7 +133,7 @@ def the_sketch_panel_says_the_networks_load_and_interpret_waits_for_them():
         ]
     )
     up = top + [0, 0, 0.5 * bb.ZLength]
-    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up)):
+    for a, b in [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up, strict=False)):
         send_drag(viewport, cam.project(np.linspace(a, b, 12))[0])
         turn()
     threading.Timer(1.0, GATE.set).start()  # the load ends while interpret waits for it
@@ -220,7 +220,7 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         (stroke,) = capture.strokes
         got = len(stroke) - 1  # the press's point is not a move
         say(f"FIGURE mouse_moves_captured {got}/{n} = {got / n:.0%} in {seconds:.1f} s")
-        strokes, cam = capture.result()
+        strokes, _cam = capture.result()
         sent = np.array([(p.x() * dpr + 0.5, p.y() * dpr + 0.5) for p in local], float)
         missed = [
             i for i, p in enumerate(sent) if np.min(np.linalg.norm(strokes[0] - p, axis=1)) > 0.75

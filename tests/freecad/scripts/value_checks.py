@@ -8,12 +8,12 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
-import FreeCAD  # noqa: E402
-from harness import EXAMPLES, check, close, finish, run_checks, say, tested_checkout  # noqa: E402
+import FreeCAD
+from harness import EXAMPLES, check, close, finish, run_checks, say, tested_checkout
 
-from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol  # noqa: E402
-from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import load
+from Sketch2CADWorkbench.freecad_layer.make.make_model import make_model_from_protocol
+from Sketch2CADWorkbench.freecad_layer.queries import failed_features, features
 
 NAN, INF = float("nan"), float("inf")
 V = FreeCAD.Vector
@@ -22,7 +22,7 @@ OCCT_TEXTS = ("BRep", "wires not planar", "gp_", "Standard_", "TopoDS", "OCCT", 
 
 
 def _feature(model, kind: str):
-    return next(o for o in features(model) if o.Proxy.TYPE == f"Sketch2CAD::{kind}")
+    return next(o for o in features(model) if f"Sketch2CAD::{kind}" == o.Proxy.TYPE)
 
 
 def _lists(chain) -> dict:
@@ -43,7 +43,7 @@ def _floats(v) -> tuple:
 def _same(a: dict, b: dict) -> bool:
     """The same points, to a relative 1e-9 (a retune there and back rounds)."""
     return a.keys() == b.keys() and all(
-        close(p, q, 1e-9) or abs(p - q) < 1e-9 for k in a for p, q in zip(a[k], b[k])
+        close(p, q, 1e-9) or abs(p - q) < 1e-9 for k in a for p, q in zip(a[k], b[k], strict=False)
     )
 
 
@@ -125,7 +125,7 @@ def impossible_values_are_refused_naming_the_property_and_lose_nothing():
         doc.recompute()
         if (
             failed_features(model)
-            or not all(close(o.Shape.Volume, v) for o, v in zip(chain, volumes))
+            or not all(close(o.Shape.Volume, v) for o, v in zip(chain, volumes, strict=False))
             or not _same(_lists(chain), kept)
         ):
             failures.append(f"{case}: typing the old value back did not restore the model")

@@ -70,7 +70,7 @@ def prism_sketch(camera, base, height, sign, noise=0.0, rng=None):
     start, end = (base, top) if sign > 0 else (top, base)
     strokes = polygon_strokes(camera, start, noise, rng) + polygon_strokes(camera, end, noise, rng)
     labels = [0] * len(start) + [2] * len(end)
-    for a, b in zip(start, end):
+    for a, b in zip(start, end, strict=False):
         strokes.append(stroke(camera, a, b, noise=noise, rng=rng))
         labels.append(1)
     return strokes, labels

@@ -25,7 +25,7 @@ def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edge
     # the start outline drawn 4 px to the right, the other eight strokes where they belong:
     # the base polygon follows the majority, not the four strokes that sit on f
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
+    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels, strict=False)]
     op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     got = np.array(op.polygon)
     err = max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD)
@@ -36,7 +36,7 @@ def test_a_start_outline_drawn_off_is_corrected_by_the_far_outline_and_side_edge
 def test_a_prism_fit_is_fitted_prism_once_refined_and_its_start_outlines_before(box, camera):
     # as above: unrefined, the base polygon is the start outline's, 4 px off
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels)]
+    strokes = [s + (4.0, 0.0) if l == 0 else s for s, l in zip(strokes, labels, strict=False)]
     fit = prism_fit(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     assert fit.refined() == fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
     off = max(np.min(np.linalg.norm(np.array(fit.operation.polygon) - v, axis=1)) for v in QUAD)
@@ -80,8 +80,8 @@ def test_user_choice_of_option_wins(box, camera):
 @pytest.mark.parametrize("count", [2, 7])
 def test_prism_needs_three_to_six_profile_strokes(box, camera, count):
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
-    profiles = [s for s, l in zip(strokes, labels) if l == 1]
-    strokes = [s for s, l in zip(strokes, labels) if l != 1] + (profiles * 2)[:count]
+    profiles = [s for s, l in zip(strokes, labels, strict=False) if l == 1]
+    strokes = [s for s, l in zip(strokes, labels, strict=False) if l != 1] + (profiles * 2)[:count]
     labels = [l for l in labels if l != 1] + [1] * count
     with pytest.raises(FitError, match=f"3 to 6 profile strokes.*{count} were recognised"):
         fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)

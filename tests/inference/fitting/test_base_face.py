@@ -51,7 +51,7 @@ def post_in_view():
 
 
 def test_base_face_is_planar_even_when_a_curved_face_gets_more_votes():
-    post, ids, side, disk = post_in_view()
+    post, ids, _side, disk = post_in_view()
     got = select_base_face(np.where(ids >= 0, 0.9, 0.0), ids, post)
     assert got.isSame(post.Faces()[disk])
 

@@ -25,7 +25,7 @@ def test_each_stroke_is_matched_to_the_curve_whose_ends_it_draws_either_way():
     # drawn in another order, the second one backwards, each end a little off
     strokes = np.array([[[30, 1], [29, 31]], [[1, 21], [0, 6]], [[1, 0], [11, 1]]], float)
     rows, cols, swapped = match_ends(curves, strokes)
-    got = {int(r): (int(c), bool(s)) for r, c, s in zip(rows, cols, swapped)}
+    got = {int(r): (int(c), bool(s)) for r, c, s in zip(rows, cols, swapped, strict=False)}
     assert got == {0: (2, False), 1: (1, True), 2: (0, False)}
 
 

@@ -17,7 +17,7 @@ def test_a_hand_drawn_prism_is_refined_closer_to_the_one_meant_with_the_strokes_
         step, d = np.array([2.0, -3.0]), 12.0
         strokes = [
             hand_drawn(np.linspace(a, b, 30), rng, 3.6)
-            for a, b in zip(*prism_edges(base, d * step))
+            for a, b in zip(*prism_edges(base, d * step), strict=False)
         ]
         for weight, got in errors.items():
             poly, length = refine_prism(base, d, step, strokes, end_weight=weight)
@@ -35,7 +35,7 @@ def _prism(rng):
 def test_exact_strokes_give_the_prism_from_their_ends_from_a_start_some_pixels_off():
     rng = np.random.default_rng(1)
     base, step, d = _prism(rng)
-    strokes = [np.linspace(a, b, 20) for a, b in zip(*prism_edges(base, d * step))]
+    strokes = [np.linspace(a, b, 20) for a, b in zip(*prism_edges(base, d * step), strict=False)]
     poly, length = prism_from_ends(base + rng.normal(0, 3, base.shape), d + 2, step, strokes)
     assert np.allclose(poly, base, atol=1e-6) and abs(length - d) < 1e-6
 
@@ -47,7 +47,7 @@ def test_a_hand_drawn_prism_is_read_closer_from_its_ends_than_refined():
         base, step, d = _prism(rng)
         strokes = [
             hand_drawn(np.linspace(a, b, 30), rng, 3.6)
-            for a, b in zip(*prism_edges(base, d * step))
+            for a, b in zip(*prism_edges(base, d * step), strict=False)
         ]
         poly, length = refine_prism(base, d, step, strokes)
         refined.append((np.abs(poly - base).mean(), abs(length - d)))

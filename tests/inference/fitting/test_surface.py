@@ -170,8 +170,8 @@ def test_an_outline_off_the_curved_face_is_refused(post, view):
 def test_a_cylinders_side_extruded_is_read_as_its_radius_changed(post, view, d):
     truth = Extrude(SIDE, d)
     strokes, labels = sketch(post, truth, view)
-    offset = [s for s, label in zip(strokes, labels) if label == EXTRUDE_OFFSET]
-    sides = [s for s, label in zip(strokes, labels) if label == EXTRUDE_PROFILE]
+    offset = [s for s, label in zip(strokes, labels, strict=False) if label == EXTRUDE_OFFSET]
+    sides = [s for s, label in zip(strokes, labels, strict=False) if label == EXTRUDE_PROFILE]
     op = fit_extrude(post, side_face(post), view, offset, sides)
     assert op.d == pytest.approx(d, abs=0.2)
     # named on the side, where it faces the viewer, and replayed as the same step
@@ -183,7 +183,7 @@ def test_a_cylinders_side_extruded_is_read_as_its_radius_changed(post, view, d):
 
 
 def test_a_cylinder_is_never_read_as_shrunk_to_its_axis(post, view):
-    strokes, labels = sketch(post, Extrude(SIDE, -1.1 * R), view)  # drawn past its axis
+    strokes, _labels = sketch(post, Extrude(SIDE, -1.1 * R), view)  # drawn past its axis
     shrunk = fit_extrude(post, side_face(post), view, strokes)
     assert -R < shrunk.d < 0
     apply_operation(post, shrunk)  # builds

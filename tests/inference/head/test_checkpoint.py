@@ -17,7 +17,7 @@ def test_a_head_loads_back_and_refuses_another_unets_features(net, tiny_config, 
     save_checkpoint(unet, net)
     save_head(tmp_path / "head.pt", head, unet_sha256="0" * 64)
     loaded, _ = load_head(tmp_path / "head.pt")
-    for a, b in zip(head.state_dict().values(), loaded.state_dict().values()):
+    for a, b in zip(head.state_dict().values(), loaded.state_dict().values(), strict=True):
         assert torch.equal(a, b)
     with pytest.raises(ValueError, match="another U-Net"):
         load_structured_predictor(tmp_path / "head.pt", unet)

@@ -30,7 +30,7 @@ def test_the_head_reads_a_batch_alike_in_training_and_in_inference(net):
         trained = head.train()(*batch)
     with torch.inference_mode():
         inferred = head.eval()(*batch)
-    for a, b in zip(trained, inferred):
+    for a, b in zip(trained, inferred, strict=True):
         assert torch.allclose(a, b, atol=1e-5)
 
 
@@ -52,7 +52,7 @@ def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     with torch.no_grad():
         head.end_bias.weight.copy_(torch.arange(6.0)[:, None].repeat(1, 4))
-        cls, stroke, s_mask, face, f_mask, on_face = collate([a, b])
+        _cls, stroke, s_mask, _face, f_mask, on_face = collate([a, b])
         pad = torch.cat([torch.zeros(2, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
         bias = head._attention_bias(stroke, on_face, pad)
     strokes_block = bias[0, 0, 1:4, 1:4]
@@ -65,13 +65,13 @@ def test_strokes_whose_ends_meet_attend_to_each_other_by_the_end_bias(net):
 def test_a_stroke_and_the_face_it_lies_on_attend_to_each_other_by_the_face_bias(net):
     face_id, strokes = scene()  # stroke 0 lies on face 3, stroke 2 on face 7
     t = scene_tokens(net, strokes, face_id)
-    on = dict(zip(t.face_ids.tolist(), t.on_face.T))
+    on = dict(zip(t.face_ids.tolist(), t.on_face.T, strict=False))
     assert on[3][0] == 1 and on[7][0] == 0 and on[7][2] == 1 and on[3][2] == 0
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1))
     with torch.no_grad():
         head.face_bias.weight.copy_(torch.arange(5.0)[:, None].repeat(1, 8))
         head.face_bias.weight[:, 4:] += 10  # face-to-stroke apart from stroke-to-face
-        cls, stroke, s_mask, face, f_mask, on_face = collate([t])
+        _cls, stroke, s_mask, _face, f_mask, on_face = collate([t])
         pad = torch.cat([torch.zeros(1, 1, dtype=torch.bool), ~s_mask, ~f_mask], 1)
         bias = head._attention_bias(stroke, on_face, pad)[0, 0]
     three = 4 + t.face_ids.tolist().index(3)  # its token: after cls and 3 strokes

@@ -34,7 +34,7 @@ def test_a_face_token_holds_its_area_centroid_and_spread(net):
     face_id, strokes = scene()
     t = scene_tokens(net, strokes, face_id)
     c = feature_channels(net)
-    for fid, token in zip(t.face_ids.tolist(), t.face):
+    for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
         ys, xs = np.nonzero(face_id == fid)
         geo = token[c : c + 5].numpy()
         assert np.allclose(
@@ -58,7 +58,7 @@ def test_a_face_token_counts_the_unets_f_votes_on_it(net):
     t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
     votes = net.upsample(u.f)[0].numpy() > 0  # (4, S, S): where each operator's F says f
     c = feature_channels(net)
-    for fid, token in zip(t.face_ids.tolist(), t.face):
+    for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
         on = face_id == fid
         share = votes[:, on].sum(1) / on.sum()
         assert np.allclose(token[c + 5 : c + 5 + len(CLASSES)].numpy(), share, atol=1e-6)
@@ -73,7 +73,7 @@ def test_a_face_token_holds_its_normal_as_seen_in_the_image(net):
     with torch.no_grad():
         u = feature_maps(net, x)
     t = tokens(u.logits[0], u.sketch(0), strokes, face_id)
-    seen = dict(zip(t.face_ids.tolist(), t.normal_image.numpy()))
+    seen = dict(zip(t.face_ids.tolist(), t.normal_image.numpy(), strict=False))
     assert np.allclose(seen[3], [0.5, -0.3], atol=0.02)  # camera y up is image y down
     assert np.allclose(seen[7], [-0.4, 0.2], atol=0.02)
 
@@ -101,7 +101,7 @@ def test_tokens_read_the_unets_maps_as_if_upsampled_to_its_internal_size():
         c = up.shape[0]
         ys, xs = np.divmod(np.arange(SIZE * SIZE), SIZE)
         cells = up[:, ys * i // SIZE, xs * i // SIZE]  # each full-size pixel's cell
-        for fid, token in zip(t.face_ids.tolist(), t.face):
+        for fid, token in zip(t.face_ids.tolist(), t.face, strict=False):
             on = torch.from_numpy(face_id.ravel() == fid)
             assert torch.allclose(token[:c], cells[:, on].mean(1), atol=1e-5)
         pts = _Polylines.of(strokes).resample(POINTS)
@@ -151,7 +151,9 @@ def test_a_sketch_without_faces_in_view_still_gives_stroke_tokens(net):
 
 
 def test_the_class_token_says_which_drawings_have_that_many_strokes(net):
-    fits = dict(zip(CLASSES, zip(count_fits(2), count_fits(4), count_fits(9))))
+    fits = dict(
+        zip(CLASSES, zip(count_fits(2), count_fits(4), count_fits(9), strict=False), strict=False)
+    )
     assert fits[OperatorType.EXTRUDE] == (1, 1, 1) and fits[OperatorType.BEVEL] == (1, 0, 0)
     assert fits[OperatorType.SWEEP] == (0, 1, 0) and fits[OperatorType.ADDSUB] == (0, 0, 1)
     face_id, strokes = scene()

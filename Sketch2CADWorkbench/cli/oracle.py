@@ -1,14 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """How close a sketch session's strokes let a reading end (training/session_oracle.py).
 
-Each step read by an oracle that knows the protocol's structure and which stroke draws
-which curve, its numbers by least squares on the strokes; one line per step (volume IoU
-alone on the true model before it, as read and as the step's choices snap it), then the
-final IoU of the oracle's protocol. Beside `sketch2cad interpret SESSION --compare
-PROTOCOL [--each-step]`, it tells a reading's shortfall from what the strokes hold.
-
-    .bin/python scripts/session_oracle.py examples/sessions/mixer.json examples/protocols/mixer.json
-    .bin/python scripts/session_oracle.py --examples [--json out.json]   # all six
+`sketch2cad oracle SESSION PROTOCOL` (or `--examples`, the six example sessions;
+`--json OUT.json` keeps the figures): each step read by an oracle that knows the
+protocol's structure and which stroke draws which curve, its numbers by least squares on
+the strokes; one line per step (volume IoU alone on the true model before it, as read and
+as the step's choices snap it), then the final IoU of the oracle's protocol. Beside
+`sketch2cad interpret SESSION --compare PROTOCOL [--each-step]`, it tells a reading's
+shortfall from what the strokes hold.
 """
 
 from __future__ import annotations
@@ -21,15 +20,25 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from Sketch2CADWorkbench.brep.protocol import ProtocolError, describe, load
-from Sketch2CADWorkbench.inference.session import load_session
 from training.session_oracle import session_oracle
 
-ROOT = Path(__file__).resolve().parents[1]
+from ..brep.protocol import ProtocolError, describe, load
+from ..inference.session import load_session
+
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe")
 
 
-def _pairs(args) -> list[tuple[Path, Path]]:
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("files", nargs="*", metavar="SESSION PROTOCOL")
+    p.add_argument(
+        "--examples", action="store_true", help="the six example sessions with their protocols"
+    )
+    p.add_argument("--json", type=Path, help="write the figures here")
+
+
+def _pairs(args: argparse.Namespace) -> list[tuple[Path, Path]] | None:
+    """(session, protocol) pairs to read, or None when the arguments name none."""
     if args.examples:
         return [
             (
@@ -39,30 +48,31 @@ def _pairs(args) -> list[tuple[Path, Path]]:
             for n in EXAMPLES
         ]
     if len(args.files) != 2:
-        sys.exit("session_oracle: give a session and its protocol, or --examples")
+        return None
     return [(Path(args.files[0]), Path(args.files[1]))]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("files", nargs="*", metavar="SESSION PROTOCOL")
-    parser.add_argument(
-        "--examples", action="store_true", help="the six example sessions with their protocols"
-    )
-    parser.add_argument("--json", help="write the figures here")
-    args = parser.parse_args(argv)
+def _error(text: str) -> int:
+    print(f"sketch2cad oracle: error: {text}", file=sys.stderr)
+    return 2
+
+
+def run(args: argparse.Namespace) -> int:
+    pairs = _pairs(args)
+    if pairs is None:
+        return _error("give a session and its protocol, or --examples")
     report = {}
-    for session_path, protocol_path in _pairs(args):
+    for session_path, protocol_path in pairs:
         try:
             session, protocol = load_session(session_path), load(protocol_path)
         except (OSError, ProtocolError) as e:
-            sys.exit(f"session_oracle: {e}")
+            return _error(str(e))
         name = session_path.stem
         with tqdm(total=len(session.steps), desc=name, leave=False) as bar:
             try:
                 got = session_oracle(session, protocol, on_step=lambda _: bar.update())
             except ValueError as e:
-                sys.exit(f"session_oracle: {session_path}: {e}")
+                return _error(f"{session_path}: {e}")
         weakest, bound = got.weakest
         print(
             f"{name}: oracle's final volume IoU {got.final_iou:.3f}, "
@@ -88,9 +98,5 @@ def main(argv: list[str] | None = None) -> int:
             ],
         }
     if args.json:
-        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+        args.json.write_text(json.dumps(report, indent=1) + "\n")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

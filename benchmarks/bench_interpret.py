@@ -2,7 +2,7 @@
 """Time of one interpret step on held-out sketches, stage by stage (the requirement:
 a median of at most 100 ms on 2 CPU cores).
 
-    .bin/python scripts/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
+    .bin/python benchmarks/bench_interpret.py DATA [--limit 100] [--threads 2] [--warmup 3]
 
 Interprets the first LIMIT samples of a generated set (level 1, no regularization, as
 `sketch2cad eval --recovery` does) once each, after WARMUP untimed ones, and prints the
@@ -28,15 +28,15 @@ import torch
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
-from datagen.dataset import Dataset  # noqa: E402
-from Sketch2CADWorkbench.brep.operators import replay  # noqa: E402
-from Sketch2CADWorkbench.inference.context import InterpretError  # noqa: E402
-from Sketch2CADWorkbench.inference.interpret import interpret  # noqa: E402
-from Sketch2CADWorkbench.inference.options import InterpretOptions  # noqa: E402
-from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
-from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
+from datagen.dataset import Dataset
+from Sketch2CADWorkbench.brep.operators import replay
+from Sketch2CADWorkbench.inference.context import InterpretError
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.inference.weights import load_predictor
+from Sketch2CADWorkbench.render.maps import MapRenderer
 
 STAGES = ("render", "networks", "fitting", "brep", "total")
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Data generation throughput: `python scripts/bench_datagen.py [--count 200] [--workers 1 2]`.
+"""Data generation throughput: `python benchmarks/bench_datagen.py [--count 200] [--workers 1 2]`.
 
 Makes `count` samples exactly as `sketch2cad datagen` does (the same worker function,
 shards written to a temporary folder) and prints, for each worker count, samples per
@@ -310,7 +310,8 @@ def main() -> None:
         print(
             f"bench_datagen: {rate:.2f} samples/s with {workers} worker(s) over "
             f"{args.count} samples, {cpu * 1e3:.1f} ms CPU per sample in all processes, "
-            f"{main_cpu * 1e3:.1f} ms of it in the writing main process (start-up {startup:.1f} s, load average {load:.2f} -> "
+            f"{main_cpu * 1e3:.1f} ms of it in the writing main process (start-up "
+            f"{startup:.1f} s, load average {load:.2f} -> "
             f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores); {TARGET} samples would "
             f"take {(TARGET / rate + startup) / 60:.1f} min"
         )

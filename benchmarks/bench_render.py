@@ -6,7 +6,7 @@ triangulation is removed first), full map sets (depth, normal, face ID, view dep
 per second from a ready mesh, and both together, at 256 x 256 by default; views are
 random directions framing the solid, as in data generation.
 
-Usage: .venv/bin/python scripts/bench_render.py [--size 256] [--repeats 20]
+Usage: .bin/python benchmarks/bench_render.py [--size 256] [--repeats 20]
 """
 
 from __future__ import annotations

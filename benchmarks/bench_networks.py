@@ -1,17 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Speed of the networks on this machine: training time per sample and inference latency.
 
-    .bin/python scripts/bench_networks.py                  # the shipped config
-    .bin/python scripts/bench_networks.py --candidates     # the design alternatives
-    .bin/python scripts/bench_networks.py --weights DIR    # a trained model's latency
-    .bin/python scripts/bench_networks.py --head RUN --data DIR   # with the head, by stage
+    .bin/python benchmarks/bench_networks.py                  # the shipped config
+    .bin/python benchmarks/bench_networks.py --candidates     # the design alternatives
+    .bin/python benchmarks/bench_networks.py --weights DIR    # a trained model's latency
+    .bin/python benchmarks/bench_networks.py --head RUN --data DIR   # with the head, by stage
 
 Training: one optimizer step (forward, the paper's losses at 256 x 256, backward, AdamW)
 on random batches, in ms per sample: the median and, as the figure least disturbed by
-other work on a shared machine, the minimum over the timed steps. Latency: `predict` on one full-size sketch (pooling,
-network, upsampling of all outputs to 256 x 256), median over runs, at `--infer-threads`
-threads (2: the target is <= 50 ms per sketch on 2 CPU cores). Timings are wall time,
-so other work on the machine inflates them; the median damps that.
+other work on a shared machine, the minimum over the timed steps. Latency: `predict` on
+one full-size sketch (pooling, network, upsampling of all outputs to 256 x 256), median
+over runs, at `--infer-threads` threads (2: the target is <= 50 ms per sketch on 2 CPU
+cores). Timings are wall time, so other work on the machine inflates them; the median damps that.
 """
 
 from __future__ import annotations
@@ -25,9 +25,9 @@ from pathlib import Path
 import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
-from Sketch2CADWorkbench.inference.models import (  # noqa: E402
+from Sketch2CADWorkbench.inference.models import (
     N_OPS,
     ModelConfig,
     Sketch2CADNet,
@@ -122,7 +122,7 @@ def head_latency_ms(
         x = s.inputs()
         clock = [time.perf_counter()]
 
-        def lap(name):
+        def lap(name, clock=clock, k=k):
             clock.append(time.perf_counter())
             if k:  # the first sketch allocates
                 times.setdefault(name, []).append(clock[-1] - clock[-2])

@@ -1,10 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The most any reading of an extrusion's strokes can recover (training/extrusion_bound.py).
 
-    .bin/python scripts/extrusion_bound.py data/heldout-l1c [MORE ...] [--limit N]
-        [--json OUT.json]
-
-For each set's extrusions on planar faces: an oracle that knows f and which tip was drawn
+`sketch2cad extrusion-bound data/heldout-l1c [MORE ...] [--limit N] [--json OUT.json]`:
+for each set's extrusions on planar faces, an oracle that knows f and which tip was drawn
 from which corner estimates d by least squares (the generator's end-point noise is
 Gaussian); with the generator's prior on d, the decision most likely to pass the
 recovery test (volume IoU >= 0.95) and its posterior probability of passing. Prints the
@@ -20,8 +18,7 @@ import json
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from training.extrusion_bound import bound_of_set  # noqa: E402
+from training.extrusion_bound import bound_of_set
 
 
 def pooled(rows: list[dict]) -> dict:
@@ -44,17 +41,23 @@ def line(name: str, r: dict) -> str:
     )
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("data", nargs="+", help="generated sets (sketch2cad datagen --out)")
-    ap.add_argument("--limit", type=int, default=None, help="samples read per set")
-    ap.add_argument("--json", type=Path, default=None, help="write the figures here")
-    a = ap.parse_args(argv)
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("data", nargs="+", help="generated sets (sketch2cad datagen --out)")
+    p.add_argument("--limit", type=int, default=None, help="samples read per set")
+    p.add_argument("--json", type=Path, default=None, help="write the figures here")
+
+
+def run(args: argparse.Namespace) -> int:
+    missing = [d for d in args.data if not Path(d).is_dir()]
+    if missing:
+        print(
+            f"sketch2cad extrusion-bound: error: {missing[0]}: no such generated set",
+            file=sys.stderr,
+        )
+        return 2
     rows = {}
-    for d in a.data:
-        if not Path(d).is_dir():
-            ap.error(f"{d}: no such generated set")
-        rows[d] = bound_of_set(d, a.limit)
+    for d in args.data:
+        rows[d] = bound_of_set(d, args.limit)
         if rows[d]["n"] == 0:
             print(f"{d}: no extrusion on a planar face")
             continue
@@ -63,10 +66,6 @@ def main(argv: list[str] | None = None) -> int:
     if len(counted) > 1:
         rows["pooled"] = pooled(counted)
         print(line("pooled", rows["pooled"]))
-    if a.json:
-        a.json.write_text(json.dumps(rows, indent=1))
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=1))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

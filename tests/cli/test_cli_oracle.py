@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""scripts/session_oracle.py: a line per session and per step, the figures in JSON, and
+"""`sketch2cad oracle`: a line per session and per step, the figures in JSON, and
 clear refusals of files that are not there or do not belong together."""
 
 import json
@@ -8,6 +8,7 @@ import pytest
 from session_fixtures import BASE, BOSS, POST, sketched_step
 
 from Sketch2CADWorkbench.brep.protocol import Protocol
+from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.inference.session import Session
 
 
@@ -21,9 +22,9 @@ def files(tmp_path):
     return tmp_path / "post.json", tmp_path / "post.protocol.json"
 
 
-def test_each_step_and_the_end_are_printed_and_written(load_script, files, tmp_path, capsys):
+def test_each_step_and_the_end_are_printed_and_written(files, tmp_path, capsys):
     out = tmp_path / "oracle.json"
-    assert load_script("session_oracle").main([*map(str, files), "--json", str(out)]) == 0
+    assert main(["oracle", *map(str, files), "--json", str(out)]) == 0
     text = capsys.readouterr().out
     assert text.startswith("post: oracle's final volume IoU 0.")
     assert "  step 1: alone 0." in text and "  step 2: alone 0." in text
@@ -37,12 +38,14 @@ def test_each_step_and_the_end_are_printed_and_written(load_script, files, tmp_p
     )
 
 
-def test_a_missing_file_and_a_protocol_of_another_length_are_named(
-    load_script, files, tmp_path, capsys
-):
-    script = load_script("session_oracle")
-    with pytest.raises(SystemExit, match="missing.json"):
-        script.main([str(files[0]), str(tmp_path / "missing.json")])
+def test_a_missing_file_and_a_protocol_of_another_length_are_named(files, tmp_path, capsys):
+    assert main(["oracle", str(files[0]), str(tmp_path / "missing.json")]) == 2
+    assert "missing.json" in capsys.readouterr().err
     Protocol(BASE, [POST]).save(tmp_path / "short.json")
-    with pytest.raises(SystemExit, match="2 steps and the protocol 1 operations"):
-        script.main([str(files[0]), str(tmp_path / "short.json")])
+    assert main(["oracle", str(files[0]), str(tmp_path / "short.json")]) == 2
+    assert "2 steps and the protocol 1 operations" in capsys.readouterr().err
+
+
+def test_a_session_without_its_protocol_is_refused(files, capsys):
+    assert main(["oracle", str(files[0])]) == 2
+    assert "give a session and its protocol, or --examples" in capsys.readouterr().err

@@ -1,15 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """End-to-end recovery with the structured head against the U-Net alone, on one data set.
 
-    .bin/python scripts/recovery_with_head.py --data data/heldout-l1 --head runs/head \
-        --limit 200 --json runs/recovery-l1.json
-
-interpret() hands the sketch's strokes and face-ID map to a predictor that has `observe`
-(inference/head/), so the whole pipeline (render, networks, fitting, B-rep) runs with
-the head's F and C. Prints the recovery rates of training/recovery.py for each predictor
-on the same samples; `--rows unet` or `--rows head` runs one (each takes minutes per 100
-samples), and `--json` keeps them, merged into what the file already holds, so the two
-rows can run apart and print together.
+`sketch2cad head-recovery --data data/heldout-l1 --head runs/head --limit 200
+--json runs/recovery-l1.json`: interpret() hands the sketch's strokes and face-ID map to a
+predictor that has `observe` (inference/head/), so the whole pipeline (render,
+networks, fitting, B-rep) runs with the head's F and C. Prints the recovery rates of
+training/recovery.py for each predictor on the same samples; `--rows unet` or `--rows
+head` runs one (each takes minutes per 100 samples), and `--json` keeps them, merged into
+what the file already holds, so the two rows can run apart and print together.
 """
 
 from __future__ import annotations
@@ -19,12 +17,12 @@ import json
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import torch  # noqa: E402
+import torch
 
-from Sketch2CADWorkbench.inference.head.predictor import load_structured_predictor  # noqa: E402
-from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_predictor  # noqa: E402
-from training.recovery import recovery  # noqa: E402
+from training.recovery import recovery
+
+from ..inference.head.predictor import load_structured_predictor
+from ..inference.weights import HEAD_NAME, load_predictor
 
 
 def table(rows: dict, title: str) -> str:
@@ -49,18 +47,20 @@ def table(rows: dict, title: str) -> str:
     return "\n".join(lines)
 
 
-def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--data", type=Path, required=True)
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--data", type=Path, required=True, help="a generated set (datagen --out)")
     p.add_argument("--head", type=Path, help="head file or its run folder (for the head row)")
     p.add_argument("--weights", type=Path, help="the U-Net (default: shipped)")
-    p.add_argument("--limit", type=int, default=100)
-    p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--limit", type=int, default=100, help="samples read (the first LIMIT)")
+    p.add_argument("--threads", type=int, default=1, help="torch threads")
     p.add_argument("--rows", nargs="+", choices=("unet", "head"), default=["unet", "head"])
     p.add_argument("--json", type=Path, help="keep the rows here (merged with the file's)")
-    args = p.parse_args()
+
+
+def run(args: argparse.Namespace) -> int:
     if "head" in args.rows and not args.head:
-        p.error("the head row needs --head")
+        print("sketch2cad head-recovery: error: the head row needs --head", file=sys.stderr)
+        return 2
     torch.set_num_threads(args.threads)
     rows = json.loads(args.json.read_text()) if args.json and args.json.exists() else {}
     for name in args.rows:
@@ -75,7 +75,3 @@ def main() -> int:
             args.json.write_text(json.dumps(rows, indent=1))
     print(table(rows, f"{args.data}, first {args.limit} samples"))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Time and peak memory of reading one extrusion sketch, by the view's resolution.
 
-Usage: .bin/python scripts/bench_extrude_fit.py [--sizes 800x600 4096x4096 8192x8192]
+Usage: .bin/python benchmarks/bench_extrude_fit.py [--sizes 800x600 4096x4096 8192x8192]
 
 For each size, a fresh process draws a 9 mm extrusion of a 40 x 30 x 20 box's top in
 a view of that many pixels framing the box (level-1 strokes, datagen's synthesis) and

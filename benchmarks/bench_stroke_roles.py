@@ -2,7 +2,7 @@
 """Benchmark of reading stroke roles from geometry (fitting/stroke_roles.py) for many
 strokes: the cost must grow about linearly with their number.
 
-Usage: .bin/python scripts/bench_stroke_roles.py [--counts 1000 3000 10000] [--seed 0]
+Usage: .bin/python benchmarks/bench_stroke_roles.py [--counts 1000 3000 10000] [--seed 0]
     [--roles OUT.json]
 
 Each sketch is many short strokes over the top face of a box seen from above at an
