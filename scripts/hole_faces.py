@@ -23,11 +23,11 @@ from pathlib import Path
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "inference"))
-from holes import HOLE_CENTRES, LINE_STYLES, gui_holes, read_as_the_hole  # noqa: E402
+from holes import HOLE_CENTRES, LINE_STYLES, gui_holes, read_as_the_hole
 
-from Sketch2CADWorkbench.brep.protocol import Mode  # noqa: E402
-from Sketch2CADWorkbench.inference.weights import load_predictor  # noqa: E402
-from Sketch2CADWorkbench.render.maps import MapRenderer  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import Mode
+from Sketch2CADWorkbench.inference.weights import load_predictor
+from Sketch2CADWorkbench.render.maps import MapRenderer
 
 
 def main() -> int:

@@ -37,7 +37,7 @@ from datagen.dataset import Dataset
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
-from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep
 from Sketch2CADWorkbench.inference.context import Context, InterpretError
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
@@ -104,7 +104,9 @@ def read_step(
     return StepReading(
         op,
         apply_operation(context, op) if result is None else result,
-        reading.alternative.op.mode if reading.alternative else None,
+        alternative.op.mode
+        if (alternative := reading.alternative) and isinstance(alternative.op, (AddSubPrism, Sweep))
+        else None,
         None,
     )
 

@@ -32,7 +32,7 @@ import cadquery as cq
 import numpy as np
 
 from ..brep.faces import OperationError
-from ..brep.protocol import Mode, Operation
+from ..brep.protocol import AddSubPrism, Mode, Operation, Sweep
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
@@ -59,11 +59,7 @@ class Alternative:
     operations: tuple[Operation, ...]  # as Interpretation.operations (its mirror image too)
     solid: cq.Solid  # the model with them applied
     score_px: float  # how well it explains the strokes (`SketchFit.score` of `explained`)
-
-    @property
-    def option(self) -> Mode:
-        """Its Boolean (the designer's choice that reads it)."""
-        return self.operations[0].mode
+    option: Mode  # its Boolean (the designer's choice that reads it)
 
     @staticmethod
     def of(
@@ -71,12 +67,14 @@ class Alternative:
     ) -> Alternative | None:
         """The alternative of op, built on `solid` as `result`, with its mirror image
         through the mid-plane `symmetry` if asked (`mirror.apply_with_symmetry`); None
-        when that image does not build."""
+        when that image does not build, or op is no primitive (it has no Boolean)."""
+        if not isinstance(op, (AddSubPrism, Sweep)):
+            return None
         try:
             ops, solid = apply_with_symmetry(solid, op, symmetry, result)
         except OperationError:
             return None
-        return Alternative(ops, solid, score_px)
+        return Alternative(ops, solid, score_px, op.mode)
 
 
 def seen_fit(

@@ -206,7 +206,7 @@ def weigh_the_other_boolean(
     if (
         ctx.renderer is None
         or options.option is not None
-        or op_type not in TAKE_A_BOOLEAN
+        or not isinstance(reading.op, (AddSubPrism, Sweep))
         or reading.flip_refused
         or not other_option_fits(face_at(solid, reading.index), ctx.camera, reading.op)
     ):
@@ -220,13 +220,18 @@ def weigh_the_other_boolean(
     if other is None:
         return reading
     face = face_at(solid, reading.index)
-    fits, share = [], []
+    fits = []
     for r in (reading, other):
         held = ctx.resolved(solid, r.op.face)
         seen = seen_fit(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, held)
         fits.append((r.fit, seen))
-        share.append(base_share(face, ctx.camera, r.op))
         r.fit = explained(r.fit, seen)
+    # both are primitives: the reading one by the test above, the other fitted like it
+    share = [
+        base_share(face, ctx.camera, r.op)
+        for r in (reading, other)
+        if isinstance(r.op, (AddSubPrism, Sweep))
+    ]
     flip, offered = the_meant(*one_way_scores(*fits), share[1] >= min(share[0], ON_FACE_FRACTION))
     taken, left = (other, reading) if flip else (reading, other)
     taken.alternative = left if offered else None
