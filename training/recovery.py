@@ -38,15 +38,15 @@ from datagen.hand import join_end_to_start
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
-from Sketch2CADWorkbench.brep.protocol import Mode, Operation, OperatorType
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Mode, Operation, OperatorType, Sweep
 from Sketch2CADWorkbench.inference.context import Context, InterpretError
 from Sketch2CADWorkbench.inference.fitting.common import FitError, resample
 from Sketch2CADWorkbench.inference.fitting.primitive import choose_option
 from Sketch2CADWorkbench.inference.fitting.surface import face_frame
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
-from Sketch2CADWorkbench.inference.interpret import interpret, other_option, snap_or_keep
+from Sketch2CADWorkbench.inference.interpret import interpret, snap_or_keep
 from Sketch2CADWorkbench.inference.options import InterpretOptions
-from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, fit_operation
+from Sketch2CADWorkbench.inference.search import TAKE_A_BOOLEAN, read_operation
 from Sketch2CADWorkbench.render.maps import ContextMaps, MapRenderer
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.labels import END, START
@@ -84,13 +84,15 @@ def read_step(
         segment_strokes(sample.strokes) if options.segment else sample.strokes,
         ContextMaps(sample.depth, sample.normal, sample.face_id, view_depth=None),
         sample.inputs(),
+        renderer=renderer,
     )
     try:
-        op, index, _ = fit_operation(
+        reading = read_operation(
             context, sample.op_type, sample.face_label, sample.curve_label, ctx, options
         )
     except FitError as e:
         raise InterpretError(f"read as {sample.op_type.value}, but {e}") from None
+    op, index = reading.op, reading.index
     result = None
     if options.regularize:  # as interpret() does after fitting
         op, _, result, _ = snap_or_keep(
@@ -105,7 +107,9 @@ def read_step(
     return StepReading(
         op,
         apply_operation(context, op) if result is None else result,
-        other_option(context, op, index, ctx.camera, options),
+        alternative.op.mode
+        if (alternative := reading.alternative) and isinstance(alternative.op, (AddSubPrism, Sweep))
+        else None,
         None,
     )
 

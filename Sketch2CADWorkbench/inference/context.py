@@ -56,6 +56,9 @@ class Context:
     # seconds spent building readings' results (`builds_a_change`): B-rep work done while
     # reading, timed as the B-rep stage
     build_s: float = field(default=0.0, compare=False)
+    # renders what a reading's result lets the view see (`search.weigh_the_other_boolean`);
+    # None: readings are weighed by every line only
+    renderer: MapRenderer | None = field(default=None, repr=False, compare=False)
 
     @cached_property
     def drawn(self) -> DrawnStrokes:
@@ -93,7 +96,7 @@ def to_context(
     maps = renderer.render(solid, cam)
     sketch = rasterize(ctx, cam.width, cam.height)
     inputs = np.concatenate([sketch[None], maps.depth[None], maps.normal]).astype(np.float32)
-    return Context(cam, ctx, maps, inputs)
+    return Context(cam, ctx, maps, inputs, renderer=renderer)
 
 
 def check_sketch(strokes: list[np.ndarray]) -> None:

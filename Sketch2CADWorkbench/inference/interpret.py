@@ -37,9 +37,9 @@ from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from ..sketch.labels import CLASSES
 from ..sketch.segment import segment_strokes
+from .alternative import Alternative
 from .context import Context, InterpretError, check_sketch, to_context
 from .fitting.common import FitError
-from .fitting.primitive import other_option_fits
 from .fitting.regularize import Snap, StrokeCheck, hand_tolerance, regularize_operation
 from .fitting.verify import SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
@@ -63,15 +63,20 @@ class Interpretation:
     # results, which fitting builds to refuse one that fails or changes nothing, and the
     # step's mirror image or regularized rebuild) and total
     timings_ms: dict[str, float] = field(default_factory=dict)
-    # The Boolean that explains the same strokes as well (a boss on f and a hole into f
-    # draw the same lines in a parallel view, paper Fig. 5b); None when there is none.
-    other_option: Mode | None = None
+    # The other Boolean's reading when it explains the same strokes too (a boss on f and
+    # a hole into f draw the same lines in a parallel view, paper Fig. 5b): alternative.py
+    alternative: Alternative | None = None
     # How well the operation's own sketch and the strokes explain each other.
     fit: SketchFit | None = None
     # The snaps regularization applied, in order (InterpretOptions.skip_snaps undoes one).
     snaps: tuple[Snap, ...] = ()
     # Why the snaps found were not applied (the snapped shape does not build); "" if none.
     unsnapped: str = ""
+
+    @property
+    def other_option(self) -> Mode | None:
+        """The Boolean that reads the strokes too (the alternative's); None when none does."""
+        return self.alternative.option if self.alternative else None
 
     @property
     def confidence(self) -> float:
@@ -175,18 +180,6 @@ def _snapped(
     return op, snaps, reading.result if result is None else result, why
 
 
-def other_option(
-    solid: cq.Shape, op: Operation, base_face: int, camera: OrthoCamera, options: InterpretOptions
-) -> Mode | None:
-    """The flipped Boolean when it reads the strokes as well as the one chosen (only
-    when the designer did not choose one): see `Interpretation.other_option`."""
-    if options.option is not None or op.type not in TAKE_A_BOOLEAN:
-        return None
-    if not other_option_fits(face_at(solid, base_face), camera, op):
-        return None
-    return op.mode.flipped
-
-
 def interpret(
     solid: cq.Shape,
     strokes: list[np.ndarray],
@@ -251,14 +244,13 @@ def interpret(
             op, snaps, built, unsnapped = reading.op, (), reading.result, ""
             if options.regularize:
                 op, snaps, built, unsnapped = _snapped(solid, reading, ctx, view, options)
-            other = (
-                None
-                if reading.flip_refused
-                else other_option(solid, op, reading.index, ctx.camera, options)
-            )
             tc = time.perf_counter()
             times["fitting"] += tc - tb
             ops, result = apply_with_symmetry(solid, op, options.symmetry, built)
+            left = reading.alternative
+            other = left and Alternative.of(
+                solid, left.op, left.result, left.fit.score, options.symmetry
+            )
             break
         except (FitError, OperationError) as e:
             times["fitting"] += time.perf_counter() - tb

@@ -78,6 +78,8 @@ class Reading:
     refused: str = ""  # why it cannot be the step: its Boolean fails or changes nothing
     # read with the other Boolean because none with the first built: no flip back to it
     flip_refused: bool = False
+    # its other Boolean's reading when that explains the strokes too (alternative.py)
+    alternative: Reading | None = None
 
     @property
     def doubtful(self) -> bool:

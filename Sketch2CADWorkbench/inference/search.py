@@ -19,15 +19,16 @@ from typing import Protocol as TypingProtocol
 import cadquery as cq
 import numpy as np
 
-from ..brep.faces import OperationError, face_kinds, plane_normals
+from ..brep.faces import OperationError, face_at, face_kinds, plane_normals
 from ..brep.protocol import AddSubPrism, Operation, OperatorType, Sweep
 from ..render.camera import OrthoCamera
 from ..sketch.labels import CLASSES
 from .adapters import fit_on_face
+from .alternative import explained, one_way_scores, seen_fit, the_meant
 from .context import Context
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
-from .fitting.primitive import base_centre
+from .fitting.primitive import ON_FACE_FRACTION, base_centre, base_share, other_option_fits
 from .options import InterpretOptions
 from .reading import GOOD_FIT_PX, Fit, Reading, builds_a_change
 
@@ -167,7 +168,7 @@ def read_operation(
                 and not reading.hidden
                 and builds_a_change(solid, reading, ctx)
             ):
-                return reading
+                return weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
     readings.sort(key=lambda r: (r.hidden, r.fit.score))
     if readings and not builds_a_change(solid, readings[0], ctx):
         # the best reading's other Boolean draws its lines too (paper Fig. 5b): it competes
@@ -179,10 +180,62 @@ def read_operation(
         )
     for reading in readings:
         if builds_a_change(solid, reading, ctx):
-            return reading
+            return weigh_the_other_boolean(solid, op_type, reading, curve, ctx, options)
     if readings:
         raise FitError(readings[0].refused)
     raise first or FitError("no face of the model gave a reading of the strokes")
+
+
+def weigh_the_other_boolean(
+    solid: cq.Shape,
+    op_type: OperatorType,
+    reading: Reading,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> Reading:
+    """Of a primitive's built reading and the one of its other Boolean on its face, the
+    one the strokes mean, its fit the better of its lines drawn all or only where its
+    result lets the view see them (`alternative.explained`), with the other as its
+    `alternative` when that is offered (alternative.py: both weighed by their lines
+    drawn the one way that explains the strokes best, and by where each would stand on
+    f). Weighed only when the designer chose no Boolean, the reading is not already the
+    other Boolean of one that did not build, and its far outline stands on f
+    (`other_option_fits`: the other one's base must, to be read); and against an other
+    reading that builds a change and is not hidden where the reading is not."""
+    if (
+        ctx.renderer is None
+        or options.option is not None
+        or not isinstance(reading.op, (AddSubPrism, Sweep))
+        or reading.flip_refused
+        or not other_option_fits(face_at(solid, reading.index), ctx.camera, reading.op)
+    ):
+        return reading
+    hidden = hidden_faces(solid, ctx.camera)
+    others = _with_the_other_boolean(solid, op_type, [reading], curve, ctx, options, hidden)
+    other = next(
+        (r for r in others if r.hidden <= reading.hidden and builds_a_change(solid, r, ctx)),
+        None,
+    )
+    if other is None:
+        return reading
+    face = face_at(solid, reading.index)
+    fits = []
+    for r in (reading, other):
+        held = ctx.resolved(solid, r.op.face)
+        seen = seen_fit(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, held)
+        fits.append((r.fit, seen))
+        r.fit = explained(r.fit, seen)
+    # both are primitives: the reading one by the test above, the other fitted like it
+    share = [
+        base_share(face, ctx.camera, r.op)
+        for r in (reading, other)
+        if isinstance(r.op, (AddSubPrism, Sweep))
+    ]
+    flip, offered = the_meant(*one_way_scores(*fits), share[1] >= min(share[0], ON_FACE_FRACTION))
+    taken, left = (other, reading) if flip else (reading, other)
+    taken.alternative = left if offered else None
+    return taken
 
 
 def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
@@ -232,19 +285,6 @@ def _with_the_other_boolean(
     for reading in readings:
         reading.flip_refused = True
     return readings
-
-
-def fit_operation(
-    solid: cq.Shape,
-    op_type: OperatorType,
-    face_prob: np.ndarray,
-    curve: np.ndarray,
-    ctx: Context,
-    options: InterpretOptions,
-) -> Fit:
-    """`read_operation`'s (operation, base face index, per-stroke labels)."""
-    r = read_operation(solid, op_type, face_prob, curve, ctx, options)
-    return r.op, r.index, r.labels
 
 
 def read_operators(

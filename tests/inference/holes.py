@@ -24,16 +24,27 @@ import numpy as np
 from datagen.generate import Context, sample_rng, view_sample
 from datagen.operations import sample_prism
 from datagen.sequences import MIN_VOLUME_CHANGE, Drawn, Stage, sample_sequence
+from datagen.strokes import sketch_strokes
+from datagen.views import frame_curves, up_vector
 from Sketch2CADWorkbench.brep.compare import volume_iou
-from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
-from Sketch2CADWorkbench.brep.operators import apply_operation
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Mode, OperatorType
+from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
+from Sketch2CADWorkbench.brep.operators import apply_operation, replay, sweep_tool
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Box,
+    FaceRef,
+    Mode,
+    Protocol,
+    Sweep,
+)
 from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 READ_IOU = 0.95  # the evaluation's recovery criterion (training/recovery.py)
 
@@ -45,7 +56,7 @@ class DrawnHole:
     solid: cq.Solid
     strokes: list[np.ndarray]
     camera: OrthoCamera
-    hole: AddSubPrism
+    hole: AddSubPrism | Sweep
     result: cq.Solid
 
 
@@ -80,6 +91,73 @@ def designer_holes(
             continue
         made += 1
         yield DrawnHole(stage.solid, sample.strokes, sample.camera, op, result)
+
+
+# A box that had a boss on its top, and a drilled hole (r 6 mm, 15 deep) into each of
+# the faces FreeCAD's isometric view shows: its front (-Y), right (+X) and top.
+BOSSED_BOX = Protocol(
+    Box((40.0, 30.0, 20.0)),
+    (
+        AddSubPrism(
+            FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),
+            ((-16.0, -2.0, 10.0), (0.0, -2.0, 10.0), (0.0, 10.0, 10.0), (-16.0, 10.0, 10.0)),
+            12.0,
+        ),
+    ),
+)
+HOLE_CENTRES = {
+    "-Y": ((0.0, -15.0, 0.0), (0.0, -1.0, 0.0)),
+    "+X": ((20.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
+    "top": ((10.0, -6.0, 10.0), (0.0, 0.0, 1.0)),
+}
+ISOMETRIC = (-1.0, 1.0, -1.0)
+# How a hole's lines are drawn: every line (as the training sketches are); only what the
+# view sees of the model after the hole (the rim, and of the depth lines and the bottom
+# circle what the opening shows); or the lines the hole's own cylinder would show, seen as
+# a solid (rim and depth lines, the bottom circle's half behind the cylinder left out)
+LINE_STYLES = ("all", "seen", "own")  # FreeCAD's isometric view direction, into the scene
+
+
+def drilled_hole(face: str, r: float = 6.0, d: float = 15.0) -> Sweep:
+    """A cylindrical hole of radius r and depth d into `face` of BOSSED_BOX (a key of
+    HOLE_CENTRES), as a subtract sweep whose profile is a straight line."""
+    centre, normal = HOLE_CENTRES[face]
+    return Sweep(
+        FaceRef(centre, normal), centre, r, r, d, ((r, d / 3), (r, 2 * d / 3)), Mode.SUBTRACT
+    )
+
+
+def gui_holes(
+    face: str,
+    count: int,
+    seed: int,
+    renderer: MapRenderer,
+    lines: str,
+    noise_level: int = 1,
+    turn_deg: float = 8.0,
+) -> Iterator[DrawnHole]:
+    """`count` drawings of `drilled_hole(face)` on BOSSED_BOX in FreeCAD's isometric view
+    turned by about `turn_deg` degrees, with the data generator's freehand strokes of
+    `noise_level`. `lines`: one of LINE_STYLES."""
+    solid = replay(BOSSED_BOX)[-1]
+    op = drilled_hole(face)
+    result = apply_operation(solid, op)
+    cylinder = sweep_tool(solid, resolve_face(solid, op.face), op, model_scale(solid))
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        direction = np.asarray(ISOMETRIC, float) / np.sqrt(3) + rng.normal(
+            0.0, np.radians(turn_deg) / 2, 3
+        )
+        direction /= np.linalg.norm(direction)
+        curves = operation_curves(solid, op, direction)
+        camera = frame_curves(
+            np.concatenate([c.points for c in curves]), direction, up_vector(rng, direction), 2.0
+        )
+        if lines != "all":
+            shown = result if lines == "seen" else cylinder
+            curves = visible_curves(curves, camera, renderer.render(shown, camera))
+        strokes, _ = sketch_strokes(curves, camera, rng, noise_level)
+        yield DrawnHole(solid, strokes, camera, op, result)
 
 
 def rim_boss(hole: DrawnHole) -> AddSubPrism:
@@ -131,10 +209,12 @@ def read_as_the_hole(
     except InterpretError as e:
         return f"refused: {e}", None
     op = got.operations[0]
-    if got.op_type is not OperatorType.ADDSUB or op.mode is not Mode.SUBTRACT:
-        mode = getattr(op, "mode", None)
+    mode = getattr(op, "mode", None)
+    if mode is not Mode.SUBTRACT:
         return f"read as {got.op_type.value}" + (
             f" ({mode.value})" if mode else ""
         ), got.other_option
     iou = volume_iou(got.solid, hole.result)
-    return ("" if iou >= READ_IOU else f"a subtraction with volume IoU {iou:.2f}"), got.other_option
+    return (
+        "" if iou >= READ_IOU else f"a {got.op_type.value} subtraction with volume IoU {iou:.2f}"
+    ), got.other_option

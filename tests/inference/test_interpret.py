@@ -31,6 +31,8 @@ from Sketch2CADWorkbench.inference.context import InterpretError
 from Sketch2CADWorkbench.inference.fitting.regularize import Regularized
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
+from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
 
@@ -109,6 +111,48 @@ def test_a_low_boss_names_the_hole_that_draws_the_same_lines_unless_the_designer
         box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False, option=Mode.ADD)
     )
     assert chosen.other_option is None
+
+
+def test_the_low_boss_names_its_hole_as_an_alternative_that_builds(renderer):
+    box = make_box(Box((40, 30, 20)))
+    low = AddSubPrism(TOP, ((-6, -5, 10), (2, -5, 10), (2, 3, 10), (-6, 3, 10)), 4.0, Mode.ADD)
+    cam = view()
+    pts, labels = sketch(box, low, cam)
+    oracle = Oracle(box, low, pts, labels, cam, renderer)
+    strokes = [cam.project(p)[0] for p in pts]
+    got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+    other = got.alternative
+    assert other.option is Mode.SUBTRACT and other.operations[0].type is OperatorType.ADDSUB
+    assert other.solid.Volume() < box.Volume() < got.solid.Volume()
+    assert volume_iou(other.solid, apply_operation(box, other.operations[0])) > 0.999
+
+
+@pytest.mark.parametrize("drawn_as", [Mode.SUBTRACT, Mode.ADD])
+def test_a_shallow_hole_and_the_boss_on_its_rim_are_told_apart_by_the_lines_left_hidden(
+    renderer, drawn_as
+):
+    # drawn with every line, a drilled hole and the boss on its rim draw the same lines and
+    # both outlines lie on f, so the +/- rule takes the boss; drawn as the view sees each
+    # (the hole's floor only inside its rim, the boss's base only in front), they differ
+    box = make_box(Box((40, 30, 20)))
+    r, d = 8.0, 2.0
+    hole = Sweep(TOP, (-2.0, -1.0, 10.0), r, r, d, ((r, d / 3), (r, 2 * d / 3)), Mode.SUBTRACT)
+    cam = view()
+    drawn = hole
+    if drawn_as is Mode.ADD:  # the boss on the hole's rim (tests/inference/holes.py)
+        n, v = np.array([0.0, 0.0, 1.0]), np.asarray(cam.direction, float)
+        base = np.array(hole.center) - d * n - v * (d / float(-v @ n))
+        drawn = replace(hole, center=tuple(base), mode=Mode.ADD)
+    truth = apply_operation(box, drawn)
+    seen = visible_curves(
+        operation_curves(box, drawn, np.array(cam.direction)), cam, renderer.render(truth, cam)
+    )
+    pts, labels = [c.points for c in seen], [c.label for c in seen]
+    oracle = Oracle(box, drawn, pts, labels, cam, renderer)
+    strokes = [cam.project(p)[0] for p in pts]
+    got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+    assert got.operations[0].mode is drawn_as and volume_iou(got.solid, truth) > 0.95
+    assert not got.doubtful  # its seen lines explain the strokes
 
 
 def off_centre_boss(renderer):

@@ -167,6 +167,14 @@ def far_outline(op: AddSubPrism | Sweep, frame: FaceFrame) -> np.ndarray:
     return frame.to_3d(ring) + shift
 
 
+def base_share(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep) -> float:
+    """The share of the primitive's base outline (on f's plane) that lies on f: where it
+    would stand relative to f's outline."""
+    frame = FaceFrame.of(face)
+    base = far_outline(op, frame) - frame.normal * op.d * op.mode.sign
+    return fraction_on_face(face, base, on_face_tolerance(camera))
+
+
 def far_outline_share(face: cq.Face, camera: OrthoCamera, op: AddSubPrism | Sweep) -> float:
     """The share of the primitive's far outline (and its centre) that, back-projected
     along the view onto f's plane, lies on f."""

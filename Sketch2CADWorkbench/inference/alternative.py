@@ -1,0 +1,118 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Which Boolean a primitive's strokes mean, and the other one when it explains them too.
+
+Drawn with every line, a boss on f and a hole into f whose rim is the boss's top outline
+draw the same lines in a parallel view (paper, Fig. 5b). Designers leave out the lines
+the view hides, and then the two differ: a hole's material hides the near part of its
+floor outline (and all of a deep hole's depth lines and floor), a boss hides the back of
+its own base outline (sketch/visible.py). So the two readings are weighed by how well
+they explain the strokes drawn the one way, with every line or with only the lines each
+reading's own result lets the view see, that explains them best for either
+(`one_way_scores`, each `SketchFit.score`): were each allowed its better way, the
+boss would explain a seen-drawn hole by every line nearly as well as the hole, the lines
+it adds being the few a shallow hole hides. Of a reading and its other Boolean, the
+other is taken when it explains the strokes better by more than TIE_PX and stands on f
+as fully as the fitted
+one (its base outline's share on f at least the fitted one's, up to
+`primitive.ON_FACE_FRACTION`): drawn as a cylinder shows itself, a hole's floor outline
+loses the half its own cylinder hides, just as the boss standing on that floor outline
+slid back along the view onto f would (its base's back half), so the lines alone may
+favour that boss, which then stands off f's outline where the hole's rim lies on f.
+Within TIE_PX the strokes do not tell them apart, and the fitted choice stands
+(`primitive.choose_option`: where each would stand on f). The one not taken is offered
+as the alternative when it builds and explains the strokes within OFFER_PX of the one
+taken (or within that one's own score of it).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cadquery as cq
+import numpy as np
+
+from ..brep.faces import OperationError
+from ..brep.protocol import AddSubPrism, Mode, Operation, Sweep
+from ..render.camera import OrthoCamera
+from ..render.maps import MapRenderer
+from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
+from .mirror import apply_with_symmetry
+
+# A reading's other Boolean replaces it only when it explains the strokes better by more
+# than this (pixels of SketchFit.score): a level-1 hand's median misfit is 1.4 px, so a
+# lead of a pixel is the strokes' own word, not the hand's noise.
+TIE_PX = 1.0
+# The reading not taken is offered when its score lies within this (pixels) of the one
+# taken, or within the taken one's own score of it: a clear fit's margin
+# (reading.GOOD_FIT_PX), wider than TIE_PX so that the one click stays offered where the
+# strokes lean one way but the hand could mean the other, and wider still where the
+# taken reading itself explains the strokes poorly (a hole drawn without its hidden
+# lines, fitted as if every line were drawn).
+OFFER_PX = 3.0
+
+
+@dataclass(frozen=True, eq=False)
+class Alternative:
+    """Another reading of the same strokes, the other Boolean of the one taken: it builds
+    and explains the strokes within OFFER_PX of it, so one click may take it instead."""
+
+    operations: tuple[Operation, ...]  # as Interpretation.operations (its mirror image too)
+    solid: cq.Solid  # the model with them applied
+    score_px: float  # how well it explains the strokes (`SketchFit.score` of `explained`)
+    option: Mode  # its Boolean (the designer's choice that reads it)
+
+    @staticmethod
+    def of(
+        solid: cq.Shape, op: Operation, result: cq.Solid, score_px: float, symmetry: str | None
+    ) -> Alternative | None:
+        """The alternative of op, built on `solid` as `result`, with its mirror image
+        through the mid-plane `symmetry` if asked (`mirror.apply_with_symmetry`); None
+        when that image does not build, or op is no primitive (it has no Boolean)."""
+        if not isinstance(op, (AddSubPrism, Sweep)):
+            return None
+        try:
+            ops, solid = apply_with_symmetry(solid, op, symmetry, result)
+        except OperationError:
+            return None
+        return Alternative(ops, solid, score_px, op.mode)
+
+
+def seen_fit(
+    solid: cq.Shape,
+    op: Operation,
+    result: cq.Shape,
+    camera: OrthoCamera,
+    drawn: DrawnStrokes,
+    renderer: MapRenderer,
+    face=None,
+) -> SketchFit:
+    """`verify.sketch_fit` of op's lines that the view sees of its `result`: what a
+    designer draws who leaves the hidden lines out."""
+    return sketch_fit(solid, op, camera, drawn, renderer.render(result, camera), face)
+
+
+def explained(every: SketchFit, seen: SketchFit | None) -> SketchFit:
+    """Of a reading's fits with every line and with the lines its result lets the view
+    see (None: not known), the one that explains the strokes better (`SketchFit.score`)."""
+    return every if seen is None or every.score <= seen.score else seen
+
+
+def one_way_scores(
+    first: tuple[SketchFit, SketchFit], other: tuple[SketchFit, SketchFit]
+) -> tuple[float, float]:
+    """The `SketchFit.score`s of two readings, each given as its fit with every line and
+    with the lines its result lets the view see, both with the lines drawn the way (every
+    line, or those seen) in which either reading explains the strokes best."""
+    scores = np.array([[fit.score for fit in pair] for pair in (first, other)])
+    way = int(np.argmin(scores.min(axis=0)))
+    return float(scores[0, way]), float(scores[1, way])
+
+
+def the_meant(first: float, other: float, other_stands: bool) -> tuple[bool, bool]:
+    """Of a reading scoring `first` and its other Boolean scoring `other`
+    (`one_way_scores`), that one standing on f as fully as the reading (`other_stands`):
+    whether the other is the meaning, and whether the one not taken is offered as the
+    alternative."""
+    flip = other_stands and other < first - TIE_PX
+    taken, left = (other, first) if flip else (first, other)
+    return flip, left - taken <= max(OFFER_PX, taken)
