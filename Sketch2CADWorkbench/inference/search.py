@@ -222,6 +222,8 @@ def weigh_the_other_boolean(
     face = face_at(solid, reading.index)
     fits = []
     for r in (reading, other):
+        if r.result is None:  # nothing built: nothing seen to weigh
+            return reading
         held = ctx.resolved(solid, r.op.face)
         seen = seen_fit(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, held)
         fits.append((r.fit, seen))
