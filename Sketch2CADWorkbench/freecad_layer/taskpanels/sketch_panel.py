@@ -20,6 +20,7 @@ from ..preferences import regularize_default, snap_step, use_network_threads
 from ..shapes import from_part, to_part
 from ..trackers.preview import Preview
 from ..trackers.stroke_capture import StrokeCapture
+from ..trackers.view_camera import view_camera
 from ..translate import translate
 
 MAKE = "Sketch2CADWorkbench.freecad_layer.make.make_model"
@@ -323,7 +324,7 @@ class SketchPanel:
             self.regularize.isChecked(),
             None if opt == "auto" else Mode(opt),
             None if sym == "none" else sym,
-            snap_step=snap_step(),
+            snap_step=snap_step(view_camera(self.view).pixel_size),
             skip_snaps=frozenset(self.skipped),
         )
 
