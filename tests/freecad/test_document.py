@@ -11,6 +11,8 @@ CHECKS = [
     "tree_from_protocol",
     "edit_and_recompute",
     "bevel_follows_an_edit_of_an_earlier_extrude",
+    "values_follow_an_edit_of_an_earlier_step",
+    "a_drilled_cylinder_is_a_hole_and_a_bevel_reads_with_its_size",
     "sweep_profile_follows_its_radii",
     "unbuildable_value_puts_only_that_feature_in_error",
     "save_fcstd",

@@ -25,7 +25,7 @@ from harness import (  # noqa: E402
     send_drag,
     tested_checkout,
 )
-from PySide import QtCore, QtGui  # noqa: E402
+from PySide import QtCore, QtGui, QtTest  # noqa: E402
 
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
@@ -315,8 +315,9 @@ def sketching_in_a_perspective_view_switches_it_to_orthographic():
 @check
 def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     """A low square boss in the middle of the top face: from above, its top outline
-    falls inside the face, so a hole draws the same lines. The panel says so, and
-    choosing subtract in its Boolean box reads the hole."""
+    falls inside the face, so a hole draws the same lines. The panel offers both readings
+    as buttons, a click previews the hole and OK adds it (recording subtract as chosen);
+    choosing subtract in its Boolean box reads the hole too."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
 
@@ -343,15 +344,40 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     try:
         assert panel.result is not None and panel.result.op_type.value == "addsub", text
         assert panel.result.operations[0].mode.value == "add", text
-        assert "read just as well as subtract" in text, text
+        assert "read just as well as another Boolean" in text, text
+        labels = [b.text() for b in panel.reading_buttons]
+        assert labels == ["Boss", "Hole"], labels
+        assert [b.isChecked() for b in panel.reading_buttons] == [True, False]
+        before = model.Tip.Shape.Volume
+        QtTest.QTest.mouseClick(panel.reading_buttons[1], QtCore.Qt.LeftButton)
+        settle()
+        assert [b.isChecked() for b in panel.reading_buttons] == [False, True]
+        assert "Read as Hole" in panel.text.toPlainText(), panel.text.toPlainText()
+        shown = panel.readings[panel.chosen].solid.Volume()  # the hole, previewed
+        assert panel.preview.node is not None and shown < before, (shown, before)
         panel.option.setCurrentIndex(panel.option.findText("subtract"))
         settle()
         assert panel.result is not None, panel.text.toPlainText()
         assert panel.result.operations[0].mode.value == "subtract"
-        before, after = model.Tip.Shape.Volume, panel.result.solid.Volume()
+        after = panel.result.solid.Volume()
         assert after < before, (before, after, panel.text.toPlainText())
+        # back to auto, the hole picked with a click is what OK adds
+        panel.option.setCurrentIndex(panel.option.findText("auto"))
+        settle()
+        panel.choose(1)
+        undos = model.Document.UndoCount
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+        hole = model.Tip
+        assert (hole.Label, hole.Mode) == ("Hole", "subtract"), (hole.Label, hole.Mode)
+        assert json.loads(hole.SketchStep)["choices"]["option"] == "subtract"
+        assert hole.Shape.Volume < before
+        model.Document.undo()  # the later checks draw on the model as it was
+        assert model.Document.UndoCount == undos
+        model.Document.recompute()
     finally:
-        panel.reject()
+        if not panel.closed:
+            panel.reject()
         settle()
 
 
@@ -626,6 +652,15 @@ def double_click_in_tree(obj) -> None:
     settle()
 
 
+def shown(obj) -> tuple:
+    """Whether the feature and the model's box are drawn in the view (their switches:
+    the Sketch panel shows the solid before an edited step without changing Visibility)."""
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+
+    box = features(next(o for o in obj.InList if obj in getattr(o, "Group", [])))[0]
+    return tuple(o.ViewObject.SwitchNode.whichChild.getValue() >= 0 for o in (obj, box))
+
+
 @check
 def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     """As PartDesign reopens a Pad: double-click shows the step's strokes in the view they
@@ -646,6 +681,10 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     pad = features(model)[-1]
     assert pad.Label == "Pad" and pad.SketchStep, (pad.Label, pad.SketchStep[:100])
     offset, undos = pad.Offset.Value, doc.UndoCount
+    doc.saveAs(os.path.join(TMP, "edit.FCStd"))
+    FreeCADGui.runCommand("Std_Save")  # FreeCAD's own save clears the modified mark
+    settle()
+    assert not FreeCADGui.ActiveDocument.Modified
     view.viewFront()  # the user has turned the view since
     settle()
     double_click_in_tree(pad)
@@ -657,20 +696,23 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     assert np.allclose(cam.direction, drawn_camera.direction, atol=1e-6), cam
     assert len(edit.capture.strokes) == 8
     assert edit.result is not None and "Pad: the face moved out by" in edit.text.toPlainText()
-    assert not pad.ViewObject.Visibility and features(model)[0].ViewObject.Visibility
+    assert shown(pad) == (False, True), shown(pad)  # the solid before the step
+    assert "OK keeps Pad as it is" in edit.text.toPlainText(), edit.text.toPlainText()
     edit.reject()
     settle()
     assert not FreeCADGui.Control.activeDialog()
     assert FreeCADGui.ActiveDocument.getInEdit() is None
     assert (pad.Offset.Value, doc.UndoCount) == (offset, undos), (pad.Offset, doc.UndoNames, undos)
+    assert shown(pad) == (True, False), shown(pad)
     assert pad.ViewObject.Visibility and not features(model)[0].ViewObject.Visibility
+    assert not FreeCADGui.ActiveDocument.Modified, "Edit then Cancel marked the document modified"
     double_click_in_tree(pad)
     edit = pad.ViewObject.Proxy.panel
     edit.clear()
     draw_pad(view, features(model)[0].Shape, 16.0)
     edit.interpret()
     assert edit.result is not None, edit.text.toPlainText()
-    assert "OK applies it to Pad" in edit.text.toPlainText()
+    assert "OK changes Pad's length" in edit.text.toPlainText(), edit.text.toPlainText()
     assert edit.accept()
     settle()
     assert features(model)[-1] == pad and len(features(model)) == 2
@@ -799,8 +841,10 @@ def preferences_page_is_shown_and_its_values_are_used():
         assert close(panel.result.solid.Volume(), 40 * 30 * (20 + d), 1e-6)
         # the panel lists the snap; one click reads the strokes again without it
         texts = [b.text() for b in panel.snap_buttons]
-        assert any("length snapped to the 2 mm grid" in t for t in texts), texts
-        panel.snap_buttons[[i for i, t in enumerate(texts) if "length" in t][0]].click()
+        tips = [b.toolTip() for b in panel.snap_buttons]
+        assert any("length snapped to the 2 mm grid" in t for t in tips), tips
+        assert "Undo length" in texts, texts  # short labels: the panel stays narrow
+        panel.snap_buttons[texts.index("Undo length")].click()
         settle()
         assert panel.result is not None and "d" in panel.skipped, panel.text.toPlainText()
         undone = panel.result.operations[0].d
