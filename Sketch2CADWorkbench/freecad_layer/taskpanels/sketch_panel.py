@@ -222,6 +222,15 @@ class SketchPanel:
         # one checkable button each, the checked one previewed and added by OK
         self.reading_box = QtGui.QHBoxLayout()
         lay.addLayout(self.reading_box)
+        # a reading far from its strokes (a scribble) is added only when asked for (near
+        # the top: seen without scrolling on a 768 px high screen)
+        self.anyway_button = QtGui.QPushButton(tr("Add anyway"))
+        self.anyway_button.setToolTip(
+            tr("Add this reading although its strokes lie far from it (OK does not)")
+        )
+        self.anyway_button.hide()
+        self.anyway_button.clicked.connect(self.accept_anyway)
+        lay.addWidget(self.anyway_button)
         # one short button per snap the reading applied (its whole message in the
         # tooltip and the reading): a click reads the strokes again without it
         # (InterpretOptions.skip_snaps); undone snaps stay off until cleared
@@ -231,16 +240,8 @@ class SketchPanel:
         self.text.setReadOnly(True)
         self.text.setMinimumWidth(0)
         # the reading without scrolling most of the time, within a 768 px high screen
-        self.text.setMinimumHeight(180)
+        self.text.setMinimumHeight(150)
         lay.addWidget(self.text)
-        # a reading far from its strokes (a scribble) is added only when asked for
-        self.anyway_button = QtGui.QPushButton(tr("Add anyway"))
-        self.anyway_button.setToolTip(
-            tr("Add this reading although its strokes lie far from it (OK does not)")
-        )
-        self.anyway_button.hide()
-        self.anyway_button.clicked.connect(self.accept_anyway)
-        lay.addWidget(self.anyway_button)
         for widget in (self.option, self.symmetry):
             # combo boxes size to their longest entry by default
             widget.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)

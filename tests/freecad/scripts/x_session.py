@@ -32,9 +32,11 @@ sketch_panel.SketchPanel.__init__ = _recorded_init
 
 
 def rect(widget) -> list:
-    """A widget's place on the screen: [x, y, width, height] (device-independent px)."""
+    """A widget's place on the screen: [x, y, width, height] in the screen's pixels (Qt's
+    are device-independent: scaled by the screen's DPI)."""
     p = widget.mapToGlobal(QtCore.QPoint(0, 0))
-    return [p.x(), p.y(), widget.width(), widget.height()]
+    k = widget.devicePixelRatioF()
+    return [round(k * v) for v in (p.x(), p.y(), widget.width(), widget.height())]
 
 
 def buttons() -> list:
@@ -92,12 +94,12 @@ def state() -> dict:
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
     models = find_models(FreeCAD.ActiveDocument)
-    screen = QtGui.QApplication.primaryScreen().geometry()
+    screen = QtGui.QApplication.primaryScreen()
+    k = screen.devicePixelRatio()
     return {
-        "screen": [screen.width(), screen.height()],
+        "screen": [round(k * screen.geometry().width()), round(k * screen.geometry().height())],
         "window": rect(FreeCADGui.getMainWindow()),
         "viewport": rect(viewport),
-        "dpr": viewport.devicePixelRatioF(),
         "camera": {
             "center": list(map(float, cam.center)),
             "direction": list(map(float, cam.direction)),
@@ -143,8 +145,16 @@ def main() -> None:
     view = FreeCADGui.ActiveDocument.ActiveView
     view.viewIsometric()
     view.fitAll()
+    QtCore.QTimer.singleShot(1500, open_panel)  # after FreeCAD 1.1's view animation
+
+
+def open_panel() -> None:
+    """Room above the box for what is drawn on its top (a designer zooms out so), and the
+    Sketch panel."""
+    camera = FreeCADGui.ActiveDocument.ActiveView.getCameraNode()
+    camera.height.setValue(1.8 * camera.height.getValue())
     FreeCADGui.runCommand("Sketch2CAD_Sketch")
-    timer = QtCore.QTimer(mw)
+    timer = QtCore.QTimer(FreeCADGui.getMainWindow())
     timer.timeout.connect(report)
     timer.start(100)
     say("X SESSION READY")
