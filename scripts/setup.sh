@@ -50,9 +50,10 @@ fi
 # not at all), for Qt 6 (qt6-svg-plugins) or Qt 5 (libqt5svg5); and what the GUI tests
 # drive FreeCAD from outside with (tests/freecad/test_x_events.py): xdotool for real X
 # mouse and key events, openbox as the window manager, xwd for screenshots.
+svg=libqt5svg5
+dpkg -l 'libqt6core6*' 2>/dev/null | grep -q '^ii' && svg=qt6-svg-plugins  # FreeCAD 1.1's Qt 6
 gui=()
-for pkg in qt6-svg-plugins libqt5svg5 xdotool openbox x11-apps; do
-    apt-cache show "$pkg" >/dev/null 2>&1 || continue  # a suite without it (Qt 5 or 6 only)
+for pkg in $svg xdotool openbox x11-apps; do
     dpkg -s "$pkg" >/dev/null 2>&1 || gui+=("$pkg")
 done
 if [ ${#gui[@]} -gt 0 ]; then

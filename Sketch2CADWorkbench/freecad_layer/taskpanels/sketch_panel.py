@@ -347,7 +347,7 @@ class SketchPanel:
         _empty(self.snap_box)
         self.snap_buttons = []
         for snap in snaps:
-            b = QtGui.QPushButton(tr("Undo {}").format(SNAP_KINDS[snap.key]))
+            b = QtGui.QPushButton(SNAP_KINDS[snap.key])
             b.setToolTip(tr("Read the strokes again without this snap: {}").format(snap.describe()))
             b.clicked.connect(lambda _=False, k=snap.key: self.undo_snap(k))
             self.snap_buttons.append(b)
@@ -358,9 +358,11 @@ class SketchPanel:
             )
             b.clicked.connect(self.redo_snaps)
             self.snap_buttons.append(b)
+        if snaps:
+            self.snap_box.addWidget(QtGui.QLabel(tr("Undo a snap:")), 0, 0, 1, 2)
         for i, b in enumerate(self.snap_buttons):
             _shrinkable(b)
-            self.snap_box.addWidget(b, i // 2, i % 2)
+            self.snap_box.addWidget(b, 1 + i // 2, i % 2)
 
     def reinterpret(self, *_):
         if self.capture.strokes:

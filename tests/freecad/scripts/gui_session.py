@@ -724,6 +724,67 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
 
 
 @check
+def a_later_step_edited_after_an_earlier_edit_starts_where_it_is_now():
+    """A boss drawn on a pad's top, the pad then raised by 5 mm: the boss's values follow,
+    and its panel re-opened shows its strokes where the boss now is and says what OK
+    would change; Cancel changes nothing."""
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+    from Sketch2CADWorkbench.inference.session import step_from_dict
+
+    model, view = new_model_document("later")
+    camera = view.getCameraNode()
+    camera.height.setValue(1.8 * camera.height.getValue())  # room above the box
+    settle()
+    for draw in (lambda: draw_pad(view, model.Tip.Shape, 10.0), lambda: draw_boss(view, model)):
+        panel = SketchPanel(model)
+        FreeCADGui.Control.showDialog(panel)
+        draw()
+        panel.interpret()
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+    box, pad, boss = features(model)
+    assert (pad.Label, boss.Label) == ("Pad", "Boss"), (pad.Label, boss.Label)
+    z, length = boss.FacePoint.z, boss.Length.Value
+    pad.Offset = pad.Offset.Value + 5.0
+    model.Document.recompute()
+    settle()
+    assert close(boss.FacePoint.z, z + 5.0) and close(boss.Vertex1.z, z + 5.0), boss.FacePoint
+    assert tuple(boss.SketchOffset) == (0.0, 0.0, 5.0), boss.SketchOffset
+    undos = model.Document.UndoCount
+    double_click_in_tree(boss)
+    edit = boss.ViewObject.Proxy.panel
+    try:
+        step = step_from_dict(json.loads(boss.SketchStep))
+        strokes, cam = edit.capture.result()
+        shift = step.camera.image_of((0.0, 0.0, 5.0))
+        assert np.allclose(strokes[0], step.strokes[0] + shift, atol=0.5), (strokes[0][:2], shift)
+        text = edit.text.toPlainText()
+        assert "OK keeps Boss as it is" in text or "OK changes Boss's" in text, text
+    finally:
+        edit.reject()
+        settle()
+    assert (boss.FacePoint.z, boss.Length.Value) == (z + 5.0, length)
+    assert model.Document.UndoCount == undos
+
+
+def draw_boss(view, model) -> None:
+    """A low square boss in the middle of the model's top face, drawn with the mouse."""
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
+    bb = model.Tip.Shape.BoundBox
+    c, h = np.array([bb.Center.x, bb.Center.y, bb.ZMax]), 0.2 * min(bb.XLength, bb.YLength)
+    base = c + np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]])
+    top = base + [0, 0, 0.3 * bb.ZLength]
+    viewport = view.graphicsView().viewport()
+    cam = view_camera(view)
+    for a, b in [(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)] + list(
+        zip(base, top)
+    ):
+        drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+
+
+@check
 def sketch_panel_fits_the_default_combo_view():
     """At 1280x1024 with FreeCAD's default layout, the panel is not cut off on the right:
     it is no wider than the task view shows, without a horizontal scroll bar."""
@@ -843,8 +904,8 @@ def preferences_page_is_shown_and_its_values_are_used():
         texts = [b.text() for b in panel.snap_buttons]
         tips = [b.toolTip() for b in panel.snap_buttons]
         assert any("length snapped to the 2 mm grid" in t for t in tips), tips
-        assert "Undo length" in texts, texts  # short labels: the panel stays narrow
-        panel.snap_buttons[texts.index("Undo length")].click()
+        assert "length" in texts, texts  # short labels: the panel stays narrow
+        panel.snap_buttons[texts.index("length")].click()
         settle()
         assert panel.result is not None and "d" in panel.skipped, panel.text.toPlainText()
         undone = panel.result.operations[0].d
