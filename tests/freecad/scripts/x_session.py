@@ -130,16 +130,10 @@ OVERLAY = False
 
 
 def main() -> None:
-    global OVERLAY
     tested_checkout()
     mw = FreeCADGui.getMainWindow()
     mw.showMaximized()
     FreeCADGui.activateWorkbench("Sketch2CADWorkbench")
-    if os.environ.get("SKETCH2CAD_OVERLAY") == "1":
-        # FreeCAD 1.1: every docked panel floats over the 3D view (View > Overlay)
-        assert "Std_DockOverlayAll" in FreeCADGui.listCommands(), "no overlay mode"
-        FreeCADGui.runCommand("Std_DockOverlayAll")
-        OVERLAY = True
     FreeCAD.newDocument("x")
     FreeCADGui.runCommand("Sketch2CAD_NewModel")
     view = FreeCADGui.ActiveDocument.ActiveView
@@ -151,9 +145,16 @@ def main() -> None:
 def open_panel() -> None:
     """Room above the box for what is drawn on its top (a designer zooms out so), and the
     Sketch panel."""
+    global OVERLAY
     camera = FreeCADGui.ActiveDocument.ActiveView.getCameraNode()
     camera.height.setValue(1.8 * camera.height.getValue())
     FreeCADGui.runCommand("Sketch2CAD_Sketch")
+    if os.environ.get("SKETCH2CAD_OVERLAY") == "1":
+        # FreeCAD 1.1: every docked panel, the Tasks panel shown now included, floats over
+        # the 3D view (View > Overlay > Toggle overlay for all)
+        assert "Std_DockOverlayAll" in FreeCADGui.listCommands(), "no overlay mode"
+        FreeCADGui.runCommand("Std_DockOverlayAll")
+        OVERLAY = True
     timer = QtCore.QTimer(FreeCADGui.getMainWindow())
     timer.timeout.connect(report)
     timer.start(100)
