@@ -20,6 +20,7 @@ CHECKS = [
     "step_export_and_brep_transfer",
     "features_are_named_as_freecad_users_read_them",
     "parameters_are_quantities_in_the_users_units",
+    "the_length_grid_follows_the_unit_schema",
     "step_part_is_named_after_the_model",
     "a_step_read_again_replaces_its_feature_in_place",
     "steps_on_curved_faces_expose_their_parameters_follow_edits_and_export",

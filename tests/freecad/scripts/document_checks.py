@@ -404,6 +404,33 @@ def parameters_are_quantities_in_the_users_units():
 
 
 @check
+def the_length_grid_follows_the_unit_schema():
+    """Lengths snap by default to a whole unit of the user's schema: 1 mm, 0.5 mm where the
+    view shows strokes that precise (zoomed in), 0.05 in in an inch schema; a step chosen
+    in the preferences (0: none) wins."""
+    from Sketch2CADWorkbench.freecad_layer.preferences import parameters, snap_step
+    from Sketch2CADWorkbench.freecad_layer.units import length_grid
+
+    schema = FreeCAD.Units.getSchema()
+    try:
+        FreeCAD.Units.setSchema(0)  # Standard (mm, kg, s, degree)
+        assert (length_grid(0.1), length_grid(0.02)) == (1.0, 0.5)
+        FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
+        assert length_grid(0.1) == 1.27
+    finally:
+        FreeCAD.Units.setSchema(schema)
+    p = parameters()
+    try:
+        p.RemFloat("SnapStep")
+        assert snap_step(0.1) == length_grid(0.1)
+        for chosen in (0.0, 2.0):
+            p.SetFloat("SnapStep", chosen)
+            assert snap_step(0.1) == chosen
+    finally:
+        p.RemFloat("SnapStep")
+
+
+@check
 def step_part_is_named_after_the_model():
     import Import
 

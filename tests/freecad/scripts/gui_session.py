@@ -829,7 +829,8 @@ def sketch_panel_reads_in_the_users_units_and_names_follow_the_offset():
         panel.interpret()
         text = panel.text.toPlainText()
         assert panel.result is not None, text
-        assert "Pad: the face moved out by 0.39 in" in text, text
+        # 10 mm drawn: on the inch schema's 0.05 in grid (units.length_grid)
+        assert "Pad: the face moved out by 0.40 in" in text, text
         assert " mm" not in text and "f[n=" not in text, text
         assert panel.accept()
         settle()
@@ -878,7 +879,8 @@ def preferences_page_is_shown_and_its_values_are_used():
     assert seen and any(seen), seen
     page = PreferencesPage()
     page.loadSettings()
-    assert page.regularize.isChecked()  # the defaults
+    assert page.regularize.isChecked()  # the defaults: the unit schema's grid
+    assert page.snap.value() == page.snap.minimum() and page.snap.text() == "from the unit schema"
     page.regularize.setChecked(False)
     page.snap.setValue(2.0)
     page.threads.setValue(1)
