@@ -5,8 +5,9 @@ drawn by a hand that wobbles and overshoots, and screenshots (xwd). FreeCAD runs
 scripts/x_session.py, which sets up a model, opens the Sketch panel and only reports
 what is on the screen (state.json); every click, drag and key comes from here.
 
-On FreeCAD 1.1 the same runs again with the overlay mode on (every docked panel floats
-over the 3D view); FreeCAD 0.20 and 1.0 have no overlay mode."""
+Each runs in FreeCAD's default layout (FreeCAD 1.1's Tasks panel floats over the 3D
+view's right side) and, on FreeCAD 1.1, again with every panel floating over the view
+(Toggle overlay for all); FreeCAD 0.20 and 1.0 have no overlay mode."""
 
 import json
 import os
@@ -122,7 +123,9 @@ class Desktop:
         subprocess.run(["xdotool", *map(str, args)], env=self.env, check=True)
 
     def click(self, x, y) -> None:
-        self.xdo("mousemove", int(x), int(y), "sleep", 0.1, "click", 1)
+        """Move there, rest as a hand does (FreeCAD 1.1's overlay panels wake on hover),
+        click."""
+        self.xdo("mousemove", int(x), int(y), "sleep", 0.6, "click", 1)
 
     def click_button(self, s: dict, text: str) -> None:
         """Click the button labelled `text`, which must be seen whole: on the screen and,
@@ -168,6 +171,10 @@ def button(s: dict, text: str) -> list:
     found = [r for t, r, _ in s["buttons"] if t == text]
     assert found, f"no visible button {text!r} among {[t for t, _, _ in s['buttons']]}"
     return found[-1]
+
+
+def checked(s: dict, text: str) -> bool:
+    return [c for t, _, c in s["buttons"] if t == text][-1]
 
 
 def to_screen(s: dict, world) -> np.ndarray:
@@ -235,7 +242,7 @@ def freecad_has_overlay_mode() -> bool:
     return (major, minor) >= (1, 1)
 
 
-@pytest.fixture(params=[False, True], ids=["docked", "overlay"])
+@pytest.fixture(params=[False, True], ids=["default_layout", "overlay_for_all"])
 def desktop(request, tmp_path, run_freecad):  # run_freecad: the user config is primed
     if request.param and not freecad_has_overlay_mode():
         pytest.skip("this FreeCAD has no overlay mode (FreeCAD 1.1 has)")
@@ -268,22 +275,31 @@ def test_a_designer_with_a_mouse(desktop):
     assert shot[y : y + h, x : x + w].mean() > 60, "the panel is not drawn on the screen"
 
     if s["overlay_mode"]:
-        # a drag that starts on the overlay panel's edge resizes it; it draws no stroke
         assert p["overlay"] is not None, "the Sketch panel is not in an overlay panel"
+    if p["overlay"] is not None:
+        # a drag that starts on the overlay panel's edge that faces the view resizes the
+        # panel; it draws no stroke
         ox, oy, ow, oh = p["overlay"]
-        edge = (ox + ow - 2, oy + oh // 2)
-        d.drag([edge, (edge[0] + 30, edge[1]), (edge[0] + 60, edge[1] + 5)])
+        vx, _, vw, _ = s["viewport"]
+        toward = -1 if ox + ow / 2 > vx + vw / 2 else 1  # a panel on the right: its left edge
+        edge = np.array([ox + 2 if toward < 0 else ox + ow - 3, oy + oh // 2])
+        d.xdo("mousemove", *edge, "sleep", 0.6)
+        d.drag([edge + (toward * k, k // 10) for k in range(0, 80, 8)])
         s = d.wait(panel_open)
+        d.screenshot("overlay_edge_dragged")
         assert s["panel"]["strokes"] == 0, "a drag on the overlay panel's edge drew a stroke"
 
     # the check box shows its state: its pixels change when it is clicked
     box = s["panel"]["regularize"]
     bx, by, bw, bh = box
+    label = "Regularize (snap and rectify)"
+    d.xdo("mousemove", bx + bh // 2, by + bh // 2, "sleep", 0.6)  # the panel wakes on hover
     before = d.screenshot("check_on")[by : by + bh, bx : bx + min(bw, bh + 4)].astype(int)
     d.click(bx + bh / 2, by + bh / 2)
-    s = d.wait(panel_open)
+    s = d.wait(lambda s: panel_open(s) and not checked(s, label), timeout=10)
     after = d.screenshot("check_off")[by : by + bh, bx : bx + min(bw, bh + 4)].astype(int)
     d.click(bx + bh / 2, by + bh / 2)  # back on
+    s = d.wait(lambda s: panel_open(s) and checked(s, label), timeout=10)
     assert np.abs(before - after).sum(axis=-1).max() > 100, "the check box shows no tick"
 
     # a pad drawn with a wobbling hand is read as a Pad; OK adds it

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Inside FreeCAD for test_x_events.py, which drives it from outside with X events: sets
-up a model in an isometric view (FreeCAD 1.1's overlay mode on when
-SKETCH2CAD_OVERLAY=1), opens the Sketch panel, and then only reports what a user sees,
+up a model in an isometric view in FreeCAD's default layout (FreeCAD 1.1's: the Tasks
+panel floats over the view's right side) or with every panel floating over it
+(SKETCH2CAD_OVERLAY=1: FreeCAD 1.1's overlay mode for all), opens the Sketch panel, and then only reports what a user sees,
 every 100 ms, to $SKETCH2CAD_TMP/state.json: the windows' and buttons' places on the
 screen, the view's camera, the panel's reading and strokes, the model's features. It
 sends no event itself: every click, drag and key comes from outside."""
@@ -57,6 +58,12 @@ def overlay_of(widget):
             return w
         w = w.parentWidget()
     return None
+
+
+def all_overlaid() -> bool:
+    """Every visible docked panel (Model, Tasks...) floats over the 3D view."""
+    docks = FreeCADGui.getMainWindow().findChildren(QtGui.QDockWidget)
+    return all(overlay_of(d) is not None for d in docks if d.isVisible())
 
 
 def panel_state() -> dict | None:
@@ -150,10 +157,15 @@ def open_panel() -> None:
     camera.height.setValue(1.8 * camera.height.getValue())
     FreeCADGui.runCommand("Sketch2CAD_Sketch")
     if os.environ.get("SKETCH2CAD_OVERLAY") == "1":
-        # FreeCAD 1.1: every docked panel, the Tasks panel shown now included, floats over
-        # the 3D view (View > Overlay > Toggle overlay for all)
+        # FreeCAD 1.1: every docked panel floats over the 3D view (View > Overlay > Toggle
+        # overlay for all; it turns them all off when one floats, as the Tasks panel does
+        # in 1.1's default layout, so a second toggle turns them all on)
         assert "Std_DockOverlayAll" in FreeCADGui.listCommands(), "no overlay mode"
-        FreeCADGui.runCommand("Std_DockOverlayAll")
+        for _ in range(2):
+            if all_overlaid():
+                break
+            FreeCADGui.runCommand("Std_DockOverlayAll")
+        assert all_overlaid(), "Toggle overlay for all left a docked panel"
         OVERLAY = True
     timer = QtCore.QTimer(FreeCADGui.getMainWindow())
     timer.timeout.connect(report)
