@@ -195,9 +195,12 @@ def _position(event):
 
 def _on_the_view(viewport, event) -> bool:
     """The press lies on the 3D view's own area: no other widget is on top of the viewport
-    there. FreeCAD 1.1's overlay mode passes presses on an overlay panel's transparent
-    edges and handles on to the view; a drag from there resizes the panel, not a stroke."""
-    at = QtGui.QApplication.widgetAt(viewport.mapToGlobal(_position(event).toPoint()))
+    where the pointer is. FreeCAD 1.1's overlay mode passes presses on an overlay panel's
+    see-through edges on to the view (with the pointer's own screen position, and a
+    position in the view that need not be the pointer's); a drag from there resizes the
+    panel, it is no stroke."""
+    pos = event.globalPosition() if hasattr(event, "globalPosition") else event.screenPos()
+    at = QtGui.QApplication.widgetAt(pos.toPoint())  # Qt6 / Qt5
     return at is None or at == viewport or viewport.isAncestorOf(at)
 
 
