@@ -25,7 +25,7 @@ from harness import (  # noqa: E402
     send_drag,
     tested_checkout,
 )
-from PySide import QtCore, QtGui, QtTest  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
 
 from Sketch2CADWorkbench.brep.operators import build, replay  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import load  # noqa: E402
@@ -349,7 +349,7 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
         assert labels == ["Boss", "Hole"], labels
         assert [b.isChecked() for b in panel.reading_buttons] == [True, False]
         before = model.Tip.Shape.Volume
-        QtTest.QTest.mouseClick(panel.reading_buttons[1], QtCore.Qt.LeftButton)
+        panel.reading_buttons[1].click()
         settle()
         assert [b.isChecked() for b in panel.reading_buttons] == [False, True]
         assert "Read as Hole" in panel.text.toPlainText(), panel.text.toPlainText()
