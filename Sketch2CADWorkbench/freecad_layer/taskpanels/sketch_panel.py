@@ -473,10 +473,6 @@ class SketchPanel:
             )
         if r.doubtful:
             other += f"<p style='color:#b60'><b>{tr('Warning:')}</b> {r.doubt()}.</p>"
-        if r.snaps:
-            other += (
-                "<p>" + tr("Snapped:") + " " + "; ".join(s.describe() for s in r.snaps) + ".</p>"
-            )
         if r.unsnapped:
             other += f"<p>{tr('Not snapped:')} {r.unsnapped}.</p>"
         if r.doubtful:

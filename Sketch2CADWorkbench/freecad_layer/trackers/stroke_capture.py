@@ -200,7 +200,10 @@ def _on_the_view(viewport, event) -> bool:
     position in the view that need not be the pointer's); a drag from there resizes the
     panel, it is no stroke."""
     pos = event.globalPosition() if hasattr(event, "globalPosition") else event.screenPos()
-    at = QtGui.QApplication.widgetAt(pos.toPoint())  # Qt6 / Qt5
+    pos = pos.toPoint()  # Qt6 / Qt5
+    if not viewport.rect().contains(viewport.mapFromGlobal(pos)):
+        return True  # nothing of the view is covered there (a press sent by a script)
+    at = QtGui.QApplication.widgetAt(pos)
     return at is None or at == viewport or viewport.isAncestorOf(at)
 
 
