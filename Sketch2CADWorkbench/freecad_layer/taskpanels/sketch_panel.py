@@ -231,8 +231,8 @@ class SketchPanel:
         self.anyway_button.hide()
         self.anyway_button.clicked.connect(self.accept_anyway)
         lay.addWidget(self.anyway_button)
-        # one short button per snap the reading applied (its whole message in the
-        # tooltip and the reading): a click reads the strokes again without it
+        # one short button per snap the reading applied (what moved to what in its
+        # tooltip): a click reads the strokes again without it
         # (InterpretOptions.skip_snaps); undone snaps stay off until cleared
         self.snap_box = QtGui.QGridLayout()
         lay.addLayout(self.snap_box)
