@@ -92,14 +92,16 @@ class Desktop:
             return {}
 
     def wait(self, what, timeout: float = 60.0) -> dict:
-        """The first state for which `what(state)` holds (after two reports in a row agree,
-        so that animations of the view have ended)."""
-        end, last = time.monotonic() + timeout, None
+        """The first state for which `what(state)` holds, written after this call (a busy
+        FreeCAD writes none: it has not seen the last events yet), when two reports in a
+        row agree (the view's animations have ended)."""
+        start, end, last = time.time(), time.monotonic() + timeout, None
         while time.monotonic() < end:
             s = self.state()
-            if s and "error" not in s and what(s) and s == last:
+            fresh = s.get("time", 0) > start + 0.2
+            if fresh and "error" not in s and what(s) and _same(s, last):
                 return s
-            last = s
+            last = s if fresh else None
             time.sleep(0.25)
         raise AssertionError(f"timed out; last state {json.dumps(last)[:3000]}\n{self.output()}")
 
@@ -147,6 +149,11 @@ class Desktop:
 
     def key(self, name: str) -> None:
         self.xdo("key", name)
+
+
+def _same(a: dict, b: dict | None) -> bool:
+    """Two reports show the same (when they were written aside)."""
+    return b is not None and {**a, "time": 0} == {**b, "time": 0}
 
 
 def _xwd_rgb(raw: bytes) -> np.ndarray:

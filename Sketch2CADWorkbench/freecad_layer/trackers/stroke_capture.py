@@ -172,7 +172,7 @@ class _EventFilter(QtCore.QObject):
             kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick)
             and event.button() == QtCore.Qt.LeftButton
         ):
-            if not _on_the_view(widget, event):
+            if not _on_the_view(widget):
                 return False  # an overlay panel's edge or handle (FreeCAD 1.1's overlay mode)
             c.press(_pixel(widget, event))
             return True
@@ -193,16 +193,15 @@ def _position(event):
     return event.position() if hasattr(event, "position") else event.localPos()  # Qt6 / Qt5
 
 
-def _on_the_view(viewport, event) -> bool:
-    """The press lies on the 3D view's own area: no other widget is on top of the viewport
-    where the pointer is. FreeCAD 1.1's overlay mode passes presses on an overlay panel's
-    see-through edges on to the view (with the pointer's own screen position, and a
-    position in the view that need not be the pointer's); a drag from there resizes the
-    panel, it is no stroke."""
-    pos = event.globalPosition() if hasattr(event, "globalPosition") else event.screenPos()
-    pos = pos.toPoint()  # Qt6 / Qt5
+def _on_the_view(viewport) -> bool:
+    """The pointer is on the 3D view's own area: no other widget is on top of the viewport
+    where it is. FreeCAD 1.1's overlay mode passes presses on an overlay panel's
+    see-through edges on to the view, at another place in it than the pointer's; a drag
+    from there resizes the panel, it is no stroke. A pointer off the view (the press was
+    sent by a script) says nothing."""
+    pos = QtGui.QCursor.pos()
     if not viewport.rect().contains(viewport.mapFromGlobal(pos)):
-        return True  # nothing of the view is covered there (a press sent by a script)
+        return True
     at = QtGui.QApplication.widgetAt(pos)
     return at is None or at == viewport or viewport.isAncestorOf(at)
 

@@ -46,7 +46,7 @@ def tested_checkout() -> None:
 def send_drag(viewport, pixels, button=None) -> None:
     """A mouse drag through core pixel positions, as Qt events sent to the view's viewport
     (in device-independent pixels: Xvfb's 96 dpi makes Qt scale by about 1.04), each with
-    its screen position, as the window system gives it."""
+    its screen position, as the window system gives it, the pointer put where it starts."""
     from PySide import QtCore, QtGui
 
     button = button or QtCore.Qt.LeftButton
@@ -58,6 +58,7 @@ def send_drag(viewport, pixels, button=None) -> None:
         screen = QtCore.QPointF(viewport.mapToGlobal(p.toPoint()))
         return QtGui.QMouseEvent(kind, p, screen, which, held, QtCore.Qt.NoModifier)
 
+    QtGui.QCursor.setPos(viewport.mapToGlobal(points[0].toPoint()))
     send(viewport, event(QtCore.QEvent.MouseButtonPress, points[0], button, button))
     for p in points[1:]:
         send(viewport, event(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button))

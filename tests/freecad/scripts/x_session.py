@@ -10,6 +10,7 @@ sends no event itself: every click, drag and key comes from outside."""
 import json
 import os
 import sys
+import time
 
 sys.path.insert(0, os.path.join(os.environ["SKETCH2CAD_ROOT"], "tests", "freecad", "scripts"))
 import FreeCAD  # noqa: E402
@@ -104,6 +105,7 @@ def state() -> dict:
     screen = QtGui.QApplication.primaryScreen()
     k = screen.devicePixelRatio()
     return {
+        "time": time.time(),  # when FreeCAD wrote it: a busy FreeCAD writes none
         "screen": [round(k * screen.geometry().width()), round(k * screen.geometry().height())],
         "window": rect(FreeCADGui.getMainWindow()),
         "viewport": rect(viewport),
