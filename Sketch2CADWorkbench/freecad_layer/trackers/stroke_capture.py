@@ -194,16 +194,16 @@ def _position(event):
 
 
 def _on_the_view(viewport) -> bool:
-    """The pointer is on the 3D view's own area: no other widget is on top of the viewport
-    where it is. FreeCAD 1.1's overlay mode passes presses on an overlay panel's
-    see-through edges on to the view, at another place in it than the pointer's; a drag
-    from there resizes the panel, it is no stroke. A pointer off the view (the press was
-    sent by a script) says nothing."""
-    pos = QtGui.QCursor.pos()
-    if not viewport.rect().contains(viewport.mapFromGlobal(pos)):
-        return True
-    at = QtGui.QApplication.widgetAt(pos)
-    return at is None or at == viewport or viewport.isAncestorOf(at)
+    """The pointer is on the 3D view's own area, not on one of FreeCAD 1.1's overlay panels
+    over it (their edges, handles and title bars included): the overlay mode passes presses
+    on a panel's see-through edges on to the view, at another place in it than the
+    pointer's; a drag from there resizes the panel, it is no stroke."""
+    w = QtGui.QApplication.widgetAt(QtGui.QCursor.pos())
+    while w is not None and w != viewport:
+        if "Overlay" in w.metaObject().className():  # Gui::OverlayTabWidget, its parts
+            return False
+        w = w.parentWidget()
+    return True
 
 
 def _pixel(widget, event) -> tuple:
