@@ -966,9 +966,15 @@ def dock_the_panels() -> None:
     and 1.0 lay it out. test_x_events.py draws with the panel floating."""
     if "Std_DockOverlayAll" not in FreeCADGui.listCommands():
         return
-    tabs = FreeCADGui.getMainWindow().findChildren(QtGui.QTabWidget)
+    mw = FreeCADGui.getMainWindow()
+    tabs = mw.findChildren(QtGui.QTabWidget)
     if any("Overlay" in t.metaObject().className() and t.count() for t in tabs):
         FreeCADGui.runCommand("Std_DockOverlayAll")
+    # Tasks and Model as tabs of one dock, as FreeCAD 0.20's combo view: the 3D view as wide
+    docks = {d.objectName(): d for d in mw.findChildren(QtGui.QDockWidget)}
+    if "Model" in docks and "Tasks" in docks:
+        mw.tabifyDockWidget(docks["Model"], docks["Tasks"])
+        docks["Tasks"].raise_()
 
 
 def main():
