@@ -45,6 +45,23 @@ if [ ${#recommended[@]} -gt 0 ]; then
         "${recommended[@]}" >/dev/null
 fi
 
+# What FreeCAD's GUI draws with and a desktop brings along: Qt's SVG image and icon
+# plugins (without them Qt 6 draws FreeCAD's check boxes without a tick, and some icons
+# not at all), for Qt 6 (qt6-svg-plugins) or Qt 5 (libqt5svg5); and what the GUI tests
+# drive FreeCAD from outside with (tests/freecad/test_x_events.py): xdotool for real X
+# mouse and key events, openbox as the window manager, xwd for screenshots.
+svg=libqt5svg5
+dpkg -l 'libqt6core6*' 2>/dev/null | grep -q '^ii' && svg=qt6-svg-plugins  # FreeCAD 1.1's Qt 6
+gui=()
+for pkg in $svg xdotool openbox x11-apps; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || gui+=("$pkg")
+done
+if [ ${#gui[@]} -gt 0 ]; then
+    echo "setup: installing Qt's SVG plugins and the GUI tests' X tools: ${gui[*]}"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+        "${gui[@]}" >/dev/null
+fi
+
 # FreeCAD's user folder (per version from FreeCAD 1.1 on) and its Mod link.
 USERDATA=$(freecadcmd -c "import FreeCAD; print('USERDATA=' + FreeCAD.getUserAppDataDir())" 2>/dev/null \
            | sed -n 's/^USERDATA=//p' | tail -n 1)

@@ -5,7 +5,8 @@ them (FreeCAD's parameters at User parameter:BaseApp/Preferences/Mod/Sketch2CAD)
 - Regularize: the Sketch panel's "Regularize" box when it opens (the paper's snapping and
   rectification).
 - SnapStep: lengths read from a sketch (a pad's offset, a prism's length, a revolution's
-  radii and height) are rounded to this step when regularizing; 0 keeps them as fitted.
+  radii and height) are rounded to this step when regularizing; 0 keeps them as fitted;
+  AUTOMATIC (the default) takes the unit schema's grid (units.length_grid).
 - DependencyFolder: where the Install command puts cadquery, torch and VTK
   (dependencies.folder(); read when FreeCAD starts).
 - NetworkThreads: the CPU threads the networks use; 0 leaves the predictor's default.
@@ -15,6 +16,7 @@ import FreeCAD
 
 from .dependencies import PARAMETERS
 from .translate import QT_TRANSLATE_NOOP, translate
+from .units import length_grid
 
 PAGE = QT_TRANSLATE_NOOP("QObject", "Sketch2CAD")
 
@@ -27,9 +29,14 @@ def regularize_default() -> bool:
     return parameters().GetBool("Regularize", True)
 
 
-def snap_step() -> float:
-    """The snapping step for lengths, mm (0: none)."""
-    return max(0.0, parameters().GetFloat("SnapStep", 0.0))
+AUTOMATIC = -1.0  # SnapStep: the unit schema's grid
+
+
+def snap_step(pixel_mm: float) -> float:
+    """The snapping step for lengths, mm (0: none), in a view of `pixel_mm` mm per pixel:
+    the one chosen in the preferences, else the unit schema's (units.length_grid)."""
+    step = parameters().GetFloat("SnapStep", AUTOMATIC)
+    return length_grid(pixel_mm) if step < 0 else step
 
 
 def network_threads() -> int:
@@ -65,14 +72,16 @@ class PreferencesPage:
         )
         lay.addRow(self.regularize)
         self.snap = QtGui.QDoubleSpinBox()
-        self.snap.setRange(0.0, 100.0)
+        self.snap.setRange(AUTOMATIC, 100.0)
         self.snap.setDecimals(3)
         self.snap.setSuffix(" mm")
+        self.snap.setSpecialValueText(translate("Sketch2CAD", "from the unit schema"))
         self.snap.setToolTip(
             translate(
                 "Sketch2CAD",
                 "Round lengths read from a sketch to this step when regularizing "
-                "(0: keep them as fitted)",
+                "(0: keep them as fitted; lowest: the unit schema's grid, 1 mm in mm "
+                "schemas, 0.5 mm where the strokes are that precise)",
             )
         )
         lay.addRow(translate("Sketch2CAD", "Snapping step"), self.snap)
@@ -98,7 +107,7 @@ class PreferencesPage:
     def loadSettings(self):
         p = parameters()
         self.regularize.setChecked(regularize_default())
-        self.snap.setValue(snap_step())
+        self.snap.setValue(max(AUTOMATIC, p.GetFloat("SnapStep", AUTOMATIC)))
         self.folder.setText(p.GetString("DependencyFolder", ""))
         self.threads.setValue(network_threads())
 

@@ -2,9 +2,10 @@
 """Bevel: corner c of face f rounded by profile l along the crease c -> c'."""
 
 import FreeCAD
+import numpy as np
 
 from ...brep.protocol import Bevel
-from ..units import point
+from ..units import length, point
 from .feature import ALL_KINDS, GROUP, OperationFeature, retype, tup, vec
 
 ALL_KINDS.append("Bevel")
@@ -48,9 +49,17 @@ class BevelFeature(OperationFeature):
 
     @classmethod
     def reading(cls, op: Bevel) -> str:
+        """With its size: how far the profile l cuts back along each edge of f from c, and
+        the crease's length."""
+        c = np.asarray(op.corner, float)
+        a, b = (
+            float(np.linalg.norm(np.asarray(p, float) - c)) for p in (op.profile[0], op.profile[-1])
+        )
+        crease = float(np.linalg.norm(np.asarray(op.opposite, float) - c))
+        size = length(a) if abs(a - b) <= 1e-6 * max(a, b) else f"{length(a)} by {length(b)}"
         return (
-            f"Bevel: the corner at {point(op.corner)} rounded along the edge to "
-            f"{point(op.opposite)}, {cls.on_face(op.face)}"
+            f"Bevel: {size}, the corner at {point(op.corner)} rounded along the "
+            f"{length(crease)} edge to {point(op.opposite)}, {cls.on_face(op.face)}"
         )
 
     def operation(self, obj) -> Bevel:

@@ -11,8 +11,10 @@ the user can fix the value.
 
 import contextlib
 import re
+from dataclasses import replace
 
 import FreeCAD
+import numpy as np
 
 from ...brep.protocol import FaceRef, Mode, Surface, describe
 from ..shapes import from_part, to_part
@@ -189,6 +191,15 @@ class OperationFeature(Feature):
                 "read them again",
             )
             obj.setEditorMode("SketchStep", 2)
+        if "SketchOffset" not in obj.PropertiesList:
+            obj.addProperty(
+                "App::PropertyVector",
+                "SketchOffset",
+                SKETCH,
+                "How far (mm) the step moved with edits of earlier steps since its "
+                "strokes were drawn: they are shown moved as much when it is edited",
+            )
+            obj.setEditorMode("SketchOffset", 2)
 
     def migrate(self, obj) -> None:
         self.add_face_properties(obj)
@@ -229,14 +240,14 @@ class OperationFeature(Feature):
             obj.Label = unique_label(obj, kind)
 
     def onChanged(self, obj, prop):
-        # Undo, redo and file loading restore the label and the operator themselves; the
-        # view provider changes the icon (ViewProviderSketch2CAD.updateData).
-        if (
-            prop in self.KIND_PROPERTIES
-            and "Operator" in obj.PropertiesList
-            and not (obj.Document.Restoring or obj.Document.Transacting or "Restore" in obj.State)
-        ):
+        # Undo, redo and file loading restore the label, the operator and the offset
+        # themselves; the view provider changes the icon (ViewProviderSketch2CAD.updateData).
+        if obj.Document.Restoring or obj.Document.Transacting or "Restore" in obj.State:
+            return
+        if prop in self.KIND_PROPERTIES and "Operator" in obj.PropertiesList:
             self.update_kind(obj)
+        if prop == "SketchStep" and "SketchOffset" in obj.PropertiesList:
+            obj.SketchOffset = FreeCAD.Vector()  # new strokes: drawn where the step is
 
     def add_operation_properties(self, obj) -> None:
         raise NotImplementedError
@@ -272,7 +283,52 @@ class OperationFeature(Feature):
             raise ValueError(f"{obj.Label}: no Base feature to apply the operation to")
         if obj.Base.Shape.isNull() or not obj.Base.isValid():
             raise ValueError(f"{obj.Label}: its Base {obj.Base.Label} failed to build")
-        return apply_operation(from_part(obj.Base.Shape), self.operation(obj))
+        base, op = from_part(obj.Base.Shape), self.operation(obj)
+        moved = where_now(base, op)
+        if moved is not op:  # an earlier step moved f: the properties show where it is now
+            self.set_operation(obj, moved)
+            if "SketchOffset" in obj.PropertiesList:
+                obj.SketchOffset = obj.SketchOffset + vec(_anchor(moved) - _anchor(op))
+            op = moved
+        return apply_operation(base, op)
+
+
+def _anchor(op) -> np.ndarray:
+    """The point an operation is placed by: a bevel's corner, else its face point."""
+    return np.asarray(op.corner if hasattr(op, "corner") else op.face.point, float)
+
+
+def where_now(solid, op):
+    """`op` as it lies on `solid` now: moved onto its base face where an edit of an earlier
+    step moved that face (brep.faces.resolve_face's shift), a bevel's corner found again
+    (brep.operators.locate_bevel); `op` itself (the same object) where nothing moved, f is
+    curved, or f does not resolve (execute reports that)."""
+    from ...brep.faces import resolve_face
+    from ...brep.operators import locate_bevel
+    from ...brep.protocol import Bevel, OperationError
+
+    if op.face.surface.curved:
+        return op
+    try:
+        t = resolve_face(solid, op.face).offset
+        found = locate_bevel(solid, op) if isinstance(op, Bevel) else op
+    except OperationError:
+        return op
+
+    def move(p):
+        return tuple(float(c) for c in np.asarray(p, float) + t)
+
+    fields = {"face": replace(op.face, point=move(op.face.point))} if np.any(t) else {}
+    if isinstance(op, Bevel):
+        before = np.array([op.corner, op.opposite, *op.profile], float)
+        after = np.array([found.corner, found.opposite, *found.profile], float)
+        if not np.allclose(before, after, rtol=0, atol=1e-7):
+            fields.update(corner=found.corner, opposite=found.opposite, profile=found.profile)
+    elif fields and hasattr(op, "polygon"):
+        fields["polygon"] = tuple(move(p) for p in op.polygon)
+    elif fields and hasattr(op, "center"):
+        fields["center"] = move(op.center)
+    return replace(op, **fields) if fields else op
 
 
 # Every kind's name (filled by the operators' modules): a label that is one of these, with

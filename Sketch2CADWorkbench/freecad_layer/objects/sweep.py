@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Sweep: the solid of revolution of profile c_p between circles c0 and c1; a Revolution
-when it adds, a Groove when it subtracts (as PartDesign names solids of revolution)."""
+when it adds, a Groove when it subtracts (as PartDesign names solids of revolution), and
+a Hole when what it subtracts is a cylinder (a drilled hole, as PartDesign users read it)."""
 
 import math
 
@@ -20,6 +21,9 @@ SWEEP_KINDS = {
     Mode.REPLACE: "RevolutionOnly",
 }
 ALL_KINDS.extend(SWEEP_KINDS.values())
+DRILLED = "Hole"
+# Radii within this share of each other are one cylinder's.
+SAME_RADIUS_REL = 1e-3
 
 
 class SweepFeature(CombinedFeature):
@@ -30,8 +34,19 @@ class SweepFeature(CombinedFeature):
     TYPE = "Sketch2CAD::Sweep"
     OPERATION = Sweep
     LABEL = "Revolution"
-    KIND_PROPERTIES = ("Mode",)
+    KIND_PROPERTIES = ("Mode", "Radius0", "Radius1")
     KINDS = SWEEP_KINDS
+
+    @classmethod
+    def kind_of(cls, op: Sweep) -> str:
+        if op.mode is Mode.SUBTRACT and _one_radius(op.r0, op.r1):
+            return DRILLED
+        return super().kind_of(op)
+
+    def kind(self, obj) -> str:
+        if Mode(obj.Mode) is Mode.SUBTRACT and _one_radius(mm(obj.Radius0), mm(obj.Radius1)):
+            return DRILLED
+        return super().kind(obj)
 
     def add_operation_properties(self, obj) -> None:
         retype(obj, "Center", "App::PropertyPosition", GROUP, "Centre of c0 on face f")
@@ -144,6 +159,11 @@ class SweepFeature(CombinedFeature):
         finally:
             self._tuning = False
         self._last = (mm(obj.Radius0), mm(obj.Radius1), mm(obj.Offset))
+
+
+def _one_radius(r0: float, r1: float) -> bool:
+    """c0 and c1 have the same radius (SAME_RADIUS_REL): the sweep is a cylinder."""
+    return abs(r0 - r1) <= SAME_RADIUS_REL * max(abs(r0), abs(r1))
 
 
 def _positive(values) -> bool:

@@ -6,6 +6,7 @@ strokes are shown again in the view they were drawn in, and OK applies the new r
 to that step."""
 
 import json
+from dataclasses import dataclass, replace
 
 import FreeCAD
 import FreeCADGui
@@ -19,6 +20,7 @@ from ..preferences import regularize_default, snap_step, use_network_threads
 from ..shapes import from_part, to_part
 from ..trackers.preview import Preview
 from ..trackers.stroke_capture import StrokeCapture
+from ..trackers.view_camera import view_camera
 from ..translate import translate
 
 MAKE = "Sketch2CADWorkbench.freecad_layer.make.make_model"
@@ -55,6 +57,69 @@ def replace_operation_command(obj, op: Operation, sketch: str = "") -> str:
         op,
         sketch,
     )
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One reading of the strokes the panel offers: its operations (the operation, then
+    its mirror image if asked) and the solid they make."""
+
+    operations: tuple
+    solid: object  # cq.Solid
+
+
+def _empty(layout) -> None:
+    """Take every widget out of `layout` (they are deleted)."""
+    while layout.count():
+        w = layout.takeAt(0).widget()
+        if w is not None:
+            w.deleteLater()
+
+
+def _shrinkable(button) -> None:
+    """Let a button be narrower than its label (Qt elides nothing, but the panel's width
+    then follows the Tasks area, not the longest label)."""
+    button.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+    button.setMinimumWidth(40)
+
+
+# The values of an operation (its JSON keys) as the panel names them.
+VALUE_NAMES = {
+    "type": "operator",
+    "face": "base face",
+    "d": "length",
+    "polygon": "vertices",
+    "mode": "Boolean",
+    "center": "centre",
+    "r0": "radius",
+    "r1": "far radius",
+    "profile": "profile",
+    "corner": "corner",
+    "opposite": "edge end",
+}
+
+
+def _changed_values(now: dict, new: dict, tol: float = 1e-4) -> list:
+    """The names (VALUE_NAMES) of the values of operation `new` that differ from `now`'s
+    (both as JSON objects; numbers within `tol` mm or of a unit normal are the same; a
+    base face is the same when its plane is: its point is any point inside it)."""
+    for op in (now, new):
+        if "face" in op:
+            f = dict(op["face"])
+            f["point"] = float(np.dot(f.pop("point"), f["normal"]))
+            op["face"] = f
+
+    def same(a, b) -> bool:
+        if isinstance(a, dict) and isinstance(b, dict):
+            return a.keys() == b.keys() and all(same(a[k], b[k]) for k in a)
+        if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+            return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=False))
+        if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+            return abs(a - b) <= tol * max(1.0, abs(a), abs(b))
+        return a == b
+
+    keys = list(now) + [k for k in new if k not in now]
+    return [VALUE_NAMES.get(k, k) for k in keys if not same(now.get(k), new.get(k))]
 
 
 def set_view_camera(view, cam) -> None:
@@ -100,6 +165,8 @@ class SketchPanel:
         self.closed = False
         self.skipped = set()  # SNAP_KINDS keys the designer undid for these strokes
         self.snap_buttons = []
+        self.readings, self.chosen = [], 0  # the readings offered, the one chosen
+        self.reading_buttons = []
         if feature is not None:
             self._open_feature()
         if loading():  # started with the workbench (freecad_layer/networks.py)
@@ -151,14 +218,29 @@ class SketchPanel:
         buttons.addWidget(self.interpret_button)
         buttons.addWidget(self.clear_button)
         lay.addLayout(buttons)
-        # one button per snap the reading applied: a click reads the strokes again
-        # without it (InterpretOptions.skip_snaps); undone snaps stay off until cleared
-        self.snap_box = QtGui.QVBoxLayout()
+        # the readings that draw the same strokes (a boss and a hole, paper Fig. 5b):
+        # one checkable button each, the checked one previewed and added by OK
+        self.reading_box = QtGui.QHBoxLayout()
+        lay.addLayout(self.reading_box)
+        # a reading far from its strokes (a scribble) is added only when asked for (near
+        # the top: seen without scrolling on a 768 px high screen)
+        self.anyway_button = QtGui.QPushButton(tr("Add anyway"))
+        self.anyway_button.setToolTip(
+            tr("Add this reading although its strokes lie far from it (OK does not)")
+        )
+        self.anyway_button.hide()
+        self.anyway_button.clicked.connect(self.accept_anyway)
+        lay.addWidget(self.anyway_button)
+        # one short button per snap the reading applied (what moved to what in its
+        # tooltip): a click reads the strokes again without it
+        # (InterpretOptions.skip_snaps); undone snaps stay off until cleared
+        self.snap_box = QtGui.QGridLayout()
         lay.addLayout(self.snap_box)
         self.text = QtGui.QTextEdit()
         self.text.setReadOnly(True)
         self.text.setMinimumWidth(0)
-        self.text.setMinimumHeight(260)  # the reading without scrolling, most of the time
+        # the reading without scrolling most of the time, within a 768 px high screen
+        self.text.setMinimumHeight(150)
         lay.addWidget(self.text)
         for widget in (self.option, self.symmetry):
             # combo boxes size to their longest entry by default
@@ -197,7 +279,11 @@ class SketchPanel:
             step = step_from_dict(json.loads(obj.SketchStep))
             set_view_camera(self.view, step.camera)
             depth = self.view.getCameraNode().focalDistance.getValue()
-            self.capture.strokes = [list(step.camera.unproject(s, depth)) for s in step.strokes]
+            # shown where the step is now when an edit of an earlier step moved it
+            shift = step.camera.image_of(tuple(getattr(obj, "SketchOffset", (0, 0, 0))))
+            self.capture.strokes = [
+                list(step.camera.unproject(s + shift, depth)) for s in step.strokes
+            ]
             self.capture.redraw()
             c = step.choices
             self.skipped = set(c.skip_snaps)  # the snaps undone when it was drawn stay undone
@@ -211,10 +297,16 @@ class SketchPanel:
                 box.blockSignals(True)
                 box.setCurrentIndex(box.findText(value))
                 box.blockSignals(False)
-        # the solid before this step, as PartDesign shows while a feature is edited
-        self.shown = {o.Name: o.ViewObject.Visibility for o in self.model.Group}
+        # the solid before this step, as PartDesign shows while a feature is edited; the
+        # view providers' switches, not their Visibility, which would mark the document
+        # modified for an edit that may be cancelled. Every step's view provider is the
+        # same, so the visible Tip's switch child is the base's display mode too.
+        self.shown = {
+            o.Name: o.ViewObject.SwitchNode.whichChild.getValue() for o in self.model.Group
+        }
+        mode = max([0, *self.shown.values()])
         for o in self.model.Group:
-            o.ViewObject.Visibility = o == obj.Base
+            o.ViewObject.SwitchNode.whichChild = mode if o == obj.Base else -1
         if step is not None:
             self.interpret()
 
@@ -233,7 +325,7 @@ class SketchPanel:
             self.regularize.isChecked(),
             None if opt == "auto" else Mode(opt),
             None if sym == "none" else sym,
-            snap_step=snap_step(),
+            snap_step=snap_step(view_camera(self.view).pixel_size),
             skip_snaps=frozenset(self.skipped),
         )
 
@@ -247,33 +339,90 @@ class SketchPanel:
         self.reinterpret()
 
     def _show_snaps(self, snaps) -> None:
-        """A button per applied snap (its undo), and one to snap again what was undone."""
-        while self.snap_box.count():
-            w = self.snap_box.takeAt(0).widget()
-            if w is not None:
-                w.deleteLater()
+        """A short button per applied snap (its undo; the snap in its tooltip), and one to
+        snap again what was undone, two to a row: the panel stays as narrow as the Tasks
+        area."""
+        from ...inference.fitting.regularize import SNAP_KINDS
+
+        _empty(self.snap_box)
         self.snap_buttons = []
         for snap in snaps:
-            b = QtGui.QPushButton(tr("Undo snap: {}").format(snap.describe()))
-            b.setToolTip(tr("Read the strokes again without this snap"))
+            b = QtGui.QPushButton(SNAP_KINDS[snap.key])
+            b.setToolTip(tr("Read the strokes again without this snap: {}").format(snap.describe()))
             b.clicked.connect(lambda _=False, k=snap.key: self.undo_snap(k))
-            self.snap_box.addWidget(b)
             self.snap_buttons.append(b)
         if self.skipped:
-            b = QtGui.QPushButton(tr("Snap again ({} undone)").format(len(self.skipped)))
+            b = QtGui.QPushButton(tr("Snap again"))
+            b.setToolTip(
+                tr("Read the strokes again with the {} undone snaps").format(len(self.skipped))
+            )
             b.clicked.connect(self.redo_snaps)
-            self.snap_box.addWidget(b)
             self.snap_buttons.append(b)
+        if snaps:
+            self.snap_box.addWidget(QtGui.QLabel(tr("Undo a snap:")), 0, 0, 1, 2)
+        for i, b in enumerate(self.snap_buttons):
+            _shrinkable(b)
+            self.snap_box.addWidget(b, 1 + i // 2, i % 2)
 
     def reinterpret(self, *_):
         if self.capture.strokes:
             self.interpret()
 
+    def _readings(self, r, options) -> list:
+        """The readings to choose from: the interpretation's, and the other Boolean's when
+        it draws the same strokes and builds too (`Interpretation.other_option`)."""
+        readings = [Reading(r.operations, r.solid)]
+        if r.other_option is not None:
+            from ...brep.protocol import OperationError
+            from ...inference.interpret import apply_with_symmetry
+
+            flipped = replace(r.operations[0], mode=r.other_option)
+            try:
+                ops, solid = apply_with_symmetry(self._base_solid(), flipped, options.symmetry)
+            except OperationError:
+                return readings  # only what builds is offered
+            readings.append(Reading(ops, solid))
+        return readings
+
+    def _show_readings(self) -> None:
+        """One checkable button per reading when there are several (the checked one is
+        previewed, described and added by OK)."""
+        from ..make.make_model import FEATURE_OF_OPERATION
+
+        _empty(self.reading_box)
+        self.reading_buttons = []
+        if len(self.readings) < 2:
+            return
+        label = QtGui.QLabel(tr("Reads as:"))
+        self.reading_box.addWidget(label)
+        for i, reading in enumerate(self.readings):
+            op = reading.operations[0]
+            cls = FEATURE_OF_OPERATION[op.type]
+            b = QtGui.QPushButton(cls.kind_of(op))
+            b.setCheckable(True)
+            b.setChecked(i == self.chosen)
+            b.setToolTip(tr("Preview and add this reading: {}").format(cls.reading(op)))
+            b.clicked.connect(lambda _=False, k=i: self.choose(k))
+            _shrinkable(b)
+            self.reading_box.addWidget(b)
+            self.reading_buttons.append(b)
+
+    def choose(self, index: int) -> None:
+        """Preview reading `index` of `readings`; OK adds that one."""
+        self.chosen = index
+        for i, b in enumerate(self.reading_buttons):
+            b.setChecked(i == index)
+        self._describe()
+        self.preview.show(to_part(self.readings[index].solid))
+
     def interpret(self):
         strokes, camera = self.capture.result()
         self.result = self.step = None
+        self.readings, self.chosen = [], 0
         self.preview.show(None)
         self._show_snaps(())
+        self._show_readings()
+        self.anyway_button.hide()
         if not strokes:
             self.text.setHtml(tr("<b>No strokes yet.</b> Draw over the model first."))
             return
@@ -286,7 +435,6 @@ class SketchPanel:
         from ...inference.context import InterpretError
         from ...inference.interpret import interpret
         from ...inference.session import SketchStep
-        from ..make.make_model import FEATURE_OF_OPERATION
 
         try:
             solid = self._base_solid()
@@ -300,38 +448,68 @@ class SketchPanel:
             )
             return
         self.result, self.step = r, SketchStep(camera, strokes, options)
+        self.readings = self._readings(r, options)
+        self._show_readings()
+        self.anyway_button.setVisible(r.doubtful)
+        self._describe()
+        self.preview.show(to_part(r.solid))
+        self._show_snaps(r.snaps)
+
+    def _describe(self) -> None:
+        """The chosen reading in words, the warnings, and what OK does."""
+        from ..make.make_model import FEATURE_OF_OPERATION
+
+        r, ops = self.result, self.readings[self.chosen].operations
         probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
-        lines = "".join(
-            f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>" for op in r.operations
-        )
+        lines = "".join(f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>" for op in ops)
         other = ""
-        if r.other_option is not None:  # a boss and a hole that draw the same lines
+        if len(self.readings) > 1:  # a boss and a hole that draw the same lines
             other = (
                 "<p>"
                 + tr(
-                    "The strokes read just as well as <b>{0}</b>: from this view "
-                    "its primitive draws the same lines. Set Boolean to {0} if "
-                    "that was meant."
-                ).format(r.other_option.value)
+                    "The strokes read just as well as another Boolean: from this view "
+                    "both primitives draw the same lines. Pick the one meant above."
+                )
                 + "</p>"
             )
         if r.doubtful:
             other += f"<p style='color:#b60'><b>{tr('Warning:')}</b> {r.doubt()}.</p>"
         if r.unsnapped:
             other += f"<p>{tr('Not snapped:')} {r.unsnapped}.</p>"
-        done = (
-            tr("OK adds it to the model.")
-            if self.feature is None
-            else tr("OK applies it to {}.").format(self.feature.Label)
-        )
-        first = r.operations[0]
+        if r.doubtful:
+            done = tr("OK does not add a reading this far from its strokes: Add anyway does.")
+        elif self.feature is None:
+            done = tr("OK adds it to the model.")
+        else:
+            done = self._change_of_edit(ops[0])
+        first = ops[0]
         kind = FEATURE_OF_OPERATION[first.type].kind_of(first)
         self.text.setHtml(
             f"<b>{tr('Read as')} {kind}</b> ({tr('operator')}: {probs})<ul>"
             f"{lines}</ul>{other}{r.timings_ms['total']:.0f} ms. {done}"
         )
-        self.preview.show(to_part(r.solid))
-        self._show_snaps(r.snaps)
+
+    def _change_of_edit(self, op) -> str:
+        """What OK would change in the edited step: its values that differ from `op`."""
+        from ..make.make_model import FEATURE_OF_OPERATION
+
+        obj = self.feature
+        try:
+            now = obj.Proxy.operation(obj)
+        except (ValueError, TypeError, AttributeError):
+            return tr("OK applies it to {}.").format(obj.Label)
+        changed = _changed_values(now.to_dict(), op.to_dict())
+        if not changed:
+            return tr("OK keeps {} as it is: the strokes read as its current values.").format(
+                obj.Label
+            )
+        return (
+            "<p><b>"
+            + tr("OK changes {0}'s {1}.").format(obj.Label, ", ".join(changed))
+            + "</b> "
+            + tr("Now: {}.").format(FEATURE_OF_OPERATION[now.type].reading(now))
+            + "</p>"
+        )
 
     def sketch_json(self) -> str:
         """The strokes, view and choices of the current reading, as a session step."""
@@ -344,6 +522,9 @@ class SketchPanel:
         self.skipped.clear()
         self._show_snaps(())
         self.result = self.step = None
+        self.readings, self.chosen = [], 0
+        self._show_readings()
+        self.anyway_button.hide()
         self.preview.show(None)
         self.text.clear()
 
@@ -357,11 +538,10 @@ class SketchPanel:
         self.closed = True
         self.preview.show(None)
         self.capture.remove()
-        if self.shown is not None:  # the visibility from before the edit
+        if self.shown is not None:  # what was shown before the edit
             for o in self.model.Group:
                 if o.Name in self.shown:
-                    o.ViewObject.Visibility = self.shown[o.Name]
-            self.model.Tip.ViewObject.Visibility = True
+                    o.ViewObject.SwitchNode.whichChild = self.shown[o.Name]
         FreeCADGui.Control.closeDialog()
         if (
             reset_edit
@@ -370,13 +550,32 @@ class SketchPanel:
         ):
             FreeCADGui.ActiveDocument.resetEdit()
 
-    def accept(self):
+    def accept_anyway(self) -> None:
+        """Add the reading although it is doubtful (OK refuses to)."""
+        self.accept(anyway=True)  # closes the panel when it adds
+
+    def accept(self, anyway: bool = False):
         if self.result is None:
             self.interpret()
             if self.result is None:
                 return False  # stays open with the reason shown
+        if self.result.doubtful and not anyway:
+            self.text.append(
+                "<p style='color:#b00'><b>"
+                + tr("Not added:")
+                + "</b> "
+                + tr(
+                    "the strokes lie far from this reading. Press Add anyway to add it, "
+                    "or clear the strokes and draw again."
+                )
+                + "</p>"
+            )
+            return False  # stays open
+        if self.chosen:  # another Boolean picked: the step records it as chosen
+            mode = self.readings[self.chosen].operations[0].mode
+            self.step = replace(self.step, choices=replace(self.step.choices, option=mode))
         sketch = self.sketch_json()
-        ops = list(self.result.operations)
+        ops = list(self.readings[self.chosen].operations)
         if self.feature is not None and len(ops) > 1 and self.model.Tip != self.feature:
             # a mirror image read with an edited step would go in the middle of the model
             error(

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Capturing freehand strokes over the 3D view, drawn as an overlay while drawing.
 
-Left-drag draws a stroke; Enter finishes; Escape cancels; the other buttons and the wheel
+Left-drag draws a stroke (one that starts on the view's own area, not on a widget over it);
+Enter finishes; Escape cancels; the other buttons and the wheel
 still navigate. The mouse is read by a Qt event filter on the view's viewport, before
 Coin sees it: each move costs a point, not a pass through the scene graph, and the
 overlay is updated once per turn of the event loop, so the view redraws at its own rate
@@ -171,6 +172,8 @@ class _EventFilter(QtCore.QObject):
             kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonDblClick)
             and event.button() == QtCore.Qt.LeftButton
         ):
+            if not _on_the_view(widget):
+                return False  # an overlay panel's edge or handle (FreeCAD 1.1's overlay mode)
             c.press(_pixel(widget, event))
             return True
         if kind == QtCore.QEvent.MouseMove and c.drawing:
@@ -185,7 +188,25 @@ class _EventFilter(QtCore.QObject):
         return kind == QtCore.QEvent.MouseMove and event.buttons() == QtCore.Qt.NoButton
 
 
+def _position(event):
+    """A Qt mouse event's position in its widget (device-independent pixels)."""
+    return event.position() if hasattr(event, "position") else event.localPos()  # Qt6 / Qt5
+
+
+def _on_the_view(viewport) -> bool:
+    """The pointer is on the 3D view's own area, not on one of FreeCAD 1.1's overlay panels
+    over it (their edges, handles and title bars included): the overlay mode passes presses
+    on a panel's see-through edges on to the view, at another place in it than the
+    pointer's; a drag from there resizes the panel, it is no stroke."""
+    w = QtGui.QApplication.widgetAt(QtGui.QCursor.pos())
+    while w is not None and w != viewport:
+        if "Overlay" in w.metaObject().className():  # Gui::OverlayTabWidget, its parts
+            return False
+        w = w.parentWidget()
+    return True
+
+
 def _pixel(widget, event) -> tuple:
     """A Qt mouse event's position (device-independent pixels) as a core pixel."""
-    pos = event.position() if hasattr(event, "position") else event.localPos()  # Qt6 / Qt5
+    pos = _position(event)
     return from_qt((pos.x(), pos.y()), widget.devicePixelRatioF())

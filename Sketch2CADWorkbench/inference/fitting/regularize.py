@@ -17,8 +17,9 @@ there (the caller's `StrokeCheck`), and a point wins over a line only when about
 the base face's corners, edge midpoints, centre and centre lines (on a cylinder's or
 cone's side: its rims and the middle of its height); earlier features'
 circle centres (concentric with a hole or sweep), vertices and straight edges (aligned
-with a boss); earlier features' sizes (edge lengths, radii); and multiples of the user's
-grid step. Every snap applied is returned as a `Snap`, and any of them can be left out
+with a boss); earlier features' sizes of the same kind (edge lengths for side lengths,
+edges along f's normal for a depth, radii for radii); and multiples of the user's grid
+step. Every snap applied is returned as a `Snap`, and any of them can be left out
 (`skip`) to undo it.
 """
 
@@ -269,6 +270,7 @@ class _Snapper:
         self.frame, self.view, self.tol, self.step, self.skip = frame, view, tol_px, step, skip
         self.strokes = strokes
         self.snaps: list[Snap] = []
+        self.depths: list[tuple[float, str]] = []  # what a length along f's normal snaps to
 
     def px(self, vec3: np.ndarray) -> float:
         """On-screen length (view pixels) of a world displacement (mm)."""
@@ -478,9 +480,7 @@ def _snap_rectangle_sides(poly: np.ndarray, s: _Snapper, sizes) -> np.ndarray:
 
 def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extrude:
     """d snaps to an earlier size or the grid."""
-    return replace(
-        op, d=s.length("d", op.d, s.frame.normal, targets.sizes, lambda d: replace(op, d=d))
-    )
+    return replace(op, d=s.length("d", op.d, s.frame.normal, s.depths, lambda d: replace(op, d=d)))
 
 
 def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
@@ -514,9 +514,7 @@ def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> Add
 
     move = s.position(np.concatenate([poly.mean(axis=0)[None], poly, mids]), targets, moved)
     op = moved(move)
-    return replace(
-        op, d=s.length("d", op.d, frame.normal, targets.sizes, lambda d: replace(op, d=d))
-    )
+    return replace(op, d=s.length("d", op.d, frame.normal, s.depths, lambda d: replace(op, d=d)))
 
 
 def best_line(op: Sweep) -> tuple[float, float]:
@@ -584,7 +582,7 @@ def _regularize_sweep(op: Sweep, s: _Snapper, targets: SnapTargets) -> Sweep:
         op = op.retuned(
             r0, s.length("r1", op.r1, radial, targets.radii, lambda r: op.retuned(r0, r))
         )
-    return op.retuned(d=s.length("d", op.d, n, targets.sizes, lambda d: op.retuned(d=d)))
+    return op.retuned(d=s.length("d", op.d, n, s.depths, lambda d: op.retuned(d=d)))
 
 
 _REGULARIZE = per_operator(
@@ -611,6 +609,20 @@ def hand_tolerance(
         view: the camera the strokes were drawn in.
     """
     return max(snap_px, HAND_SNAP * misfit_px * context.pixel_size / view.pixel_size)
+
+
+def _depths(solid: cq.Shape, normal: np.ndarray) -> list[tuple[float, str]]:
+    """The earlier lengths a length along `normal` (a depth) may snap to: the straight
+    edges along it (earlier depths and heights measured the same way, seams of round
+    faces included), not the sizes across it (a boss's width is no depth)."""
+    out = []
+    for e in solid.Edges():
+        if e.geomType() == "LINE":
+            d = np.subtract(e.endPoint().toTuple(), e.startPoint().toTuple())
+            size = float(np.linalg.norm(d))
+            if size > 0 and np.linalg.norm(np.cross(d / size, normal)) < PARALLEL_SIN:
+                out.append((size, f"an earlier depth ({size:.4g} mm)"))
+    return out
 
 
 def regularize_operation(
@@ -641,5 +653,6 @@ def regularize_operation(
     """
     frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
     s = _Snapper(frame, view, tol_px, step, frozenset(skip), strokes)
+    s.depths = _depths(solid, frame.normal)
     op = _REGULARIZE[op.type](op, s, snap_targets(solid, face, frame))
     return Regularized(op, tuple(s.snaps))

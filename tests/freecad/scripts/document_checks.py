@@ -156,6 +156,65 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
 
 
 @check
+def values_follow_an_edit_of_an_earlier_step():
+    """A boss on a pad's top, the pad raised: the boss stands on the new top, and its
+    properties (face point, vertices) say so, with how far it moved since it was drawn."""
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, Extrude, FaceRef, Mode, Protocol
+
+    square = tuple((x, y, 20.0) for x, y in ((-5, -5), (5, -5), (5, 5), (-5, 5)))
+    boss = AddSubPrism(FaceRef((0.0, 0.0, 20.0), (0.0, 0.0, 1.0)), square, 5.0, Mode.ADD)
+    pad = Extrude(FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0)), 10.0)
+    doc = FreeCAD.newDocument("values")
+    model = make_model_from_protocol(doc, Protocol(Box((40.0, 30.0, 20.0)), (pad, boss)))
+    _, extrude, prism = features(model)
+    assert (prism.FacePoint.z, prism.Vertex1.z, prism.SketchOffset.Length) == (20.0, 20.0, 0.0)
+    extrude.Offset = 15.0
+    doc.recompute()
+    assert not failed_features(model)
+    assert close(prism.Shape.BoundBox.ZMax, 30.0), prism.Shape.BoundBox
+    got = (prism.FacePoint.z, prism.Vertex1.z, tuple(prism.SketchOffset))
+    assert got == (25.0, 25.0, (0.0, 0.0, 5.0)), got
+    assert_matches_core(model, protocol_from_model(model))
+    doc.recompute()  # nothing moves on a second recompute
+    assert tuple(prism.SketchOffset) == (0.0, 0.0, 5.0)
+    FreeCAD.closeDocument(doc.Name)
+
+
+@check
+def a_drilled_cylinder_is_a_hole_and_a_bevel_reads_with_its_size():
+    from Sketch2CADWorkbench.brep.protocol import (
+        Bevel,
+        Box,
+        FaceRef,
+        Mode,
+        Protocol,
+        straight_profile,
+    )
+    from Sketch2CADWorkbench.freecad_layer.objects.bevel import BevelFeature
+
+    front = FaceRef((0.0, -15.0, 0.0), (0.0, -1.0, 0.0))
+    drill = Sweep(
+        front, (0.0, -15.0, 0.0), 4.0, 4.0, 8.0, straight_profile(4.0, 4.0, 8.0), Mode.SUBTRACT
+    )
+    doc = FreeCAD.newDocument("hole")
+    model = make_model_from_protocol(doc, Protocol(Box((40.0, 30.0, 20.0)), (drill,)))
+    hole = features(model)[-1]
+    assert hole.Label == "Hole", hole.Label
+    hole.Radius1 = 6.0  # a cone: no longer a drilled hole
+    doc.recompute()
+    assert hole.Label == "Groove", hole.Label
+    FreeCAD.closeDocument(doc.Name)
+    bevel = Bevel(
+        front,
+        (20.0, -15.0, 10.0),
+        (20.0, 15.0, 10.0),
+        ((20.0, -15.0, 5.0), (20.0, -15.0, 7.75), (17.25, -15.0, 10.0), (15.0, -15.0, 10.0)),
+    )
+    text = BevelFeature.reading(bevel)
+    assert text.startswith("Bevel: 5.00 mm,") and "30.00 mm edge" in text, text
+
+
+@check
 def sweep_profile_follows_its_radii():
     doc = FreeCAD.newDocument("retune")
     model = make_model_from_protocol(doc, example("mixer"))
@@ -356,6 +415,33 @@ def parameters_are_quantities_in_the_users_units():
 
 
 @check
+def the_length_grid_follows_the_unit_schema():
+    """Lengths snap by default to a whole unit of the user's schema: 1 mm, 0.5 mm where the
+    view shows strokes that precise (zoomed in), 0.05 in in an inch schema; a step chosen
+    in the preferences (0: none) wins."""
+    from Sketch2CADWorkbench.freecad_layer.preferences import parameters, snap_step
+    from Sketch2CADWorkbench.freecad_layer.units import length_grid
+
+    schema = FreeCAD.Units.getSchema()
+    try:
+        FreeCAD.Units.setSchema(0)  # Standard (mm, kg, s, degree)
+        assert (length_grid(0.1), length_grid(0.02)) == (1.0, 0.5)
+        FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
+        assert length_grid(0.1) == 1.27
+    finally:
+        FreeCAD.Units.setSchema(schema)
+    p = parameters()
+    try:
+        p.RemFloat("SnapStep")
+        assert snap_step(0.1) == length_grid(0.1)
+        for chosen in (0.0, 2.0):
+            p.SetFloat("SnapStep", chosen)
+            assert snap_step(0.1) == chosen
+    finally:
+        p.RemFloat("SnapStep")
+
+
+@check
 def step_part_is_named_after_the_model():
     import Import
 
@@ -393,7 +479,10 @@ def a_step_read_again_replaces_its_feature_in_place():
     assert (new.Label, new.Base, chain[2].Base) == ("Pad", chain[0], new)
     assert [o.Name for o in model.Group] == [o.Name for o in features(model)]
     assert features(model)[1] == new and model.Tip == chain[-1]
-    assert protocol_from_model(model).operations == (pad, *p.operations[1:])
+    ops = protocol_from_model(model).operations
+    # the later steps keep their kinds, their values moved to where they stand on the pad
+    assert ops[0] == pad and [type(o) for o in ops[1:]] == [type(o) for o in p.operations[1:]]
+    assert_matches_core(model, protocol_from_model(model))
 
 
 @check

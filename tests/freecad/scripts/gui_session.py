@@ -315,8 +315,9 @@ def sketching_in_a_perspective_view_switches_it_to_orthographic():
 @check
 def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     """A low square boss in the middle of the top face: from above, its top outline
-    falls inside the face, so a hole draws the same lines. The panel says so, and
-    choosing subtract in its Boolean box reads the hole."""
+    falls inside the face, so a hole draws the same lines. The panel offers both readings
+    as buttons, a click previews the hole and OK adds it (recording subtract as chosen);
+    choosing subtract in its Boolean box reads the hole too."""
     from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
 
@@ -343,15 +344,40 @@ def a_boss_that_draws_like_a_hole_says_so_and_the_boolean_choice_makes_it_one():
     try:
         assert panel.result is not None and panel.result.op_type.value == "addsub", text
         assert panel.result.operations[0].mode.value == "add", text
-        assert "read just as well as subtract" in text, text
+        assert "read just as well as another Boolean" in text, text
+        labels = [b.text() for b in panel.reading_buttons]
+        assert labels == ["Boss", "Hole"], labels
+        assert [b.isChecked() for b in panel.reading_buttons] == [True, False]
+        before = model.Tip.Shape.Volume
+        panel.reading_buttons[1].click()
+        settle()
+        assert [b.isChecked() for b in panel.reading_buttons] == [False, True]
+        assert "Read as Hole" in panel.text.toPlainText(), panel.text.toPlainText()
+        shown = panel.readings[panel.chosen].solid.Volume()  # the hole, previewed
+        assert panel.preview.node is not None and shown < before, (shown, before)
         panel.option.setCurrentIndex(panel.option.findText("subtract"))
         settle()
         assert panel.result is not None, panel.text.toPlainText()
         assert panel.result.operations[0].mode.value == "subtract"
-        before, after = model.Tip.Shape.Volume, panel.result.solid.Volume()
+        after = panel.result.solid.Volume()
         assert after < before, (before, after, panel.text.toPlainText())
+        # back to auto, the hole picked with a click is what OK adds
+        panel.option.setCurrentIndex(panel.option.findText("auto"))
+        settle()
+        panel.choose(1)
+        undos = model.Document.UndoCount
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+        hole = model.Tip
+        assert (hole.Label, hole.Mode) == ("Hole", "subtract"), (hole.Label, hole.Mode)
+        assert json.loads(hole.SketchStep)["choices"]["option"] == "subtract"
+        assert hole.Shape.Volume < before
+        model.Document.undo()  # the later checks draw on the model as it was
+        assert model.Document.UndoCount == undos
+        model.Document.recompute()
     finally:
-        panel.reject()
+        if not panel.closed:
+            panel.reject()
         settle()
 
 
@@ -626,6 +652,15 @@ def double_click_in_tree(obj) -> None:
     settle()
 
 
+def shown(obj) -> tuple:
+    """Whether the feature and the model's box are drawn in the view (their switches:
+    the Sketch panel shows the solid before an edited step without changing Visibility)."""
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+
+    box = features(next(o for o in obj.InList if obj in getattr(o, "Group", [])))[0]
+    return tuple(o.ViewObject.SwitchNode.whichChild.getValue() >= 0 for o in (obj, box))
+
+
 @check
 def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     """As PartDesign reopens a Pad: double-click shows the step's strokes in the view they
@@ -646,6 +681,10 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     pad = features(model)[-1]
     assert pad.Label == "Pad" and pad.SketchStep, (pad.Label, pad.SketchStep[:100])
     offset, undos = pad.Offset.Value, doc.UndoCount
+    doc.saveAs(os.path.join(TMP, "edit.FCStd"))
+    FreeCADGui.runCommand("Std_Save")  # FreeCAD's own save clears the modified mark
+    settle()
+    assert not FreeCADGui.ActiveDocument.Modified
     view.viewFront()  # the user has turned the view since
     settle()
     double_click_in_tree(pad)
@@ -657,20 +696,23 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     assert np.allclose(cam.direction, drawn_camera.direction, atol=1e-6), cam
     assert len(edit.capture.strokes) == 8
     assert edit.result is not None and "Pad: the face moved out by" in edit.text.toPlainText()
-    assert not pad.ViewObject.Visibility and features(model)[0].ViewObject.Visibility
+    assert shown(pad) == (False, True), shown(pad)  # the solid before the step
+    assert "OK keeps Pad as it is" in edit.text.toPlainText(), edit.text.toPlainText()
     edit.reject()
     settle()
     assert not FreeCADGui.Control.activeDialog()
     assert FreeCADGui.ActiveDocument.getInEdit() is None
     assert (pad.Offset.Value, doc.UndoCount) == (offset, undos), (pad.Offset, doc.UndoNames, undos)
+    assert shown(pad) == (True, False), shown(pad)
     assert pad.ViewObject.Visibility and not features(model)[0].ViewObject.Visibility
+    assert not FreeCADGui.ActiveDocument.Modified, "Edit then Cancel marked the document modified"
     double_click_in_tree(pad)
     edit = pad.ViewObject.Proxy.panel
     edit.clear()
     draw_pad(view, features(model)[0].Shape, 16.0)
     edit.interpret()
     assert edit.result is not None, edit.text.toPlainText()
-    assert "OK applies it to Pad" in edit.text.toPlainText()
+    assert "OK changes Pad's length" in edit.text.toPlainText(), edit.text.toPlainText()
     assert edit.accept()
     settle()
     assert features(model)[-1] == pad and len(features(model)) == 2
@@ -679,6 +721,71 @@ def double_clicking_a_sketched_step_reopens_its_panel_to_edit_it():
     assert FreeCADGui.ActiveDocument.getInEdit() is None
     doc.undo()
     assert close(pad.Offset.Value, offset, 1e-9), pad.Offset
+
+
+@check
+def a_later_step_edited_after_an_earlier_edit_starts_where_it_is_now():
+    """A boss drawn on a pad's top, the pad then raised by 5 mm: the boss's values follow,
+    and its panel re-opened shows its strokes where the boss now is and says what OK
+    would change; Cancel changes nothing."""
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+    from Sketch2CADWorkbench.inference.session import step_from_dict
+
+    model, view = new_model_document("later")
+    camera = view.getCameraNode()
+    camera.height.setValue(1.8 * camera.height.getValue())  # room above the box
+    settle()
+    for draw in (lambda: draw_pad(view, model.Tip.Shape, 10.0), lambda: draw_boss(view, model)):
+        panel = SketchPanel(model)
+        FreeCADGui.Control.showDialog(panel)
+        draw()
+        panel.interpret()
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+    _box, pad, boss = features(model)
+    assert (pad.Label, boss.Label) == ("Pad", "Boss"), (pad.Label, boss.Label)
+    z, length = boss.FacePoint.z, boss.Length.Value
+    pad.Offset = pad.Offset.Value + 5.0
+    model.Document.recompute()
+    settle()
+    assert close(boss.FacePoint.z, z + 5.0) and close(boss.Vertex1.z, z + 5.0), boss.FacePoint
+    assert tuple(boss.SketchOffset) == (0.0, 0.0, 5.0), boss.SketchOffset
+    boss.Label = "Boss on the raised pad"  # one row of that name: other checks made Bosses
+    undos = model.Document.UndoCount
+    double_click_in_tree(boss)
+    edit = boss.ViewObject.Proxy.panel
+    try:
+        step = step_from_dict(json.loads(boss.SketchStep))
+        # in the camera they were drawn with (the view's size may have changed since)
+        shown = step.camera.project(np.array(edit.capture.strokes[0]))[0]
+        shift = step.camera.image_of((0.0, 0.0, 5.0))
+        assert np.allclose(shown, step.strokes[0] + shift, atol=0.5), (shown[:2], shift)
+        text = edit.text.toPlainText()
+        assert "OK keeps Boss on the raised pad as it is" in text or "OK changes Boss on" in text, (
+            text
+        )
+    finally:
+        edit.reject()
+        settle()
+    assert (boss.FacePoint.z, boss.Length.Value) == (z + 5.0, length)
+    assert model.Document.UndoCount == undos
+
+
+def draw_boss(view, model) -> None:
+    """A low square boss in the middle of the model's top face, drawn with the mouse."""
+    from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
+
+    bb = model.Tip.Shape.BoundBox
+    c, h = np.array([bb.Center.x, bb.Center.y, bb.ZMax]), 0.2 * min(bb.XLength, bb.YLength)
+    base = c + np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]])
+    top = base + [0, 0, 0.3 * bb.ZLength]
+    viewport = view.graphicsView().viewport()
+    cam = view_camera(view)
+    for a, b in [(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)] + list(
+        zip(base, top, strict=False)
+    ):
+        drag(viewport, cam.project(np.linspace(a, b, 12))[0])
 
 
 @check
@@ -726,7 +833,8 @@ def sketch_panel_reads_in_the_users_units_and_names_follow_the_offset():
         panel.interpret()
         text = panel.text.toPlainText()
         assert panel.result is not None, text
-        assert "Pad: the face moved out by 0.39 in" in text, text
+        # 10 mm drawn: on the inch schema's 0.05 in grid (units.length_grid)
+        assert "Pad: the face moved out by 0.40 in" in text, text
         assert " mm" not in text and "f[n=" not in text, text
         assert panel.accept()
         settle()
@@ -775,7 +883,8 @@ def preferences_page_is_shown_and_its_values_are_used():
     assert seen and any(seen), seen
     page = PreferencesPage()
     page.loadSettings()
-    assert page.regularize.isChecked()  # the defaults
+    assert page.regularize.isChecked()  # the defaults: the unit schema's grid
+    assert page.snap.value() == page.snap.minimum() and page.snap.text() == "from the unit schema"
     page.regularize.setChecked(False)
     page.snap.setValue(2.0)
     page.threads.setValue(1)
@@ -799,8 +908,10 @@ def preferences_page_is_shown_and_its_values_are_used():
         assert close(panel.result.solid.Volume(), 40 * 30 * (20 + d), 1e-6)
         # the panel lists the snap; one click reads the strokes again without it
         texts = [b.text() for b in panel.snap_buttons]
-        assert any("length snapped to the 2 mm grid" in t for t in texts), texts
-        panel.snap_buttons[next(i for i, t in enumerate(texts) if "length" in t)].click()
+        tips = [b.toolTip() for b in panel.snap_buttons]
+        assert any("length snapped to the 2 mm grid" in t for t in tips), tips
+        assert "length" in texts, texts  # short labels: the panel stays narrow
+        panel.snap_buttons[texts.index("length")].click()
         settle()
         assert panel.result is not None and "d" in panel.skipped, panel.text.toPlainText()
         undone = panel.result.operations[0].d
@@ -848,7 +959,26 @@ def closing_documents_after_sketching_keeps_freecad_running():
     assert FreeCADGui.ActiveDocument.ActiveView is not None
 
 
+def dock_the_panels() -> None:
+    """FreeCAD 1.1's layout floats the Tasks panel over the 3D view's right side, where a
+    press belongs to the panel, not to the view: the checks, which draw anywhere over the
+    model, dock it (Toggle overlay for all turns every floating panel off), as FreeCAD 0.20
+    and 1.0 lay it out. test_x_events.py draws with the panel floating."""
+    if "Std_DockOverlayAll" not in FreeCADGui.listCommands():
+        return
+    mw = FreeCADGui.getMainWindow()
+    tabs = mw.findChildren(QtGui.QTabWidget)
+    if any("Overlay" in t.metaObject().className() and t.count() for t in tabs):
+        FreeCADGui.runCommand("Std_DockOverlayAll")
+    # Tasks and Model as tabs of one dock, as FreeCAD 0.20's combo view: the 3D view as wide
+    docks = {d.objectName(): d for d in mw.findChildren(QtGui.QDockWidget)}
+    if "Model" in docks and "Tasks" in docks:
+        mw.tabifyDockWidget(docks["Model"], docks["Tasks"])
+        docks["Tasks"].raise_()
+
+
 def main():
+    dock_the_panels()
     finish(run_checks())
 
 

@@ -45,36 +45,24 @@ def tested_checkout() -> None:
 
 def send_drag(viewport, pixels, button=None) -> None:
     """A mouse drag through core pixel positions, as Qt events sent to the view's viewport
-    (in device-independent pixels: Xvfb's 96 dpi makes Qt scale by about 1.04)."""
+    (in device-independent pixels: Xvfb's 96 dpi makes Qt scale by about 1.04), each with
+    its screen position, as the window system gives it, the pointer put where it starts."""
     from PySide import QtCore, QtGui
 
     button = button or QtCore.Qt.LeftButton
     dpr = viewport.devicePixelRatioF()
-    points = [QtCore.QPoint(int(x / dpr), int(y / dpr)) for x, y in pixels]
+    points = [QtCore.QPointF(int(x / dpr), int(y / dpr)) for x, y in pixels]
     send = QtGui.QApplication.instance().sendEvent
-    send(
-        viewport,
-        QtGui.QMouseEvent(
-            QtCore.QEvent.MouseButtonPress, points[0], button, button, QtCore.Qt.NoModifier
-        ),
-    )
+
+    def event(kind, p, which, held):
+        screen = QtCore.QPointF(viewport.mapToGlobal(p.toPoint()))
+        return QtGui.QMouseEvent(kind, p, screen, which, held, QtCore.Qt.NoModifier)
+
+    QtGui.QCursor.setPos(viewport.mapToGlobal(points[0].toPoint()))
+    send(viewport, event(QtCore.QEvent.MouseButtonPress, points[0], button, button))
     for p in points[1:]:
-        send(
-            viewport,
-            QtGui.QMouseEvent(
-                QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button, QtCore.Qt.NoModifier
-            ),
-        )
-    send(
-        viewport,
-        QtGui.QMouseEvent(
-            QtCore.QEvent.MouseButtonRelease,
-            points[-1],
-            button,
-            QtCore.Qt.NoButton,
-            QtCore.Qt.NoModifier,
-        ),
-    )
+        send(viewport, event(QtCore.QEvent.MouseMove, p, QtCore.Qt.NoButton, button))
+    send(viewport, event(QtCore.QEvent.MouseButtonRelease, points[-1], button, QtCore.Qt.NoButton))
 
 
 def run_checks() -> int:

@@ -259,7 +259,22 @@ def test_the_grid_is_the_designers_resolution_at_any_zoom(big, view):
     # an earlier length closer than the grid value wins (the box is 100 mm tall)
     near = Extrude(face_ref_of(face), 99.2)
     got = regularize_operation(big, near, face, view, step=7.0)  # grid value 98
-    assert got.operation.d == 100.0 and "earlier length" in got.snaps[0].target
+    assert got.operation.d == 100.0 and "earlier depth" in got.snaps[0].target
+
+
+def test_a_depth_snaps_to_earlier_depths_not_to_sizes_across_it(big, view):
+    """A length along f's normal snaps to the edges along it (the box's height), never to
+    a width across it however close (the box's 400 mm width)."""
+    top = face_towards(big, (0, 0, 1))
+    side = face_towards(big, (1, 0, 0))
+    assert BIG[0] != BIG[2]
+    along = regularize_operation(big, Extrude(face_ref_of(top), BIG[2] - 0.3), top, view)
+    assert along.operation.d == BIG[2], along.snaps
+    across = regularize_operation(big, Extrude(face_ref_of(top), BIG[0] - 0.3), top, view)
+    assert across.operation.d == BIG[0] - 0.3 and not across.snaps, across.snaps
+    # from the side face the width is the depth
+    got = regularize_operation(big, Extrude(face_ref_of(side), BIG[0] - 0.3), side, view)
+    assert got.operation.d == BIG[0], got.snaps
 
 
 def tube(face, d):
