@@ -4,8 +4,9 @@ up a model in an isometric view in FreeCAD's default layout (FreeCAD 1.1's: the 
 panel floats over the view's right side) or with every panel floating over it
 (SKETCH2CAD_OVERLAY=1: FreeCAD 1.1's overlay mode for all), opens the Sketch panel, and
 then only reports what a user sees, every 100 ms, to $SKETCH2CAD_TMP/state.json: the
-windows' and buttons' places on the screen, the view's camera, the panel's reading and strokes, the model's features. It
-sends no event itself: every click, drag and key comes from outside."""
+windows' and buttons' places on the screen, the view's camera, the panel's reading and
+strokes, the model's features. It sends no event itself: every click, drag and key comes
+from outside."""
 
 import json
 import os
