@@ -239,8 +239,12 @@ class ResolvedFace:
     @staticmethod
     def of(face: cq.Face) -> ResolvedFace:
         """A planar face of the solid itself, as `resolve_face` finds it from the face's
-        own `face_ref_of` (no shift): for callers that already hold the face."""
-        return ResolvedFace(face, np.array(face.normalAt().toTuple()), 0.0)
+        own `face_ref_of` (no shift): for callers that already hold the face. Its normal
+        is read as `planar_faces` reads it, so that both give the same result to the bit."""
+        plane = _plane(face.wrapped)
+        if plane is None:
+            raise ValueError("ResolvedFace.of takes a planar face")
+        return ResolvedFace(face, plane[0], 0.0)
 
     @property
     def offset(self) -> np.ndarray:
