@@ -389,8 +389,7 @@ def hole_outlines(bb, count: int = 10):
     for k in range(count):
         n, r = 3 + k % 4, rng.uniform(0.12, 0.22) * min(bb.XLength, bb.YLength)
         t = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n) / n
-        centre = [
-            *c,
+        centre = c + [
             rng.uniform(-0.15, 0.15) * bb.XLength,
             rng.uniform(-0.1, 0.1) * bb.YLength,
             0.0,
