@@ -2,6 +2,8 @@
 """Shared test settings."""
 
 import importlib.util
+import os
+import stat
 from pathlib import Path
 
 import pytest
@@ -28,3 +30,20 @@ def load_file():
         return module
 
     return load
+
+
+@pytest.fixture
+def memory_device():
+    """Makes a character device of the memory driver: memory_device(path, minor) (minor 3:
+    like /dev/null, 5: /dev/zero, 7: /dev/full), in the test's folder so that the machine's
+    own device files are never written. `make test` runs as root, as its setup needs;
+    elsewhere the test fails saying so."""
+
+    def make(path: Path, minor: int) -> Path:
+        try:
+            os.mknod(path, 0o666 | stat.S_IFCHR, os.makedev(1, minor))
+        except PermissionError:
+            pytest.fail("making a device node needs root: run the tests as `make test` does")
+        return path
+
+    return make

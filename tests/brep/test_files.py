@@ -113,25 +113,15 @@ def test_an_output_on_an_input_or_on_another_output_is_refused():
     files.check_outputs({"PROTOCOL": "p.json"}, {"--step": "p.step", "--png": None})
 
 
-def _node(path, minor):
-    """A character device of the memory driver at `path` (1, 3: like /dev/null; 1, 7:
-    like /dev/full), made here so the machine's own device files are never written."""
-    try:
-        os.mknod(path, 0o666 | stat.S_IFCHR, os.makedev(1, minor))
-    except PermissionError:
-        pytest.skip("making a device node needs root")
-    return path
-
-
-def test_a_device_is_written_into_not_replaced(tmp_path):
-    null = _node(tmp_path / "null", 3)
+def test_a_device_is_written_into_not_replaced(tmp_path, memory_device):
+    null = memory_device(tmp_path / "null", 3)
     files.write_atomically(null, "discarded")
     assert stat.S_ISCHR(null.stat().st_mode)
     assert sorted(os.listdir(tmp_path)) == ["null"]
 
 
-def test_a_full_disk_is_reported_as_one_naming_the_path(tmp_path):
-    full = _node(tmp_path / "full", 7)  # every write: ENOSPC
+def test_a_full_disk_is_reported_as_one_naming_the_path(tmp_path, memory_device):
+    full = memory_device(tmp_path / "full", 7)  # every write: ENOSPC
     with pytest.raises(OSError, match=f"{full}: the disk is full") as e:
         files.write_atomically(full, "x" * 100000)
     assert e.value.errno == errno.ENOSPC and files.MARK not in str(e.value)
@@ -201,7 +191,7 @@ def test_a_write_error_names_the_given_path_not_the_temporary(tmp_path):
     assert str(blocked / "x.step") in str(e.value) and files.MARK not in str(e.value)
 
 
-def test_an_input_past_the_cap_is_refused_before_it_is_read(tmp_path, monkeypatch):
+def test_an_input_past_the_cap_is_refused_before_it_is_read(tmp_path, monkeypatch, memory_device):
     big = tmp_path / "big.json"
     big.write_bytes(b" " * 3000)
     monkeypatch.setenv(files.MAX_INPUT_ENV, "0.002")
@@ -213,6 +203,6 @@ def test_an_input_past_the_cap_is_refused_before_it_is_read(tmp_path, monkeypatc
     with pytest.raises(ValueError, match=files.MAX_INPUT_ENV):
         files.read_capped(big)
     monkeypatch.delenv(files.MAX_INPUT_ENV)
-    zero = _node(tmp_path / "zero", 5)  # endless zeros, as /dev/zero
+    zero = memory_device(tmp_path / "zero", 5)  # endless zeros, as /dev/zero
     with pytest.raises(OSError, match="larger than 64 MB"):
         files.read_capped(zero)

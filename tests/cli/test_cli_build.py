@@ -87,12 +87,8 @@ def test_a_replaced_output_keeps_its_mode(tmp_path, examples_dir):
     assert "ISO-10303-21" in step.read_text()[:100]
 
 
-def test_a_device_output_is_written_into_and_stays_a_device(tmp_path, examples_dir):
-    null = tmp_path / "null"
-    try:
-        os.mknod(null, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # as /dev/null, made here
-    except PermissionError:
-        pytest.skip("making a device node needs root")
+def test_a_device_output_is_written_into_and_stays_a_device(tmp_path, examples_dir, memory_device):
+    null = memory_device(tmp_path / "null", 3)  # as /dev/null
     out = run("build", examples_dir / "nut.json", "--step", null, "--quiet")
     assert out.returncode == 0, out.stderr
     assert stat.S_ISCHR(null.stat().st_mode) and os.listdir(tmp_path) == ["null"]
@@ -111,12 +107,8 @@ def test_an_empty_output_path_is_refused_naming_the_option(tmp_path, examples_di
     assert "PosixPath" not in out.stderr
 
 
-def test_an_endless_input_is_refused_at_the_cap(tmp_path):
-    zero = tmp_path / "zero"
-    try:
-        os.mknod(zero, 0o666 | stat.S_IFCHR, os.makedev(1, 5))  # as /dev/zero, made here
-    except PermissionError:
-        pytest.skip("making a device node needs root")
+def test_an_endless_input_is_refused_at_the_cap(tmp_path, memory_device):
+    zero = memory_device(tmp_path / "zero", 5)  # as /dev/zero
     out = run("build", zero)
     assert out.returncode == 2
     assert "larger than 64 MB" in out.stderr and "SKETCH2CAD_MAX_INPUT_MB" in out.stderr

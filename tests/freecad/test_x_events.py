@@ -250,11 +250,18 @@ def freecad_has_overlay_mode() -> bool:
     return (major, minor) >= (1, 1)
 
 
-@pytest.fixture(params=[False, True], ids=["default_layout", "overlay_for_all"])
-def desktop(request, tmp_path, run_freecad):  # run_freecad: the user config is primed
-    if request.param and not freecad_has_overlay_mode():
-        pytest.skip("this FreeCAD has no overlay mode (FreeCAD 1.1 has)")
-    d = Desktop(tmp_path, overlay=request.param)
+def pytest_generate_tests(metafunc):
+    """The layouts this FreeCAD has: its default one, and from FreeCAD 1.1 on the overlay
+    mode for all panels."""
+    if "overlay" in metafunc.fixturenames:
+        layouts = [False, True] if freecad_has_overlay_mode() else [False]
+        ids = ["default_layout", "overlay_for_all"][: len(layouts)]
+        metafunc.parametrize("overlay", layouts, ids=ids)
+
+
+@pytest.fixture
+def desktop(overlay, tmp_path, run_freecad):  # run_freecad: the user config is primed
+    d = Desktop(tmp_path, overlay=overlay)
     try:
         yield d
     finally:
