@@ -18,16 +18,16 @@ matching the model; FreeCAD exits 0 once both files are written, 1 otherwise.
 
 import os
 import sys
-import time
 import traceback
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
+sys.path[:0] = [ROOT, os.path.join(ROOT, "scripts")]
 for _name in [m for m in sys.modules if m.split(".")[0] == "Sketch2CADWorkbench"]:
     del sys.modules[_name]  # the Mod folder's workbench may be another checkout
 
 import FreeCAD  # noqa: E402
 import FreeCADGui  # noqa: E402
+from gui_capture import grab, settle  # noqa: E402
 from PySide import QtCore, QtGui  # noqa: E402
 
 OUT = os.environ.get("SKETCH2CAD_SCREENSHOT_DIR", os.path.join(ROOT, "docs"))
@@ -36,25 +36,6 @@ WINDOW = (1500, 900)
 
 def say(line: str) -> None:
     print(f"\n{line}", file=sys.__stdout__, flush=True)
-
-
-def settle(seconds: float = 1.0) -> None:
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.02)
-
-
-def grab(path: str) -> None:
-    """The main window as shown on the X screen (the 3D view is drawn with OpenGL, which
-    QWidget.grab does not capture)."""
-    settle()
-    geometry = FreeCADGui.getMainWindow().frameGeometry()
-    image = QtGui.QGuiApplication.primaryScreen().grabWindow(
-        0, geometry.x(), geometry.y(), geometry.width(), geometry.height()
-    )
-    if not image.save(path):
-        raise OSError(f"{path}: cannot write the screenshot")
 
 
 def wide_combo_view(tab: str) -> None:

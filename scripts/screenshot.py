@@ -18,7 +18,6 @@ otherwise.
 
 import os
 import sys
-import time
 import traceback
 
 import FreeCAD
@@ -28,6 +27,9 @@ from PySide import QtCore, QtGui
 
 from Sketch2CADWorkbench.freecad_layer.env import ROOT
 
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from gui_capture import grab, settle
+
 PROTOCOL = os.path.join(ROOT, "examples", "protocols", "hammer.json")
 SKETCH = os.environ.get("SKETCH2CAD_SCREENSHOT_MODE") == "sketch"
 OUT = os.environ.get(
@@ -35,14 +37,6 @@ OUT = os.environ.get(
     os.path.join(ROOT, "docs", "sketch-step.png" if SKETCH else "workbench.png"),
 )
 WINDOW = (1500, 900)  # device-independent pixels (Xvfb: 1.04 device pixels each)
-
-
-def settle(seconds: float = 1.0) -> None:
-    """Process events for a while: FreeCAD 1.1 animates view changes."""
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.02)
 
 
 def show_model():
@@ -99,20 +93,6 @@ def show_sketch_step():
     panel.interpret()  # in FreeCAD's default layout: the panel fits the combo view
     if panel.result is None:
         raise RuntimeError(panel.text.toPlainText())
-
-
-def grab(path: str) -> None:
-    """The main window as shown on the X screen (the 3D view is drawn with OpenGL, which
-    QWidget.grab does not capture)."""
-    mw = FreeCADGui.getMainWindow()
-    settle()
-    geometry = mw.frameGeometry()
-    image = QtGui.QGuiApplication.primaryScreen().grabWindow(
-        0, geometry.x(), geometry.y(), geometry.width(), geometry.height()
-    )
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    if not image.save(path):
-        raise OSError(f"{path}: cannot write the screenshot")
 
 
 def main():
