@@ -10,7 +10,7 @@ The geometry is where the core's replay put each step (`plan_protocol`), so the 
 builds the same solid; on a curved face the primitive is trimmed to the face's surface
 as the operators trim it.
 
-The blocks, their variables and comments are laid out once (`_script`); a `_Library`
+The blocks, their variables and comments are laid out once (`protocol_script`); a `_Library`
 spells each piece in its library's own idiom (CadQuery's `Workplane` paths, build123d's
 algebra mode).
 """
