@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import os
 import pstats
 import sys
 import time
@@ -63,17 +64,19 @@ def main() -> int:
         pstats.Stats(profiler).sort_stats("cumulative").print_stats(25)
         return 0
     for steps in a.steps:
-        marks, t0 = [], time.perf_counter()
+        marks, t0, cpu0 = [], time.perf_counter(), time.process_time()
 
-        def mark(i: int, marks: list[float] = marks, t0: float = t0) -> None:
+        def mark(i: int, marks: list[float] = marks, cpu0: float = cpu0) -> None:
             if i % a.block == 0:
-                marks.append(time.perf_counter() - t0)
+                marks.append(time.process_time() - cpu0)
 
         build(holes(steps), on_step=mark)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
         blocks = [b - a_ for a_, b in zip([0.0] + marks, marks, strict=False)]
         print(
-            f"{steps} steps: {time.perf_counter() - t0:.1f} s; per {a.block} steps: "
-            + " ".join(f"{s:.1f}" for s in blocks),
+            f"{steps} steps: {wall:.1f} s wall, {cpu:.1f} s CPU (load average "
+            f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores); CPU s per {a.block} "
+            "steps: " + " ".join(f"{s:.1f}" for s in blocks),
             flush=True,
         )
     return 0
