@@ -6,11 +6,12 @@ steps (each step works on a solid with more faces, so the later blocks are slowe
     .bin/python benchmarks/bench_replay.py [--steps 100 200 400] [--block 50] [--profile]
 
 Every stage of a step handles the whole solid: OCCT's Boolean builds the whole result,
-unifying its faces and checking its validity look at every face, and the face a step
-stands on is found among all of them; so a step costs time in proportion to the faces
-and the replay grows with the square of the steps. `--profile` prints where the time of
-the first STEPS goes. Wall time: other work on the machine inflates it; say the load
-beside the figure.
+unifying its faces looks at every face, and the face a step stands on is found among all
+of them; so a step costs time in proportion to the faces (OCCT's Boolean a little more:
+the top face holds every hole) and the replay grows with the square of the steps. OCCT's
+validity check, whose cost on a face with K holes grows with K^2, runs once, at the end.
+`--profile` prints where the time of the first STEPS goes. Wall time: other work on the
+machine inflates it; the CPU time less so; the load is printed beside the figures.
 """
 
 from __future__ import annotations

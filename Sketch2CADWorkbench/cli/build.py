@@ -78,7 +78,12 @@ def write_outputs(
         model = protocol
         outputs.append((fcstd, lambda: fcstd_bytes(model)))
     for path, _ in outputs:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except FileExistsError as e:  # OSError's text names the file alone, not why
+            raise OSError(
+                f"{path}: cannot make its folder: {e.filename} is a file, not a folder"
+            ) from None
     with atomic_outputs([path for path, _ in outputs]) as tmps:
         for tmp, (_, data) in zip(tmps, outputs, strict=False):
             tmp.write_bytes(data())

@@ -170,3 +170,13 @@ def test_a_replay_shows_its_progress_on_a_terminal_or_when_it_is_long(
     assert ("build plate.json" in err.getvalue()) == shown, err.getvalue()
     if shown:
         assert f"/{steps} [" in err.getvalue()  # tqdm's count of the steps
+
+
+def test_an_output_under_a_file_is_refused_naming_both(tmp_path, examples_dir):
+    shutil.copy(examples_dir / "nut.json", tmp_path / "p.json")
+    before = (tmp_path / "p.json").read_bytes()
+    out = run("build", tmp_path / "p.json", "--step", tmp_path / "p.json" / "x.step")
+    assert out.returncode == 2
+    assert f"{tmp_path / 'p.json' / 'x.step'}: cannot make its folder: " in out.stderr
+    assert f"{tmp_path / 'p.json'} is a file, not a folder" in out.stderr, out.stderr
+    assert (tmp_path / "p.json").read_bytes() == before
