@@ -480,7 +480,7 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
         if abs(shift) > scale:
             continue
         projected = p_ref + n * shift
-        if face.distance(cq.Vertex.makeVertex(*projected)) > tol:
+        if _off_box(face, projected, tol) or face.distance(cq.Vertex.makeVertex(*projected)) > tol:
             continue
         if best is None or abs(shift) < abs(best[2]):
             best = (face, n, shift)
@@ -494,6 +494,16 @@ def resolve_face(solid: cq.Shape, ref: FaceRef, what: str = "face") -> ResolvedF
     if abs(shift) > tol:
         _refuse_inward_normal(solid, ref, p_ref, n_ref, tol, what)
     return ResolvedFace(face, n, 0.0 if abs(shift) <= tol else shift)
+
+
+def _off_box(face: cq.Face, point: np.ndarray, tol: float) -> bool:
+    """Whether a point lies farther than tol from a face's bounding box, so from the face:
+    told before OCCT's exact distance, which on a solid of many faces would otherwise be
+    taken to every face with the reference's normal."""
+    box = Bnd_Box()
+    BRepBndLib.Add_s(face.wrapped, box, False)
+    box.Enlarge(tol)
+    return box.IsOut(gp_Pnt(*map(float, point)))
 
 
 def resolve_curved_face(

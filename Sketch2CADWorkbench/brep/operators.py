@@ -95,15 +95,19 @@ class OperationResult:
     volume: float
 
 
-def combine(solid: cq.Shape, tool: cq.Shape, mode: Mode, what: str) -> OperationResult:
+def combine(
+    solid: cq.Shape, tool: cq.Shape, mode: Mode, what: str, check_valid: bool = True
+) -> OperationResult:
     """The solid combined with an operation's primitive by `mode`: the one place every
     operation ends.
 
+    Args:
+        check_valid: whether OCCT's validity check runs on the result (`_single_solid`).
     Raises:
         OperationError: naming the step (`what`) when the result is not one valid solid.
     """
     result = tool if mode is Mode.REPLACE else boolean(solid, tool, mode)
-    return _single_solid(result, what, solid)
+    return _single_solid(result, what, solid, check_valid)
 
 
 # OCCT's Boolean for each mode that has one.
@@ -139,8 +143,13 @@ def boolean(shape: cq.Shape, tool: cq.Shape, mode: Mode) -> cq.Shape:
     return cq.Shape.cast(algo.Shape())  # raises, as cadquery's does, when OCCT failed
 
 
-def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> OperationResult:
-    """The one valid solid in a Boolean result, or an OperationError saying why not."""
+def _single_solid(
+    shape: cq.Shape, what: str, before: cq.Shape, check_valid: bool = True
+) -> OperationResult:
+    """The one valid solid in a Boolean result, or an OperationError saying why not.
+    Without `check_valid`, OCCT's validity check (BRepCheck) is left to the caller: it
+    looks at the whole solid, and on a face with K holes its cost grows with K^2
+    (`replay` checks its solids once, at the end)."""
     shape = shape.clean()
     solids = shape.Solids()
     if not solids:
@@ -148,12 +157,18 @@ def _single_solid(shape: cq.Shape, what: str, before: cq.Shape) -> OperationResu
     if len(solids) > 1:
         raise OperationError(f"{what}: the result falls apart into {len(solids)} solids")
     solid = solids[0]
-    if not solid.isValid():
-        raise OperationError(f"{what}: OCCT reports the result as an invalid solid")
+    if check_valid:
+        _check_valid(solid, what)
     volume = solid.Volume()
     if volume <= 1e-9 * model_scale(before) ** 3:
         raise OperationError(f"{what}: the result has no volume")
     return OperationResult(solid, volume)
+
+
+def _check_valid(solid: cq.Shape, what: str) -> None:
+    """OperationError naming `what` when OCCT reports the solid as invalid."""
+    if not solid.isValid():
+        raise OperationError(f"{what}: OCCT reports the result as an invalid solid")
 
 
 # ----------------------------------------------------------------- builders
@@ -637,9 +652,14 @@ def apply_operation(solid: cq.Solid, op: Operation, face: cq.Face | None = None)
 
 
 def operation_result(
-    solid: cq.Solid, op: Operation, face: cq.Face | None = None
+    solid: cq.Solid, op: Operation, face: cq.Face | None = None, check_valid: bool = True
 ) -> OperationResult:
-    """`apply_operation`'s result with its volume (the same arguments and errors)."""
+    """`apply_operation`'s result with its volume (the same arguments and errors).
+
+    Args:
+        check_valid: False leaves OCCT's validity check of the result to the caller
+            (`replay` checks once, at the end).
+    """
     check_ranges(solid, op)
     index = None if face is None else _held_face_index(solid, face, op)
     try:
@@ -653,7 +673,7 @@ def operation_result(
             else ResolvedFace.of(face_at(solid, index))
         )
         tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
-        return combine(solid, tool, op.boolean, op.name)
+        return combine(solid, tool, op.boolean, op.name, check_valid)
     except OperationError:
         raise
     except Exception as e:  # an OCCT failure deep in a Boolean is still a user-level error
@@ -671,34 +691,69 @@ def _held_face_index(solid: cq.Shape, face: cq.Face, op: Operation) -> int:
 def replay(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> list[cq.Solid]:
     """The solid after the base box and after each operation, in order.
 
+    OCCT's validity check runs on the final solid, and on the solid before a step that
+    replaces it (REPLACE), not after every step: on a face with K holes it costs K^2,
+    which made a long replay grow with the cube of its steps. Where that check or a
+    step fails, the protocol is built again with every check after every step, so the
+    error names the first step that does not build, as a step-by-step check would.
+
     Args:
         on_step: called with each step's number (1-based) once it is built (progress).
     Raises:
         OperationError: naming the step (1-based) that could not be built.
     """
-    solids = [make_box(protocol.base)]
-    for i, op in enumerate(protocol.operations, 1):
-        solids.append(_step(solids[-1], op, i))
-        if on_step:
-            on_step(i)
-    return solids
+    return _replay(protocol, on_step, keep=True)
 
 
 def build(protocol: Protocol, on_step: Callable[[int], None] | None = None) -> cq.Solid:
-    """The final solid of a protocol (on_step and errors: as for `replay`), holding only
-    the solid of the step being built (`replay` holds every step's)."""
-    solid = make_box(protocol.base)
+    """The final solid of a protocol (on_step, checks and errors: as for `replay`),
+    holding only the solid of the step being built (`replay` holds every step's)."""
+    return _replay(protocol, on_step, keep=False)[-1]
+
+
+def _replay(
+    protocol: Protocol, on_step: Callable[[int], None] | None, keep: bool
+) -> list[cq.Solid]:
+    """`replay` (`keep`: every step's solid) or `build` (the last one only)."""
+    try:
+        return _steps(protocol, on_step, keep, check_each=False)
+    except OperationError:
+        # some step fails, or an unchecked one left an invalid solid: the first step
+        # that fails its checks is the one to name
+        return _steps(protocol, None, keep, check_each=True)
+
+
+def _steps(
+    protocol: Protocol, on_step: Callable[[int], None] | None, keep: bool, check_each: bool
+) -> list[cq.Solid]:
+    """The protocol's solids (`_replay`), OCCT's validity checked after each step
+    (`check_each`) or only where an unchecked solid would be lost: before a step that
+    replaces it, and at the end.
+
+    Raises:
+        OperationError: naming the step that failed (without `check_each`, perhaps a
+            later one than the first that does not build).
+    """
+    solids = [make_box(protocol.base)]
     for i, op in enumerate(protocol.operations, 1):
-        solid = _step(solid, op, i)
+        if not check_each and op.boolean is Mode.REPLACE:
+            _check_valid(solids[-1], f"step {i - 1}")
+        solid = _step(solids[-1], op, i, check_each)
+        if keep:
+            solids.append(solid)
+        else:
+            solids[-1] = solid
         if on_step:
             on_step(i)
-    return solid
+    if not check_each:
+        _check_valid(solids[-1], f"step {len(protocol.operations)}")
+    return solids
 
 
-def _step(solid: cq.Solid, op: Operation, i: int) -> cq.Solid:
+def _step(solid: cq.Solid, op: Operation, i: int, check_valid: bool) -> cq.Solid:
     """Step i of a replay (OperationError: naming the step)."""
     try:
-        return apply_operation(solid, op)
+        return operation_result(solid, op, check_valid=check_valid).solid
     except OperationError as e:
         raise OperationError(f"step {i} ({op.type.value}): {e}") from None
 

@@ -78,17 +78,24 @@ def write_outputs(
         model = protocol
         outputs.append((fcstd, lambda: fcstd_bytes(model)))
     for path, _ in outputs:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except FileExistsError as e:  # OSError's text names the file alone, not why
+            raise OSError(
+                f"{path}: cannot make its folder: {e.filename} is a file, not a folder"
+            ) from None
     with atomic_outputs([path for path, _ in outputs]) as tmps:
         for tmp, (_, data) in zip(tmps, outputs, strict=False):
             tmp.write_bytes(data())
 
 
-def replay_progress(protocol: Protocol, what: str) -> tqdm:
-    """A progress bar on stderr for replaying `protocol` (shown from PROGRESS_FROM
-    operations on: a long replay says how far it is)."""
-    steps = len(protocol.operations)
-    return tqdm(total=steps, desc=what, unit="step", leave=False, disable=steps < PROGRESS_FROM)
+def replay_progress(steps: int, what: str) -> tqdm:
+    """A progress bar on stderr over `steps` steps of a replay: shown where stderr is a
+    terminal, or the replay has PROGRESS_FROM steps or more (a long one says how far it is
+    in a log too). Lines printed meanwhile go through `tqdm.write`, which keeps the bar
+    below them."""
+    shown = sys.stderr.isatty() or steps >= PROGRESS_FROM
+    return tqdm(total=steps, desc=what, unit="step", leave=False, disable=not shown)
 
 
 def freecadcmd() -> str:
@@ -153,7 +160,7 @@ def build_files(
     protocol = load(protocol_path)
     if not quiet:
         print(f"{protocol_path}:\n{protocol.listing()}")
-    with replay_progress(protocol, f"build {protocol_path.name}") as bar:
+    with replay_progress(len(protocol.operations), f"build {protocol_path.name}") as bar:
         solid = build(protocol, on_step=lambda i: bar.update(1))
     write_outputs(solid, protocol, step, png, fcstd=fcstd)
     if not quiet:

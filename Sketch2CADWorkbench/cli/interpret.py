@@ -16,6 +16,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from tqdm import tqdm
+
 from ..brep.compare import volume_iou
 from ..brep.files import check_outputs
 from ..brep.operators import apply_what_builds, make_box, replay
@@ -122,68 +124,71 @@ def run(args: argparse.Namespace) -> int:
     protocol, solid = Protocol(session.base), make_box(session.base)
     print(f"{args.session}: box {session.base.size} mm, {len(session.steps)} sketched steps")
     failed = 0
-    for i, step in enumerate(session.steps, 1):
-        choices = step.choices  # with the snaps the designer undid (skip_snaps)
-        if args.snap_step is not None:
-            choices = replace(choices, snap_step=args.snap_step)
-        if args.snap_px is not None:
-            choices = replace(choices, snap_px=args.snap_px)
-        if args.regularize != "session":
-            choices = replace(choices, regularize=args.regularize == "on")
-        if args.each_step:  # the step alone, on the model the designer drew it over
-            solid = reference[i - 1]
-        try:
-            got = interpret(solid, step.strokes, step.camera, predictor, renderer, choices)
-        except InterpretError as e:
-            got = None
-            failed += 1
-            print(f"step {i}: not interpreted: {e}", file=sys.stderr)
-            if not args.keep_going:
-                return 2
-        if got is not None and got.doubtful and not args.accept_doubtful:
-            failed += 1
-            print(f"step {i}: doubtful, not added: {got.doubt()}", file=sys.stderr)
-            got = None
-            if not args.keep_going:
-                print(
-                    "sketch2cad interpret: stopped, nothing written; --accept-doubtful adds "
-                    "such a reading, --keep-going skips it",
-                    file=sys.stderr,
+    with replay_progress(len(session.steps), f"interpret {args.session.name}") as bar:
+        for i, step in enumerate(session.steps, 1):
+            choices = step.choices  # with the snaps the designer undid (skip_snaps)
+            if args.snap_step is not None:
+                choices = replace(choices, snap_step=args.snap_step)
+            if args.snap_px is not None:
+                choices = replace(choices, snap_px=args.snap_px)
+            if args.regularize != "session":
+                choices = replace(choices, regularize=args.regularize == "on")
+            if args.each_step:  # the step alone, on the model the designer drew it over
+                solid = reference[i - 1]
+            try:
+                got = interpret(solid, step.strokes, step.camera, predictor, renderer, choices)
+            except InterpretError as e:
+                got = None
+                failed += 1
+                tqdm.write(f"step {i}: not interpreted: {e}", file=sys.stderr)
+                if not args.keep_going:
+                    return 2
+            if got is not None and got.doubtful and not args.accept_doubtful:
+                failed += 1
+                tqdm.write(f"step {i}: doubtful, not added: {got.doubt()}", file=sys.stderr)
+                got = None
+                if not args.keep_going:
+                    tqdm.write(
+                        "sketch2cad interpret: stopped, nothing written; --accept-doubtful adds "
+                        "such a reading, --keep-going skips it",
+                        file=sys.stderr,
+                    )
+                    return 2
+            if got is not None:
+                for op in got.operations:
+                    protocol = protocol.append(op)
+                    tqdm.write(f"step {i}: {describe(op)}")
+                for snap in got.snaps:
+                    tqdm.write(f"         (snapped: {snap.describe()})")
+                if got.unsnapped:
+                    tqdm.write(f"         (not snapped: {got.unsnapped})")
+                tqdm.write(
+                    f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
+                    f"{got.timings_ms['total']:.0f} ms)"
                 )
-                return 2
-        if got is not None:
-            for op in got.operations:
-                protocol = protocol.append(op)
-                print(f"step {i}: {describe(op)}")
-            for snap in got.snaps:
-                print(f"         (snapped: {snap.describe()})")
-            if got.unsnapped:
-                print(f"         (not snapped: {got.unsnapped})")
-            print(
-                f"         ({got.op_type.value} {got.probabilities[got.op_type.value]:.0%}, "
-                f"{got.timings_ms['total']:.0f} ms)"
-            )
-            if got.doubtful:
-                print(f"         (warning: {got.doubt()})")
-            if got.other_option is not None:
-                print(
-                    f"         (the strokes read just as well as {got.other_option.value}: "
-                    f"set this step's choices.option to have it)"
+                if got.doubtful:
+                    tqdm.write(f"         (warning: {got.doubt()})")
+                if got.other_option is not None:
+                    tqdm.write(
+                        f"         (the strokes read just as well as {got.other_option.value}: "
+                        f"set this step's choices.option to have it)"
+                    )
+                solid = got.solid
+            if reference:
+                alone = " (this step alone)" if args.each_step else ""
+                line = (
+                    f"         volume IoU with {args.compare.name} after step {i}{alone}: "
+                    f"{volume_iou(solid, reference[i]):.3f}"
                 )
-            solid = got.solid
-        if reference:
-            alone = " (this step alone)" if args.each_step else ""
-            line = (
-                f"         volume IoU with {args.compare.name} after step {i}{alone}: "
-                f"{volume_iou(solid, reference[i]):.3f}"
-            )
-            if args.each_step and got is not None:
-                ends = apply_what_builds(solid, list(meant.operations[i:]))
-                line += (
-                    f"; the session so, every other step exact: "
-                    f"{volume_iou(ends, reference[-1]):.3f}"
-                )
-            print(line)
+                if args.each_step and got is not None:
+                    ends = apply_what_builds(solid, list(meant.operations[i:]))
+                    line += (
+                        f"; the session so, every other step exact: "
+                        f"{volume_iou(ends, reference[-1]):.3f}"
+                    )
+                tqdm.write(line)
+            bar.update(1)
+
     print(
         f"interpret: {len(session.steps) - failed} of {len(session.steps)} steps interpreted; "
         f"volume {solid.Volume():.1f} mm^3"
@@ -207,5 +212,5 @@ def _reference(path: Path, steps: int) -> tuple[Protocol, list]:
             f"{path}: {len(meant.operations)} operations for {steps} sketched "
             "steps; --compare needs one operation per step"
         )
-    with replay_progress(meant, f"replay {path.name}") as bar:
+    with replay_progress(len(meant.operations), f"replay {path.name}") as bar:
         return meant, replay(meant, on_step=lambda i: bar.update(1))

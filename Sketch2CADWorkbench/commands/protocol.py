@@ -9,7 +9,7 @@ import FreeCADGui
 from PySide import QtGui
 
 from ..brep.protocol import ProtocolError, load
-from ..freecad_layer.gui_helpers import error, transaction
+from ..freecad_layer.gui_helpers import error, progress, transaction
 from ..freecad_layer.queries import (
     failed_features,
     features,
@@ -63,7 +63,8 @@ def load_protocol_file(path: str):
 
     try:
         protocol = load(path)
-        replay(protocol)
+        with progress(f"Replaying {Path(path).name}", len(protocol.operations)) as advance:
+            replay(protocol, on_step=lambda _: advance())
     except (ProtocolError, OperationError) as e:
         error(translate("Sketch2CAD", "Cannot load protocol"), str(e))
         return None
@@ -158,18 +159,21 @@ def replay_model(model, step_s: float = REPLAY_STEP_S) -> bool:
     chain = features(model)
     for obj in chain:
         obj.ViewObject.Visibility = False
-    for i, obj in enumerate(chain):
-        obj.touch()
-        built = obj.recompute()
-        if i:
-            chain[i - 1].ViewObject.Visibility = False
-        obj.ViewObject.Visibility = True
-        FreeCADGui.updateGui()
-        if not built:
-            error(
-                translate("Sketch2CAD", "Replay stopped"),
-                f"step {i} ({obj.Label}): {obj.getStatusString()}",
-            )
-            return False
-        time.sleep(step_s)
+    failed = None
+    with progress(f"Replaying {model.Label}", len(chain)) as advance:
+        for i, obj in enumerate(chain):
+            obj.touch()
+            built = obj.recompute()
+            if i:
+                chain[i - 1].ViewObject.Visibility = False
+            obj.ViewObject.Visibility = True
+            advance()
+            FreeCADGui.updateGui()
+            if not built:
+                failed = f"step {i} ({obj.Label}): {obj.getStatusString()}"
+                break
+            time.sleep(step_s)
+    if failed:  # told once the progress bar is gone
+        error(translate("Sketch2CAD", "Replay stopped"), failed)
+        return False
     return True

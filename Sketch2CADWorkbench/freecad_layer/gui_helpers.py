@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""What the commands and the task panels share: telling the user, and one undo step."""
+"""What the commands and the task panels share: telling the user, showing progress, and one
+undo step."""
 
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 import FreeCAD
@@ -25,3 +27,16 @@ def transaction(doc, name: str):
         doc.recompute()
         raise
     doc.commitTransaction()
+
+
+@contextmanager
+def progress(text: str, steps: int) -> Iterator[Callable[[], None]]:
+    """FreeCAD's progress indicator over `steps` steps (a progress bar in the status bar
+    of the GUI, percentages in the console): yields the call that advances it one step,
+    and ends it however the body ends."""
+    indicator = FreeCAD.Base.ProgressIndicator()
+    indicator.start(text, steps)
+    try:
+        yield indicator.next
+    finally:
+        indicator.stop()

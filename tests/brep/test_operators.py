@@ -381,14 +381,14 @@ def test_build_holds_only_the_solid_of_the_step_it_builds(box, monkeypatch):
     from Sketch2CADWorkbench.brep import operators
 
     made, alive = [], []
-    apply = operators.apply_operation
+    result = operators.operation_result
 
-    def tracked(solid, op, face=None):
-        out = apply(solid, op, face)
-        made.append(weakref.ref(out))
+    def tracked(solid, op, face=None, check_valid=True):
+        out = result(solid, op, face, check_valid)
+        made.append(weakref.ref(out.solid))
         return out
 
-    monkeypatch.setattr(operators, "apply_operation", tracked)
+    monkeypatch.setattr(operators, "operation_result", tracked)
 
     def step(i):
         gc.collect()
@@ -399,3 +399,56 @@ def test_build_holds_only_the_solid_of_the_step_it_builds(box, monkeypatch):
     )
     operators.build(Protocol(Box((LX, LY, LZ)), ops), on_step=step)
     assert max(alive) == 1, alive
+
+
+def test_build_and_replay_give_what_checking_every_step_gives(examples_dir):
+    # replay checks OCCT's validity once, at the end: each example's solids are still the
+    # ones that applying its operations one by one, each checked, builds
+    from Sketch2CADWorkbench.brep.operators import build
+    from Sketch2CADWorkbench.brep.protocol import load
+
+    for path in sorted(examples_dir.glob("*.json")):
+        p = load(path)
+        stepwise = [make_box(p.base)]
+        for op in p.operations:
+            stepwise.append(apply_operation(stepwise[-1], op))
+        texts = [to_brep_text(s) for s in stepwise]
+        assert [to_brep_text(s) for s in replay(p)] == texts, path.name
+        assert to_brep_text(build(p)) == texts[-1], path.name
+
+
+def holes_protocol(count, last=None):
+    """The box with `count` square holes in its top, then `last` if given."""
+    ops = tuple(
+        AddSubPrism(TOP, square(1.0, LZ / 2, -15 + 6 * k), 2.0, Mode.SUBTRACT) for k in range(count)
+    )
+    return Protocol(Box((LX, LY, LZ)), ops + ((last,) if last else ()))
+
+
+def report_invalid(monkeypatch, bad):
+    """OCCT's validity check reports a solid invalid where bad(its volume) holds."""
+    monkeypatch.setattr(cq.Shape, "isValid", lambda self: not bad(self.Volume()))
+
+
+@pytest.mark.parametrize("run", ["replay", "build"])
+def test_an_invalid_step_is_named_though_only_the_end_is_checked(monkeypatch, run):
+    from Sketch2CADWorkbench.brep import operators
+
+    p = holes_protocol(4)
+    after_two = replay(p)[2].Volume()
+    # invalid from step 2 on, as an invalid solid stays invalid under later Booleans
+    report_invalid(monkeypatch, lambda v: v <= after_two + 1e-6)
+    with pytest.raises(OperationError, match=r"^step 2 \(addsub\): .*invalid solid"):
+        getattr(operators, run)(p)
+
+
+def test_an_invalid_solid_a_step_replaces_is_still_named(monkeypatch):
+    from Sketch2CADWorkbench.brep.operators import build
+
+    # step 3 replaces the solid by its prism, which would hide step 2's invalid solid
+    post = AddSubPrism(TOP, square(5, LZ / 2), 8.0, Mode.REPLACE)
+    p = holes_protocol(2, post)
+    after_two = replay(p)[2].Volume()
+    report_invalid(monkeypatch, lambda v: abs(v - after_two) < 1e-6)
+    with pytest.raises(OperationError, match=r"^step 2 \(addsub\): .*invalid solid"):
+        build(p)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Any sequence of in-range parameters ends in one valid solid or an OperationError, the
-same whether the base face is resolved or handed in."""
+same whether the base face is resolved or handed in, and the same replayed as a protocol
+as applied step by step."""
 
 import math
 
@@ -12,8 +13,22 @@ from hypothesis import strategies as st
 from Sketch2CADWorkbench.brep.exchange import to_brep_text
 from Sketch2CADWorkbench.brep.faces import OperationError, face_ref_of, planar_faces
 from Sketch2CADWorkbench.brep.geometry import plane_basis
-from Sketch2CADWorkbench.brep.operators import apply_operation, make_box, operation_result
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Sweep
+from Sketch2CADWorkbench.brep.operators import (
+    apply_operation,
+    build,
+    make_box,
+    operation_result,
+    replay,
+)
+from Sketch2CADWorkbench.brep.protocol import (
+    AddSubPrism,
+    Bevel,
+    Box,
+    Extrude,
+    Mode,
+    Protocol,
+    Sweep,
+)
 
 unit = st.floats(0.0, 1.0)
 
@@ -90,3 +105,29 @@ def test_an_operation_given_its_base_face_builds_what_resolving_the_face_builds(
         assert to_brep_text(held.solid) == to_brep_text(resolved.solid)
         assert held.volume == resolved.volume == resolved.solid.Volume()
         solid = resolved.solid
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data(), st.tuples(*[st.floats(5.0, 80.0)] * 3), st.integers(1, 4))
+def test_a_protocol_replays_to_what_its_steps_applied_one_by_one_build(data, size, length):
+    """replay and build check OCCT's validity once, at the end, and build again with
+    every check where that fails: the solids, or the error naming the step, are the ones
+    applying each operation in turn, each checked, gives."""
+    solids, ops, error = [make_box(Box(size))], [], None
+    for i in range(1, length + 1):
+        ops.append(data.draw(operation_on(solids[-1])))
+        try:
+            solids.append(apply_operation(solids[-1], ops[-1]))
+        except OperationError as e:
+            error = f"step {i} ({ops[-1].type.value}): {e}"
+            break
+    protocol = Protocol(Box(size), tuple(ops))
+    if error is not None:
+        for run in (replay, build):
+            with pytest.raises(OperationError) as raised:
+                run(protocol)
+            assert str(raised.value) == error
+        return
+    texts = [to_brep_text(s) for s in solids]
+    assert [to_brep_text(s) for s in replay(protocol)] == texts
+    assert to_brep_text(build(protocol)) == texts[-1]

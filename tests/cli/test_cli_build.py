@@ -134,3 +134,49 @@ def test_the_temporaries_of_a_killed_build_are_removed_by_the_next(tmp_path, exa
     stalled.wait()
     assert run(*args).returncode == 0
     assert os.listdir(tmp_path) == ["out.step"]
+
+
+def holes(steps):
+    """A plate with `steps` small square holes in its top."""
+    from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, Protocol
+
+    top = FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0))
+    ops = tuple(
+        AddSubPrism(
+            top,
+            tuple((x + dx, y + dy, 5.0) for dx, dy in ((-1, -1), (1, -1), (1, 1), (-1, 1))),
+            2.0,
+            Mode.SUBTRACT,
+        )
+        for x, y in ((-45.0 + 10 * (i % 10), -45.0 + 10 * (i // 10)) for i in range(steps))
+    )
+    return Protocol(Box((100.0, 100.0, 10.0)), ops)
+
+
+@pytest.mark.parametrize(
+    "terminal, steps, shown",
+    [(True, 2, True), (False, 2, False), (False, "PROGRESS_FROM", True)],
+)
+def test_a_replay_shows_its_progress_on_a_terminal_or_when_it_is_long(
+    tmp_path, stderr_of, terminal, steps, shown
+):
+    from Sketch2CADWorkbench.cli import main
+    from Sketch2CADWorkbench.cli.build import PROGRESS_FROM
+
+    steps = PROGRESS_FROM if steps == "PROGRESS_FROM" else steps
+    holes(steps).save(tmp_path / "plate.json")
+    err = stderr_of(terminal)
+    assert main(["build", str(tmp_path / "plate.json"), "--quiet"]) == 0
+    assert ("build plate.json" in err.getvalue()) == shown, err.getvalue()
+    if shown:
+        assert f"/{steps} [" in err.getvalue()  # tqdm's count of the steps
+
+
+def test_an_output_under_a_file_is_refused_naming_both(tmp_path, examples_dir):
+    shutil.copy(examples_dir / "nut.json", tmp_path / "p.json")
+    before = (tmp_path / "p.json").read_bytes()
+    out = run("build", tmp_path / "p.json", "--step", tmp_path / "p.json" / "x.step")
+    assert out.returncode == 2
+    assert f"{tmp_path / 'p.json' / 'x.step'}: cannot make its folder: " in out.stderr
+    assert f"{tmp_path / 'p.json'} is a file, not a folder" in out.stderr, out.stderr
+    assert (tmp_path / "p.json").read_bytes() == before

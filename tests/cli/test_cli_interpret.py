@@ -149,3 +149,18 @@ def test_a_doubtful_step_stops_the_run_unless_accepted_or_skipped(tmp_path, monk
     assert main([*args, "--accept-doubtful"]) == 0
     out = capsys.readouterr().out
     assert "1 of 1 steps interpreted" in out and "(warning: the strokes do not look" in out
+
+
+def test_interpreting_shows_its_progress_on_a_terminal_below_the_steps_it_prints(
+    tmp_path, stderr_of, capsys
+):
+    from Sketch2CADWorkbench.cli import main
+
+    s = json.loads(SESSION.read_text())
+    s["steps"] = s["steps"][:2]
+    (tmp_path / "s.json").write_text(json.dumps(s))
+    err = stderr_of(True)
+    assert main(["interpret", str(tmp_path / "s.json"), "--accept-doubtful"]) == 0
+    assert "interpret s.json" in err.getvalue() and "/2 [" in err.getvalue(), err.getvalue()
+    out = capsys.readouterr().out
+    assert "step 1: " in out and "step 2: " in out and "2 of 2 steps interpreted" in out

@@ -22,6 +22,7 @@ CHECKS = [
     "save_protocol_round_trip",
     "export_step_command",
     "replay_command_rebuilds_step_by_step",
+    "loading_and_replaying_a_protocol_show_their_progress",
     "fcstd_reopens_with_view_providers",
     "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
     "a_later_step_edited_after_an_earlier_edit_starts_where_it_is_now",

@@ -561,6 +561,60 @@ def replay_command_rebuilds_step_by_step():
     assert [o.ViewObject.Visibility for o in chain] == [False] * (len(chain) - 1) + [True]
 
 
+PROGRESS = FreeCAD.Base.ProgressIndicator
+PROGRESS_CALLS = []  # what RecordedProgress indicators were told
+
+
+class RecordedProgress:
+    """FreeCAD's progress indicator, recording what it is told in PROGRESS_CALLS."""
+
+    def __init__(self):
+        self.indicator = PROGRESS()
+
+    def start(self, text, steps):
+        PROGRESS_CALLS.append(("start", text, steps))
+        self.indicator.start(text, steps)
+
+    def next(self):
+        PROGRESS_CALLS.append("next")
+        self.indicator.next()
+
+    def stop(self):
+        PROGRESS_CALLS.append("stop")
+        self.indicator.stop()
+
+
+@check
+def loading_and_replaying_a_protocol_show_their_progress():
+    from Sketch2CADWorkbench.commands.protocol import load_protocol_file, replay_model
+    from Sketch2CADWorkbench.freecad_layer.queries import features
+
+    doc = FreeCAD.ActiveDocument
+    calls, undos = PROGRESS_CALLS, doc.UndoCount
+    FreeCAD.Base.ProgressIndicator = RecordedProgress
+    try:
+        path = os.path.join(EXAMPLES, "pipe.json")
+        steps = len(load(path).operations)
+        model = load_protocol_file(path)
+        assert calls == [("start", "Replaying pipe.json", steps), *["next"] * steps, "stop"]
+        calls.clear()
+        assert replay_model(model, step_s=0.0)
+        chain = len(features(model))
+        want = [("start", f"Replaying {model.Label}", chain), *["next"] * chain, "stop"]
+        assert calls == want, calls
+        # a step that fails ends the indicator too, before the message is shown
+        calls.clear()
+        mixer = load(os.path.join(EXAMPLES, "mixer.json"))
+        column = replace(mixer.operations[0], d=mixer.operations[0].d + 20)
+        longer = replace(mixer, operations=(column, *mixer.operations[1:]))
+        assert load_protocol_file(write_protocol(longer, "unbuildable-progress.json")) is None
+        assert calls[0][0] == "start" and calls[-1] == "stop", calls
+    finally:
+        FreeCAD.Base.ProgressIndicator = PROGRESS
+        while doc.UndoCount > undos:  # the document as the checks after this one expect it
+            doc.undo()
+
+
 @check
 def fcstd_reopens_with_view_providers():
     from Sketch2CADWorkbench.freecad_layer.icons import icon_path
