@@ -35,6 +35,7 @@ from ..brep.faces import OperationError
 from ..brep.protocol import AddSubPrism, Mode, Operation, Sweep
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
+from ..sketch.labels import PROFILE
 from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 
@@ -77,7 +78,14 @@ class Alternative:
         return Alternative(ops, solid, score_px, op.mode)
 
 
-def seen_fit(
+# The ways a designer draws a primitive's lines, each scored (`drawn_fits`): every line
+# (the paper's sketches); only what its result lets the view see; or that with its depth
+# lines (side edges, a sweep's profile lines) whole, as depth cues, where the view
+# hides them (a drilled hole's sides behind its rim).
+LINE_WAYS = ("every", "seen", "seen with depth lines")
+
+
+def drawn_fits(
     solid: cq.Shape,
     op: Operation,
     result: cq.Shape,
@@ -85,25 +93,31 @@ def seen_fit(
     drawn: DrawnStrokes,
     renderer: MapRenderer,
     face=None,
-) -> SketchFit:
-    """`verify.sketch_fit` of op's lines that the view sees of its `result`: what a
-    designer draws who leaves the hidden lines out."""
-    return sketch_fit(solid, op, camera, drawn, renderer.render(result, camera), face)
+    every: SketchFit | None = None,
+) -> tuple[SketchFit, ...]:
+    """`verify.sketch_fit` of op's lines drawn each of the LINE_WAYS, the seen ones those
+    the view sees of its `result` (`every`: the fit with every line, when known)."""
+    seen = renderer.render(result, camera)
+    return (
+        every or sketch_fit(solid, op, camera, drawn, face=face),
+        sketch_fit(solid, op, camera, drawn, seen, face),
+        sketch_fit(solid, op, camera, drawn, seen, face, frozenset({PROFILE})),
+    )
 
 
-def explained(every: SketchFit, seen: SketchFit | None) -> SketchFit:
-    """Of a reading's fits with every line and with the lines its result lets the view
-    see (None: not known), the one that explains the strokes better (`SketchFit.score`)."""
-    return every if seen is None or every.score <= seen.score else seen
+def explained(fits: tuple[SketchFit, ...]) -> SketchFit:
+    """Of a reading's fits with its lines drawn each way (`drawn_fits`), the one that
+    explains the strokes best (`SketchFit.score`)."""
+    return min(fits, key=lambda fit: fit.score)
 
 
 def one_way_scores(
-    first: tuple[SketchFit, SketchFit], other: tuple[SketchFit, SketchFit]
+    first: tuple[SketchFit, ...], other: tuple[SketchFit, ...]
 ) -> tuple[float, float]:
-    """The `SketchFit.score`s of two readings, each given as its fit with every line and
-    with the lines its result lets the view see, both with the lines drawn the way (every
-    line, or those seen) in which either reading explains the strokes best."""
-    scores = np.array([[fit.score for fit in pair] for pair in (first, other)])
+    """The `SketchFit.score`s of two readings, each given as its fits with its lines
+    drawn each way (`drawn_fits`), both with the lines drawn the way in which either
+    reading explains the strokes best."""
+    scores = np.array([[fit.score for fit in fits] for fits in (first, other)])
     way = int(np.argmin(scores.min(axis=0)))
     return float(scores[0, way]), float(scores[1, way])
 
