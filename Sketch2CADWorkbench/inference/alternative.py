@@ -5,15 +5,18 @@ Drawn with every line, a boss on f and a hole into f whose rim is the boss's top
 draw the same lines in a parallel view (paper, Fig. 5b). Designers leave out the lines
 the view hides, and then the two differ: a hole's material hides the near part of its
 floor outline (and all of a deep hole's depth lines and floor), a boss hides the back of
-its own base outline (sketch/visible.py). So the two readings are weighed by how well
-they explain the strokes drawn the one way, with every line or with only the lines each
-reading's own result lets the view see, that explains them best for either
-(`one_way_scores`, each `SketchFit.score`): were each allowed its better way, the
-boss would explain a seen-drawn hole by every line nearly as well as the hole, the lines
-it adds being the few a shallow hole hides. Of a reading and its other Boolean, the
-other is taken when it explains the strokes better by more than TIE_PX and stands on f
-as fully as the fitted
-one (its base outline's share on f at least the fitted one's, up to
+its own base outline (sketch/visible.py). Many draw a drilled hole's depth lines all the
+same, as depth cues, with the far part of its floor circle. So every built primitive
+reading is scored by its lines drawn each of LINE_WAYS (`drawn_fits`: every line, only
+those its own result lets the view see, or those with its depth lines whole) and kept
+with the way that explains the strokes best (`explained`, `SketchFit.score`); the search
+ranks it so against other operators' readings. A reading and its other Boolean are
+weighed by their scores with the lines drawn the one way that explains the strokes
+best for either (`one_way_scores`): were each allowed its better way, the boss would
+explain a seen-drawn hole by every line nearly as well as the hole, the lines it adds
+being the few a shallow hole hides. Of a reading and its other Boolean, the other is
+taken when it explains the strokes better by more than TIE_PX and stands on f as fully
+as the fitted one (its base outline's share on f at least the fitted one's, up to
 `primitive.ON_FACE_FRACTION`): drawn as a cylinder shows itself, a hole's floor outline
 loses the half its own cylinder hides, just as the boss standing on that floor outline
 slid back along the view onto f would (its base's back half), so the lines alone may
@@ -48,7 +51,8 @@ TIE_PX = 1.0
 # (reading.GOOD_FIT_PX), wider than TIE_PX so that the one click stays offered where the
 # strokes lean one way but the hand could mean the other, and wider still where the
 # taken reading itself explains the strokes poorly (a hole drawn without its hidden
-# lines, fitted as if every line were drawn).
+# lines, fitted as if every line were drawn). See docs/measurements.md,
+# alternative.TIE_PX and OFFER_PX.
 OFFER_PX = 3.0
 
 

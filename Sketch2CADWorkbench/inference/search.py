@@ -195,14 +195,15 @@ def weigh_the_other_boolean(
     options: InterpretOptions,
 ) -> Reading:
     """Of a primitive's built reading and the one of its other Boolean on its face, the
-    one the strokes mean, its fit the better of its lines drawn all or only where its
-    result lets the view see them (`alternative.explained`), with the other as its
+    one the strokes mean (each scored by its lines drawn each of alternative.LINE_WAYS,
+    `_reading`), with the other as its
     `alternative` when that is offered (alternative.py: both weighed by their lines
     drawn the one way that explains the strokes best, and by where each would stand on
     f). Weighed only when the designer chose no Boolean, the reading is not already the
     other Boolean of one that did not build, and its far outline stands on f
     (`other_option_fits`: the other one's base must, to be read); and against an other
-    reading that builds a change and is not hidden where the reading is not."""
+    reading that builds a change and is not hidden where the reading is not (both built,
+    so both carry their `ways`)."""
     if (
         ctx.renderer is None
         or options.option is not None
