@@ -42,6 +42,11 @@ CLOSED_SHARE = 0.2
 NEAR_PROFILES = 200
 # The fewest side edges a prism has: a smaller set of alike chords is no other reading.
 MIN_SIDES = 3
+# Steps of the search for an outline drawn whole (`whole_outline_roles`) before it gives
+# up: a sketch of many strokes meeting near each other has very many chains of them
+# (as drawing.COVER_BUDGET bounds the corners' cover; see docs/measurements.md,
+# stroke_roles.CYCLE_BUDGET).
+CYCLE_BUDGET = 20000
 # Below this sine of the angle between n_f and the view, f is seen head-on: profile
 # strokes would be dots.
 MIN_SIN = 0.1
@@ -252,16 +257,21 @@ def whole_outline_roles(
         for a in (0, 1)
     }
     found: list[tuple[list[int], np.ndarray, float]] = []  # strokes, corners, corner gaps
+    budget = [CYCLE_BUDGET]
 
     def walk(path: list[int], entered: list[int]) -> None:
         k = path[-1]
         for j, b in meets[(k, 1 - entered[-1])]:
+            budget[0] -= 1
+            if budget[0] < 0:
+                return
             if j == path[0] and b == entered[0] and len(path) >= MIN_SIDES:
                 corners = np.array([ends[i][e] for i, e in zip(path, entered, strict=True)])
                 left = np.array([ends[i][1 - e] for i, e in zip(path, entered, strict=True)])
                 gaps = float(np.linalg.norm(corners - np.roll(left, 1, axis=0), axis=1).sum())
                 found.append((path, corners, gaps))
-            elif j not in path and len(path) < 6:
+            elif j > path[0] and j not in path and len(path) < 6:
+                # each cycle once from its lowest stroke (and twice by its two directions)
                 walk([*path, j], [*entered, b])
 
     for k in opened:
