@@ -142,7 +142,7 @@ def prism_fit(
         poly_s = _simple_fit(starts, groups[0])
         poly_e = _simple_fit(ends, groups[2])
     else:
-        poly_s, poly_e, partial_d = _from_one_outline(groups, face, camera, model_scale(solid))
+        poly_s, poly_e, partial_d = _from_one_outline(groups, face, camera)
         starts, ends = poly_s, poly_e
     frame = option_frame(face, camera, starts, ends)  # on a curved f: the corners drawn
     scale = model_scale(solid)
@@ -186,15 +186,14 @@ def prism_fit(
 
 
 def _from_one_outline(
-    groups: dict[int, list[np.ndarray]], face: cq.Face, camera: OrthoCamera, scale: float
+    groups: dict[int, list[np.ndarray]], face: cq.Face, camera: OrthoCamera
 ) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     """A prism drawn with fewer side edges than sides, as a designer who leaves the hidden
     lines out draws a hole (the near side edges and the near part of its floor lie behind
     the rim): its corners from the outline drawn whole, one stroke per side
     (`side_corners`; the end outline first, which the view sees whole for a boss's top and
     a hole's rim alike), the other outline that polygon moved along n_f's image. The
-    length starts where the side edges drawn reach (`_reach`), or where the other
-    outline's strokes lie closest to it when no side edge is drawn; then the polygon and
+    length starts where the side edges drawn reach (`_reach`); then the polygon and
     the length are refined together by the strokes' distances to the prism's lines alone
     (`refine_prism`, not every line: those left out as hidden have no stroke), so what
     is drawn of the far outline and the sides fixes the rest.
@@ -203,7 +202,7 @@ def _from_one_outline(
         The start and end polygons (N, 2 pixels), and (d in mm, the strokes' mean
         distance to the prism's lines in pixels).
     Raises:
-        FitError: no outline drawn whole, or nothing drawn of the prism's length.
+        FitError: no outline drawn whole, or no side edge drawn.
     """
     step = camera.image_of(FaceFrame.of(face).normal)  # pixels per mm along +n_f
     first = None
@@ -214,12 +213,9 @@ def _from_one_outline(
             first = first or e
             continue
         outline, sides = groups[2 - whole], groups[1]
-        if sides:
-            d = _reach(sides, step)
-        elif outline:
-            d = _closest_length(poly, sign * step, outline, search_range(scale, 0.0075, 1.5))
-        else:
-            raise FitError("nothing of the prism's length was drawn: no side edge, no far outline")
+        if not sides:  # an outline's pieces alone draw no prism (a circle cut in arcs)
+            raise FitError("no side edge of the prism was drawn, so its length is not known")
+        d = _reach(sides, step)
         drawn = groups[0] + groups[1] + groups[2]
         moved, longer = refine_prism(poly, d, sign * step, drawn, end_weight=0.0, every_line=False)
         if longer > 0 and is_simple(moved) and _shortest_side(moved) >= MIN_SIDE_PX:
@@ -235,17 +231,6 @@ def _reach(sides: list[np.ndarray], step: np.ndarray) -> float:
     """How far (mm) the longest side-edge stroke reaches along `step` (pixels per mm)."""
     unit = step / float(step @ step)
     return max(abs(float((np.asarray(s)[-1] - np.asarray(s)[0]) @ unit)) for s in sides)
-
-
-def _closest_length(
-    poly: np.ndarray, step: np.ndarray, outline: list[np.ndarray], cands: np.ndarray
-) -> float:
-    """The length d (of `cands`, mm) at which the strokes drawn of a prism's other outline
-    lie closest (mean) to its base `poly` (N, 2 pixels) moved d * `step`."""
-    a = poly[None] + cands[:, None, None] * step[None, None]  # (D, N, 2)
-    return float(
-        cands[int(np.argmin(_mean_distance(_samples(outline), a, np.roll(a, -1, axis=1))))]
-    )
 
 
 def _samples(strokes: list[np.ndarray]) -> np.ndarray:
