@@ -2,7 +2,7 @@
 """How a drilled hole drawn into each face of a box with a boss is read, per face.
 
     .bin/python scripts/hole_faces.py [--count 20] [--seed 1] [--noise-level 1]
-        [--lines all|seen|own] [--turn 8]
+        [--lines all|seen|depth|own] [--turn 8] [--faces -Y +X top]
 
 A cylindrical hole (r 6 mm, 15 deep) into the front (-Y), right (+X) and top face of a
 box that had a boss (tests/inference/holes.py, BOSSED_BOX), drawn in FreeCAD's isometric
@@ -43,9 +43,16 @@ def main() -> int:
         "(tests/inference/holes.py); default seen",
     )
     p.add_argument("--turn", type=float, default=8.0, help="degrees the view turns (default 8)")
+    p.add_argument(
+        "--faces",
+        nargs="+",
+        default=list(HOLE_CENTRES),
+        choices=list(HOLE_CENTRES),
+        help="the faces drilled (default all)",
+    )
     a = p.parse_args()
     predictor, renderer = load_predictor(), MapRenderer()
-    for face in HOLE_CENTRES:
+    for face in a.faces:
         got = Counter()
         holes = gui_holes(face, a.count, a.seed, renderer, a.lines, a.noise_level, a.turn)
         for hole in tqdm(holes, total=a.count, desc=face, unit="hole", leave=False):

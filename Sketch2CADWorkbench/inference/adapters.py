@@ -24,12 +24,13 @@ from ..brep.faces import OperationError, face_at, model_scale
 from ..brep.protocol import Extrude, Operation, OperatorType, per_operator
 from ..sketch.labels import CURVE_THRESHOLDS
 from .context import Context
+from .drawing import CORNER_REACH
 from .fitting.addsub import PrismFit, prism_fit
 from .fitting.base_face import face_under_stroke
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
-from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles
+from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles, whole_outline_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
 from .fitting.verify import SketchFit
@@ -191,6 +192,14 @@ def _fit_by_roles(
                     continue
                 if roles not in readings:
                     readings.append(roles)
+    if prism and frame is not None:
+        # drawn without its hidden lines: one outline whole, few side edges
+        try:
+            whole = whole_outline_roles(strokes, frame, cam, CORNER_REACH * cam.width)
+        except FitError:
+            whole = []
+        if whole and whole not in readings:
+            readings.append(whole)
     fits, first = [], None
     for reading in readings:
         try:

@@ -5,15 +5,18 @@ Drawn with every line, a boss on f and a hole into f whose rim is the boss's top
 draw the same lines in a parallel view (paper, Fig. 5b). Designers leave out the lines
 the view hides, and then the two differ: a hole's material hides the near part of its
 floor outline (and all of a deep hole's depth lines and floor), a boss hides the back of
-its own base outline (sketch/visible.py). So the two readings are weighed by how well
-they explain the strokes drawn the one way, with every line or with only the lines each
-reading's own result lets the view see, that explains them best for either
-(`one_way_scores`, each `SketchFit.score`): were each allowed its better way, the
-boss would explain a seen-drawn hole by every line nearly as well as the hole, the lines
-it adds being the few a shallow hole hides. Of a reading and its other Boolean, the
-other is taken when it explains the strokes better by more than TIE_PX and stands on f
-as fully as the fitted
-one (its base outline's share on f at least the fitted one's, up to
+its own base outline (sketch/visible.py). Many draw a drilled hole's depth lines all the
+same, as depth cues, with the far part of its floor circle. So every built primitive
+reading is scored by its lines drawn each of LINE_WAYS (`drawn_fits`: every line, only
+those its own result lets the view see, or those with its depth lines whole) and kept
+with the way that explains the strokes best (`explained`, `SketchFit.score`); the search
+ranks it so against other operators' readings. A reading and its other Boolean are
+weighed by their scores with the lines drawn the one way that explains the strokes
+best for either (`one_way_scores`): were each allowed its better way, the boss would
+explain a seen-drawn hole by every line nearly as well as the hole, the lines it adds
+being the few a shallow hole hides. Of a reading and its other Boolean, the other is
+taken when it explains the strokes better by more than TIE_PX and stands on f as fully
+as the fitted one (its base outline's share on f at least the fitted one's, up to
 `primitive.ON_FACE_FRACTION`): drawn as a cylinder shows itself, a hole's floor outline
 loses the half its own cylinder hides, just as the boss standing on that floor outline
 slid back along the view onto f would (its base's back half), so the lines alone may
@@ -35,6 +38,7 @@ from ..brep.faces import OperationError
 from ..brep.protocol import AddSubPrism, Mode, Operation, Sweep
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
+from ..sketch.labels import PROFILE
 from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 
@@ -47,7 +51,8 @@ TIE_PX = 1.0
 # (reading.GOOD_FIT_PX), wider than TIE_PX so that the one click stays offered where the
 # strokes lean one way but the hand could mean the other, and wider still where the
 # taken reading itself explains the strokes poorly (a hole drawn without its hidden
-# lines, fitted as if every line were drawn).
+# lines, fitted as if every line were drawn). See docs/measurements.md,
+# alternative.TIE_PX and OFFER_PX.
 OFFER_PX = 3.0
 
 
@@ -77,7 +82,14 @@ class Alternative:
         return Alternative(ops, solid, score_px, op.mode)
 
 
-def seen_fit(
+# The ways a designer draws a primitive's lines, each scored (`drawn_fits`): every line
+# (the paper's sketches); only what its result lets the view see; or that with its depth
+# lines (side edges, a sweep's profile lines) whole, as depth cues, where the view
+# hides them (a drilled hole's sides behind its rim).
+LINE_WAYS = ("every", "seen", "seen with depth lines")
+
+
+def drawn_fits(
     solid: cq.Shape,
     op: Operation,
     result: cq.Shape,
@@ -85,25 +97,31 @@ def seen_fit(
     drawn: DrawnStrokes,
     renderer: MapRenderer,
     face=None,
-) -> SketchFit:
-    """`verify.sketch_fit` of op's lines that the view sees of its `result`: what a
-    designer draws who leaves the hidden lines out."""
-    return sketch_fit(solid, op, camera, drawn, renderer.render(result, camera), face)
+    every: SketchFit | None = None,
+) -> tuple[SketchFit, ...]:
+    """`verify.sketch_fit` of op's lines drawn each of the LINE_WAYS, the seen ones those
+    the view sees of its `result` (`every`: the fit with every line, when known)."""
+    seen = renderer.render(result, camera)
+    return (
+        every or sketch_fit(solid, op, camera, drawn, face=face),
+        sketch_fit(solid, op, camera, drawn, seen, face),
+        sketch_fit(solid, op, camera, drawn, seen, face, frozenset({PROFILE})),
+    )
 
 
-def explained(every: SketchFit, seen: SketchFit | None) -> SketchFit:
-    """Of a reading's fits with every line and with the lines its result lets the view
-    see (None: not known), the one that explains the strokes better (`SketchFit.score`)."""
-    return every if seen is None or every.score <= seen.score else seen
+def explained(fits: tuple[SketchFit, ...]) -> SketchFit:
+    """Of a reading's fits with its lines drawn each way (`drawn_fits`), the one that
+    explains the strokes best (`SketchFit.score`)."""
+    return min(fits, key=lambda fit: fit.score)
 
 
 def one_way_scores(
-    first: tuple[SketchFit, SketchFit], other: tuple[SketchFit, SketchFit]
+    first: tuple[SketchFit, ...], other: tuple[SketchFit, ...]
 ) -> tuple[float, float]:
-    """The `SketchFit.score`s of two readings, each given as its fit with every line and
-    with the lines its result lets the view see, both with the lines drawn the way (every
-    line, or those seen) in which either reading explains the strokes best."""
-    scores = np.array([[fit.score for fit in pair] for pair in (first, other)])
+    """The `SketchFit.score`s of two readings, each given as its fits with its lines
+    drawn each way (`drawn_fits`), both with the lines drawn the way in which either
+    reading explains the strokes best."""
+    scores = np.array([[fit.score for fit in fits] for fits in (first, other)])
     way = int(np.argmin(scores.min(axis=0)))
     return float(scores[0, way]), float(scores[1, way])
 

@@ -37,7 +37,7 @@ from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from ..sketch.labels import CLASSES
 from ..sketch.segment import segment_strokes
-from .alternative import Alternative
+from .alternative import Alternative, drawn_fits, explained
 from .context import Context, InterpretError, check_sketch, to_context
 from .fitting.common import FitError
 from .fitting.regularize import Snap, StrokeCheck, hand_tolerance, regularize_operation
@@ -256,7 +256,13 @@ def interpret(
             times["fitting"] += time.perf_counter() - tb
             errors.append(f"read as {kind.value}, but {e}")
     td = time.perf_counter()
-    fit = reading.fit if op is reading.op else sketch_fit(solid, op, ctx.camera, ctx.strokes)
+    fit = reading.fit
+    if op is not reading.op:  # snapped: scored as the reading was (`search._reading`)
+        fit = (
+            explained(drawn_fits(solid, op, built, ctx.camera, ctx.drawn, ctx.renderer))
+            if reading.ways and ctx.renderer is not None
+            else sketch_fit(solid, op, ctx.camera, ctx.strokes)
+        )
     return Interpretation(
         ops,
         result,

@@ -80,6 +80,9 @@ class Reading:
     flip_refused: bool = False
     # its other Boolean's reading when that explains the strokes too (alternative.py)
     alternative: Reading | None = None
+    # a built primitive's fits with its lines drawn each of alternative.LINE_WAYS, of
+    # which `fit` is the best; () for other readings
+    ways: tuple[SketchFit, ...] = ()
 
     @property
     def doubtful(self) -> bool:

@@ -24,7 +24,7 @@ from ..brep.protocol import AddSubPrism, Operation, OperatorType, Sweep
 from ..render.camera import OrthoCamera
 from ..sketch.labels import CLASSES
 from .adapters import fit_on_face
-from .alternative import explained, one_way_scores, seen_fit, the_meant
+from .alternative import drawn_fits, explained, one_way_scores, the_meant
 from .context import Context
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
@@ -195,14 +195,15 @@ def weigh_the_other_boolean(
     options: InterpretOptions,
 ) -> Reading:
     """Of a primitive's built reading and the one of its other Boolean on its face, the
-    one the strokes mean, its fit the better of its lines drawn all or only where its
-    result lets the view see them (`alternative.explained`), with the other as its
+    one the strokes mean (each scored by its lines drawn each of alternative.LINE_WAYS,
+    `_reading`), with the other as its
     `alternative` when that is offered (alternative.py: both weighed by their lines
     drawn the one way that explains the strokes best, and by where each would stand on
     f). Weighed only when the designer chose no Boolean, the reading is not already the
     other Boolean of one that did not build, and its far outline stands on f
     (`other_option_fits`: the other one's base must, to be read); and against an other
-    reading that builds a change and is not hidden where the reading is not."""
+    reading that builds a change and is not hidden where the reading is not (both built,
+    so both carry their `ways`)."""
     if (
         ctx.renderer is None
         or options.option is not None
@@ -220,21 +221,17 @@ def weigh_the_other_boolean(
     if other is None:
         return reading
     face = face_at(solid, reading.index)
-    fits = []
-    for r in (reading, other):
-        if r.result is None:  # nothing built: nothing seen to weigh
-            return reading
-        held = ctx.resolved(solid, r.op.face)
-        seen = seen_fit(solid, r.op, r.result, ctx.camera, ctx.drawn, ctx.renderer, held)
-        fits.append((r.fit, seen))
-        r.fit = explained(r.fit, seen)
+    if not reading.ways or not other.ways:  # nothing built: nothing seen to weigh
+        return reading
     # both are primitives: the reading one by the test above, the other fitted like it
     share = [
         base_share(face, ctx.camera, r.op)
         for r in (reading, other)
         if isinstance(r.op, (AddSubPrism, Sweep))
     ]
-    flip, offered = the_meant(*one_way_scores(*fits), share[1] >= min(share[0], ON_FACE_FRACTION))
+    flip, offered = the_meant(
+        *one_way_scores(reading.ways, other.ways), share[1] >= min(share[0], ON_FACE_FRACTION)
+    )
     taken, left = (other, reading) if flip else (reading, other)
     taken.alternative = left if offered else None
     return taken
@@ -242,15 +239,36 @@ def weigh_the_other_boolean(
 
 def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
     """A fit scored against the strokes; hidden when its face is (`hidden_faces`) or it
-    stands behind the model."""
+    stands behind the model. A primitive is built, and scored by its lines drawn the way
+    of alternative.LINE_WAYS that explains the strokes best: a designer who leaves the
+    hidden lines out draws a hole's rim and what the opening shows, which its lines drawn
+    every way explain poorly, and then another operator or the boss on its rim would win."""
     op, used, labels = fit
-    return Reading(
+    reading = Reading(
         ctx.sketch_fit(solid, op),
         op,
         used,
         labels,
         used in hidden or stands_behind_the_model(op, ctx),
     )
+    if (
+        ctx.renderer is not None
+        and isinstance(op, (AddSubPrism, Sweep))
+        and builds_a_change(solid, reading, ctx)
+        and reading.result is not None
+    ):
+        reading.ways = drawn_fits(
+            solid,
+            op,
+            reading.result,
+            ctx.camera,
+            ctx.drawn,
+            ctx.renderer,
+            ctx.resolved(solid, op.face),
+            reading.fit,
+        )
+        reading.fit = explained(reading.ways)
+    return reading
 
 
 def _with_the_other_boolean(

@@ -356,3 +356,63 @@ def test_a_designer_with_a_mouse(desktop):
         s = d.wait(lambda s: not panel_open(s) and len(s["features"]) == 3)
     else:  # not read at all: the panel says why and adds nothing
         assert "Not interpreted" in p["text"], p["text"]
+
+
+def hand_curve(points, rng, jitter: float = 0.5) -> np.ndarray:
+    """A hand's stroke along screen points (K, 2): it jitters (pixels)."""
+    return np.asarray(points, float) + rng.normal(0, jitter, (len(points), 2))
+
+
+def drilled_hole_strokes(s: dict, rng, r: float = 6.0, depth: float = 15.0) -> list:
+    """A cylindrical hole r 6 mm, 15 deep into the box's front face (-Y) as a designer
+    draws it: the rim circle on the face, the two depth lines into the body, and the
+    part of the bottom circle away from the viewer (the near part lies behind the rim)."""
+    centre, axis = np.array([0.0, -15.0, 0.0]), np.array([0.0, 1.0, 0.0])  # into the body
+    view = np.array(s["camera"]["direction"], float)
+    side = np.cross(axis, view)
+    side /= np.linalg.norm(side)
+    other = np.cross(axis, side)
+    t = np.linspace(0, 2 * np.pi, 73)
+    ring = np.cos(t)[:, None] * side + np.sin(t)[:, None] * other
+    rim, bottom = centre + r * ring, centre + depth * axis + r * ring
+    far = bottom[(bottom - bottom.mean(axis=0)) @ view > 0]
+    far = far[
+        np.argsort(
+            np.arctan2((far - bottom.mean(axis=0)) @ other, (far - bottom.mean(axis=0)) @ side)
+        )
+    ]
+    strokes = [hand_curve(to_screen(s, rim), rng), hand_curve(to_screen(s, far), rng)]
+    for k in (1, -1):
+        a = centre + k * r * side
+        strokes.append(wobbly(*to_screen(s, [a, a + depth * axis]), rng))
+    return strokes
+
+
+def test_a_hole_drawn_into_the_front_face_is_read_as_a_hole(desktop):
+    """A cylindrical hole drawn into the box's front face (-Y) with a wobbling hand, the
+    Boolean on auto, is read as a hole and OK cuts it; at worst the hole is the other
+    reading, one click away, and that click gives the hole."""
+    d = desktop
+    rng = np.random.default_rng(11)
+    s = d.wait(lambda s: panel_open(s) and s["features"], timeout=120)
+    box = s["features"][0][1]
+    strokes = drilled_hole_strokes(s, rng)
+    for stroke in strokes:
+        d.drag(stroke)
+    s = d.wait(lambda s: panel_open(s) and s["panel"]["strokes"] == len(strokes))
+    d.key("Return")
+    s = d.wait(lambda s: panel_open(s) and s["panel"]["kind"] is not None, timeout=120)
+    d.screenshot("hole_read")
+    offered = [t for t, _, _ in s["buttons"] if t in ("Hole", "Groove")]
+    if offered and not checked(s, offered[0]):  # read as a boss: the hole, one click away
+        d.click_button(s, offered[0])
+        s = d.wait(lambda s: panel_open(s) and checked(s, offered[0]))
+        d.screenshot("hole_chosen")
+    else:
+        assert "(subtract)" in s["panel"]["text"], s["panel"]["text"]
+    d.click_button(s, "OK")
+    s = d.wait(lambda s: not panel_open(s) and len(s["features"]) == 2)
+    label, volume, valid = s["features"][-1]
+    cut = box - volume
+    assert valid and label.startswith(("Hole", "Groove")), s["features"]
+    assert 0.6 * np.pi * 36 * 15 < cut < 1.4 * np.pi * 36 * 15, (cut, s["features"])

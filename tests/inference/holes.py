@@ -43,7 +43,8 @@ from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
-from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.curves import Curve, operation_curves
+from Sketch2CADWorkbench.sketch.labels import START
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 READ_IOU = 0.95  # the evaluation's recovery criterion (training/recovery.py)
@@ -110,12 +111,15 @@ HOLE_CENTRES = {
     "+X": ((20.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
     "top": ((10.0, -6.0, 10.0), (0.0, 0.0, 1.0)),
 }
-ISOMETRIC = (-1.0, 1.0, -1.0)
+ISOMETRIC = (-1.0, 1.0, -1.0)  # FreeCAD's isometric view direction, into the scene
 # How a hole's lines are drawn: every line (as the training sketches are); only what the
 # view sees of the model after the hole (the rim, and of the depth lines and the bottom
-# circle what the opening shows); or the lines the hole's own cylinder would show, seen as
-# a solid (rim and depth lines, the bottom circle's half behind the cylinder left out)
-LINE_STYLES = ("all", "seen", "own")  # FreeCAD's isometric view direction, into the scene
+# circle what the opening shows); as a designer draws a drilled hole ("depth": the rim,
+# the depth lines whole, and the bottom circle's half away from the viewer, which the
+# opening would show were the hole shallow); or the lines the hole's own cylinder would
+# show, seen as a solid (rim and depth lines, the bottom circle's half behind the
+# cylinder left out)
+LINE_STYLES = ("all", "seen", "depth", "own")
 
 
 def drilled_hole(face: str, r: float = 6.0, d: float = 15.0) -> Sweep:
@@ -153,11 +157,23 @@ def gui_holes(
         camera = frame_curves(
             np.concatenate([c.points for c in curves]), direction, up_vector(rng, direction), 2.0
         )
-        if lines != "all":
+        if lines == "depth":
+            curves = [c if c.label != START else far_half(c, direction) for c in curves]
+        elif lines != "all":
             shown = result if lines == "seen" else cylinder
             curves = visible_curves(curves, camera, renderer.render(shown, camera))
         strokes, _ = sketch_strokes(curves, camera, rng, noise_level)
         yield DrawnHole(solid, strokes, camera, op, result)
+
+
+def far_half(circle: Curve, direction: np.ndarray) -> Curve:
+    """The half of a closed circle (Curve) lying away from a viewer looking along
+    `direction`, as one open curve."""
+    pts = circle.points
+    far = (pts - pts.mean(axis=0)) @ direction > 0
+    start = int(np.argmax(far & ~np.roll(far, 1)))  # where the far run begins
+    pts, far = np.roll(pts, -start, axis=0), np.roll(far, -start)
+    return Curve(pts[: int(np.argmin(far)) or len(pts)], circle.label)
 
 
 def rim_boss(hole: DrawnHole) -> AddSubPrism:

@@ -33,12 +33,14 @@ def test_the_one_not_taken_is_offered_only_within_offer_px_of_the_one_taken_or_i
     assert the_meant(4 * OFFER_PX, 9 * OFFER_PX, True) == (False, False)
 
 
-def test_a_reading_is_explained_by_its_seen_lines_only_when_they_fit_the_strokes_better():
+def test_a_reading_is_explained_by_its_lines_drawn_the_way_that_fits_the_strokes_best():
     every = SketchFit(np.full(10, 3.0), np.full(10, 3.0), np.zeros(0))
     seen = SketchFit(np.full(10, 1.0), np.full(10, 2.0), np.zeros(0))
-    assert explained(every, None) is every
-    assert explained(every, seen) is seen
-    assert explained(seen, every) is seen
+    depth = SketchFit(np.full(10, 1.0), np.full(10, 1.5), np.zeros(0))
+    assert explained((every,)) is every
+    assert explained((every, seen)) is seen
+    assert explained((seen, every)) is seen
+    assert explained((every, seen, depth)) is depth
 
 
 def test_two_readings_are_weighed_with_the_lines_drawn_the_way_that_explains_the_strokes_best():
@@ -52,3 +54,6 @@ def test_two_readings_are_weighed_with_the_lines_drawn_the_way_that_explains_the
     assert one_way_scores(boss, hole) == pytest.approx((6.7, 0.9))
     # drawn with every line, both are weighed by every line: a tie
     assert one_way_scores((way(1.2), way(4.0)), (way(1.3), way(5.0))) == pytest.approx((1.2, 1.3))
+    # a hole drawn with its depth lines whole: the third way tells it from the boss
+    hole, boss = (way(3.0), way(2.5), way(0.8)), (way(3.0), way(2.4), way(4.0))
+    assert one_way_scores(hole, boss) == pytest.approx((0.8, 4.0))

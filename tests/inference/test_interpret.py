@@ -32,6 +32,7 @@ from Sketch2CADWorkbench.inference.fitting.regularize import Regularized
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.labels import PROFILE
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
@@ -153,6 +154,27 @@ def test_a_shallow_hole_and_the_boss_on_its_rim_are_told_apart_by_the_lines_left
     got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
     assert got.operations[0].mode is drawn_as and volume_iou(got.solid, truth) > 0.95
     assert not got.doubtful  # its seen lines explain the strokes
+
+
+def test_a_deep_square_hole_drawn_without_its_hidden_lines_is_read_as_that_hole(renderer):
+    # seen, a deep hole shows its rim whole and of its side edges and floor only what the
+    # opening shows: fewer side edges than sides, the floor in part
+    box = make_box(Box((40, 30, 20)))
+    hole = AddSubPrism(
+        TOP, ((-8, -6, 10), (6, -6, 10), (6, 7, 10), (-8, 7, 10)), 9.0, Mode.SUBTRACT
+    )
+    cam = view()
+    truth = apply_operation(box, hole)
+    seen = visible_curves(
+        operation_curves(box, hole, np.array(cam.direction)), cam, renderer.render(truth, cam)
+    )
+    assert sum(c.label == PROFILE for c in seen) < 4  # the drawing this test is about
+    pts, labels = [c.points for c in seen], [c.label for c in seen]
+    oracle = Oracle(box, hole, pts, labels, cam, renderer)
+    strokes = [cam.project(p)[0] for p in pts]
+    got = interpret(box, strokes, cam, oracle, renderer, InterpretOptions(regularize=False))
+    assert got.operations[0].mode is Mode.SUBTRACT and volume_iou(got.solid, truth) > 0.95
+    assert not got.doubtful
 
 
 def off_centre_boss(renderer):

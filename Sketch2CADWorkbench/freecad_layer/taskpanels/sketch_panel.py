@@ -368,20 +368,14 @@ class SketchPanel:
         if self.capture.strokes:
             self.interpret()
 
-    def _readings(self, r, options) -> list:
-        """The readings to choose from: the interpretation's, and the other Boolean's when
-        it draws the same strokes and builds too (`Interpretation.other_option`)."""
+    def _readings(self, r) -> list:
+        """The readings to choose from: the interpretation's, and its alternative's when
+        the other Boolean's reading explains the strokes too and builds
+        (`Interpretation.alternative`, fitted with that Boolean: a hole's rim where the
+        boss read has its top)."""
         readings = [Reading(r.operations, r.solid)]
-        if r.other_option is not None:
-            from ...brep.protocol import OperationError
-            from ...inference.interpret import apply_with_symmetry
-
-            flipped = replace(r.operations[0], mode=r.other_option)
-            try:
-                ops, solid = apply_with_symmetry(self._base_solid(), flipped, options.symmetry)
-            except OperationError:
-                return readings  # only what builds is offered
-            readings.append(Reading(ops, solid))
+        if r.alternative is not None:
+            readings.append(Reading(r.alternative.operations, r.alternative.solid))
         return readings
 
     def _show_readings(self) -> None:
@@ -448,7 +442,7 @@ class SketchPanel:
             )
             return
         self.result, self.step = r, SketchStep(camera, strokes, options)
-        self.readings = self._readings(r, options)
+        self.readings = self._readings(r)
         self._show_readings()
         self.anyway_button.setVisible(r.doubtful)
         self._describe()

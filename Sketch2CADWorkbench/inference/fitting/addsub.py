@@ -19,7 +19,7 @@ from .common import (
     search_range,
     stroke_pixels,
 )
-from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends
+from .polygon import fit_polygon, is_simple, order_around_centre, profile_ends, side_corners
 from .primitive import choose_option
 from .refine import prism_from_ends, refine_prism
 from .surface import back_project, face_frame, face_ref, option_frame
@@ -61,6 +61,10 @@ class PrismFit:
     face: cq.Face
     camera: OrthoCamera
     frame: FaceFrame
+    # read from one whole outline, fewer side edges drawn than it has sides
+    # (`_from_one_outline`): the refinement, which pulls every line of the prism to the
+    # strokes, would pull the lines left out as hidden onto those drawn
+    partial: bool = False
 
     def refined(self) -> AddSubPrism:
         """The operation with its base polygon and length refined together against all
@@ -68,8 +72,8 @@ class PrismFit:
         (`prism_from_ends`: the likeliest prism under the hand's noise); the refined one
         when that one is degenerate, and as fitted when f is curved (both fit straight
         sides) or when neither is sound (a polygon that crosses itself or has a side
-        under MIN_SIDE_PX, or d turned negative)."""
-        if is_curved(self.face):
+        under MIN_SIDE_PX, or d turned negative), or read from one outline (`partial`)."""
+        if is_curved(self.face) or self.partial:
             return self.operation
         refined = refine_prism(self.base, self.operation.d, self.step, self.strokes)
         for base, d in (prism_from_ends(*refined, self.step, self.strokes), refined):
@@ -128,13 +132,18 @@ def prism_fit(
     """
     groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 1, 2)}
     n = len(groups[1])
-    if not 3 <= n <= 6:
+    if n > 6 or (n < 3 and is_curved(face)):
         raise FitError(
             f"a prism needs 3 to 6 profile strokes (one per side edge); {n} were recognised"
         )
-    starts, ends = profile_ends(groups[1], groups[0], groups[2])
-    poly_s = _simple_fit(starts, groups[0])
-    poly_e = _simple_fit(ends, groups[2])
+    partial_d = None
+    if n >= 3:
+        starts, ends = profile_ends(groups[1], groups[0], groups[2])
+        poly_s = _simple_fit(starts, groups[0])
+        poly_e = _simple_fit(ends, groups[2])
+    else:
+        poly_s, poly_e, partial_d = _from_one_outline(groups, face, camera)
+        starts, ends = poly_s, poly_e
     frame = option_frame(face, camera, starts, ends)  # on a curved f: the corners drawn
     scale = model_scale(solid)
     mode = choose_option(
@@ -154,14 +163,90 @@ def prism_fit(
     edge_pts = np.concatenate(
         [np.linspace(closed[i], closed[i + 1], 24) for i in range(len(base3d))]
     )
-    field = DistanceField(stroke_pixels(other, (camera.height, camera.width)))
-    cands = search_range(scale, 0.0075, 1.5)
-    d, err = line_search(edge_pts, direction, camera, field, cands)
+    if partial_d is not None:
+        d, err = partial_d
+    else:
+        field = DistanceField(stroke_pixels(other, (camera.height, camera.width)))
+        d, err = line_search(edge_pts, direction, camera, field, search_range(scale, 0.0075, 1.5))
     if err > PRISM_MISMATCH_PX:
         raise FitError(f"no prism length matches the far outline (closest is {err:.1f} px off)")
     op = AddSubPrism(
         face_ref(face, frame), tuple(tuple(map(float, p)) for p in base3d), float(d), mode
     )
     return PrismFit(
-        op, base, camera.image_of(direction), groups[0] + groups[1] + groups[2], face, camera, frame
+        op,
+        base,
+        camera.image_of(direction),
+        groups[0] + groups[1] + groups[2],
+        face,
+        camera,
+        frame,
+        partial_d is not None,
     )
+
+
+def _from_one_outline(
+    groups: dict[int, list[np.ndarray]], face: cq.Face, camera: OrthoCamera
+) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
+    """A prism drawn with fewer side edges than sides, as a designer who leaves the hidden
+    lines out draws a hole (the near side edges and the near part of its floor lie behind
+    the rim): its corners from the outline drawn whole, one stroke per side
+    (`side_corners`; the end outline first, which the view sees whole for a boss's top and
+    a hole's rim alike), the other outline that polygon moved along n_f's image. The
+    length starts where the side edges drawn reach (`_reach`); then the polygon and
+    the length are refined together by the strokes' distances to the prism's lines alone
+    (`refine_prism`, not every line: those left out as hidden have no stroke), so what
+    is drawn of the far outline and the sides fixes the rest.
+
+    Returns:
+        The start and end polygons (N, 2 pixels), and (d in mm, the strokes' mean
+        distance to the prism's lines in pixels).
+    Raises:
+        FitError: no outline drawn whole, or no side edge drawn.
+    """
+    step = camera.image_of(FaceFrame.of(face).normal)  # pixels per mm along +n_f
+    first = None
+    for whole, sign in ((2, -1.0), (0, 1.0)):  # the other outline lies below the end one
+        try:
+            poly = _simple_fit(side_corners(groups[whole]), groups[whole])
+        except FitError as e:
+            first = first or e
+            continue
+        outline, sides = groups[2 - whole], groups[1]
+        if not sides:  # an outline's pieces alone draw no prism (a circle cut in arcs)
+            raise FitError("no side edge of the prism was drawn, so its length is not known")
+        d = _reach(sides, step)
+        drawn = groups[0] + groups[1] + groups[2]
+        moved, longer = refine_prism(poly, d, sign * step, drawn, end_weight=0.0, every_line=False)
+        if longer > 0 and is_simple(moved) and _shortest_side(moved) >= MIN_SIDE_PX:
+            poly, d = moved, longer  # else as read before the refinement
+        other = poly + sign * d * step
+        lines = (np.concatenate([other, poly]), np.concatenate([np.roll(other, -1, axis=0), other]))
+        err = float(_mean_distance(_samples(outline + sides), *lines))
+        return (other, poly, (d, err)) if whole == 2 else (poly, other, (d, err))
+    raise first or FitError("no outline of the prism was drawn whole")
+
+
+def _reach(sides: list[np.ndarray], step: np.ndarray) -> float:
+    """How far (mm) the longest side-edge stroke reaches along `step` (pixels per mm)."""
+    unit = step / float(step @ step)
+    return max(abs(float((np.asarray(s)[-1] - np.asarray(s)[0]) @ unit)) for s in sides)
+
+
+def _samples(strokes: list[np.ndarray]) -> np.ndarray:
+    """(M, 2) points every 2 pixels along the strokes."""
+    return np.concatenate([resample(s, 2.0) for s in strokes])
+
+
+def _mean_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The points' (M, 2) mean distance to the nearest of the segments a -> b (..., S, 2),
+    for each set of segments (...)."""
+    ab = b - a
+    rel = pts[:, None] - a[..., None, :, :]  # (..., M, S, 2)
+    t = np.clip(
+        np.einsum("...msk,...sk->...ms", rel, ab)
+        / np.maximum((ab * ab).sum(-1), 1e-12)[..., None, :],
+        0.0,
+        1.0,
+    )
+    return np.linalg.norm(rel - t[..., None] * ab[..., None, :, :], axis=-1).min(axis=-1).mean(-1)

@@ -95,3 +95,30 @@ def profile_ends(
             starts.append(b)
             ends.append(a)
     return np.array(starts), np.array(ends)
+
+
+def side_corners(side_strokes: list[np.ndarray]) -> np.ndarray:
+    """The corners (N, 2) of an outline drawn one stroke per side: each stroke's end
+    joined to the nearest free end of another stroke, closest pairs first, each corner the
+    middle of its two ends, ordered around their centre.
+
+    Raises:
+        FitError: fewer than 3 sides, or ends that do not pair up into a closed outline.
+    """
+    if len(side_strokes) < 3:
+        raise FitError("an outline needs at least 3 sides drawn to give its corners")
+    ends = np.array([(s[0], s[-1]) for s in map(np.asarray, side_strokes)], float).reshape(-1, 2)
+    owner = np.repeat(np.arange(len(side_strokes)), 2)
+    gap = np.linalg.norm(ends[:, None] - ends[None], axis=2)
+    gap[owner[:, None] == owner[None]] = np.inf  # a side's own two ends are no corner
+    corners, free = [], np.ones(len(ends), bool)
+    for flat in np.argsort(gap, axis=None):
+        i, j = np.unravel_index(flat, gap.shape)
+        if not np.isfinite(gap[i, j]):
+            break
+        if free[i] and free[j]:
+            free[i] = free[j] = False
+            corners.append((ends[i] + ends[j]) / 2)
+    if free.any():
+        raise FitError("the outline's sides do not meet end to end")
+    return order_around_centre(np.array(corners))

@@ -130,6 +130,7 @@ def refine_prism(
     step: np.ndarray,
     strokes: list[np.ndarray],
     end_weight: float = REFINE_END_WEIGHT,
+    every_line: bool = True,
 ) -> tuple[np.ndarray, float]:
     """Move a prism's base polygon and length together to fit all its strokes.
 
@@ -140,6 +141,11 @@ def refine_prism(
             the option's sign), pixels.
         strokes: every stroke of the prism (start, profile, end), pixels.
         end_weight: the strokes' ends' weight (0: closeness alone).
+        every_line: the strokes draw every line of the prism, so its lines' distances to
+            them count too; False: the base outline is drawn whole and the other lines
+            only in part (a drawing without its hidden lines, whose strokes end where a
+            line goes out of sight: give no end weight then), so of those only the
+            strokes' distances to them count.
     Returns:
         (base, d) refined: the polygon in pixels, the length in mm.
     """
@@ -150,7 +156,9 @@ def refine_prism(
     t_edge = np.tile((np.arange(EDGE_SAMPLES) + 0.5) / EDGE_SAMPLES, 3 * n)
     seg_of_sample = np.repeat(np.arange(3 * n), EDGE_SAMPLES)
     # both directions weigh alike whatever the number of points each has
-    weight = np.sqrt(len(drawn) / (3 * n * EDGE_SAMPLES))
+    weight = np.sqrt(len(drawn) / (3 * n * EDGE_SAMPLES)) * (
+        (seg_of_sample < n) | every_line  # only the base outline is drawn whole otherwise
+    )
     rows_m = np.arange(len(drawn))
     rows_q = len(drawn) + np.arange(len(t_edge))
     ends = open_ends(strokes)
@@ -175,7 +183,10 @@ def refine_prism(
         _, u2 = _unit(q - drawn[k])
         res = np.concatenate([d1, weight * d2])
         jac = np.zeros((len(res), 2 * n + 1))
-        for rows, seg, tt, u in ((rows_m, j, tm, u1), (rows_q, seg_of_sample, t_edge, weight * u2)):
+        for rows, seg, tt, u in (
+            (rows_m, j, tm, u1),
+            (rows_q, seg_of_sample, t_edge, weight[:, None] * u2),
+        ):
             wa, wb = (1.0 - tt)[:, None] * u, tt[:, None] * u
             for c in (0, 1):  # one (row, column) pair per statement: += is safe
                 jac[rows, 2 * ia[seg] + c] += wa[:, c]
@@ -413,6 +424,11 @@ def refine_bevel(
         x: (6,) the parameters as fitted (`BevelImage`).
         strokes: every stroke of the bevel, pixels.
         end_weight: the strokes' ends' weight (0: closeness alone).
+        every_line: the strokes draw every line of the prism, so its lines' distances to
+            them count too; False: the base outline is drawn whole and the other lines
+            only in part (a drawing without its hidden lines, whose strokes end where a
+            line goes out of sight: give no end weight then), so of those only the
+            strokes' distances to them count.
     Returns:
         (6,) the refined parameters (l's ends kept on their edges).
     """

@@ -11,6 +11,7 @@ this machine's budget often do) need not lose a clear sketch.
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.path import Path as MplPath
 from scipy.spatial import cKDTree
 
 from ...brep.faces import FaceFrame
@@ -41,6 +42,11 @@ CLOSED_SHARE = 0.2
 NEAR_PROFILES = 200
 # The fewest side edges a prism has: a smaller set of alike chords is no other reading.
 MIN_SIDES = 3
+# Steps of the search for an outline drawn whole (`whole_outline_roles`) before it gives
+# up: a sketch of many strokes meeting near each other has very many chains of them
+# (as drawing.COVER_BUDGET bounds the corners' cover; see docs/measurements.md,
+# stroke_roles.CYCLE_BUDGET).
+CYCLE_BUDGET = 20000
 # Below this sine of the angle between n_f and the view, f is seen head-on: profile
 # strokes would be dots.
 MIN_SIN = 0.1
@@ -218,3 +224,81 @@ def _near_profiles(
         return [slice(None)] * len(closed)
     centres = np.array([np.asarray(strokes[k], float).mean(axis=0) for k in closed])
     return list(cKDTree((starts + ends) / 2).query(centres, k=NEAR_PROFILES)[1])
+
+
+def whole_outline_roles(
+    strokes: list[np.ndarray], frame: FaceFrame, camera: OrthoCamera, reach: float
+) -> list[int]:
+    """A prism's roles when only one outline is drawn whole, as a designer who leaves
+    the hidden lines out draws a hole: its rim whole, and of its side edges and floor
+    only what the opening shows. The whole outline is the cycle of MIN_SIDES to 6 open
+    strokes meeting end to end (within `reach` pixels) that holds the most other
+    strokes' middles (a hole's rim holds every other line of it in the image), then
+    whose ends meet closest; it is the end outline (a hole's rim
+    and a boss's top lie highest along n_f); of the other strokes, those along n_f's image
+    (`stroke_roles`' profile test) are side edges, the rest the start outline.
+
+    Raises:
+        FitError: f is seen head-on, or no such cycle of strokes.
+    """
+    n2 = normal_image(camera, frame)
+    opened = [k for k, s in enumerate(strokes) if not _closed(np.asarray(s, float))]
+    ends = {k: np.asarray(strokes[k], float)[[0, -1]] for k in opened}
+    # stroke k's end a meets stroke j's end b
+    meets = {
+        (k, a): [
+            (j, b)
+            for j in opened
+            if j != k
+            for b in (0, 1)
+            if np.linalg.norm(ends[k][a] - ends[j][b]) <= reach
+        ]
+        for k in opened
+        for a in (0, 1)
+    }
+    found: list[tuple[list[int], np.ndarray, float]] = []  # strokes, corners, corner gaps
+    budget = [CYCLE_BUDGET]
+
+    def walk(path: list[int], entered: list[int]) -> None:
+        k = path[-1]
+        for j, b in meets[(k, 1 - entered[-1])]:
+            budget[0] -= 1
+            if budget[0] < 0:
+                return
+            if j == path[0] and b == entered[0] and len(path) >= MIN_SIDES:
+                corners = np.array([ends[i][e] for i, e in zip(path, entered, strict=True)])
+                left = np.array([ends[i][1 - e] for i, e in zip(path, entered, strict=True)])
+                gaps = float(np.linalg.norm(corners - np.roll(left, 1, axis=0), axis=1).sum())
+                found.append((path, corners, gaps))
+            elif j > path[0] and j not in path and len(path) < 6:
+                # each cycle once from its lowest stroke (and twice by its two directions)
+                walk([*path, j], [*entered, b])
+
+    for k in opened:
+        walk([k], [0])
+    if not found:
+        raise FitError("no outline of the prism is drawn whole, its sides meeting end to end")
+
+    def inside(cycle: tuple[list[int], np.ndarray, float]) -> tuple[int, float]:
+        """How many other strokes' middles the cycle holds (more first), then its gaps."""
+        path, corners, gaps = cycle
+        middles = [
+            resample(np.asarray(s, float))[len(resample(np.asarray(s, float))) // 2]
+            for k, s in enumerate(strokes)
+            if k not in path
+        ]
+        held = int(MplPath(corners).contains_points(np.array(middles)).sum()) if middles else 0
+        return -held, gaps
+
+    best = min(found, key=inside)[0]
+    tan_max = np.tan(np.radians(PRISM_PROFILE_DEG))
+    roles = []
+    for k, s in enumerate(strokes):
+        if k in best:
+            roles.append(END)
+            continue
+        chord = np.asarray(s, float)[-1] - np.asarray(s, float)[0]
+        along, across = abs(float(chord @ n2)), abs(float(chord[0] * n2[1] - chord[1] * n2[0]))
+        profile = across < along and across <= tan_max * along + PROFILE_SLACK_PX
+        roles.append(PROFILE if profile else START)
+    return roles

@@ -21,6 +21,9 @@ from .surface import back_project, check_circle_on_surface, face_frame, face_ref
 # Inner control points of a fitted profile must lie within this share of d beyond the
 # circles' planes, and within this multiple of the larger radius from the axis.
 PROFILE_SLACK, PROFILE_MAX_R = 0.1, 2.0
+# Moves of a whole circle's ellipse tried at most when fitting the other one to its part
+# drawn (`fit_moved_ellipse`): a resolution, at least a quarter pixel over a 256 px view.
+MOVES = 2048
 
 
 @dataclass(frozen=True)
@@ -51,6 +54,42 @@ def fit_ellipse(strokes: list[np.ndarray]) -> Ellipse:
     if b > a:
         a, b, theta = b, a, theta + np.pi / 2
     return Ellipse(np.array([cx, cy]), float(a), float(b), float(theta))
+
+
+def fit_moved_ellipse(whole: Ellipse, strokes: list[np.ndarray], step: np.ndarray) -> Ellipse:
+    """The ellipse `whole` moved along `step` (the image of the sweep's axis) and scaled,
+    that the strokes' samples lie closest to: a sweep's two circles lie square to its axis,
+    so in a parallel view one outline is the other moved and scaled, and what is drawn
+    of one (a hole's floor circle shows only its far part through the opening, a boss's
+    base its near half) fixes it from the one drawn whole.
+
+    Raises:
+        FitError: the strokes are too short, or `step` is no direction in the image.
+    """
+    pts = np.concatenate([resample(s) for s in strokes])
+    norm = float(np.linalg.norm(step))
+    if len(pts) < 6 or norm < 1e-9:
+        raise FitError("a circle outline is too short to fit an ellipse")
+    u = step / norm
+    ca, sa = np.cos(whole.angle), np.sin(whole.angle)
+
+    # each move's scale is the samples' mean radius in the ellipse's own units (1 on it),
+    # its misfit their radial distance (pixels) from the ellipse so scaled
+    # the moved centre lies within the strokes' reach of the whole one's, on a grid of a
+    # quarter pixel (at most MOVES)
+    reach = float(np.max(np.linalg.norm(pts - whole.center, axis=1)))
+    t = np.linspace(-reach, reach, int(np.clip(8 * reach, 2, MOVES)))
+    rel = pts[None] - (whole.center[None] + t[:, None] * u[None])[:, None]  # (T, K, 2)
+    x = (rel[..., 0] * ca + rel[..., 1] * sa) / whole.a
+    y = (-rel[..., 0] * sa + rel[..., 1] * ca) / whole.b
+    rho = np.maximum(np.hypot(x, y), 1e-9)
+    scale = rho.mean(axis=1)
+    off = (rho - scale[:, None]) * np.linalg.norm(rel, axis=-1) / rho
+    k = int(np.argmin(np.sqrt(np.mean(off**2, axis=1))))
+    if scale[k] <= 0:
+        raise FitError("a circle outline does not fit an ellipse")
+    scale = float(scale[k])
+    return Ellipse(whole.center + t[k] * u, whole.a * scale, whole.b * scale, whole.angle)
 
 
 def _offset_along_axis(
@@ -190,7 +229,14 @@ def sweep_fit(
     groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 1, 2)}
     if not groups[0] or not groups[2]:
         raise FitError("a sweep needs both circle outlines (its two ends) to be drawn")
-    e_s, e_e = fit_ellipse(groups[0]), fit_ellipse(groups[2])
+    e_e = fit_ellipse(groups[2])  # the end circle: seen whole on a boss's top, a hole's rim
+    e_s = (
+        fit_ellipse(groups[0])
+        if is_curved(face)  # the base circle follows the surface: no moved copy
+        else fit_moved_ellipse(
+            e_e, groups[0], camera.image_of(face_frame(face, camera, e_e.points()).normal)
+        )
+    )
     frame = option_frame(face, camera, e_s.points(), e_e.points())
     scale = model_scale(solid)
     mode = choose_option(face, frame, camera, e_s.points(), e_e.points(), option)

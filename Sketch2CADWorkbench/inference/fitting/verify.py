@@ -148,6 +148,7 @@ def sketch_fit(
     strokes: list[np.ndarray] | DrawnStrokes,
     seen: ContextMaps | None = None,
     face: ResolvedFace | None = None,
+    whole: frozenset[int] = frozenset(),
 ) -> SketchFit:
     """How well op's projected curves and the strokes explain each other: the distances
     (pixels) from the strokes' samples to the curves, from the curves' samples to the
@@ -161,10 +162,15 @@ def sketch_fit(
             the curves lie wholly outside the image, the strokes are infinitely far from
             them.
         face: op.face resolved on `solid`, when the caller holds it (`operation_curves`).
+        whole: with `seen`, the labels of the curves that count whole all the same
+            (sketch/labels.py: a primitive's depth lines, which designers draw as depth
+            cues where the view would hide them).
     """
     curves = operation_curves(solid, op, camera.basis()[2], face)
     if seen is not None:
-        curves = visible_curves(curves, camera, seen)
+        curves = [c for c in curves if c.label in whole] + visible_curves(
+            [c for c in curves if c.label not in whole], camera, seen
+        )
     shape = (camera.height, camera.width)
     drawn = strokes if isinstance(strokes, DrawnStrokes) else DrawnStrokes(strokes, shape)
     pixels = [camera.project(c.points)[0] for c in curves]

@@ -77,8 +77,22 @@ def test_user_choice_of_option_wins(box, camera):
     assert op.mode is Mode.SUBTRACT
 
 
-@pytest.mark.parametrize("count", [2, 7])
-def test_prism_needs_three_to_six_profile_strokes(box, camera, count):
+def test_a_prism_with_fewer_side_edges_than_sides_needs_one_outline_drawn_whole(box, camera):
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    # two sides of each outline and two side edges: no outline gives the corners
+    keep = [0, 1, 4, 5, 8, 9]
+    with pytest.raises(FitError, match="at least 3 sides"):
+        fit_prism(
+            box,
+            face_towards(box, (0, 0, 1)),
+            camera,
+            [strokes[k] for k in keep],
+            [labels[k] for k in keep],
+        )
+
+
+@pytest.mark.parametrize("count", [7])
+def test_prism_needs_at_most_six_profile_strokes(box, camera, count):
     strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
     profiles = [s for s, l in zip(strokes, labels, strict=False) if l == 1]
     strokes = [s for s, l in zip(strokes, labels, strict=False) if l != 1] + (profiles * 2)[:count]
@@ -92,3 +106,19 @@ def test_outlines_off_the_face_are_refused(box, camera):
     strokes, labels = prism_sketch(camera, far, 6.0, +1)
     with pytest.raises(FitError, match="neither the start nor the end outline"):
         fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)
+
+
+def test_a_hole_drawn_with_its_rim_one_side_edge_and_a_floor_piece_is_read_from_its_rim(
+    box, camera
+):
+    # drawn as a designer who leaves the hidden lines out: the rim whole, of the side
+    # edges and the floor only one each (the strokes' order: floor 0-3, rim 4-7, sides)
+    strokes, labels = prism_sketch(camera, QUAD, 5.0, -1)
+    keep = [1, 4, 5, 6, 7, 9]
+    strokes, labels = [strokes[k] for k in keep], [labels[k] for k in keep]
+    face = face_towards(box, (0, 0, 1))
+    # which Boolean is the search's to weigh (inference/alternative.py): here the hole's
+    op = fit_prism(box, face, camera, strokes, labels, Mode.SUBTRACT)
+    assert op.d == pytest.approx(5.0, abs=0.3)
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD) < 0.3

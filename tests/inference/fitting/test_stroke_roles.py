@@ -150,3 +150,19 @@ def test_a_slot_seen_nearly_along_its_length_has_its_depth_edges_as_the_second_r
     assert sorted(k for k, r in enumerate(other) if r == 1) == long_sides
     with pytest.raises(FitError, match="no set 3"):
         stroke_roles(strokes, frame, cam, prism=True, group=2)
+
+
+def test_a_hole_drawn_without_its_hidden_lines_has_its_whole_rim_as_the_end_outline():
+    from Sketch2CADWorkbench.inference.fitting.stroke_roles import whole_outline_roles
+
+    solid = make_box(Box((40.0, 30.0, 20.0)))
+    cam = OrthoCamera((0.0, 0.0, 0.0), (0.4, 0.6, -0.7), (0.0, 0.0, 1.0), 48.0, 256, 256)
+    rim = np.array([[-8, -6, 10], [8, -6, 10], [8, 6, 10], [-8, 6, 10]], float)
+    floor = rim - (0, 0, 6.0)
+    px = lambda p: cam.project(np.asarray(p, float))[0]  # noqa: E731
+    sides = [px(np.linspace(rim[i], rim[(i + 1) % 4], 12)) for i in range(4)]
+    depth = px(np.linspace(rim[2], floor[2], 12))  # the far corner's side edge
+    piece = px(np.linspace(floor[2], floor[3], 12)[:6])  # part of the floor
+    strokes = [depth, *sides[::-1], piece]
+    frame = FaceFrame.of(resolve_face(solid, FaceRef((0, 0, 10), (0, 0, 1))).face)
+    assert whole_outline_roles(strokes, frame, cam, 10.0) == [1, 2, 2, 2, 2, 0]

@@ -87,3 +87,14 @@ def test_sweep_without_its_far_circle_is_refused(box, camera):
             strokes[:1] + strokes[2:],
             labels[:1] + labels[2:],
         )
+
+
+def test_a_hole_drawn_with_only_part_of_its_floor_circle_is_read_from_its_rim(box, camera):
+    # a designer leaves out the floor circle's near part, which the hole's material hides
+    strokes, labels = sweep_sketch(camera, (2, 0, TOP_Z), 5.0, 5.0, 8.0, -1)
+    floor = strokes[0]
+    strokes[0] = floor[: len(floor) // 3]  # a third of the floor's loop
+    # which Boolean is the search's to weigh (inference/alternative.py): here the hole's
+    op = fit_sweep(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, Mode.SUBTRACT)
+    assert op.center == pytest.approx((2, 0, TOP_Z), abs=0.3)
+    assert (op.r0, op.r1, op.d) == pytest.approx((5.0, 5.0, 8.0), abs=0.4)
