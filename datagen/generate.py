@@ -26,7 +26,7 @@ from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
 from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
-from .hand import P_HIDDEN_OUT, people_strokes
+from .hand import P_HIDDEN_OUT, habits_of, people_strokes
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
@@ -188,7 +188,8 @@ def view_sample(
     after the operation (`sketch.visible.visible_curves`), as a designer who leaves the
     hidden lines out; the training data draws every line. With `hand` "people" the
     strokes are drawn as a person does (datagen/hand.py), who also leaves the hidden
-    lines out of a sample with probability P_HIDDEN_OUT."""
+    lines out of a sample with probability P_HIDDEN_OUT; "people-HABIT", with that
+    habit alone."""
     solid, op, result = context.stage.solid, drawn.op, drawn.result
     rf = drawn.face.resolved()  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
@@ -218,16 +219,17 @@ def view_sample(
                 continue
         if not shows_base_face(maps, face):
             continue
-        if hand == "people" and hidden_lines and rng.random() < P_HIDDEN_OUT:
-            hidden_lines = False
+        habits = habits_of(hand)
+        if hand != "generator" and hidden_lines and rng.random() < P_HIDDEN_OUT:
+            hidden_lines = "hidden" not in habits
         if not hidden_lines:
             if result_mesh is None:
                 result_mesh = tessellate(
                     result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)
                 )
             curves = visible_curves(curves, camera, renderer.render(result_mesh, camera))
-        if hand == "people":
-            strokes, labels, ink = people_strokes(curves, camera, rng, noise_level)
+        if hand != "generator":
+            strokes, labels, ink = people_strokes(curves, camera, rng, noise_level, habits)
         else:
             strokes, labels = sketch_strokes(curves, camera, rng, noise_level)
             ink = stroke_maps(strokes, labels, size, size)

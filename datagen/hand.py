@@ -22,6 +22,11 @@ those habits, each with the probability below:
 - wobble: a low-frequency bow across each stroke (BOW of its length, times the noise
   level) and a light jitter, no end noise beyond the habits above.
 
+Each habit can be drawn alone (`--hand people-HABIT`, HABITS), to tell what each costs
+the reader: the others are then off (whole curves, one stroke each, every line, no bow)
+while the random draws stay those of `--hand people`, so the sets hold the same
+operations in the same views.
+
 Labels: the C~ map is painted per curve (a stroke of several curves paints each with
 its own label); a stroke's `stroke_parts` entry is the label of its first curve.
 """
@@ -36,7 +41,9 @@ from Sketch2CADWorkbench.sketch.curves import Curve
 
 from .strokes import STEP_PX, StrokeMaps, stroke_maps
 
-HANDS = ("generator", "people")
+# The habits, as the list above names them; "people" draws with all of them.
+HABITS = ("chain", "split", "partial", "hidden", "wobble")
+HANDS = ("generator", "people", *(f"people-{h}" for h in HABITS))
 P_CHAIN = 0.7
 MAX_CHAIN = 4
 P_SPLIT = 0.3
@@ -67,55 +74,79 @@ def _part(p: np.ndarray, a: float, b: float) -> np.ndarray:
     return out if len(out) >= 2 else q[[0, -1]]
 
 
-def _end_share(rng: np.random.Generator) -> float:
-    """How far an open end of a stroke lies past (+) or short of (-) its curve's end."""
+def habits_of(hand: str) -> frozenset[str]:
+    """The habits (of HABITS) a hand of HANDS draws with: all for "people", one for
+    "people-HABIT", none for the generator's."""
+    if hand == "people":
+        return frozenset(HABITS)
+    return frozenset({hand.removeprefix("people-")} & set(HABITS))
+
+
+def _end_share(rng: np.random.Generator, partial: bool) -> float:
+    """How far an open end of a stroke lies past (+) or short of (-) its curve's end (0
+    without the `partial` habit; the draws are the same)."""
     if rng.random() < P_OVERSHOOT:
-        return float(rng.exponential(OVER_MEAN))
-    return -min(float(rng.exponential(SHORT_MEAN)), 0.3)
+        share = float(rng.exponential(OVER_MEAN))
+    else:
+        share = -min(float(rng.exponential(SHORT_MEAN)), 0.3)
+    return share if partial else 0.0
 
 
-def _curve_strokes(p: np.ndarray, closed: bool, rng: np.random.Generator) -> list[np.ndarray]:
+def _curve_strokes(
+    p: np.ndarray, closed: bool, rng: np.random.Generator, habits: frozenset[str]
+) -> list[np.ndarray]:
     """The clean strokes a person draws for one curve (before the wobble)."""
+    split, partial = "split" in habits, "partial" in habits
     if closed:
         p = np.roll(p, -int(rng.integers(len(p))), axis=0)
         p = np.vstack([p, p[:1]])
         u = rng.random()
         if u < P_LOOP_OPEN:
-            return [_part(p, 0.0, 1.0 - rng.uniform(0.05, 0.15))]
+            gap = rng.uniform(0.05, 0.15)
+            return [_part(p, 0.0, 1.0 - gap if partial else 1.0)]
         if u < P_LOOP_OPEN + P_LOOP_ARCS:
             m = rng.uniform(0.35, 0.65)
-            return [_part(p, 0.0, m + rng.normal(0, 0.02)), _part(p, m, 1.0 + rng.normal(0, 0.02))]
-        return [_part(p, 0.0, 1.0 + rng.uniform(0.0, 0.1))]
-    a, b = -_end_share(rng), 1.0 + _end_share(rng)
+            ends = m + rng.normal(0, 0.02), 1.0 + rng.normal(0, 0.02)
+            if not split:
+                return [_part(p, 0.0, 1.0)]
+            return [_part(p, 0.0, ends[0]), _part(p, m, ends[1] if partial else 1.0)]
+        over = rng.uniform(0.0, 0.1)
+        return [_part(p, 0.0, 1.0 + over if partial else 1.0)]
+    a, b = -_end_share(rng, partial), 1.0 + _end_share(rng, partial)
     u = rng.random()
     if u < P_SPLIT:
         m = rng.uniform(0.3, 0.7)
-        return [_part(p, a, m + rng.normal(0, 0.03)), _part(p, m + rng.normal(0, 0.03), b)]
+        cuts = m + rng.normal(0, 0.03), m + rng.normal(0, 0.03)
+        return [_part(p, a, cuts[0]), _part(p, cuts[1], b)] if split else [_part(p, a, b)]
     if u < P_SPLIT + P_TRACE:
-        return [_part(p, a, b), _part(p, rng.uniform(0.0, 0.3), rng.uniform(0.7, 1.0))]
+        traced = rng.uniform(0.0, 0.3), rng.uniform(0.7, 1.0)
+        return [_part(p, a, b), _part(p, *traced)] if split else [_part(p, a, b)]
     return [_part(p, a, b)]
 
 
-def _wobble(p: np.ndarray, rng: np.random.Generator, level: int) -> np.ndarray:
-    """A stroke with a low-frequency bow across it and a light jitter."""
+def _wobble(p: np.ndarray, rng: np.random.Generator, level: int, bow: bool) -> np.ndarray:
+    """A stroke with a low-frequency bow across it (when `bow`) and a light jitter."""
     s = arc_lengths(p)
     t = s / max(s[-1], 1e-9)
     d = np.gradient(p, axis=0)
     across = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(
         np.linalg.norm(d, axis=1, keepdims=True), 1e-9
     )
-    bow = rng.normal(0, BOW * level * s[-1]) * np.sin(np.pi * t * rng.uniform(0.7, 1.3))
-    return p + across * bow[:, None] + rng.normal(0, JITTER_PX, p.shape)
+    sway = rng.normal(0, BOW * level * s[-1]) * np.sin(np.pi * t * rng.uniform(0.7, 1.3))
+    return p + across * sway[:, None] * bow + rng.normal(0, JITTER_PX, p.shape)
 
 
-def _chains(ends: np.ndarray, closed: list[bool], rng: np.random.Generator) -> list[list[int]]:
+def _chains(
+    ends: np.ndarray, closed: list[bool], rng: np.random.Generator, chain_them: bool
+) -> list[list[int]]:
     """Curves grouped into chains drawn as one stroke each, as signed indices (-i-1:
-    curve i drawn backwards): a chain runs on through curves whose end meets its own."""
+    curve i drawn backwards): a chain runs on through curves whose end meets its own
+    (each curve alone without `chain_them`)."""
     free = [i for i in rng.permutation(len(closed)) if not closed[i]]
     out = [[i] for i in range(len(closed)) if closed[i]]
     while free:
         chain = [free.pop(0)]
-        if rng.random() < P_CHAIN:
+        if rng.random() < P_CHAIN and chain_them:
             while len(chain) < MAX_CHAIN:
                 last = chain[-1]
                 tip = ends[last, 1] if last >= 0 else ends[-last - 1, 0]
@@ -137,7 +168,11 @@ def _chains(ends: np.ndarray, closed: list[bool], rng: np.random.Generator) -> l
 
 
 def people_strokes(
-    curves: list[Curve], camera: OrthoCamera, rng: np.random.Generator, noise_level: int
+    curves: list[Curve],
+    camera: OrthoCamera,
+    rng: np.random.Generator,
+    noise_level: int,
+    habits: frozenset[str] = frozenset(HABITS),
 ) -> tuple[list[np.ndarray], list[int], StrokeMaps]:
     """Strokes (pixels) of the curves seen by `camera` as a person draws them, in a
     random order and direction, with their labels (each stroke's first curve's) and
@@ -148,27 +183,29 @@ def people_strokes(
         camera: the view.
         rng: the generator.
         noise_level: 1, 2 or 3: scales the bow.
+        habits: those of HABITS drawn ("hidden" is the caller's: it picks the curves).
     """
     pixels = [camera.project(c.points)[0] for c in curves]
     ends = np.array([[p[0], p[-1]] for p in pixels])
     strokes: list[np.ndarray] = []
     labels: list[int] = []
     painted: list[tuple[np.ndarray, int]] = []
-    for chain in _chains(ends, [c.closed for c in curves], rng):
+    bow = "wobble" in habits
+    for chain in _chains(ends, [c.closed for c in curves], rng, "chain" in habits):
         if len(chain) == 1:
             i = chain[0]
-            for part in _curve_strokes(pixels[i], curves[i].closed, rng):
-                stroke = _wobble(part, rng, noise_level)
+            for part in _curve_strokes(pixels[i], curves[i].closed, rng, habits):
+                stroke = _wobble(part, rng, noise_level, bow)
                 strokes.append(stroke)
                 labels.append(int(curves[i].label))
                 painted.append((stroke, int(curves[i].label)))
             continue
         pieces = [pixels[i] if i >= 0 else pixels[-i - 1][::-1] for i in chain]
-        first = _part(pieces[0], -_end_share(rng), 1.0)
-        last = _part(pieces[-1], 0.0, 1.0 + _end_share(rng))
+        first = _part(pieces[0], -_end_share(rng, "partial" in habits), 1.0)
+        last = _part(pieces[-1], 0.0, 1.0 + _end_share(rng, "partial" in habits))
         runs = [first] + [resample_every(q, STEP_PX) for q in pieces[1:-1]] + [last]
         cuts = np.cumsum([len(r) for r in runs])[:-1]
-        stroke = _wobble(np.vstack(runs), rng, noise_level)
+        stroke = _wobble(np.vstack(runs), rng, noise_level, bow)
         strokes.append(stroke)
         label_of = [int(curves[i if i >= 0 else -i - 1].label) for i in chain]
         labels.append(label_of[0])

@@ -66,7 +66,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="who draws the strokes: the generator (one whole stroke per curve, "
         "Gaussian end noise: the paper's sketches) or people (outlines in one "
         "stroke, curves split and traced over, stopping short, loops left open, "
-        "hidden lines often left out: datagen/hand.py); default generator",
+        "hidden lines often left out: datagen/hand.py), or people with one of those "
+        "habits alone (people-chain, people-split, people-partial, people-hidden, "
+        "people-wobble: what each costs); default generator",
     )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument(

@@ -3,10 +3,10 @@
 
 import numpy as np
 
-from datagen.hand import join_end_to_start, people_strokes
+from datagen.hand import HABITS, habits_of, join_end_to_start, people_strokes
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import Curve
-from Sketch2CADWorkbench.sketch.segment import segment_strokes
+from Sketch2CADWorkbench.sketch.segment import distances_to, segment_strokes
 
 CAMERA = OrthoCamera((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0), 50.0)
 SQUARE = [(-30.0, -30.0), (30.0, -30.0), (30.0, 30.0), (-30.0, 30.0)]
@@ -48,6 +48,35 @@ def test_a_loop_is_drawn_open_in_two_arcs_or_whole():
         len(people_strokes([circle], CAMERA, np.random.default_rng(k), 1)[0]) for k in range(40)
     ]
     assert set(counts) == {1, 2}
+
+
+def test_each_habit_alone_draws_only_what_it_changes():
+    """Chaining alone joins sides and never splits one; splitting alone splits sides and
+    never joins two; the others keep a square's four strokes; only the wobble bows a
+    stroke away from its side, and only partial ends leave a corner undrawn."""
+    assert habits_of("people") == set(HABITS) and habits_of("generator") == set()
+    sides = square_sides()
+    pixels = [CAMERA.project(c.points)[0] for c in sides]
+    corners = np.array([p[0] for p in pixels])
+    for habit in HABITS:
+        counts, strays, misses = [], [], []
+        for k in range(30):
+            strokes, *_ = people_strokes(
+                sides, CAMERA, np.random.default_rng(k), 3, habits_of(f"people-{habit}")
+            )
+            counts.append(len(strokes))
+            ink = np.concatenate(strokes)
+            strays += [min(distances_to(q, p).max() for p in pixels) for q in strokes]
+            misses.append(distances_to(corners, ink).max())
+        if habit == "chain":
+            assert min(counts) < 4 and max(counts) == 4
+        elif habit == "split":
+            assert min(counts) == 4 and max(counts) > 4
+        else:
+            assert set(counts) == {4}
+        if habit not in ("chain", "partial"):  # (which run along two sides, or past one)
+            assert (max(strays) > 3.0) == (habit == "wobble"), (habit, max(strays))
+        assert (max(misses) > 3.0) == (habit == "partial"), (habit, max(misses))
 
 
 def test_an_outline_joined_end_to_start_is_read_back_as_its_sides():

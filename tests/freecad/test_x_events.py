@@ -6,10 +6,12 @@ scripts/x_session.py, which sets up a model, opens the Sketch panel and only rep
 what is on the screen (state.json); every click, drag and key comes from here.
 
 Each runs in FreeCAD's default layout (FreeCAD 1.1's Tasks panel floats over the 3D
-view's right side) and, on FreeCAD 1.1, again with every panel floating over the view
-(Toggle overlay for all); FreeCAD 0.20 and 1.0 have no overlay mode."""
+view's right side); a test that takes `overlay` runs, on FreeCAD 1.1, again with every
+panel floating over the view (Toggle overlay for all); FreeCAD 0.20 and 1.0 have no
+overlay mode."""
 
 import contextlib
+import itertools
 import json
 import os
 import re
@@ -23,6 +25,7 @@ import pytest
 from freecad_process import SCRIPTS, freecad_env
 
 from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import silhouette_side
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 SCREEN = (1366, 768)
@@ -149,6 +152,22 @@ class Desktop:
     def key(self, name: str) -> None:
         self.xdo("key", name)
 
+    def sketch(self, strokes, read=lambda s: s["panel"]["kind"] is not None) -> dict:
+        """Draw the strokes in the open Sketch panel and press Return: the state once the
+        panel shows them all and then its reading (`read(state)`)."""
+        for stroke in strokes:
+            self.drag(stroke)
+        self.wait(lambda s: panel_open(s) and s["panel"]["strokes"] == len(strokes))
+        self.key("Return")
+        return self.wait(lambda s: panel_open(s) and read(s), timeout=120)
+
+    def open_panel(self, s: dict) -> dict:
+        """Focus the 3D view with a click and open the Sketch panel by its shortcut (S, S)."""
+        self.click(*np.add(s["viewport"][:2], np.divide(s["viewport"][2:], 2)))
+        self.key("s")
+        self.key("s")
+        return self.wait(panel_open)
+
 
 def _same(a: dict, b: dict | None) -> bool:
     """Two reports show the same (when they were written aside)."""
@@ -213,15 +232,70 @@ def wobbly(a, b, rng, wobble: float = 1.5, overshoot: float = 0.06, step: float 
     return a + np.outer(t, b - a) + np.outer(sway + jitter, side)
 
 
+def in_one_go(points, rng) -> np.ndarray:
+    """One stroke through screen points in order, the pen not lifted at the corners (as
+    a person draws a rectangle)."""
+    legs = [wobbly(a, b, rng, overshoot=0.0) for a, b in itertools.pairwise(points)]
+    return np.vstack([legs[0]] + [leg[1:] for leg in legs[1:]])
+
+
+BOX = (40.0, 30.0, 20.0)  # the New model command's box (mm), centred on the origin
+
+
 def pad_strokes(s: dict, height: float, rng) -> list:
     """The strokes of the box's top face pulled up by `height`, as a hand draws them."""
-    lx, ly, lz = 40.0, 30.0, 20.0  # the New model command's box
+    lx, ly, lz = BOX
     top = np.array([[x, y, lz / 2] for x, y in ((-1, -1), (1, -1), (1, 1), (-1, 1))], float)
     top[:, 0] *= lx / 2
     top[:, 1] *= ly / 2
     up = top + [0, 0, height]
     lines = [(up[i], up[(i + 1) % 4]) for i in range(4)] + list(zip(top, up, strict=False))
     return [wobbly(*to_screen(s, [a, b]), rng) for a, b in lines]
+
+
+def prism_strokes(s: dict, base, offset, rng, split_edge: int | None = None) -> list:
+    """A prism on a face of the box: its base polygon `base` (world, mm) and the same
+    moved by `offset`, each outline drawn in one stroke unless `split_edge` is given (then
+    one stroke per edge, that edge of the base in two strokes that overlap a little), and
+    one depth line from each corner."""
+    base = np.asarray(base, float)
+    far = base + offset
+    k = len(base)
+    if split_edge is None:
+        outlines = [in_one_go(to_screen(s, np.vstack([p, p[:1]])), rng) for p in (base, far)]
+    else:
+        outlines = [
+            wobbly(*to_screen(s, [p[i], p[(i + 1) % k]]), rng)
+            for p in (base, far)
+            for i in range(k)
+            if p is far or i != split_edge
+        ]
+        a, b = to_screen(s, [base[split_edge], base[(split_edge + 1) % k]])
+        outlines += [wobbly(a, a + 0.55 * (b - a), rng), wobbly(a + 0.45 * (b - a), b, rng)]
+    depth = [wobbly(*to_screen(s, [p, p + offset]), rng) for p in base]
+    return outlines + depth
+
+
+def cylinder_strokes(s: dict, centre, axis, radius: float, length: float, gap: float, rng):
+    """A cylinder standing on a face of the box: the circle on the face left open by a
+    `gap` (a share of its turn), the far circle whole, the two silhouette lines, each in
+    one stroke."""
+    axis = np.asarray(axis, float)
+    side = silhouette_side(axis, np.asarray(s["camera"]["direction"], float))
+    other = np.cross(axis, side)
+    start = rng.uniform(0, 2 * np.pi)
+
+    def circle(at, share):
+        t = start + np.linspace(0, 2 * np.pi * share, 90)
+        ring = at + radius * (np.cos(t)[:, None] * side + np.sin(t)[:, None] * other)
+        return to_screen(s, ring) + rng.normal(0, 0.4, (len(t), 2))
+
+    far = np.add(centre, length * axis)
+    lines = [
+        wobbly(*to_screen(s, [np.add(c, k * radius * side) for c in (centre, far)]), rng)
+        for k in (1, -1)
+    ]
+    return [circle(centre, 1 - gap), circle(far, 1.0)] + lines
 
 
 def panel_open(s: dict) -> bool:
@@ -260,7 +334,9 @@ def pytest_generate_tests(metafunc):
 
 
 @pytest.fixture
-def desktop(overlay, tmp_path, run_freecad):  # run_freecad: the user config is primed
+def desktop(request, tmp_path, run_freecad):  # run_freecad: the user config is primed
+    """The desktop in the test's layout (`overlay`), or FreeCAD's default one."""
+    overlay = "overlay" in request.fixturenames and request.getfixturevalue("overlay")
     d = Desktop(tmp_path, overlay=overlay)
     try:
         yield d
@@ -268,7 +344,7 @@ def desktop(overlay, tmp_path, run_freecad):  # run_freecad: the user config is 
         d.close()
 
 
-def test_a_designer_with_a_mouse(desktop):
+def test_a_designer_with_a_mouse(desktop, overlay):  # in each layout
     """The panel fits the screen; a drag from the overlay panel's edge draws nothing; the
     check box shows its state; a wobbly pad is read as a Pad and OK adds it; a scribble
     is not added by OK but by Add anyway."""
@@ -318,12 +394,7 @@ def test_a_designer_with_a_mouse(desktop):
     assert np.abs(before - after).sum(axis=-1).max() > 100, "the check box shows no tick"
 
     # a pad drawn with a wobbling hand is read as a Pad; OK adds it
-    s = d.wait(panel_open)
-    for stroke in pad_strokes(s, 10.0, rng):
-        d.drag(stroke)
-    s = d.wait(lambda s: panel_open(s) and s["panel"]["strokes"] == 8)
-    d.key("Return")
-    s = d.wait(lambda s: panel_open(s) and s["panel"]["kind"] is not None, timeout=120)
+    s = d.sketch(pad_strokes(d.wait(panel_open), 10.0, rng))
     d.screenshot("pad_read")
     text = s["panel"]["text"]
     assert "Read as Pad" in text and re.search(r"moved out by 10(\.0+)? mm", text), text
@@ -334,16 +405,10 @@ def test_a_designer_with_a_mouse(desktop):
     assert abs(s["features"][-1][1] - 40 * 30 * 30) < 1e-6 * 40 * 30 * 30, s["features"]
 
     # a scribble: OK does not add it, Add anyway does
-    d.click(*np.add(s["viewport"][:2], np.divide(s["viewport"][2:], 2)))  # focus the view
-    d.key("s")
-    d.key("s")
-    s = d.wait(panel_open)
+    s = d.open_panel(s)
     centre = to_screen(s, [[0.0, 0.0, 20.0]])[0]
-    for _ in range(4):
-        walk = centre + np.cumsum(rng.normal(0, 9, (25, 2)), axis=0)
-        d.drag(walk)
-    d.key("Return")
-    s = d.wait(lambda s: panel_open(s) and s["panel"]["text"] not in ("", "Networks ready."))
+    walks = [centre + np.cumsum(rng.normal(0, 9, (25, 2)), axis=0) for _ in range(4)]
+    s = d.sketch(walks, read=lambda s: s["panel"]["text"] not in ("", "Networks ready."))
     d.screenshot("scribble_read")
     p = s["panel"]
     if p["kind"] is not None:  # read as something: flagged, not added by OK
@@ -396,12 +461,7 @@ def test_a_hole_drawn_into_the_front_face_is_read_as_a_hole(desktop):
     rng = np.random.default_rng(11)
     s = d.wait(lambda s: panel_open(s) and s["features"], timeout=120)
     box = s["features"][0][1]
-    strokes = drilled_hole_strokes(s, rng)
-    for stroke in strokes:
-        d.drag(stroke)
-    s = d.wait(lambda s: panel_open(s) and s["panel"]["strokes"] == len(strokes))
-    d.key("Return")
-    s = d.wait(lambda s: panel_open(s) and s["panel"]["kind"] is not None, timeout=120)
+    s = d.sketch(drilled_hole_strokes(s, rng))
     d.screenshot("hole_read")
     offered = [t for t, _, _ in s["buttons"] if t in ("Hole", "Groove")]
     if offered and not checked(s, offered[0]):  # read as a boss: the hole, one click away
@@ -416,3 +476,54 @@ def test_a_hole_drawn_into_the_front_face_is_read_as_a_hole(desktop):
     cut = box - volume
     assert valid and label.startswith(("Hole", "Groove")), s["features"]
     assert 0.6 * np.pi * 36 * 15 < cut < 1.4 * np.pi * 36 * 15, (cut, s["features"])
+
+
+def test_strokes_drawn_as_people_draw_them(desktop):
+    """A prism whose outlines are each drawn in one stroke, a prism with a long edge of its
+    base drawn in two strokes, and a cylinder whose circle on the face is left open: each
+    is read as the primitive drawn, and OK adds it with about the size drawn."""
+    d = desktop
+    rng = np.random.default_rng(11)
+    lx, ly, lz = BOX
+    s = d.wait(lambda s: panel_open(s) and s["features"], timeout=120)
+    volume = s["features"][-1][1]
+    steps = [  # (kind, strokes from the view's state, volume added)
+        (  # a 20 x 15 mm boss 10 mm high on the top face, each rectangle in one stroke
+            "Boss",
+            lambda s: prism_strokes(
+                s,
+                [(-15, -10, lz / 2), (5, -10, lz / 2), (5, 5, lz / 2), (-15, 5, lz / 2)],
+                (0, 0, 10),
+                rng,
+            ),
+            20 * 15 * 10,
+        ),
+        (  # a 28 x 10 mm hole 8 mm deep into the front face, its bottom edge in two strokes
+            "Hole",
+            lambda s: prism_strokes(
+                s,
+                [(-14, -ly / 2, -5), (14, -ly / 2, -5), (14, -ly / 2, 5), (-14, -ly / 2, 5)],
+                (0, 8, 0),
+                rng,
+                split_edge=0,
+            ),
+            -28 * 10 * 8,
+        ),
+        (  # a cylinder of radius 6 mm, 10 mm long, on the right face, its base circle open
+            "Revolution",
+            lambda s: cylinder_strokes(s, (lx / 2, 3, 0), (1, 0, 0), 6.0, 10.0, 0.15, rng),
+            np.pi * 6**2 * 10,
+        ),
+    ]
+    for n, (kind, strokes, added) in enumerate(steps):
+        if n:
+            s = d.open_panel(s)
+        s = d.sketch(strokes(s))
+        d.screenshot(f"{kind}_read")
+        assert f"Read as {kind}" in s["panel"]["text"], s["panel"]["text"]
+        d.click_button(s, "OK")
+        s = d.wait(lambda s, n=n: not panel_open(s) and len(s["features"]) == n + 2)
+        label, now, valid = s["features"][-1]
+        assert label == kind and valid, s["features"]
+        assert abs(now - volume - added) < 0.2 * abs(added), (kind, now - volume, added)
+        volume = now
