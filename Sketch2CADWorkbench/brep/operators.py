@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The four operators of the paper as real B-rep operations through cadquery/OCCT.
+"""The four operators of the paper and the shell as real B-rep operations through
+cadquery/OCCT.
 
 `apply_operation` is the one way in (`operation_result` beneath it also gives the
 result's volume), and every operation takes the same path there: its parameters are
@@ -15,7 +16,8 @@ outward unit normal of f. A result is always one valid solid; anything else rais
 On a curved f (a cylinder's or cone's side; beyond the paper) the extrusion offsets
 the face along its normal (`extrude_tool`), and a prism or sweep stands on the tangent
 plane T of f at the step's point p_f, along n_f there, reaching through T down to the
-curved surface (`_stand_on_curved`). A bevel needs a planar f.
+curved surface (`_stand_on_curved`). A bevel needs a planar f. A shell opens f, of any
+kind, and offsets every other face inwards (`shell_tool`).
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ from dataclasses import dataclass
 import cadquery as cq
 import numpy as np
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
+from OCP.GeomAbs import GeomAbs_JoinType
 from OCP.TopTools import TopTools_ListOfShape
 
 from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
@@ -52,6 +56,7 @@ from .protocol import (
     Operation,
     OperatorType,
     Protocol,
+    Shell,
     Sweep,
     per_operator,
 )
@@ -565,6 +570,69 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
     return tool
 
 
+# OCCT's tolerance for the thick solid's offset faces (mm), PartDesign Thickness's own, so
+# that the conversion builds the same solid.
+THICK_TOL = 1e-3
+# A wall may come out this much (relative to t) thinner than t before the shell is refused
+# as self-intersecting: OCCT's offset is exact on planes, cylinders and cones.
+WALL_TOL_REL = 1e-3
+
+
+def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq.Solid:
+    """The solid hollowed out, open at f, every other face offset inwards by t (OCCT's
+    thick solid by join with arcs, without intersection: PartDesign Thickness's defaults).
+
+    OCCT does not refuse every offset it cannot build: past half the solid's thickness it
+    returns the solid unchanged, and where offset faces cross it may return walls that
+    cut through the outside. The result is therefore checked: it holds a cavity, and the
+    cavity keeps at least t (less `WALL_TOL_REL`) from every face but f.
+
+    Raises:
+        OperationError: naming t and why it cannot be built.
+    """
+    what = f"shell: wall thickness t = {op.t:g} mm cannot be built"
+    opened = TopTools_ListOfShape()
+    opened.Append(rf.face.wrapped)
+    builder = BRepOffsetAPI_MakeThickSolid()
+    builder.MakeThickSolidByJoin(
+        solid.wrapped,
+        opened,
+        -op.t,
+        THICK_TOL,
+        Intersection=False,
+        Join=GeomAbs_JoinType.GeomAbs_Arc,
+    )
+    try:
+        builder.Build()
+        done = builder.IsDone()
+    except Exception:  # OCCT raises as well as reports "not done"
+        done = False
+    if not done:
+        raise OperationError(
+            f"{what}: OCCT's offset of the walls fails on this solid (offset faces that "
+            "cross, or a face it cannot offset); a smaller t may build"
+        )
+    thick = cq.Shape.cast(builder.Shape())
+    solids = thick.Solids()
+    if len(solids) != 1 or not solids[0].isValid():
+        raise OperationError(f"{what}: OCCT's offset is not one valid solid; a smaller t may build")
+    cavity = boolean(solid, solids[0], Mode.SUBTRACT).Solids()
+    if not cavity or sum(c.Volume() for c in cavity) <= 1e-9 * scale**3:
+        raise OperationError(
+            f"{what}: it is more than the solid allows (walls t thick from every face "
+            "leave no cavity)"
+        )
+    walls = [f for f in solid.Faces() if not f.isSame(rf.face)]
+    inner = cq.Compound.makeCompound(cavity)
+    thinnest = min(inner.distance(f) for f in walls)
+    if thinnest < op.t * (1 - WALL_TOL_REL):
+        raise OperationError(
+            f"{what}: the offset walls cross (a wall comes out {thinnest:.3g} mm thin); a "
+            "smaller t may build"
+        )
+    return solids[0]
+
+
 # The builder of each operator's primitive.
 TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], cq.Solid]] = (
     per_operator(
@@ -573,6 +641,7 @@ TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], c
             OperatorType.BEVEL: bevel_tool,
             OperatorType.ADDSUB: prism_tool,
             OperatorType.SWEEP: sweep_tool,
+            OperatorType.SHELL: shell_tool,
         },
         "operators.TOOLS",
     )
@@ -582,7 +651,7 @@ TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], c
 # Lengths and points an operation may hold, relative to the model's size (its bounding
 # box diagonal): OCCT's own failures outside this range say nothing a user can act on.
 MIN_LENGTH_REL, MAX_EXTENT_REL = 1e-6, 100.0
-LENGTHS = ("d", "r0", "r1")
+LENGTHS = ("d", "r0", "r1", "t")
 
 
 def check_ranges(solid: cq.Shape, op: Operation) -> None:
