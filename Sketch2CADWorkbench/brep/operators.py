@@ -573,6 +573,11 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
 # OCCT's tolerance for the thick solid's offset faces (mm), PartDesign Thickness's own, so
 # that the conversion builds the same solid.
 THICK_TOL = 1e-3
+# The surfaces whose inward offset the shell builds: OCCT offsets these exactly. Its
+# offset of a bevel's extruded profile or of a sweep's revolved Bezier profile is an
+# approximation whose result crashed OCCT's own validity check on a sampled model
+# (docs/protocol.md), so a solid with such a face is refused before OCCT is asked.
+OFFSET_SURFACES = ("PLANE", "CYLINDER", "CONE", "SPHERE", "TORUS")
 # A wall may come out this much (relative to t) thinner than t before the shell is refused
 # as self-intersecting: OCCT's offset is exact on planes, cylinders and cones.
 WALL_TOL_REL = 1e-3
@@ -581,6 +586,7 @@ WALL_TOL_REL = 1e-3
 def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq.Solid:
     """The solid hollowed out, open at f, every other face offset inwards by t (OCCT's
     thick solid by join with arcs, without intersection: PartDesign Thickness's defaults).
+    Every face must lie on one of OFFSET_SURFACES.
 
     OCCT does not refuse every offset it cannot build: past half the solid's thickness it
     returns the solid unchanged, and where offset faces cross it may return walls that
@@ -591,6 +597,15 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
         OperationError: naming t and why it cannot be built.
     """
     what = f"shell: wall thickness t = {op.t:g} mm cannot be built"
+    freeform = sorted(
+        {f.geomType().lower() for f in solid.Faces() if f.geomType() not in OFFSET_SURFACES}
+    )
+    if freeform:
+        raise OperationError(
+            f"shell: the walls cannot follow the solid's {' and '.join(freeform)} faces (a "
+            "bevel's or a curved sweep's profile); OCCT offsets planes, cylinders, cones, "
+            "spheres and tori only"
+        )
     opened = TopTools_ListOfShape()
     opened.Append(rf.face.wrapped)
     builder = BRepOffsetAPI_MakeThickSolid()

@@ -84,23 +84,38 @@ def test_a_thickness_the_solid_cannot_take_names_the_step_and_t(t, why):
 @pytest.mark.parametrize(
     "feature",
     [
-        # a bevel's face is an extruded Bezier, a curved sweep's a revolved one
-        Bevel(
-            TOP,
-            (20, 15, 10),
-            (20, 15, -10),
-            ((12, 15, 10), (16.4, 15, 10), (20, 11.4, 10), (20, 6, 10)),
-        ),
-        Sweep(TOP, (0, 0, 10), 6, 4, 8, ((8, 3), (5, 6)), Mode.ADD),
+        Sweep(TOP, (0, 0, 10), 6, 4, 8, straight_profile(6, 4, 8), Mode.ADD),
         Sweep(TOP, (0, 0, 10), 5, 5, 8, straight_profile(5, 5, 8), Mode.SUBTRACT),
     ],
-    ids=["bevel", "curved sweep", "hole"],
+    ids=["cone", "hole"],
 )
-def test_the_walls_follow_bevels_and_sweeps(feature):
+def test_the_walls_follow_cones_and_cylinders(feature):
     solid = apply_operation(make_box(BOX), feature)
     shelled = apply_operation(solid, Shell(BOTTOM, 1.0))
     assert shelled.isValid()
     assert 0 < shelled.Volume() < solid.Volume()
+
+
+@pytest.mark.parametrize(
+    "feature, kind",
+    [
+        (
+            Bevel(
+                TOP,
+                (20, 15, 10),
+                (20, 15, -10),
+                ((12, 15, 10), (16.4, 15, 10), (20, 11.4, 10), (20, 6, 10)),
+            ),
+            "extrusion",
+        ),
+        (Sweep(TOP, (0, 0, 10), 6, 4, 8, ((8, 3), (5, 6)), Mode.ADD), "revolution"),
+    ],
+    ids=["bevel", "curved sweep"],
+)
+def test_faces_the_offset_cannot_follow_are_refused_by_kind(feature, kind):
+    solid = apply_operation(make_box(BOX), feature)
+    with pytest.raises(OperationError, match=rf"cannot follow the solid's {kind} faces"):
+        apply_operation(solid, Shell(BOTTOM, 1.0))
 
 
 def test_a_cylinder_opened_at_its_top_is_a_cup():
