@@ -27,12 +27,14 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     Operation,
+    OperationError,
     OperatorType,
     Shell,
     Sweep,
     per_operator,
     straight_profile,
 )
+from Sketch2CADWorkbench.sketch.curves import rim_wires
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
 
@@ -231,7 +233,17 @@ def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Op
 def sample_shell(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """Open f and hollow the solid with walls of a random thickness t (the caller's
     Boolean check refuses a t the solid cannot take)."""
-    return Shell(f.ref, float(rng.uniform(*SHELL_T) * DIAG))
+    return drawable_shell(f, float(rng.uniform(*SHELL_T) * DIAG))
+
+
+def drawable_shell(f: PlanarFace, t: float) -> Shell | None:
+    """The shell opening f with walls t thick, or None when f's outline inset by t leaves
+    no rim to draw (f narrower than 2t)."""
+    try:
+        rim_wires(f.face, t)
+    except OperationError:
+        return None
+    return Shell(f.ref, t)
 
 
 # The sampler of each operator: (generator, solid, face f) -> operation or None.

@@ -37,7 +37,6 @@ from Sketch2CADWorkbench.brep.protocol import (
     Mode,
     Operation,
     OperatorType,
-    Shell,
     Sweep,
     per_operator,
     straight_profile,
@@ -59,6 +58,7 @@ from .operations import (
     SWEEP_D,
     SWEEP_RADIUS,
     PlanarFace,
+    drawable_shell,
     face_size,
 )
 
@@ -209,7 +209,7 @@ def regular_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> O
 
 def regular_shell(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
     """Walls a whole number of grid steps thick."""
-    return Shell(f.ref, on_grid(rng.uniform(*SHELL_T) * DIAG))
+    return drawable_shell(f, on_grid(rng.uniform(*SHELL_T) * DIAG))
 
 
 # The regular sampler of each operator, as operations.SAMPLERS.

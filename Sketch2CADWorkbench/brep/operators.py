@@ -24,7 +24,12 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import io
 import itertools
+import os
+import select
+import signal
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -573,6 +578,9 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
 # OCCT's tolerance for the thick solid's offset faces (mm), PartDesign Thickness's own, so
 # that the conversion builds the same solid.
 THICK_TOL = 1e-3
+# OCCT's offset takes well under a second on the models sketched here (0.02 s on a box);
+# one that runs longer than this is looping and is refused.
+THICK_TIMEOUT_S = 20.0
 # The surfaces whose inward offset the shell builds: OCCT offsets these exactly. Its
 # offset of a bevel's extruded profile or of a sweep's revolved Bezier profile is an
 # approximation whose result crashed OCCT's own validity check on a sampled model
@@ -585,7 +593,9 @@ WALL_TOL_REL = 1e-3
 
 def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq.Solid:
     """The solid hollowed out, open at f, every other face offset inwards by t (OCCT's
-    thick solid by join with arcs, without intersection: PartDesign Thickness's defaults).
+    thick solid, offset faces joined by intersection, as PartDesign Thickness's Join
+    "Intersection" builds it: with arcs, OCCT crashed on a sampled model of a cone and
+    a slanted plane).
     Every face must lie on one of OFFSET_SURFACES.
 
     OCCT does not refuse every offset it cannot build: past half the solid's thickness it
@@ -606,30 +616,14 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
             "bevel's or a curved sweep's profile); OCCT offsets planes, cylinders, cones, "
             "spheres and tori only"
         )
-    opened = TopTools_ListOfShape()
-    opened.Append(rf.face.wrapped)
-    builder = BRepOffsetAPI_MakeThickSolid()
-    builder.MakeThickSolidByJoin(
-        solid.wrapped,
-        opened,
-        -op.t,
-        THICK_TOL,
-        Intersection=False,
-        Join=GeomAbs_JoinType.GeomAbs_Arc,
-    )
-    try:
-        builder.Build()
-        done = builder.IsDone()
-    except Exception:  # OCCT raises as well as reports "not done"
-        done = False
-    if not done:
+    thick = _thick_solid(solid, rf.face, op.t)
+    if thick is None:
         raise OperationError(
             f"{what}: OCCT's offset of the walls fails on this solid (offset faces that "
             "cross, or a face it cannot offset); a smaller t may build"
         )
-    thick = cq.Shape.cast(builder.Shape())
     solids = thick.Solids()
-    if len(solids) != 1 or not solids[0].isValid():
+    if len(solids) != 1:
         raise OperationError(f"{what}: OCCT's offset is not one valid solid; a smaller t may build")
     cavity = boolean(solid, solids[0], Mode.SUBTRACT).Solids()
     if not cavity or sum(c.Volume() for c in cavity) <= 1e-9 * scale**3:
@@ -646,6 +640,69 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
             "smaller t may build"
         )
     return solids[0]
+
+
+def _thick_solid(solid: cq.Shape, face: cq.Face, t: float) -> cq.Shape | None:
+    """OCCT's thick solid of `solid` open at `face`, walls t thick (`shell_tool`'s
+    settings), checked valid; None where OCCT fails, reports an invalid solid, crashes or
+    runs past THICK_TIMEOUT_S.
+
+    OCCT's offset crashes the process on some solids and loops for ever on others
+    (sampled models of planes and cones), so where the system can fork it runs in a child
+    process that hands back the solid as BREP; elsewhere (Windows) it runs here.
+    """
+
+    def build() -> cq.Shape | None:
+        opened = TopTools_ListOfShape()
+        opened.Append(face.wrapped)
+        builder = BRepOffsetAPI_MakeThickSolid()
+        builder.MakeThickSolidByJoin(
+            solid.wrapped,
+            opened,
+            -t,
+            THICK_TOL,
+            Intersection=False,
+            Join=GeomAbs_JoinType.GeomAbs_Intersection,
+        )
+        try:
+            builder.Build()
+        except Exception:  # OCCT raises as well as reports "not done"
+            return None
+        if not builder.IsDone():
+            return None
+        thick = cq.Shape.cast(builder.Shape())
+        return thick if thick.isValid() else None
+
+    if not hasattr(os, "fork"):
+        return build()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: build, send the BREP (nothing when it fails), leave at once
+        try:
+            os.close(read)
+            got = build()
+            if got is not None:
+                buffer = io.BytesIO()
+                got.exportBrep(buffer)
+                os.write(write, buffer.getvalue())
+        finally:
+            os._exit(0)
+    os.close(write)
+    data, deadline = bytearray(), time.monotonic() + THICK_TIMEOUT_S
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([read], [], [], left)[0]:
+                os.kill(pid, signal.SIGKILL)
+                return None
+            chunk = os.read(read, 1 << 20)
+            if not chunk:
+                break
+            data += chunk
+    finally:
+        os.close(read)
+        os.waitpid(pid, 0)
+    return cq.Shape.importBrep(io.BytesIO(bytes(data))) if data else None
 
 
 # The builder of each operator's primitive.

@@ -7,13 +7,15 @@ variables (mm; the names of `brep/features`' dimensions, as the PartDesign conve
 names its sketch constraints), its sketch plane, its outline, and the Boolean. A base
 face is found again by a point on it and its outward normal, as the protocol stores it.
 The geometry is where the core's replay put each step (`plan_protocol`), so the script
-builds the same solid; on a curved face the primitive is trimmed to the face's surface
-as the operators trim it.
+builds the same solid (a shell by OCCT's thick solid with the core's settings, which
+cadquery's own shell does not take); on a curved face the primitive is trimmed to the
+face's surface as the operators trim it.
 """
 
 from __future__ import annotations
 
 from .features import Feature, Kind, Outline, Plan
+from .operators import THICK_TOL
 from .protocol import Extrude, Mode
 
 HEADER = '''#!/usr/bin/env python3
@@ -25,6 +27,9 @@ is the solid (a cadquery Solid).
 """
 
 import cadquery as cq
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
+from OCP.GeomAbs import GeomAbs_JoinType
+from OCP.TopTools import TopTools_ListOfShape
 
 
 def face_at(solid, point, normal):
@@ -50,6 +55,20 @@ def combine(solid, tool, mode):
         raise ValueError(f"a {{mode}} gives {{len(solids)}} solids, not one")
     return solids[0]
 
+
+def hollowed(solid, face, t):
+    """`solid` open at `face`, every other face moved t inwards: OCCT's thick solid, its
+    offset faces joined by intersection (cadquery's shell with these settings)."""
+    opened = TopTools_ListOfShape()
+    opened.Append(face.wrapped)
+    builder = BRepOffsetAPI_MakeThickSolid()
+    builder.MakeThickSolidByJoin(
+        solid.wrapped, opened, -t, {tol}, Intersection=False,
+        Join=GeomAbs_JoinType.GeomAbs_Intersection,
+    )
+    builder.Build()
+    return cq.Shape.cast(builder.Shape())
+
 '''
 
 FOOTER = """
@@ -62,12 +81,14 @@ if __name__ == "__main__":
 
 def cadquery_script(plan: Plan, title: str) -> str:
     """The CadQuery script of a protocol's plan (module docstring)."""
-    lines = [HEADER.format(title=title)]
+    lines = [HEADER.format(title=title, tol=THICK_TOL)]
     listing = plan.protocol.listing().splitlines()
     for feature in plan.features:
         lines.append(f"# Step {listing[feature.step]}")
         if feature.kind is Kind.BOX:
             lines += _box(feature)
+        elif feature.kind is Kind.THICKNESS:
+            lines += _thickness(feature)
         elif isinstance(plan.protocol.operations[feature.step - 1], Extrude):
             lines += _extrude(plan.protocol.operations[feature.step - 1], feature)
         else:
@@ -81,6 +102,15 @@ def _box(feature: Feature) -> list[str]:
     return [
         f"lx, ly, lz = {lx}, {ly}, {lz}",
         "solid = cq.Solid.makeBox(lx, ly, lz, cq.Vector(-lx / 2, -ly / 2, -lz / 2))",
+    ]
+
+
+def _thickness(feature: Feature) -> list[str]:
+    face = feature.face
+    return [
+        f"t = {_n(feature.length)}",
+        f"face = face_at(solid, {_v(face.point)}, {_v(face.normal)})",
+        'solid = combine(solid, hollowed(solid, face, t), "replace")',
     ]
 
 

@@ -55,7 +55,7 @@ class Interpretation:
     operations: tuple[Operation, ...]  # the operation, then its mirror image if asked
     solid: cq.Solid
     op_type: OperatorType
-    probabilities: dict[str, float]
+    probabilities: dict[str, float]  # per operator read; the shell's only where proposed
     base_face: int
     stroke_labels: list[int]  # one per piece of curve read (sketch/segment.py)
     camera: OrthoCamera  # the context camera (maps' pixels)
@@ -267,7 +267,12 @@ def interpret(
         ops,
         result,
         kind,
-        {c.value: float(p) for c, p in zip(CLASSES, probs, strict=False)},
+        # the classifier's, and the shell's where it was proposed (`shell_prior`)
+        {
+            c.value: float(p)
+            for c, p in zip((*CLASSES, OperatorType.SHELL), probs, strict=True)
+            if c is not OperatorType.SHELL or p > 0
+        },
         reading.index,
         reading.labels,
         ctx.camera,
