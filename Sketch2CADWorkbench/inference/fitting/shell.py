@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
+from OCP.BRepTools import BRepTools_WireExplorer
+from OCP.TopAbs import TopAbs_REVERSED
 
 from ...brep.faces import FaceFrame, face_ref_of
 from ...brep.protocol import OperationError, Shell
@@ -103,13 +105,20 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
 
 
 def _outline_2d(face: cq.Face, frame: FaceFrame) -> list[np.ndarray]:
-    """f's outline loops (outer and holes) as closed 2D polylines of f's plane."""
+    """f's outline loops (outer and holes) as closed 2D polylines of f's plane, each edge
+    taken in the wire's order and direction (an edge's own parameter may run backwards)."""
     out = []
     for w in [face.outerWire(), *face.innerWires()]:
         pts = []
-        for e in w.Edges():
+        walk = BRepTools_WireExplorer(w.wrapped)
+        while walk.More():
+            e = cq.Edge(walk.Current())
             k = 2 if e.geomType() == "LINE" else CURVE_POINTS
-            pts += [e.positionAt(t).toTuple() for t in np.linspace(0, 1, k)[:-1]]
+            ts = np.linspace(0, 1, k)[:-1]
+            if walk.Orientation() == TopAbs_REVERSED:
+                ts = 1 - ts
+            pts += [e.positionAt(t).toTuple() for t in ts]
+            walk.Next()
         out.append(frame.to_2d(np.array(pts)))
     return out
 
