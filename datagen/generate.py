@@ -57,10 +57,12 @@ MAX_LENGTH = 4  # operations in a sequence, the last one included
 VIEW_TRIES = 8  # views of one operation before drawing another operation
 OP_TRIES = 10  # operations on one context before drawing another context
 # With shells on (`--shells`), the last operation is drawn as LAST_OP_WEIGHTS with a shell
-# as often as a sweep: complex operators more often, as the paper balances them.
+# as often as a sweep: complex operators more often, as the paper balances them
+# (docs/measurements.md, generate.SHELL_WEIGHT).
 SHELL_WEIGHT = 2
 # A shell's sketch draws a line down an inner wall from a corner of the rim this often,
-# over WALL_SPAN of the wall's depth: a designer's hint, which the reading must ignore.
+# over WALL_SPAN of the wall's depth: a designer's hint, which the reading must ignore
+# (docs/measurements.md, generate.WALL_SHARE).
 WALL_SHARE = 0.3
 WALL_SPAN = (0.3, 1.0)
 # Chordal tolerance of a context's mesh, relative to the model's diagonal: about half a

@@ -44,7 +44,8 @@ PRISM_D = (0.04, 0.35)  # d / DIAG
 SWEEP_RADIUS = (0.06, 0.3)  # r0 / face size
 SWEEP_D = (0.04, 0.35)  # d / DIAG
 BEVEL_SPAN = (0.1, 0.5)  # where l meets each edge, as a share of that edge from c
-SHELL_T = (0.02, 0.12)  # t / DIAG: walls 2 to 12 mm on the 100 mm box; OCCT refuses more
+# t / DIAG: walls 2 to 12 mm on the 100 mm box (docs/measurements.md, operations.SHELL_T)
+SHELL_T = (0.02, 0.12)
 CENTRE_TRIES = 30
 
 

@@ -576,10 +576,11 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
 
 
 # OCCT's tolerance for the thick solid's offset faces (mm), PartDesign Thickness's own, so
-# that the conversion builds the same solid.
+# that the conversion builds the same solid (docs/measurements.md, operators.THICK_TOL).
 THICK_TOL = 1e-3
 # OCCT's offset takes well under a second on the models sketched here (0.02 s on a box);
-# one that runs longer than this is looping and is refused.
+# one that runs longer than this is looping and is refused (docs/measurements.md,
+# operators.THICK_TIMEOUT_S).
 THICK_TIMEOUT_S = 20.0
 # The surfaces whose inward offset the shell builds: OCCT offsets these exactly. Its
 # offset of a bevel's extruded profile or of a sweep's revolved Bezier profile is an
@@ -587,7 +588,8 @@ THICK_TIMEOUT_S = 20.0
 # (docs/protocol.md), so a solid with such a face is refused before OCCT is asked.
 OFFSET_SURFACES = ("PLANE", "CYLINDER", "CONE", "SPHERE", "TORUS")
 # A wall may come out this much (relative to t) thinner than t before the shell is refused
-# as self-intersecting: OCCT's offset is exact on planes, cylinders and cones.
+# as self-intersecting: OCCT's offset is exact on planes, cylinders and cones
+# (docs/measurements.md, operators.WALL_TOL_REL).
 WALL_TOL_REL = 1e-3
 
 

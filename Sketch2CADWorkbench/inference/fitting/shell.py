@@ -37,7 +37,8 @@ from ...sketch.curves import CURVE_POINTS, rim_wires
 from .common import FitError, is_loop, loop_distances, resample
 
 # Two stroke ends within this share of the sketch's extent meet (a corner of the rim):
-# the hand's gaps at a corner (datagen/strokes.py) stay under a tenth of the extent.
+# the hand's gaps at a corner (datagen/strokes.py) stay under a tenth of the extent (see
+# docs/measurements.md, shell.RIM_JOIN_SHARE).
 RIM_JOIN_SHARE = 0.08
 # A rim sample farther than this (context pixels) from f's outline inset by t is off the
 # inset; the strokes are no inset when more than RIM_OFF_SHARE of the rim's samples, or of
