@@ -538,7 +538,10 @@ def a_shell_is_a_thickness_whose_value_rebuilds_later_steps():
     edited = replace(p, operations=(p.operations[0], thicker, *p.operations[2:]))
     assert not failed_features(model)
     assert_matches_core(model, edited)  # the later steps were rebuilt on the thicker walls
-    assert protocol_from_model(model) == edited
+    now = protocol_from_model(model)
+    assert now.operations[1] == thicker
+    # the bosses on the floor followed it up by the extra millimetre
+    assert [op.face.point[2] for op in now.operations[3:]] == [-12.0, -12.0], now.listing()
     shell.Thickness = 40.0  # more than the enclosure allows: only it and later steps fail
     doc.recompute()
     assert failed_features(model) == chain[2:], [o.State for o in chain]
