@@ -4,12 +4,19 @@
 import numpy as np
 import pytest
 
-from datagen.generate import Context, generate_block, last_op_weights, sample_on
+from datagen.generate import (
+    WALL_SPAN,
+    Context,
+    generate_block,
+    last_op_weights,
+    sample_on,
+    wall_curve,
+)
 from datagen.parallel import DatagenSettings, manifest_of
 from datagen.sequences import LAST_OP_WEIGHTS, draw_type, sample_sequence
 from Sketch2CADWorkbench.brep.faces import resolve_face
-from Sketch2CADWorkbench.brep.operators import build
-from Sketch2CADWorkbench.brep.protocol import OperatorType, Shell
+from Sketch2CADWorkbench.brep.operators import apply_operation, build, make_box
+from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, OperatorType, Shell
 from Sketch2CADWorkbench.sketch.labels import SHELL_RIM, SHELL_WALL
 
 
@@ -54,6 +61,19 @@ def test_a_shell_sample_labels_the_opened_face_and_the_rim(shell_samples):
         assert s.stroke_parts.count(SHELL_WALL) <= 1
         assert s.stroke_parts.count(SHELL_RIM) >= 1
         assert set(s.stroke_parts) <= {SHELL_RIM, SHELL_WALL}
-    # the hint down a wall is drawn in some sketches, not all
-    walls = [SHELL_WALL in s.stroke_parts for s in shell_samples]
-    assert any(walls) and not all(walls)
+
+
+def test_the_line_down_a_wall_starts_at_a_rim_corner_and_stays_in_the_cavity():
+    box = make_box(Box((60.0, 40.0, 30.0)))
+    top = FaceRef((0.0, 0.0, 15.0), (0.0, 0.0, 1.0))
+    op = Shell(top, 3.0)
+    shelled = apply_operation(box, op)
+    rf = resolve_face(box, top)
+    corners = {(x, y) for x in (-27.0, 27.0) for y in (-17.0, 17.0)}
+    for seed in range(5):
+        wall = wall_curve(np.random.default_rng(seed), shelled, rf, op)
+        (x, y, z), bottom = wall.points
+        assert (round(x, 6), round(y, 6)) in corners and z == pytest.approx(15.0)
+        depth = z - bottom[2]  # the cavity is 27 mm deep
+        assert WALL_SPAN[0] * 27 - 1e-6 <= depth <= WALL_SPAN[1] * 27 + 1e-6
+        assert np.allclose(bottom[:2], (x, y)) and wall.label == SHELL_WALL
