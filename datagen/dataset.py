@@ -16,7 +16,7 @@ Layout of a data set folder (format "sketch2cad-dataset", version 2)::
 Arrays (H x W maps in the camera's pixel convention, render/camera.py):
     sketch, stroke_mask, face_label: uint8 0/1; curve_label: uint8 label;
     depth: float16 (N, H, W); normal: float16 (N, 3, H, W); face_id: int16 (-1 none);
-    op_type: uint8 index into sketch.labels.CLASSES; noise_level: uint8.
+    op_type: uint8 index into sketch.labels.LABELLED; noise_level: uint8.
 Version 1 sets (depth as round(255 D), normal as round(127.5 N), both uint8) are still
 read; their maps decode to within 1/255 and 1/127.5.
 
@@ -43,7 +43,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     protocol_to_dict,
 )
 from Sketch2CADWorkbench.render.camera import OrthoCamera
-from Sketch2CADWorkbench.sketch.labels import CLASSES
+from Sketch2CADWorkbench.sketch.labels import LABELLED
 
 from .sample import Sample
 
@@ -87,7 +87,7 @@ def pack(s: Sample) -> Record:
         "depth": s.depth,
         "normal": s.normal,
         "face_id": s.face_id,
-        "op_type": CLASSES.index(s.op_type),
+        "op_type": LABELLED.index(s.op_type),
         "noise_level": s.noise_level,
     }
     meta = {
@@ -298,7 +298,7 @@ def _cached(cache: OrderedDict, k: int, load):
 
 def _sample(a: dict[str, np.ndarray], i: int, m: dict) -> Sample:
     return Sample(
-        op_type=CLASSES[int(a["op_type"][i])],
+        op_type=LABELLED[int(a["op_type"][i])],
         sketch=a["sketch"][i].astype(np.float32),
         depth=_depth(a["depth"][i]),
         normal=_normal(a["normal"][i]),

@@ -17,18 +17,29 @@ paper's, with a quarter as many distinct contexts.
 
 from __future__ import annotations
 
+import cadquery as cq
 import numpy as np
+from OCP.gp import gp_Dir, gp_Lin, gp_Pnt
+from OCP.IntCurvesFace import IntCurvesFace_ShapeIntersector
 
-from Sketch2CADWorkbench.brep.faces import base_face_index, model_scale
-from Sketch2CADWorkbench.brep.protocol import OperatorType
+from Sketch2CADWorkbench.brep.faces import ResolvedFace, base_face_index, model_scale
+from Sketch2CADWorkbench.brep.protocol import OperatorType, Shell
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.render.mesh import FaceMesh, tessellate
-from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.sketch.curves import Curve, operation_curves, rim_wires
+from Sketch2CADWorkbench.sketch.labels import SHELL_WALL
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 from .hand import P_HIDDEN_OUT, habits_of, people_strokes
 from .sample import Sample
-from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
+from .sequences import (
+    LAST_OP_WEIGHTS,
+    Drawn,
+    Sequence,
+    draw_type,
+    sample_operation,
+    sample_sequence,
+)
 from .strokes import sketch_strokes, stroke_maps
 from .views import (
     OCCLUDED_BY,
@@ -45,6 +56,15 @@ PER_CONTEXT = 4
 MAX_LENGTH = 4  # operations in a sequence, the last one included
 VIEW_TRIES = 8  # views of one operation before drawing another operation
 OP_TRIES = 10  # operations on one context before drawing another context
+# With shells on (`--shells`), the last operation is drawn as LAST_OP_WEIGHTS with a shell
+# as often as a sweep: complex operators more often, as the paper balances them
+# (docs/measurements.md, generate.SHELL_WEIGHT).
+SHELL_WEIGHT = 2
+# A shell's sketch draws a line down an inner wall from a corner of the rim this often,
+# over WALL_SPAN of the wall's depth: a designer's hint, which the reading must ignore
+# (docs/measurements.md, generate.WALL_SHARE).
+WALL_SHARE = 0.3
+WALL_SPAN = (0.3, 1.0)
 # Chordal tolerance of a context's mesh, relative to the model's diagonal: about half a
 # pixel for a sketch a tenth of the model's size, so one mesh serves every view.
 MESH_REL_TOLERANCE = 5e-4
@@ -65,6 +85,34 @@ class Context:
             solid = self.stage.solid
             self._mesh = tessellate(solid, MESH_REL_TOLERANCE * model_scale(solid))
         return self._mesh
+
+
+def last_op_weights(shells: bool) -> dict[OperatorType, int]:
+    """The relative frequencies of the last operation's type: LAST_OP_WEIGHTS, and shells
+    SHELL_WEIGHT where asked for."""
+    return {**LAST_OP_WEIGHTS, OperatorType.SHELL: SHELL_WEIGHT} if shells else LAST_OP_WEIGHTS
+
+
+def wall_curve(
+    rng: np.random.Generator, result: cq.Shape, rf: ResolvedFace, op: Shell
+) -> Curve | None:
+    """A line down an inner wall of the shelled `result` from a random corner of the rim,
+    WALL_SPAN of the way to the cavity's floor (None when the ray finds no floor)."""
+    wires = rim_wires(rf.face, op.t)
+    edges = [e for w in wires for e in w.Edges()]
+    top = np.array(edges[int(rng.integers(len(edges)))].startPoint().toTuple())
+    centre = np.mean([np.array(e.Center().toTuple()) for e in edges], axis=0)
+    inward = centre - top
+    inward -= (inward @ rf.normal) * rf.normal
+    start = top + 1e-2 * op.t * inward / max(float(np.linalg.norm(inward)), 1e-12)
+    hits = IntCurvesFace_ShapeIntersector()
+    hits.Load(result.wrapped, 1e-6)
+    hits.Perform(gp_Lin(gp_Pnt(*start), gp_Dir(*(-rf.normal))), 1e-6, 1e9)
+    depths = [hits.WParameter(i) for i in range(1, hits.NbPnt() + 1)]
+    if not depths:
+        return None
+    depth = min(depths) * rng.uniform(*WALL_SPAN)
+    return Curve(np.stack([top, top - rf.normal * depth]), SHELL_WALL)
 
 
 def sample_rng(seed: int, index: int, stream: int = 0) -> np.random.Generator:
@@ -104,6 +152,7 @@ def generate_block(
     hidden_lines: bool = True,
     regular_share: float = 0.0,
     hand: str = "generator",
+    shells: bool = False,
 ) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
@@ -112,7 +161,8 @@ def generate_block(
     `hidden_lines` the strokes draw only what the view sees (`view_sample`). Each
     operation, of the context and last, is regular (datagen/regular.py) with
     probability `regular_share`, decided by the generator that draws it. `hand`: who
-    draws the strokes (datagen/hand.py).
+    draws the strokes (datagen/hand.py). `shells`: last operations may be shells
+    (`last_op_weights`); without it the samples are those of a build without shells.
     """
     context = Context(
         sample_sequence(
@@ -129,6 +179,7 @@ def generate_block(
             hidden_lines=hidden_lines,
             regular_share=regular_share,
             hand=hand,
+            shells=shells,
         )
         for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)
     ]
@@ -144,15 +195,17 @@ def sample_on(
     hidden_lines: bool = True,
     regular_share: float = 0.0,
     hand: str = "generator",
+    shells: bool = False,
 ) -> Sample:
-    """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
-    on `context`; every operation drawn is regular with probability `regular_share`.
+    """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None, and shells
+    as `last_op_weights` says with `shells`), is drawn on `context`; every operation
+    drawn is regular with probability `regular_share`.
 
     The type is drawn once; an operation with no informative view is replaced by another
     of the same type, and a context that admits none (or none with such a view after
     OP_TRIES operations) by a fresh one of the same length.
     """
-    kind = kind or draw_type(rng)
+    kind = kind or draw_type(rng, last_op_weights(shells))
     tries = 0
     while True:
         drawn = (
@@ -194,10 +247,13 @@ def view_sample(
     rf = drawn.face.resolved()  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
     result_mesh = None
+    wall = None  # a shell's line down a wall: drawn from rng for shells only
+    if isinstance(op, Shell) and rng.random() < WALL_SHARE:
+        wall = wall_curve(rng, result.solid, rf, op)
     for _ in range(VIEW_TRIES):
         direction = view_direction(rng, rf.normal)
         up = up_vector(rng, direction)
-        curves = operation_curves(solid, op, direction, rf)
+        curves = operation_curves(solid, op, direction, rf) + ([wall] if wall else [])
         camera = frame_curves(
             np.concatenate([c.points for c in curves]),
             direction,

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Random instances of the four operators on a given planar face (paper, "Sequence
+"""Random instances of the operators on a given planar face (paper, "Sequence
 generation": random base faces, offsets over a large range, polygons and circles centred
 randomly inside the face, polygons and profiles perturbed without self-intersection).
 
@@ -27,11 +27,14 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     Operation,
+    OperationError,
     OperatorType,
+    Shell,
     Sweep,
     per_operator,
     straight_profile,
 )
+from Sketch2CADWorkbench.sketch.curves import rim_wires
 
 DIAG = 100.0  # the base box's diagonal (mm): the paper's unit length
 
@@ -41,6 +44,8 @@ PRISM_D = (0.04, 0.35)  # d / DIAG
 SWEEP_RADIUS = (0.06, 0.3)  # r0 / face size
 SWEEP_D = (0.04, 0.35)  # d / DIAG
 BEVEL_SPAN = (0.1, 0.5)  # where l meets each edge, as a share of that edge from c
+# t / DIAG: walls 2 to 12 mm on the 100 mm box (docs/measurements.md, operations.SHELL_T)
+SHELL_T = (0.02, 0.12)
 CENTRE_TRIES = 30
 
 
@@ -223,6 +228,25 @@ def sample_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Op
     )
 
 
+# ----------------------------------------------------------------- shell
+
+
+def sample_shell(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
+    """Open f and hollow the solid with walls of a random thickness t (the caller's
+    Boolean check refuses a t the solid cannot take)."""
+    return drawable_shell(f, float(rng.uniform(*SHELL_T) * DIAG))
+
+
+def drawable_shell(f: PlanarFace, t: float) -> Shell | None:
+    """The shell opening f with walls t thick, or None when f's outline inset by t leaves
+    no rim to draw (f narrower than 2t)."""
+    try:
+        rim_wires(f.face, t)
+    except OperationError:
+        return None
+    return Shell(f.ref, t)
+
+
 # The sampler of each operator: (generator, solid, face f) -> operation or None.
 SAMPLERS = per_operator(
     {
@@ -230,6 +254,7 @@ SAMPLERS = per_operator(
         OperatorType.BEVEL: sample_bevel,
         OperatorType.ADDSUB: sample_prism,
         OperatorType.SWEEP: sample_sweep,
+        OperatorType.SHELL: sample_shell,
     },
     "datagen.operations.SAMPLERS",
 )
@@ -262,6 +287,10 @@ def _bevel_volume(op: Bevel, f: PlanarFace) -> float:
     return _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite, op.corner)))
 
 
+def _shell_volume(op: Shell, f: PlanarFace) -> float:
+    return np.inf  # the cavity is the solid's, not f's: no bound from f
+
+
 # The volume (mm^3) of the primitive each operator adds or removes, from its face f.
 PRIMITIVE_VOLUMES = per_operator(
     {
@@ -269,6 +298,7 @@ PRIMITIVE_VOLUMES = per_operator(
         OperatorType.BEVEL: _bevel_volume,
         OperatorType.ADDSUB: _prism_volume,
         OperatorType.SWEEP: _sweep_volume,
+        OperatorType.SHELL: _shell_volume,
     },
     "datagen.operations.PRIMITIVE_VOLUMES",
 )

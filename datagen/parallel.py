@@ -75,6 +75,7 @@ class DatagenSettings:
     # `workers` CPUs here); None: a process pool
     regular_share: float = 0.0  # share of operations drawn regular (datagen/regular.py)
     hand: str = "generator"  # one of hand.HANDS: who draws the strokes
+    shells: bool = False  # last operations may be shells (generate.last_op_weights)
 
 
 @dataclass(frozen=True)
@@ -87,6 +88,7 @@ class BlockJob:
     hidden: str  # one of HIDDEN_CHOICES
     regular_share: float = 0.0
     hand: str = "generator"  # one of hand.HANDS
+    shells: bool = False
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -113,6 +115,7 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
         "hidden_lines": settings.hidden_lines,
         "regular_share": settings.regular_share,
         "hand": settings.hand,
+        **({"shells": True} if settings.shells else {}),  # sets without: as before
         "image_size": IMAGE_SIZE,
         "shard_size": settings.shard_size,
         "per_context": PER_CONTEXT,
@@ -131,11 +134,12 @@ def shard_jobs(
     shard_size: int,
     regular_share: float = 0.0,
     hand: str = "generator",
+    shells: bool = False,
 ) -> list[BlockJob]:
     """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
     first = k * shard_size // PER_CONTEXT
     return [
-        BlockJob(seed, b, noise, hidden, regular_share, hand)
+        BlockJob(seed, b, noise, hidden, regular_share, hand, shells)
         for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)
     ]
 
@@ -179,6 +183,7 @@ def make_block(job: BlockJob) -> list[Record]:
             hidden_lines=hidden_lines_of_block(job.hidden, b),
             regular_share=job.regular_share,
             hand=job.hand,
+            shells=job.shells,
         )
     ]
 
@@ -193,12 +198,15 @@ def make_shard(
     shard_size: int,
     regular_share: float = 0.0,
     hand: str = "generator",
+    shells: bool = False,
 ) -> int:
     """Make and write shard k of data set `seed` (count samples; the unit of work of a
     cluster); returns k. The same bytes as the process pool writes."""
     records = [
         r
-        for job in shard_jobs(seed, noise, hidden, k, count, shard_size, regular_share, hand)
+        for job in shard_jobs(
+            seed, noise, hidden, k, count, shard_size, regular_share, hand, shells
+        )
         for r in make_block(job)
     ]
     write_shard(Path(out), k, records[:count])
@@ -319,12 +327,13 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
             "hidden_lines",
             "regular_share",
             "hand",
+            "shells",
             *tuple(extra),
         )
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         old.setdefault("regular_share", 0.0)  # ... and before regular samples
         old.setdefault("hand", "generator")  # ... and before people's hand
-        if {k: old.get(k) for k in keys} != {k: manifest[k] for k in keys}:
+        if {k: old.get(k) for k in keys} != {k: manifest.get(k) for k in keys}:
             return (
                 f"{out} holds a different data set ({'/'.join(keys)} "
                 f"{'/'.join(str(old.get(k)) for k in keys)}); use another --out"
@@ -400,6 +409,7 @@ def generate_dataset(settings: DatagenSettings) -> int:
                     size,
                     settings.regular_share,
                     settings.hand,
+                    settings.shells,
                 )
             ]
             if settings.workers == 1:

@@ -54,9 +54,11 @@ from .operations import (
     EXTRUDE_D,
     PRISM_D,
     PRISM_RADIUS,
+    SHELL_T,
     SWEEP_D,
     SWEEP_RADIUS,
     PlanarFace,
+    drawable_shell,
     face_size,
 )
 
@@ -205,6 +207,11 @@ def regular_bevel(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> O
     )
 
 
+def regular_shell(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:
+    """Walls a whole number of grid steps thick."""
+    return drawable_shell(f, on_grid(rng.uniform(*SHELL_T) * DIAG))
+
+
 # The regular sampler of each operator, as operations.SAMPLERS.
 REGULAR_SAMPLERS = per_operator(
     {
@@ -212,6 +219,7 @@ REGULAR_SAMPLERS = per_operator(
         OperatorType.BEVEL: regular_bevel,
         OperatorType.ADDSUB: regular_prism,
         OperatorType.SWEEP: regular_sweep,
+        OperatorType.SHELL: regular_shell,
     },
     "datagen.regular.REGULAR_SAMPLERS",
 )

@@ -34,11 +34,19 @@ from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Prot
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 from .regular import REGULAR_SAMPLERS
 
+# A shell is drawn only where asked for (`with_shells`), so that data sets made without it
+# stay the same.
 LAST_OP_WEIGHTS = per_operator(
-    {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
+    {
+        OperatorType.EXTRUDE: 1,
+        OperatorType.BEVEL: 1,
+        OperatorType.ADDSUB: 4,
+        OperatorType.SWEEP: 2,
+        OperatorType.SHELL: 0,
+    },
     "datagen.sequences.LAST_OP_WEIGHTS",
 )
-EARLIER_OP_WEIGHTS = {t: 1 for t in OperatorType}
+EARLIER_OP_WEIGHTS = {t: 0 if t is OperatorType.SHELL else 1 for t in OperatorType}
 BOX_SIDES = (0.35, 1.0)  # side lengths before scaling to the diagonal: aspect up to ~3
 MIN_VOLUME_CHANGE = 0.01  # of the solid's volume: smaller changes are degenerate
 MIN_FACE_AREA = 1e-3 * DIAG**2  # smaller faces are slivers no one sketches on
@@ -95,8 +103,9 @@ def random_box(rng: np.random.Generator) -> Box:
 def draw_type(
     rng: np.random.Generator, weights: dict[OperatorType, int] = LAST_OP_WEIGHTS
 ) -> OperatorType:
-    """An operator type with the given relative frequencies (1:1:4:2 by default)."""
-    types = list(weights)
+    """An operator type with the given relative frequencies (1:1:4:2 by default); types
+    of weight 0 take no part in the draw."""
+    types = [t for t in weights if weights[t] > 0]
     w = np.array([weights[t] for t in types], float)
     return types[rng.choice(len(types), p=w / w.sum())]
 

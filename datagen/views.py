@@ -56,6 +56,7 @@ OCCLUDED_BY = per_operator(
         OperatorType.BEVEL: "context",
         OperatorType.ADDSUB: "context",
         OperatorType.SWEEP: "context",
+        OperatorType.SHELL: "context",
     },
     "datagen.views.OCCLUDED_BY",
 )

@@ -5,7 +5,9 @@
 
 Converts every example protocol and random valid protocols (the data generator's
 sequences of 1 to 4 operations on planar faces, and a quarter with a last step on a
-cylinder's or cone's side, as datagen/curved.py draws them) into PartDesign Bodies
+cylinder's or cone's side, as datagen/curved.py draws them), and a tenth as many more
+ending in a shell (drawn from their own generator, so that the others stay the same),
+into PartDesign Bodies
 (freecad_layer/partdesign) and prints the share of steps converted exactly (a native
 feature whose solid matches the core's: volume within 1e-6 relative, symmetric
 difference below 1e-6 of the volume), per operator and in all, and the reasons of the
@@ -37,10 +39,11 @@ from datagen.curved import curved_context, draw_kind, sample_on_curved  # noqa: 
 from datagen.sequences import TRIES, sample_sequence  # noqa: E402
 from Sketch2CADWorkbench.brep.faces import OperationError  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import operation_result  # noqa: E402
-from Sketch2CADWorkbench.brep.protocol import Protocol, load  # noqa: E402
+from Sketch2CADWorkbench.brep.protocol import OperatorType, Protocol, load  # noqa: E402
 from Sketch2CADWorkbench.freecad_layer.partdesign.convert import convert_protocol  # noqa: E402
 
 CURVED_SHARE = 0.25
+SHELL_SHARE = 0.1  # protocols ending in a shell, beside the random ones
 
 
 def random_protocol(rng: np.random.Generator) -> Protocol:
@@ -65,10 +68,21 @@ def random_protocol(rng: np.random.Generator) -> Protocol:
 def main() -> int:
     count = int(os.environ.get("SKETCH2CAD_PD_COUNT", "300"))
     seed = int(os.environ.get("SKETCH2CAD_PD_SEED", "1"))
-    print(f"FreeCAD {'.'.join(FreeCAD.Version()[:3])}: examples and {count} random protocols")
+    print(
+        f"FreeCAD {'.'.join(FreeCAD.Version()[:3])}: examples, {count} random protocols and "
+        f"{int(SHELL_SHARE * count)} ending in a shell"
+    )
     cases = [(p.stem, load(p)) for p in sorted((ROOT / "examples" / "protocols").glob("*.json"))]
     rng = np.random.default_rng(seed)
     cases += [(f"random-{seed}-{i}", random_protocol(rng)) for i in range(count)]
+    shells = np.random.default_rng([seed, 1])
+    cases += [
+        (
+            f"random-shell-{seed}-{i}",
+            sample_sequence(shells, int(shells.integers(1, 5)), OperatorType.SHELL).protocol,
+        )
+        for i in range(int(SHELL_SHARE * count))
+    ]
     tally = {"examples": Counter(), "random": Counter()}
     reasons, errors, cases_left, start = Counter(), [], [], time.monotonic()
     for name, protocol in cases:

@@ -47,6 +47,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     Extrude,
     Operation,
     Protocol,
+    Shell,
     Sweep,
 )
 from Sketch2CADWorkbench.inference.fitting.common import (
@@ -126,6 +127,8 @@ def _numbers(
     frame = FaceFrame.tangent(rf.face, op.face) if is_curved(rf.face) else FaceFrame.of(rf.face)
     if isinstance(op, Extrude):
         return np.array([op.d]), lambda x: replace(op, d=float(x[0]))
+    if isinstance(op, Shell):
+        return np.array([op.t]), lambda x: replace(op, t=float(x[0]))
     if isinstance(op, AddSubPrism):
         poly = frame.to_2d(np.array(op.polygon, float))
 

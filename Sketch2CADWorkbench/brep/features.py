@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Each step of a protocol as the feature a parametric CAD user would build for it.
 
-A feature is the base box, a planar face of the solid before padded or pocketed, or a
-closed outline on a sketch plane (lines and cubic Beziers through named points) padded,
+A feature is the base box, a planar face of the solid before padded or pocketed, the
+solid before hollowed open at a face (a shell: PartDesign's Thickness), or a closed
+outline on a sketch plane (lines and cubic Beziers through named points) padded,
 pocketed, revolved or grooved. Every coordinate of the outline is 0 or a named
 dimension (`Outline.dims`): the step's parameters (d, r0, r1, the profile's control
 points, polygon c's vertices in f's plane), so that a sketch holding it can be fully
@@ -36,9 +37,10 @@ from .operators import (
     place_bevel,
     prism_footprint,
     replay,
+    shell_tool,
     sweep_footprint,
 )
-from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Sweep
+from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Shell, Sweep
 
 Vec2 = tuple[float, float]
 Vec3 = tuple[float, float, float]
@@ -53,6 +55,7 @@ class Kind(Enum):
     FACE = "face"  # a planar face of the solid before, extruded along its normal
     EXTRUDE = "extrude"  # an outline on a sketch plane, extruded
     REVOLVE = "revolve"  # an outline on a sketch plane, revolved about the sketch's v axis
+    THICKNESS = "thickness"  # the solid before, open at a face, hollowed to walls `length` thick
 
 
 @dataclass(frozen=True)
@@ -129,7 +132,10 @@ class Feature:
     SUBTRACT, unless given) and `back` mm the other way; `length` and `back` are
     measured along the sketch normal. REVOLVE: the outline turns `angle` degrees about
     the sketch's v axis (right-handed). FACE: `face` (on the solid before) moves `length`
-    mm along its outward normal (ADD) or into the solid (SUBTRACT). BOX: `size`, centred
+    mm along its outward normal (ADD) or into the solid (SUBTRACT). THICKNESS: the solid
+    before, open at `face`, every other face moved `length` mm inwards (the cavity is
+    what it removes: SUBTRACT). BOX:
+    `size`, centred
     on the origin. `dims` adds named values that are not sketch coordinates.
     """
 
@@ -184,6 +190,8 @@ def plan_step(solid: cq.Shape, op: Operation, step: int) -> Feature:
         feature = _bevel(solid, rf, op, step, scale)
     elif isinstance(op, AddSubPrism):
         feature = _prism(rf, op, step, scale)
+    elif isinstance(op, Shell):
+        feature = Feature(step, Kind.THICKNESS, Mode.SUBTRACT, length=op.t, dims={"t": op.t})
     else:
         feature = _sweep(rf, op, step, scale)
     point = np.asarray(op.face.point, float) + rf.offset
@@ -362,8 +370,8 @@ def _tup(v) -> Vec3:
 
 def feature_tool(feature: Feature, solid: cq.Shape | None = None, clip: bool = True) -> cq.Shape:
     """The solid a feature adds, removes or keeps (cadquery), as the features above say;
-    `solid` is the solid before (for a FACE). `clip`: trim to the clip when it has one
-    (the operators do; a PartDesign feature cannot)."""
+    `solid` is the solid before (for a FACE or a THICKNESS). `clip`: trim to the clip
+    when it has one (the operators do; a PartDesign feature cannot)."""
     if feature.kind is Kind.BOX:
         return make_box(Box(feature.size))
     if feature.kind is Kind.FACE:
@@ -372,6 +380,10 @@ def feature_tool(feature: Feature, solid: cq.Shape | None = None, clip: bool = T
         return cq.Solid.extrudeLinear(
             rf.face.outerWire(), rf.face.innerWires(), cq.Vector(*(n * feature.length))
         )
+    if feature.kind is Kind.THICKNESS:
+        rf = resolve_face(solid, feature.face, "shell face f")
+        op = Shell(feature.face, feature.length)
+        return solid.cut(shell_tool(solid, rf, op, model_scale(solid)))  # the cavity
     wire = outline_wire(feature.frame, feature.outline)
     normal = np.asarray(feature.frame.normal)
     if feature.kind is Kind.REVOLVE:

@@ -102,7 +102,8 @@ def header(o: dict, fmt: str, version: int | tuple[int, ...]) -> None:
     if o["format"] != fmt:
         raise error("format", f"expected '{fmt}'", o["format"])
     if isinstance(o["version"], bool) or o["version"] not in versions:
-        reads = " or ".join(str(v) for v in versions)
+        names = [str(v) for v in versions]
+        reads = " or ".join([", ".join(names[:-1]), names[-1]] if len(names) > 2 else names)
         raise error("version", f"unsupported version (this build reads {reads})", o["version"])
     if o["units"] != "mm":
         raise error("units", "expected 'mm'", o["units"])

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The four operators of the paper as real B-rep operations through cadquery/OCCT.
+"""The four operators of the paper and the shell as real B-rep operations through
+cadquery/OCCT.
 
 `apply_operation` is the one way in (`operation_result` beneath it also gives the
 result's volume), and every operation takes the same path there: its parameters are
@@ -15,20 +16,28 @@ outward unit normal of f. A result is always one valid solid; anything else rais
 On a curved f (a cylinder's or cone's side; beyond the paper) the extrusion offsets
 the face along its normal (`extrude_tool`), and a prism or sweep stands on the tangent
 plane T of f at the step's point p_f, along n_f there, reaching through T down to the
-curved surface (`_stand_on_curved`). A bevel needs a planar f.
+curved surface (`_stand_on_curved`). A bevel needs a planar f. A shell opens f, of any
+kind, and offsets every other face inwards (`shell_tool`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import dataclasses
+import io
 import itertools
+import os
+import select
+import signal
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import cadquery as cq
 import numpy as np
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
+from OCP.GeomAbs import GeomAbs_JoinType
 from OCP.TopTools import TopTools_ListOfShape
 
 from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
@@ -52,6 +61,7 @@ from .protocol import (
     Operation,
     OperatorType,
     Protocol,
+    Shell,
     Sweep,
     per_operator,
 )
@@ -580,6 +590,138 @@ def sweep_primitive(center: np.ndarray, op: Sweep, axis: np.ndarray) -> cq.Solid
     return tool
 
 
+# OCCT's tolerance for the thick solid's offset faces (mm), PartDesign Thickness's own, so
+# that the conversion builds the same solid (docs/measurements.md, operators.THICK_TOL).
+THICK_TOL = 1e-3
+# OCCT's offset takes well under a second on the models sketched here (0.02 s on a box);
+# one that runs longer than this is looping and is refused (docs/measurements.md,
+# operators.THICK_TIMEOUT_S).
+THICK_TIMEOUT_S = 20.0
+# The surfaces whose inward offset the shell builds: OCCT offsets these exactly. Its
+# offset of a bevel's extruded profile or of a sweep's revolved Bezier profile is an
+# approximation whose result crashed OCCT's own validity check on a sampled model
+# (docs/protocol.md), so a solid with such a face is refused before OCCT is asked.
+OFFSET_SURFACES = ("PLANE", "CYLINDER", "CONE", "SPHERE", "TORUS")
+# A wall may come out this much (relative to t) thinner than t before the shell is refused
+# as self-intersecting: OCCT's offset is exact on planes, cylinders and cones
+# (docs/measurements.md, operators.WALL_TOL_REL).
+WALL_TOL_REL = 1e-3
+
+
+def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq.Solid:
+    """The solid hollowed out, open at f, every other face offset inwards by t (OCCT's
+    thick solid, offset faces joined by intersection, as PartDesign Thickness's Join
+    "Intersection" builds it: with arcs, OCCT crashed on a sampled model of a cone and
+    a slanted plane).
+    Every face must lie on one of OFFSET_SURFACES.
+
+    OCCT does not refuse every offset it cannot build: past half the solid's thickness it
+    returns the solid unchanged, and where offset faces cross it may return walls that
+    cut through the outside. The result is therefore checked: it holds a cavity, and the
+    cavity keeps at least t (less `WALL_TOL_REL`) from every face but f.
+
+    Raises:
+        OperationError: naming t and why it cannot be built.
+    """
+    what = f"shell: wall thickness t = {op.t:g} mm cannot be built"
+    freeform = sorted(
+        {f.geomType().lower() for f in solid.Faces() if f.geomType() not in OFFSET_SURFACES}
+    )
+    if freeform:
+        raise OperationError(
+            f"shell: the walls cannot follow the solid's {' and '.join(freeform)} faces (a "
+            "bevel's or a curved sweep's profile); OCCT offsets planes, cylinders, cones, "
+            "spheres and tori only"
+        )
+    thick = _thick_solid(solid, rf.face, op.t)
+    if thick is None:
+        raise OperationError(
+            f"{what}: OCCT's offset of the walls fails on this solid (offset faces that "
+            "cross, or a face it cannot offset); a smaller t may build"
+        )
+    solids = thick.Solids()
+    if len(solids) != 1:
+        raise OperationError(f"{what}: OCCT's offset is not one valid solid; a smaller t may build")
+    cavity = boolean(solid, solids[0], Mode.SUBTRACT).Solids()
+    if not cavity or sum(c.Volume() for c in cavity) <= 1e-9 * scale**3:
+        raise OperationError(
+            f"{what}: it is more than the solid allows (walls t thick from every face "
+            "leave no cavity)"
+        )
+    walls = [f for f in solid.Faces() if not f.isSame(rf.face)]
+    inner = cq.Compound.makeCompound(cavity)
+    thinnest = min(inner.distance(f) for f in walls)
+    if thinnest < op.t * (1 - WALL_TOL_REL):
+        raise OperationError(
+            f"{what}: the offset walls cross (a wall comes out {thinnest:.3g} mm thin); a "
+            "smaller t may build"
+        )
+    return solids[0]
+
+
+def _thick_solid(solid: cq.Shape, face: cq.Face, t: float) -> cq.Shape | None:
+    """OCCT's thick solid of `solid` open at `face`, walls t thick (`shell_tool`'s
+    settings), checked valid; None where OCCT fails, reports an invalid solid, crashes or
+    runs past THICK_TIMEOUT_S.
+
+    OCCT's offset crashes the process on some solids and loops for ever on others
+    (sampled models of planes and cones), so where the system can fork it runs in a child
+    process that hands back the solid as BREP; elsewhere (Windows) it runs here.
+    """
+
+    def build() -> cq.Shape | None:
+        opened = TopTools_ListOfShape()
+        opened.Append(face.wrapped)
+        builder = BRepOffsetAPI_MakeThickSolid()
+        builder.MakeThickSolidByJoin(
+            solid.wrapped,
+            opened,
+            -t,
+            THICK_TOL,
+            Intersection=False,
+            Join=GeomAbs_JoinType.GeomAbs_Intersection,
+        )
+        try:
+            builder.Build()
+        except Exception:  # OCCT raises as well as reports "not done"
+            return None
+        if not builder.IsDone():
+            return None
+        thick = cq.Shape.cast(builder.Shape())
+        return thick if thick.isValid() else None
+
+    if not hasattr(os, "fork"):
+        return build()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: build, send the BREP (nothing when it fails), leave at once
+        try:
+            os.close(read)
+            got = build()
+            if got is not None:
+                buffer = io.BytesIO()
+                got.exportBrep(buffer)
+                os.write(write, buffer.getvalue())
+        finally:
+            os._exit(0)
+    os.close(write)
+    data, deadline = bytearray(), time.monotonic() + THICK_TIMEOUT_S
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([read], [], [], left)[0]:
+                os.kill(pid, signal.SIGKILL)
+                return None
+            chunk = os.read(read, 1 << 20)
+            if not chunk:
+                break
+            data += chunk
+    finally:
+        os.close(read)
+        os.waitpid(pid, 0)
+    return cq.Shape.importBrep(io.BytesIO(bytes(data))) if data else None
+
+
 # The builder of each operator's primitive.
 TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], cq.Solid]] = (
     per_operator(
@@ -588,6 +730,7 @@ TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], c
             OperatorType.BEVEL: bevel_tool,
             OperatorType.ADDSUB: prism_tool,
             OperatorType.SWEEP: sweep_tool,
+            OperatorType.SHELL: shell_tool,
         },
         "operators.TOOLS",
     )
@@ -597,7 +740,7 @@ TOOLS: dict[OperatorType, Callable[[cq.Shape, ResolvedFace, Operation, float], c
 # Lengths and points an operation may hold, relative to the model's size (its bounding
 # box diagonal): OCCT's own failures outside this range say nothing a user can act on.
 MIN_LENGTH_REL, MAX_EXTENT_REL = 1e-6, 100.0
-LENGTHS = ("d", "r0", "r1")
+LENGTHS = ("d", "r0", "r1", "t")
 
 
 def check_ranges(solid: cq.Shape, op: Operation) -> None:

@@ -22,9 +22,9 @@ corner is found again where it moved to (`Bevel`). A step that no longer fits is
 error naming the field and why. The file keeps the values as the step was made, so
 edits need no new schema.
 
-JSON schema, version 2 (every key required unless marked optional)::
+JSON schema, version 3 (every key required unless marked optional)::
 
-    {"format": "sketch2cad-protocol", "version": 2, "units": "mm",
+    {"format": "sketch2cad-protocol", "version": 3, "units": "mm",
      "base": {"type": "box", "size": [lx, ly, lz]},          # centred on the origin
      "operations": [
        {"type": "extrude", "face": FACE, "d": float},
@@ -33,15 +33,16 @@ JSON schema, version 2 (every key required unless marked optional)::
        {"type": "addsub", "face": FACE, "polygon": [P, P, P, ...],   # 3 to 6 points
         "d": float, "mode": MODE},
        {"type": "sweep", "face": FACE, "center": P, "r0": float, "r1": float,
-        "d": float, "profile": [[r, h], [r, h]], "mode": MODE}]}
+        "d": float, "profile": [[r, h], [r, h]], "mode": MODE},
+       {"type": "shell", "face": FACE, "t": float}]}      # f opened, walls t > 0 thick
     FACE = {"point": P, "normal": P, "surface": SURFACE}   # "surface" optional
     SURFACE = "plane" (the default) | "cylinder" | "cone"; P = [x, y, z]
     MODE = "add" | "subtract" | "intersect" | "replace"
 
-Version 1 is the same without "surface" (every face planar): version 1 files load
-unchanged, and a protocol whose faces are all planar is still written as version 1, so
-that builds which read only version 1 keep reading it; one with a curved face is
-written as version 2.
+Version 2 is version 3 without "shell"; version 1 is version 2 without "surface"
+(every face planar). Older files load unchanged, and a protocol is written with the
+lowest version that holds it (`protocol_version`), so that builds which read only an
+older version keep reading what they can build.
 
 `validate` style: every loader error names the field path and the offending value.
 """
@@ -63,20 +64,25 @@ from .files import read_capped, write_atomically
 from .geometry import bezier
 
 FORMAT = "sketch2cad-protocol"
-VERSION = 2  # the newest; VERSIONS are the ones this build reads
-VERSIONS = (1, 2)
+VERSION = 3  # the newest; VERSIONS are the ones this build reads
+VERSIONS = (1, 2, 3)
 
 Vec3 = tuple[float, float, float]
 Vec2 = tuple[float, float]
 
 
 class OperatorType(Enum):
-    """The four operators of the paper; also the classifier's class order."""
+    """The four operators of the paper, then the shell (beyond the paper).
+
+    The classifier's classes are the paper's four (`sketch.labels.CLASSES`); the search
+    proposes a shell from the strokes' geometry (`inference/search.py`).
+    """
 
     EXTRUDE = "extrude"
     BEVEL = "bevel"
     ADDSUB = "addsub"
     SWEEP = "sweep"
+    SHELL = "shell"
 
 
 class Mode(Enum):
@@ -263,6 +269,17 @@ class _Operation:
     def describe(self) -> str:
         """One line naming the operator and its parameters with the paper's symbols."""
         raise NotImplementedError
+
+    def version_needed(self) -> tuple[int, str, str]:
+        """The lowest schema version that holds the operation, with the field (relative to
+        the operation) that needs it and why, for the loader's error."""
+        if self.face.surface.curved:
+            return (
+                2,
+                "face.surface",
+                "a curved base face needs version 2 (version 1 has planar faces only)",
+            )
+        return 1, "", ""
 
     def parameters(self) -> dict[str, Any]:
         """The JSON values of KEYS."""
@@ -556,6 +573,48 @@ class Sweep(_CombinedOperation):
         )
 
 
+@dataclass(frozen=True)
+class Shell(_Operation):
+    """The solid hollowed out, open at face f, with walls t > 0 mm thick (beyond the paper).
+
+    Every face but f is offset inwards by t (OCCT's thick solid, as cadquery's shell
+    inwards and PartDesign's Thickness build it), so f becomes a rim t wide around the
+    opening. f is stored as every base face is and followed the same way on replay.
+    """
+
+    face: FaceRef
+    t: float
+
+    type = OperatorType.SHELL
+    KEYS = ("t",)
+    NOUN = "shell"
+
+    @property
+    def boolean(self) -> Mode:
+        """The hollowed solid replaces the solid (`brep/operators.shell_tool` builds it)."""
+        return Mode.REPLACE
+
+    def check(self) -> None:
+        if not (self.t > 0 and math.isfinite(self.t)):
+            raise OperationError(f"shell: wall thickness t must be positive, got {self.t}")
+
+    def describe(self) -> str:
+        return f"Shell {self.face.describe()} t={_num(self.t)}"
+
+    def version_needed(self) -> tuple[int, str, str]:
+        return 3, "type", "a shell needs version 3 (versions 1 and 2 have no shell)"
+
+    def parameters(self) -> dict[str, Any]:
+        return {"t": self.t}
+
+    @classmethod
+    def parse(cls, face: FaceRef, o: dict, path: str) -> Shell:
+        return cls(face, number(o["t"], f"{path}.t", positive=True))
+
+    def reflected(self, point: PointMap, vector: PointMap) -> Shell:
+        return Shell(self.face.reflected(point, vector), self.t)
+
+
 def straight_profile(r0: float, r1: float, d: float) -> tuple[Vec2, Vec2]:
     """A sweep's inner (r, h) control points for a straight profile from (r0, 0) to
     (r1, d): the line's thirds (a cone, or a cylinder)."""
@@ -584,7 +643,7 @@ def retuned_profile(profile: tuple[Vec2, Vec2], old: Vec3, new: Vec3) -> tuple[V
     return (pts[0], pts[1])
 
 
-Operation = Extrude | Bevel | AddSubPrism | Sweep
+Operation = Extrude | Bevel | AddSubPrism | Sweep | Shell
 # The operation dataclass of each operator.
 OPERATIONS: dict[OperatorType, type] = per_operator(
     {
@@ -592,6 +651,7 @@ OPERATIONS: dict[OperatorType, type] = per_operator(
         OperatorType.BEVEL: Bevel,
         OperatorType.ADDSUB: AddSubPrism,
         OperatorType.SWEEP: Sweep,
+        OperatorType.SHELL: Shell,
     },
     "OPERATIONS",
 )
@@ -653,8 +713,9 @@ def operation_to_dict(op: Operation) -> dict[str, Any]:
 
 
 def protocol_version(p: Protocol) -> int:
-    """The lowest schema version that holds `p`: 2 when a base face is curved, else 1."""
-    return 2 if any(op.face.surface.curved for op in p.operations) else 1
+    """The lowest schema version that holds `p` (each operation's `version_needed`): 3
+    with a shell, else 2 when a base face is curved, else 1."""
+    return max((op.version_needed()[0] for op in p.operations), default=1)
 
 
 def protocol_to_dict(p: Protocol) -> dict[str, Any]:
@@ -705,14 +766,13 @@ def _protocol(v: Any) -> Protocol:
     if not isinstance(ops, list):
         raise _fail("operations", "expected a list", ops)
     parsed = tuple(_operation(op, f"operations[{i}]") for i, op in enumerate(ops))
-    if o["version"] == 1:
-        curved = next((i for i, op in enumerate(parsed) if op.face.surface.curved), None)
-        if curved is not None:
-            raise _fail(
-                f"operations[{curved}].face.surface",
-                "a curved base face needs version 2 (version 1 has planar faces only)",
-                parsed[curved].face.surface.value,
-            )
+    for i, op in enumerate(parsed):
+        version, key, why = op.version_needed()
+        if version > o["version"]:
+            value = ops[i]
+            for part in key.split("."):
+                value = value[part]
+            raise _fail(f"operations[{i}].{key}", why, value)
     return Protocol(Box(size), parsed)
 
 

@@ -7,7 +7,9 @@ variables (mm; the names of `brep/features`' dimensions, as the PartDesign conve
 names its sketch constraints), its sketch plane, its outline, and the Boolean. A base
 face is found again by a point on it and its outward normal, as the protocol stores it.
 The geometry is where the core's replay put each step (`plan_protocol`), so the script
-builds the same solid; on a curved face the primitive is trimmed to the face's surface
+builds the same solid (a shell by OCCT's thick solid with the core's settings, which
+neither library's own shell takes, through OCP, which both libraries install); on a
+curved face the primitive is trimmed to the face's surface
 as the operators trim it.
 
 The blocks, their variables and comments are laid out once (`protocol_script`); a `_Library`
@@ -20,7 +22,33 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 
 from .features import Clip, Feature, Frame, Kind, Outline, Plan
+from .operators import THICK_TOL
 from .protocol import Extrude, Mode
+
+# The helper a script with a shell holds: OCCT's thick solid as the core builds it.
+HOLLOWED = f'''
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
+from OCP.GeomAbs import GeomAbs_JoinType
+
+try:
+    from OCP.TopTools import TopTools_ListOfShape as ShapeList
+except ImportError:  # OCP 7.8 (build123d's) keeps OCCT's lists in OCP.collections
+    from OCP.collections import List_TopoDS_Shape as ShapeList
+
+
+def hollowed(solid, face, t):
+    """OCCT's shape of `solid` open at `face`, every other face moved t inwards, the
+    offset faces joined by intersection (solid and face: OCCT shapes)."""
+    opened = ShapeList()
+    opened.Append(face)
+    builder = BRepOffsetAPI_MakeThickSolid()
+    builder.MakeThickSolidByJoin(
+        solid, opened, -t, {THICK_TOL}, Intersection=False,
+        Join=GeomAbs_JoinType.GeomAbs_Intersection,
+    )
+    builder.Build()
+    return builder.Shape()
+'''
 
 
 class _Library(ABC):
@@ -93,6 +121,11 @@ class _Library(ABC):
     @abstractmethod
     def combine(self, mode: Mode) -> str:
         """The statement combining `tool` with the model."""
+        ...
+
+    @abstractmethod
+    def hollow(self) -> str:
+        """The statement hollowing the model open at `face` with walls `t` (`hollowed`)."""
         ...
 
 
@@ -203,6 +236,10 @@ if __name__ == "__main__":
     def combine(self, mode: Mode) -> str:
         return f'solid = combine(solid, tool, "{mode.value}")'
 
+    def hollow(self) -> str:
+        shape = "cq.Shape.cast(hollowed(solid.wrapped, face.wrapped, t))"
+        return f'solid = combine(solid, {shape}, "replace")'
+
 
 class _Build123d(_Library):
     header = '''#!/usr/bin/env python3
@@ -299,6 +336,9 @@ if __name__ == "__main__":
             return "part = tool  # replaces the model"
         return f"part {dict(add='+', subtract='-', intersect='&')[mode.value]}= tool"
 
+    def hollow(self) -> str:
+        return "part = Solid(hollowed(part.solids()[0].wrapped, face.wrapped, t))"
+
 
 LIBRARIES: dict[str, _Library] = {"cadquery": _CadQuery(), "build123d": _Build123d()}
 
@@ -308,12 +348,20 @@ def protocol_script(plan: Plan, title: str, library: str) -> str:
     docstring)."""
     lib = LIBRARIES[library]
     lines = [lib.header.format(title=title)]
+    if any(f.kind is Kind.THICKNESS for f in plan.features):
+        lines.append(HOLLOWED)
     listing = plan.protocol.listing().splitlines()
     for feature in plan.features:
         lines.append(f"# Step {listing[feature.step]}")
         if feature.kind is Kind.BOX:
             lx, ly, lz = (_n(x) for x in feature.size)
             lines += [f"lx, ly, lz = {lx}, {ly}, {lz}", f"{lib.model} = {lib.box()}"]
+        elif feature.kind is Kind.THICKNESS:
+            lines += [
+                f"t = {_n(feature.length)}",
+                f"face = face_at({lib.model}, {_v(feature.face.point)}, {_v(feature.face.normal)})",
+                lib.hollow(),
+            ]
         elif isinstance(plan.protocol.operations[feature.step - 1], Extrude):
             lines += _extrude(plan.protocol.operations[feature.step - 1], feature, lib)
         else:

@@ -7,7 +7,9 @@ resumable (datagen/parallel.py).
 [--hidden-lines draw|omit|mix] [--regular-share P] [--workers W] [--ray [ADDRESS]]`: with
 --ray, one Ray task per shard (datagen/cluster.py), on a local cluster of W CPUs or on the
 cluster at ADDRESS. `--regular-share P`: that share of the operations take a designer's
-regular parameters (datagen/regular.py).
+regular parameters (datagen/regular.py). `--shells`: last operations may be shells
+(operator 'shell': the rim strokes labelled 1, a line down a wall 0), as often as sweeps;
+without it a set is the same as one made before shells.
 `--curved`: a set whose operations stand on curved faces (datagen/curved.py): held out,
 or the curved part of the head's training data.
 """
@@ -70,6 +72,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "habits alone (people-chain, people-split, people-partial, people-hidden, "
         "people-wobble: what each costs); default generator",
     )
+    p.add_argument(
+        "--shells",
+        action="store_true",
+        help="last operations may be shells, as often as sweeps (labels: operator "
+        "'shell', the opened face, rim strokes 1, a stroke down a wall 0); off by "
+        "default, so that sets made without it stay the same",
+    )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument(
         "--shard-size",
@@ -121,11 +130,12 @@ def run(args: argparse.Namespace) -> int:
             or args.hidden_lines != "draw"
             or args.regular_share
             or args.hand != "generator"
+            or args.shells
         ):
             print(
                 "sketch2cad datagen: error: --curved makes its set in one process with "
                 "every line drawn and random parameters: leave out --ray, --hidden-lines, "
-                "--regular-share and --hand",
+                "--regular-share, --hand and --shells",
                 file=sys.stderr,
             )
             return 2
@@ -145,5 +155,6 @@ def run(args: argparse.Namespace) -> int:
             args.ray,
             args.regular_share,
             args.hand,
+            args.shells,
         )
     )

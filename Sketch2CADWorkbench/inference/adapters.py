@@ -8,7 +8,8 @@ decide the roles (C's, and those read from the strokes' geometry), try the readi
 they allow, and rank the operations by how well their own sketches explain the strokes
 (`SketchFit.score`), the best first: an extrusion by a line search then a search on
 that score, a bevel by the strokes C votes for as its profile, a prism or a sweep by each
-reading of the stroke roles.
+reading of the stroke roles, a shell by its rim (the strokes' geometry alone: the networks
+do not know it).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from scipy.optimize import minimize_scalar
 
 from ..brep.faces import OperationError, face_at, model_scale
 from ..brep.protocol import Extrude, Operation, OperatorType, per_operator
-from ..sketch.labels import CURVE_THRESHOLDS
+from ..sketch.labels import CURVE_THRESHOLDS, SHELL_RIM, SHELL_WALL
 from .context import Context
 from .drawing import CORNER_REACH
 from .fitting.addsub import PrismFit, prism_fit
@@ -30,6 +31,7 @@ from .fitting.base_face import face_under_stroke
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
+from .fitting.shell import rim_and_wall, shell_fit
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles, whole_outline_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
@@ -327,12 +329,26 @@ def _fit_bevel_readings(
     return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])]
 
 
+def _fit_shell_on_face(
+    solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
+) -> list[Fit]:
+    """The shell opening face `index`, t read from the rim its strokes draw; a stroke down
+    an inner wall is labelled as such and read no further (fitting/shell.py). The
+    networks know no shell: C is not used, nor has `options` anything for it."""
+    strokes = ctx.strokes
+    drawn = rim_and_wall(strokes)
+    op = shell_fit(solid, face_at(solid, index), ctx.camera, [strokes[i] for i in drawn.rim])
+    labels = [SHELL_WALL if i == drawn.wall else SHELL_RIM for i in range(len(strokes))]
+    return [(op, index, labels)]
+
+
 _FIT_ON_FACE = per_operator(
     {
         OperatorType.EXTRUDE: _fit_extrude_on_face,
         OperatorType.BEVEL: _fit_bevel_readings,
         OperatorType.ADDSUB: _fit_prism_on_face,
         OperatorType.SWEEP: _fit_sweep_on_face,
+        OperatorType.SHELL: _fit_shell_on_face,
     },
     "_FIT_ON_FACE",
 )

@@ -45,7 +45,7 @@ from .fitting.verify import SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 from .options import InterpretOptions
 from .reading import GOOD_FIT_PX, Reading, doubt_measures, doubts
-from .search import TAKE_A_BOOLEAN, Predictor, read_operators
+from .search import TAKE_A_BOOLEAN, Predictor, read_operators, shell_prior
 
 
 @dataclass
@@ -55,7 +55,7 @@ class Interpretation:
     operations: tuple[Operation, ...]  # the operation, then its mirror image if asked
     solid: cq.Solid
     op_type: OperatorType
-    probabilities: dict[str, float]
+    probabilities: dict[str, float]  # per operator read; the shell's only where proposed
     base_face: int
     stroke_labels: list[int]  # one per piece of curve read (sketch/segment.py)
     camera: OrthoCamera  # the context camera (maps' pixels)
@@ -219,6 +219,12 @@ def interpret(
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
     order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
+    # the shell, which the classifier does not know, by the strokes' geometry: read first
+    # when they draw a rim, with the likeliest operator's probability (`shell_prior`)
+    shell = shell_prior(solid, ctx) * float(probs.max()) if op_type is None else 1.0
+    if shell > 0 and op_type is None:
+        order.insert(0, OperatorType.SHELL)
+    probs = np.append(probs, shell)
     if options.option is not None and op_type is None:
         # a Boolean is a primitive's: a designer who chose one draws a prism or a sweep,
         # however sure the classifier is of another operator (a radial shrink of a pipe
@@ -267,7 +273,12 @@ def interpret(
         ops,
         result,
         kind,
-        {c.value: float(p) for c, p in zip(CLASSES, probs, strict=True)},
+        # the classifier's, and the shell's where it was proposed (`shell_prior`)
+        {
+            c.value: float(p)
+            for c, p in zip((*CLASSES, OperatorType.SHELL), probs, strict=True)
+            if c is not OperatorType.SHELL or p > 0
+        },
         reading.index,
         reading.labels,
         ctx.camera,

@@ -8,6 +8,12 @@ The paper takes the planar face with the most F > 0.5 pixels and the classifier'
 operator. Here both are a search ended by a clear fit (GOOD_FIT_PX): the next faces, then
 the next operators, are fitted when the likeliest one does not explain the strokes, and
 the best reading by its score wins. The fitting on one face is adapters.py's.
+
+The classifier knows the paper's four operators (sketch.labels.CLASSES). A shell is
+proposed by the strokes' geometry until it learns a fifth class (`shell_prior`): when
+the strokes close into one rim lying on one planar face, with at most one stroke down a
+wall (fitting/shell.rim_and_wall), the shell is read first, as sure as the classifier's
+likeliest operator; otherwise it is not read.
 """
 
 from __future__ import annotations
@@ -20,15 +26,17 @@ import cadquery as cq
 import numpy as np
 
 from ..brep.faces import OperationError, face_at, face_kinds, plane_normals
-from ..brep.protocol import AddSubPrism, Operation, OperatorType, Sweep
+from ..brep.protocol import AddSubPrism, Operation, OperatorType, Shell, Sweep
 from ..render.camera import OrthoCamera
-from ..sketch.labels import CLASSES
+from ..sketch.labels import CLASSES, SHELL_RIM
 from .adapters import fit_on_face
 from .alternative import drawn_fits, explained, one_way_scores, the_meant
 from .context import Context
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
 from .fitting.primitive import ON_FACE_FRACTION, base_centre, base_share, other_option_fits
+from .fitting.shell import rim_and_wall
+from .fitting.verify import sketch_fit
 from .options import InterpretOptions
 from .reading import GOOD_FIT_PX, Fit, Reading, builds_a_change
 
@@ -77,6 +85,25 @@ class Predictor(TypingProtocol):
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         """(5, H, W) inputs -> F (H, W) base-face probability and C (H, W) curve map."""
+
+
+def shell_prior(solid: cq.Shape, ctx: Context) -> float:
+    """How likely the strokes draw a shell's rim, in place of a classifier's probability:
+    1 when they close into one rim (`rim_and_wall`) whose strokes all lie on one planar
+    face of the model, else 0."""
+    try:
+        drawn = rim_and_wall(ctx.strokes)
+    except FitError:
+        return 0.0
+    under = {face_under_stroke(ctx.strokes[i], ctx.maps.face_id) for i in drawn.rim}
+    face = under.pop() if len(under) == 1 else None
+    return 0.0 if face is None else float(face_kinds(solid)[face] == "PLANE")
+
+
+def operator_probability(probs: np.ndarray, kind: OperatorType) -> float:
+    """The classifier's probability of `kind`; a shell's is `probs`' extra last entry
+    (`shell_prior`), which the classifier does not give."""
+    return float(probs[len(CLASSES) if kind is OperatorType.SHELL else CLASSES.index(kind)])
 
 
 def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
@@ -238,14 +265,19 @@ def weigh_the_other_boolean(
 
 
 def _reading(solid: cq.Shape, fit: Fit, ctx: Context, hidden: set[int]) -> Reading:
-    """A fit scored against the strokes; hidden when its face is (`hidden_faces`) or it
-    stands behind the model. A primitive is built, and scored by its lines drawn the way
-    of alternative.LINE_WAYS that explains the strokes best: a designer who leaves the
-    hidden lines out draws a hole's rim and what the opening shows, which its lines drawn
-    every way explain poorly, and then another operator or the boss on its rim would win."""
+    """A fit scored against the strokes (a shell's against its rim's: a stroke down a wall
+    says nothing more); hidden when its face is (`hidden_faces`) or it stands behind the
+    model. A primitive is built, and scored by its lines drawn the way of
+    alternative.LINE_WAYS that explains the strokes best: a designer who leaves the hidden
+    lines out draws a hole's rim and what the opening shows, which its lines drawn every
+    way explain poorly, and then another operator or the boss on its rim would win."""
     op, used, labels = fit
+    fit_ = ctx.sketch_fit(solid, op)
+    if isinstance(op, Shell):
+        rim = [s for s, label in zip(ctx.strokes, labels, strict=True) if label == SHELL_RIM]
+        fit_ = sketch_fit(solid, op, ctx.camera, rim, face=ctx.resolved(solid, op.face))
     reading = Reading(
-        ctx.sketch_fit(solid, op),
+        fit_,
         op,
         used,
         labels,
@@ -325,12 +357,15 @@ def read_operators(
     PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
     `errors`; seconds spent go to `times`."""
     for kind in list(order):
-        p = float(probs[CLASSES.index(kind)])
+        p = operator_probability(probs, kind)
         if read and p < OVERRULE_PROB:
             continue  # too unlikely to replace a reading (kept for a later call)
         order.remove(kind)
         ta = time.perf_counter()
-        face_prob, curve = predictor.segment(ctx.inputs, kind)
+        if kind is OperatorType.SHELL:  # the networks know no shell: faces under the rim
+            face_prob = curve = np.zeros(ctx.maps.face_id.shape, np.float32)
+        else:
+            face_prob, curve = predictor.segment(ctx.inputs, kind)
         tb = time.perf_counter()
         times["networks"] += tb - ta
         try:

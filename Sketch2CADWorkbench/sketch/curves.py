@@ -8,7 +8,10 @@ Labels (sketch/labels.py):
     add/sub and sweep: start curve 0, profile 1, end curve 2, where start and end are
         the two ends of the primitive ordered along n_f (for an addition the start is
         the base curve on f, for a subtraction the end is), which removes the
-        add/subtract ambiguity (paper, Fig. "Handling ambiguity").
+        add/subtract ambiguity (paper, Fig. "Handling ambiguity");
+    shell: the inner rim on f (f's outline inset by t) 1; a line down an inner wall 0,
+        drawn or not (the data generator's choice), so not part of the operation's own
+        sketch.
 
 Every curve is what a designer draws as one stroke: one straight edge, one profile
 line, one whole circle, the whole bevel profile. Points are in mm, world frame.
@@ -37,10 +40,20 @@ from ..brep.protocol import (
     Operation,
     OperationError,
     OperatorType,
+    Shell,
     Sweep,
     per_operator,
 )
-from .labels import BEVEL_L, BEVEL_L_PRIME, END, EXTRUDE_OFFSET, EXTRUDE_PROFILE, PROFILE, START
+from .labels import (
+    BEVEL_L,
+    BEVEL_L_PRIME,
+    END,
+    EXTRUDE_OFFSET,
+    EXTRUDE_PROFILE,
+    PROFILE,
+    SHELL_RIM,
+    START,
+)
 
 CURVE_POINTS = 48  # samples of a curved edge, a Bezier or a circle
 # Side edges are drawn from outline vertices where the outline turns by more than this;
@@ -186,6 +199,35 @@ def sweep_curves(rf: ResolvedFace, op: Sweep, direction: np.ndarray) -> list[Cur
     return out
 
 
+def rim_wires(face: cq.Face, t: float) -> list[cq.Wire]:
+    """The inner rim a shell of thickness t leaves on its planar opened face: the face's
+    outline inset by t (holes grown by t), as the offset walls meet f.
+
+    Raises:
+        OperationError: f is curved, or the inset leaves no rim (t too large for f).
+    """
+    if face.geomType() != "PLANE":
+        raise OperationError("shell: the rim is drawn on a planar opened face f only")
+    try:
+        wires = face.outerWire().offset2D(-t, "arc")
+        wires += [w for inner in face.innerWires() for w in inner.offset2D(t, "arc")]
+    except Exception:  # OCCT's 2D offset fails when the inset vanishes
+        wires = []
+    if not wires:
+        raise OperationError(f"shell: f's outline inset by t = {t:g} mm leaves no rim")
+    return wires
+
+
+def shell_curves(rf: ResolvedFace, op: Shell, direction: np.ndarray) -> list[Curve]:
+    """The rim on f, one curve per edge of f's outline inset by t: a side of the rim is
+    what a designer draws as one stroke (a loop is cut at its corners beforehand)."""
+    return [
+        Curve(_edge_points(e), SHELL_RIM, relevant=True)
+        for w in rim_wires(rf.face, op.t)
+        for e in w.Edges()
+    ]
+
+
 # The curves of each operator, from its resolved base face f, the operation and the view
 # direction (world, into the scene; only a sweep's profile lines depend on it).
 CURVES: dict[OperatorType, Callable[[ResolvedFace, Operation, np.ndarray], list[Curve]]] = (
@@ -195,6 +237,7 @@ CURVES: dict[OperatorType, Callable[[ResolvedFace, Operation, np.ndarray], list[
             OperatorType.BEVEL: bevel_curves,
             OperatorType.ADDSUB: prism_curves,
             OperatorType.SWEEP: sweep_curves,
+            OperatorType.SHELL: shell_curves,
         },
         "sketch.curves.CURVES",
     )

@@ -4,12 +4,23 @@
 
 from ..brep.protocol import OperatorType, per_operator
 
-# The classifier's classes in output order, which is also the order of the F and C heads.
-CLASSES: tuple[OperatorType, ...] = tuple(OperatorType)
+# The classifier's classes in output order, which is also the order of the F and C heads:
+# the paper's four. A shell is proposed by the strokes' geometry (inference/search.py)
+# until the networks learn it as a fifth class.
+CLASSES: tuple[OperatorType, ...] = (
+    OperatorType.EXTRUDE,
+    OperatorType.BEVEL,
+    OperatorType.ADDSUB,
+    OperatorType.SWEEP,
+)
+# The operators a data set's sample may be labelled with, in the order of its op_type
+# index: CLASSES first, so that data sets without shells read the same.
+LABELLED: tuple[OperatorType, ...] = CLASSES + (OperatorType.SHELL,)
 
 EXTRUDE_OFFSET, EXTRUDE_PROFILE = 1, 0
 BEVEL_L, BEVEL_L_PRIME = 1, 0
 START, PROFILE, END = 0, 1, 2  # add/sub and sweep
+SHELL_RIM, SHELL_WALL = 1, 0  # the inner rim drawn on f; a line down an inner wall
 
 # C > LOW is class 1 (offset, l, profile); for add/sub and sweep C > HIGH is class 2 (end):
 # the midpoints between the encodings (the paper's C > 0.5 split for two classes).
@@ -19,6 +30,7 @@ CURVE_THRESHOLDS = per_operator(
         OperatorType.BEVEL: (0.5, float("inf")),
         OperatorType.ADDSUB: (0.5, 1.5),
         OperatorType.SWEEP: (0.5, 1.5),
+        OperatorType.SHELL: (0.5, float("inf")),
     },
     "sketch.labels.CURVE_THRESHOLDS",
 )

@@ -112,7 +112,7 @@ BAD = [
         r"operations\[4\].corner: expected a list of 3 numbers, got null",
     ),
     # found by a hostile tester: each was a traceback or was accepted
-    (["version"], True, r"version: unsupported version \(this build reads 1 or 2\), got true"),
+    (["version"], True, r"version: unsupported version \(this build reads 1, 2 or 3\), got true"),
     (
         ["operations", 0, "type"],
         ["addsub"],

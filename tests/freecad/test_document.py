@@ -24,6 +24,7 @@ CHECKS = [
     "step_part_is_named_after_the_model",
     "a_step_read_again_replaces_its_feature_in_place",
     "steps_on_curved_faces_expose_their_parameters_follow_edits_and_export",
+    "a_shell_is_a_thickness_whose_value_rebuilds_later_steps",
 ]
 
 

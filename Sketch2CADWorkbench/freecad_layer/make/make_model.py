@@ -13,10 +13,14 @@ from ..objects.box import BoxFeature
 from ..objects.extrude import ExtrudeFeature
 from ..objects.model import ModelFeature
 from ..objects.prism import PrismFeature
+from ..objects.shell import ShellFeature
 from ..objects.sweep import SweepFeature
 
 FEATURE_OF_OPERATION = per_operator(
-    {cls.OPERATION.type: cls for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature)},
+    {
+        cls.OPERATION.type: cls
+        for cls in (ExtrudeFeature, BevelFeature, PrismFeature, SweepFeature, ShellFeature)
+    },
     "FEATURE_OF_OPERATION",
 )
 DEFAULT_BOX = Box((40.0, 30.0, 20.0))

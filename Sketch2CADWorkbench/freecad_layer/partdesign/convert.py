@@ -9,6 +9,8 @@ Revolution, Groove, Bevel...), built from the step's plan (brep/features):
   (PartDesign pads a planar face as it pads a sketch), Length |d|;
 - a prism, a bevel: a sketch on f's plane padded or pocketed (a bevel along its crease);
 - a sweep: a sketch in a plane through the axis, revolved (Revolution) or grooved;
+- a shell: a Thickness of the feature before, its opened face f the face removed, Value
+  t inwards, its offset faces joined by intersection as the core joins them;
 - an extrusion of a cylinder's or cone's side: the band between the side and its offset,
   revolved over the side's span;
 - a prism or sweep on a curved side: its sketch on the tangent plane (a sweep's in a
@@ -206,6 +208,15 @@ def _remove(doc, body, objects) -> None:
 def _add_feature(doc, body, feature: Feature, name: str, added: list):
     """The native feature of `feature` at the end of `body` (with its sketch); every
     object made is appended to `added`."""
+    if feature.kind is Kind.THICKNESS:
+        previous = body.Tip if body.Tip is not None else body.BaseFeature
+        obj = body.newObject("PartDesign::Thickness", name)
+        added.append(obj)
+        obj.Base = (previous, [_face_name(previous.Shape, feature)])
+        obj.Value = feature.length
+        obj.Join = "Intersection"
+        obj.Reversed = True  # inwards: PartDesign thickens outwards unless reversed
+        return obj
     if feature.kind is Kind.BOX:
         box = body.newObject("PartDesign::AdditiveBox", name)
         added.append(box)

@@ -12,6 +12,7 @@ ICON_OF_TYPE = {
     "Sketch2CAD::Bevel": "Bevel",
     "Sketch2CAD::AddSubPrism": "Boss",
     "Sketch2CAD::Sweep": "Revolution",
+    "Sketch2CAD::Shell": "Thickness",
 }
 EDIT = 0  # FreeCAD's default edit mode; 1 (Transform) and the others are FreeCAD's own
 

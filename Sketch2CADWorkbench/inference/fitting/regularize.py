@@ -39,6 +39,7 @@ from ...brep.protocol import (
     Extrude,
     Operation,
     OperatorType,
+    Shell,
     Sweep,
     per_operator,
     straight_profile,
@@ -199,6 +200,7 @@ SNAP_KINDS = {
     "r0": "base radius",
     "r1": "far radius",
     "d": "length",
+    "t": "wall thickness",
 }
 
 
@@ -488,6 +490,11 @@ def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
     return op
 
 
+def _regularize_shell(op: Shell, s: _Snapper, targets: SnapTargets) -> Shell:
+    """t, measured across the rim in f's plane, rounds to the grid or a round length."""
+    return replace(op, t=s.length("t", op.t, s.frame.u, [], lambda t: replace(op, t=t)))
+
+
 def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> AddSubPrism:
     """Rectify the base polygon and align it with f's edges (the paper's angle and length
     thresholds), snap a rectangle's sides, then its position, then d."""
@@ -591,6 +598,7 @@ _REGULARIZE = per_operator(
         OperatorType.BEVEL: _regularize_bevel,
         OperatorType.ADDSUB: _regularize_prism,
         OperatorType.SWEEP: _regularize_sweep,
+        OperatorType.SHELL: _regularize_shell,
     },
     "_REGULARIZE",
 )

@@ -522,4 +522,31 @@ def steps_on_curved_faces_expose_their_parameters_follow_edits_and_export():
     FreeCAD.closeDocument(doc.Name)
 
 
+@check
+def a_shell_is_a_thickness_whose_value_rebuilds_later_steps():
+    p = example("enclosure")
+    doc = FreeCAD.newDocument("enclosure")
+    model = make_model_from_protocol(doc, p)
+    chain = features(model)
+    shell = chain[2]
+    assert shell.Label == "Thickness" and shell.Proxy.TYPE == "Sketch2CAD::Shell", shell.Label
+    assert shell.getTypeIdOfProperty("Thickness") == "App::PropertyLength"
+    assert_matches_core(model, p)
+    shell.Thickness = 3.0
+    doc.recompute()
+    thicker = replace(p.operations[1], t=3.0)
+    edited = replace(p, operations=(p.operations[0], thicker, *p.operations[2:]))
+    assert not failed_features(model)
+    assert_matches_core(model, edited)  # the later steps were rebuilt on the thicker walls
+    now = protocol_from_model(model)
+    assert now.operations[1] == thicker
+    # the bosses on the floor followed it up by the extra millimetre
+    assert [op.face.point[2] for op in now.operations[3:]] == [-12.0, -12.0], now.listing()
+    shell.Thickness = 40.0  # more than the enclosure allows: only it and later steps fail
+    doc.recompute()
+    assert failed_features(model) == chain[2:], [o.State for o in chain]
+    assert "t = 40 mm cannot be built" in shell.getStatusString(), shell.getStatusString()
+    FreeCAD.closeDocument(doc.Name)
+
+
 finish(run_checks())

@@ -1,0 +1,78 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""A shell's rim: which strokes draw it, and the wall thickness it says."""
+
+import numpy as np
+import pytest
+
+from Sketch2CADWorkbench.brep.faces import face_ref_of
+from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.shell import rim_and_wall, shell_fit
+from Sketch2CADWorkbench.render.camera import OrthoCamera
+from Sketch2CADWorkbench.sketch.curves import rim_wires
+
+BOX = make_box(Box((60.0, 40.0, 30.0)))
+TOP = next(f for f in BOX.Faces() if f.normalAt().z > 0.9)
+CAMERA = OrthoCamera((0.0, 0.0, 0.0), (0.4, 0.5, -0.77), (0.0, 0.0, 1.0), 50.0)
+
+
+def sides(points3d: np.ndarray, wobble: float = 0.0, seed: int = 0) -> list[np.ndarray]:
+    """One stroke (pixels) per side of a closed 3D polygon, each end moved by `wobble` px."""
+    rng = np.random.default_rng(seed)
+    px = CAMERA.project(points3d)[0]
+    out = []
+    for a, b in zip(px, np.roll(px, -1, axis=0), strict=True):
+        a, b = a + rng.normal(0, wobble, 2), b + rng.normal(0, wobble, 2)
+        out.append(np.linspace(a, b, 20))
+    return out
+
+
+def rim_corners(t: float) -> np.ndarray:
+    (wire,) = rim_wires(TOP, t)
+    return np.array([e.startPoint().toTuple() for e in wire.Edges()])
+
+
+def test_the_rim_is_the_closed_strokes_and_a_wall_line_is_set_aside():
+    rim = sides(rim_corners(3.0))
+    corner = rim[0][0]
+    wall = np.linspace(corner, corner + [0.0, 40.0], 15)
+    drawn = rim_and_wall([rim[0], wall, *rim[1:]])
+    assert drawn.rim == (0, 2, 3, 4) and drawn.wall == 1
+    assert rim_and_wall(rim).wall is None
+
+
+def test_a_prism_with_its_depth_lines_is_no_rim():
+    base = rim_corners(3.0)
+    far = base - [0.0, 0.0, 12.0]
+    px = CAMERA.project(np.vstack([base, far]))[0]
+    depth = [np.linspace(px[i], px[i + 4], 10) for i in range(4)]
+    with pytest.raises(FitError, match="do not close into one rim"):
+        rim_and_wall(sides(base) + depth)
+    with pytest.raises(FitError, match="do not close into one rim"):
+        rim_and_wall(sides(base) + depth + sides(far))
+
+
+@pytest.mark.parametrize("t, wobble", [(3.0, 0.0), (3.0, 1.0), (6.0, 2.0)])
+def test_t_is_where_the_rim_lies_inside_the_outline(t, wobble):
+    op = shell_fit(BOX, TOP, CAMERA, sides(rim_corners(t), wobble, seed=int(t)))
+    assert op.face == face_ref_of(TOP)
+    assert op.t == pytest.approx(t, abs=3 * wobble * CAMERA.pixel_size + 1e-6)
+
+
+def test_an_outline_that_is_no_inset_is_refused_saying_how_far_off():
+    square = np.array([[-25, -15, 15], [-5, -15, 15], [-5, 5, 15], [-25, 5, 15]], float)
+    with pytest.raises(FitError, match="no rim of the face"):
+        shell_fit(BOX, TOP, CAMERA, sides(square))
+
+
+def test_the_rim_of_a_face_with_a_boss_on_it_is_drawn_around_its_hole():
+    boss = AddSubPrism(
+        FaceRef((0.0, 0.0, 15.0), (0.0, 0.0, 1.0)),
+        ((-5, -5, 15), (5, -5, 15), (5, 5, 15), (-5, 5, 15)),
+        5.0,
+        Mode.SUBTRACT,
+    )
+    holed = apply_operation(BOX, boss)
+    top = next(f for f in holed.Faces() if f.normalAt().z > 0.9 and f.Center().z > 14)
+    assert len(rim_wires(top, 2.0)) == 2  # the outline inset, the hole grown
