@@ -27,6 +27,11 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
+def point_text(p: np.ndarray) -> str:
+    """A point as errors show it: "(x, y, z)" to the micrometre, without "-0"."""
+    return "(" + ", ".join(f"{round(float(x), 3) + 0.0:g}" for x in p) + ")"
+
+
 def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """An orthonormal basis (u, v) of the plane with unit normal n, (u, v, n) right-handed;
     u is perpendicular to the x axis unless n is nearly along it (then to the y axis)."""
