@@ -47,7 +47,6 @@ from .protocol import (
     AddSubPrism,
     Bevel,
     Box,
-    EdgeSet,
     Extrude,
     Mode,
     Operation,
@@ -325,14 +324,8 @@ def bevel_tool(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> cq
     return tool
 
 
-def _is_round(op: Bevel) -> bool:
-    """Whether a bevel leaves the paper's freeform cut along one crease: across an edge,
-    a fillet or chamfer, or along more than the drawn edge."""
-    return op.across or op.regular or op.edges is not EdgeSet.DRAWN
-
-
 def round_result(solid: cq.Solid, rf: ResolvedFace, op: Bevel, scale: float) -> OperationResult:
-    """A bevel that `_is_round`: OCCT's fillet or chamfer on its edges (brep/rounds), or a
+    """A bevel that `Bevel.is_round`: OCCT's fillet or chamfer on its edges (brep/rounds), or a
     freeform l cut along one straight edge or around one rim, and added instead where
     the edge is concave (l's region lies outside the solid).
 
@@ -346,7 +339,7 @@ def round_result(solid: cq.Solid, rf: ResolvedFace, op: Bevel, scale: float) -> 
 
 
 def place_round(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> RoundPlace:
-    """Where a bevel that `_is_round` is on the solid now: across an edge of f
+    """Where a bevel that `Bevel.is_round` is on the solid now: across an edge of f
     (brep/rounds.round_place), or along the crease that `place_bevel` finds.
 
     Raises:
@@ -709,7 +702,7 @@ def operation_result(
             if index is None
             else ResolvedFace.of(face_at(solid, index))
         )
-        if op.type is OperatorType.BEVEL and _is_round(op):
+        if op.type is OperatorType.BEVEL and op.is_round:
             return round_result(solid, rf, op, model_scale(solid))
         tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
         return combine(solid, tool, op.boolean, op.name)

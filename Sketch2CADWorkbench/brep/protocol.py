@@ -386,6 +386,12 @@ class Bevel(_Operation):
         return self.radius is not None or self.distances is not None
 
     @property
+    def is_round(self) -> bool:
+        """Whether the step is more than the paper's freeform cut along one crease: across
+        an edge, a fillet or chamfer, or along more than the drawn edge."""
+        return self.across or self.regular or self.edges is not EdgeSet.DRAWN
+
+    @property
     def name(self) -> str:
         return "fillet" if self.radius is not None else "chamfer" if self.distances else "bevel"
 

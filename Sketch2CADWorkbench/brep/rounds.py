@@ -208,25 +208,41 @@ def tangent_chain(solid: cq.Shape, faces_map, drawn: cq.Edge) -> list[cq.Edge]:
 
 def fillet_or_chamfer(solid: cq.Shape, op: Bevel, place: RoundPlace) -> cq.Shape:
     """The solid with OCCT's constant-radius fillet (op.radius) or two-distance chamfer
-    (op.distances, d1 measured on each edge's face on f's side) on the place's edges.
+    (op.distances, d1 measured on each edge's face on f's side) on the place's edges
+    (errors: as `fillet_or_chamfer_edges`)."""
+    faces = []
+    if op.distances is not None:
+        faces_map = edge_faces(solid)
+        faces = [face_on_side(faces_map, e, place.side.first) for e in place.edges]
+    return fillet_or_chamfer_edges(solid, place.edges, op.radius, op.distances, faces)
+
+
+def fillet_or_chamfer_edges(
+    solid: cq.Shape,
+    edges: list[cq.Edge],
+    radius: float | None,
+    distances: tuple[float, float] | None,
+    faces: list[cq.Face],
+) -> cq.Shape:
+    """The solid with the edges rounded by `radius` or, where `distances` are given,
+    chamfered: d1 on each edge's face in `faces`, d2 on its other face.
 
     Raises:
         OperationError: OCCT cannot build it (a radius or distance too large for the
             faces beside an edge, a chain it cannot follow), naming the field.
     """
     maker: BRepFilletAPI_MakeFillet | BRepFilletAPI_MakeChamfer
-    if op.distances is not None:
-        d1, d2 = op.distances
+    if distances is not None:
+        d1, d2 = distances
         maker = BRepFilletAPI_MakeChamfer(solid.wrapped)
-        faces_map = edge_faces(solid)
-        for e in place.edges:
-            maker.Add(d1, d2, e.wrapped, face_on_side(faces_map, e, place.side.first).wrapped)
-        field, value = "distances", f"[{d1:g}, {d2:g}] mm"
+        for e, face in zip(edges, faces, strict=True):
+            maker.Add(d1, d2, e.wrapped, face.wrapped)
+        what = f"chamfer {len(edges)} edge(s) with distances = [{d1:g}, {d2:g}] mm"
     else:
         maker = BRepFilletAPI_MakeFillet(solid.wrapped)
-        for e in place.edges:
-            maker.Add(op.radius, e.wrapped)
-        field, value = "radius", f"{op.radius:g} mm"
+        for e in edges:
+            maker.Add(radius, e.wrapped)
+        what = f"fillet {len(edges)} edge(s) with radius = {radius:g} mm"
     try:
         maker.Build()
         ok = maker.IsDone()
@@ -234,10 +250,20 @@ def fillet_or_chamfer(solid: cq.Shape, op: Bevel, place: RoundPlace) -> cq.Shape
         ok = False
     if not ok:
         raise OperationError(
-            f"bevel: OCCT cannot {op.name} {len(place.edges)} edge(s) with {field} = {value}: too "
-            "large for the faces beside an edge, or an edge chain it cannot follow"
+            f"bevel: OCCT cannot {what}: too large for the faces beside an edge, or an edge "
+            "chain it cannot follow"
         )
     return cq.Shape.cast(maker.Shape())
+
+
+def edges_at(solid: cq.Shape, points: np.ndarray) -> list[cq.Edge]:
+    """The edge of the solid nearest each point (K, 3)."""
+    edges = solid.Edges()
+    out = []
+    for p in points:
+        at = cq.Vertex.makeVertex(*map(float, p))
+        out.append(min(edges, key=lambda e: e.distance(at)))
+    return out
 
 
 def face_on_side(faces_map, edge: cq.Edge, first: cq.Face) -> cq.Face:

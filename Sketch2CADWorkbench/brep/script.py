@@ -52,6 +52,26 @@ def combine(solid, tool, mode):
 
 '''
 
+# Added after the header when a step fillets or chamfers edges of the solid before it.
+EDGE_HELPERS = '''
+def edges_at(solid, points):
+    """The edge of `solid` nearest each point (a point on each edge to round)."""
+    edges = solid.Edges()
+    return [min(edges, key=lambda e: e.distance(cq.Vertex.makeVertex(*p))) for p in points]
+
+
+def chamfer(solid, d1, d2, edges, faces):
+    """`solid` with each edge chamfered, d1 measured on its face in `faces`, d2 on the
+    other (cadquery's own chamfer picks that face itself)."""
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer
+
+    maker = BRepFilletAPI_MakeChamfer(solid.wrapped)
+    for edge, face in zip(edges, faces):
+        maker.Add(d1, d2, edge.wrapped, face.wrapped)
+    return cq.Shape.cast(maker.Shape())
+
+'''
+
 FOOTER = """
 result = solid
 
@@ -63,11 +83,15 @@ if __name__ == "__main__":
 def cadquery_script(plan: Plan, title: str) -> str:
     """The CadQuery script of a protocol's plan (module docstring)."""
     lines = [HEADER.format(title=title)]
+    if any(f.kind in (Kind.FILLET, Kind.CHAMFER) for f in plan.features):
+        lines.append(EDGE_HELPERS)
     listing = plan.protocol.listing().splitlines()
     for feature in plan.features:
         lines.append(f"# Step {listing[feature.step]}")
         if feature.kind is Kind.BOX:
             lines += _box(feature)
+        elif feature.kind in (Kind.FILLET, Kind.CHAMFER):
+            lines += _rounded(feature)
         elif isinstance(plan.protocol.operations[feature.step - 1], Extrude):
             lines += _extrude(plan.protocol.operations[feature.step - 1], feature)
         else:
@@ -81,6 +105,24 @@ def _box(feature: Feature) -> list[str]:
     return [
         f"lx, ly, lz = {lx}, {ly}, {lz}",
         "solid = cq.Solid.makeBox(lx, ly, lz, cq.Vector(-lx / 2, -ly / 2, -lz / 2))",
+    ]
+
+
+def _rounded(feature: Feature) -> list[str]:
+    points = ", ".join(_v(p) for p in feature.edges)
+    out = [f"edges = edges_at(solid, [{points}])"]
+    if feature.kind is Kind.FILLET:
+        return [
+            f"radius = {_n(feature.dims['radius'])}",
+            *out,
+            "solid = solid.fillet(radius, edges)",
+        ]
+    faces = ", ".join(f"face_at(solid, {_v(p)}, {_v(n)})" for p, n in feature.sides)
+    return [
+        f"d1, d2 = {_n(feature.dims['d1'])}, {_n(feature.dims['d2'])}",
+        *out,
+        f"faces = [{faces}]  # where d1 is measured",
+        "solid = chamfer(solid, d1, d2, edges, faces)",
     ]
 
 
@@ -105,7 +147,7 @@ def _sketched(feature: Feature) -> list[str]:
     frame, outline = feature.frame, feature.outline
     dims = dict(outline.dims)
     if feature.kind is Kind.EXTRUDE:
-        length = "d" if "crease" not in feature.dims else "crease"
+        length = next((k for k in ("crease", "edge") if k in feature.dims), "d")
         dims[length] = feature.length
         if feature.back:
             dims["reach"] = feature.back

@@ -6,60 +6,26 @@ import math
 
 import numpy as np
 import pytest
+from round_fixtures import (
+    BASE,
+    DISK,
+    KNOB,
+    TOP,
+    R,
+    knob_volume,
+    knob_with,
+    quarter,
+    revolved,
+    rim,
+    rounded_box,
+    top_edge,
+)
 
 from Sketch2CADWorkbench.brep.faces import OperationError
 from Sketch2CADWorkbench.brep.geometry import bezier
 from Sketch2CADWorkbench.brep.operators import apply_operation, build, make_box, replay
-from Sketch2CADWorkbench.brep.protocol import (
-    Bevel,
-    Box,
-    EdgeSet,
-    FaceRef,
-    Mode,
-    Protocol,
-    Sweep,
-)
+from Sketch2CADWorkbench.brep.protocol import Bevel, EdgeSet, FaceRef, Mode, Protocol, Sweep
 from Sketch2CADWorkbench.brep.rounds import edge_faces, tangent_chain
-
-R, H, TOP = 15.0, 20.0, 25.0  # the knob: a cylinder of radius R, height H, top at z = TOP
-K = 4 / 3 * (math.sqrt(2) - 1)  # a quarter circle's Bezier handle, per unit radius
-BASE = Box((60.0, 60.0, 10.0))
-KNOB = Sweep(
-    FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
-    (0.0, 0.0, 5.0),
-    R,
-    R,
-    H,
-    ((R, H / 3), (R, 2 * H / 3)),
-    Mode.ADD,
-)
-DISK = FaceRef((0.0, 0.0, TOP), (0.0, 0.0, 1.0))
-
-
-def quarter(c, into_f, into_other, r):
-    """A quarter circle's Bezier from c + r into_f to c + r into_other, tangent to both."""
-    c, a, b = (np.asarray(v, float) for v in (c, into_f, into_other))
-    pts = [c + r * a, c + r * a * (1 - K), c + r * b * (1 - K), c + r * b]
-    return tuple(tuple(map(float, p)) for p in pts)
-
-
-def rim(r=3.0, **fields):
-    """A bevel across the knob's top rim at (R, 0, TOP), drawn as a quarter circle."""
-    c = (R, 0.0, TOP)
-    return Bevel(DISK, c, None, quarter(c, (-1, 0, 0), (0, 0, -1), r), **fields)
-
-
-def knob_with(op):
-    return build(Protocol(BASE, (KNOB, op)))
-
-
-def knob_volume():
-    return build(Protocol(BASE, (KNOB,))).Volume()
-
-
-def revolved(area, centroid_radius):
-    """Pappus: the volume of a plane region revolved about an axis."""
-    return 2 * math.pi * centroid_radius * area
 
 
 def test_a_fillet_around_a_rim_removes_the_revolved_corner():
@@ -123,13 +89,6 @@ def test_a_hole_mouth_is_rounded_from_the_face_around_it():
     assert removed == pytest.approx(revolved(area, centroid), rel=1e-6)
 
 
-def top_edge(**fields):
-    """A bevel across the box's top front edge at its middle (y = -30, z = 5)."""
-    c = (0.0, -30.0, 5.0)
-    face = FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0))
-    return Bevel(face, c, None, quarter(c, (0, 1, 0), (0, 0, -1), 2.0), **fields)
-
-
 def test_the_outline_rounds_every_edge_of_the_face():
     drawn = build(Protocol(BASE, (top_edge(radius=2.0),)))
     outline = build(Protocol(BASE, (top_edge(radius=2.0, edges=EdgeSet.OUTLINE),)))
@@ -137,19 +96,6 @@ def test_the_outline_rounds_every_edge_of_the_face():
     assert [f.geomType() for f in drawn.Faces()].count("CYLINDER") == 1
     assert kinds.count("CYLINDER") == 4  # the four top edges, and a blend at each corner
     assert outline.Volume() < drawn.Volume()
-
-
-def rounded_box():
-    """The box with its four vertical edges filleted (r = 5) by the paper's crease form,
-    so that the top outline is one tangent chain of four lines and four arcs."""
-    ops = []
-    for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)):
-        c = (30.0 * sx, 30.0 * sy, 5.0)
-        ctrl = quarter(c, (-sx, 0, 0), (0, -sy, 0), 5.0)
-        ops.append(
-            Bevel(FaceRef((0.0, 0.0, 5.0), (0, 0, 1.0)), c, (c[0], c[1], -5.0), ctrl, radius=5.0)
-        )
-    return Protocol(BASE, tuple(ops))
 
 
 def test_the_crease_form_fillets_its_crease():

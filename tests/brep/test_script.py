@@ -3,6 +3,7 @@
 (and what it needs) is installed."""
 
 import importlib.metadata as metadata
+import runpy
 import subprocess
 import sys
 from pathlib import Path
@@ -10,6 +11,7 @@ from pathlib import Path
 import cadquery as cq
 import pytest
 from packaging.requirements import Requirement
+from round_fixtures import round_protocols
 
 from Sketch2CADWorkbench.brep.features import mismatch, plan_protocol
 from Sketch2CADWorkbench.brep.protocol import load
@@ -83,3 +85,12 @@ def test_script_names_the_steps_parameters():
     assert "cp1_r = 12.0" in text and "(cp1_r, cp1_h)" in text
     assert text.count("# Step ") == len(plan.features)
     compile(text, "lamp.py", "exec")
+
+
+def test_scripts_of_rounds_and_chamfers_rebuild_the_core_solids(tmp_path):
+    for name, protocol in round_protocols().items():
+        plan = plan_protocol(protocol)
+        path = tmp_path / "round.py"
+        path.write_text(cadquery_script(plan, name))
+        got = runpy.run_path(str(path))["result"]
+        assert mismatch(got, plan.solids[-1]) <= TOL, name
