@@ -114,15 +114,13 @@ def round_place(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> R
             "edge names the planar face on one side of the edge as f"
         )
     c = np.asarray(op.corner, float) + rf.offset
+    drawn, gap = nearest_edge(rf.face, c)
     tol = 1e-6 * scale
-    edges = rf.face.Edges()
-    gaps = [e.distance(cq.Vertex.makeVertex(*map(float, c))) for e in edges]
-    if min(gaps) > tol and points_on_face(rf.face, c[None], tol, boundary=False)[0]:
+    if gap > tol and points_on_face(rf.face, c[None], tol, boundary=False)[0]:
         raise OperationError(
             f"bevel: corner c {point_text(c)} lies inside face f, not on its outline; c must "
             "be the point of an edge of f that profile l crosses"
         )
-    drawn = edges[int(np.argmin(gaps))]
     faces_map = edge_faces(solid)
     side = _side(solid, faces_map, drawn, c, rf.face, f"the edge of f at corner c {point_text(c)}")
     ctrl = np.asarray(op.profile, float) + rf.offset + (side.point - c)
@@ -138,6 +136,31 @@ def round_place(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> R
             f"bevel: profile l starts {point_text(ctrl[0])} off face f's plane; l(0) lies on f"
         )
     return RoundPlace(side, ctrl, edge_set(solid, faces_map, rf.face, drawn, op.edges))
+
+
+def nearest_edge(face: cq.Face, point: np.ndarray) -> tuple[cq.Edge, float]:
+    """The edge of a face's outline nearest `point`, and how far it is (mm)."""
+    at = cq.Vertex.makeVertex(*map(float, point))
+    gaps = [(e.distance(at), i) for i, e in enumerate(face.Edges())]
+    gap, i = min(gaps)
+    return face.Edges()[i], gap
+
+
+def far_copy(edge: cq.Edge, c: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
+    """Where a designer draws the profile a second time, l' (its points (K, 3)): at the far
+    end of a straight edge from c, across a circular rim (l turned half round its axis);
+    l itself on other edges."""
+    if edge.geomType() == "LINE":
+        ends = [np.array(p.toTuple()) for p in (edge.startPoint(), edge.endPoint())]
+        far = max(ends, key=lambda e: float(np.linalg.norm(e - c)))
+        return ctrl + (far - c)
+    if edge.geomType() == "CIRCLE":
+        center = np.array(edge.arcCenter().toTuple())
+        axis = unit(np.array(edge.normal().toTuple()))
+        rel = ctrl - center
+        along = np.outer(rel @ axis, axis)
+        return center + along - (rel - along)  # turned by 180 degrees about the axis
+    return ctrl
 
 
 def crease_side(solid: cq.Shape, c: np.ndarray, crease: np.ndarray, a: np.ndarray) -> EdgeSide:

@@ -182,6 +182,8 @@ FIT_REACH, FIT_TRIES = 3.0, 3
 # mm; and a sloppy hand's strokes, which fit neither clearly, do not choose
 # (docs/measurements.md, regularize.ROUND_STEPS).
 ROUND_STEPS, ROUND_MIN, ROUND_PX = (10.0, 5.0), 8, 0.3
+# Points a bevel's profile and the fillet or chamfer it may snap to are compared at.
+ROUND_SAMPLES = 32
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
 # A free direction slides onto the grid only along a grid direction within 60 degrees of
@@ -199,6 +201,8 @@ SNAP_KINDS = {
     "r0": "base radius",
     "r1": "far radius",
     "d": "length",
+    "rounding": "profile (a fillet or a chamfer)",
+    "round_size": "fillet radius or chamfer widths",
 }
 
 
@@ -276,6 +280,13 @@ class _Snapper:
         """On-screen length (view pixels) of a world displacement (mm)."""
         seen = float(np.linalg.norm(self.view.image_of(vec3)))
         return max(seen, FORESHORTEN_FLOOR * float(np.linalg.norm(vec3)) / self.view.pixel_size)
+
+    def curve_px(self, p: np.ndarray, q: np.ndarray) -> float:
+        """How far apart two curves (sampled, (K, 3) world mm) are seen in the view: the
+        mean distance (pixels) from each sample to the other curve, both ways."""
+        a, b = self.view.project(p)[0], self.view.project(q)[0]
+        gaps = np.linalg.norm(a[:, None] - b[None], axis=2)
+        return float((gaps.min(axis=1).mean() + gaps.min(axis=0).mean()) / 2)
 
     def px2(self, vec2: np.ndarray) -> float:
         """On-screen length of a displacement in the face's plane (2D frame, mm)."""
@@ -484,8 +495,68 @@ def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extru
 
 
 def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
-    """A bevel's corner and crease are f's own; its profile stays as drawn."""
-    return op
+    """A bevel's corner and crease (or edge) are the solid's own. Its profile l becomes
+    a fillet's circular arc tangent to both faces, or a chamfer's straight line, where
+    that lies within the tolerance of l in the view (mean distance, view pixels: as
+    other shapes snap), the nearer of the two; then the radius, or the chamfer's two
+    widths, snap to the grid (`_Snapper.length`). Otherwise l stays as drawn."""
+    if op.regular or "rounding" in s.skip:
+        return op
+    c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
+    ua, ub = (ctrl[k] - c for k in (0, 3))
+    a, b = float(np.linalg.norm(ua)), float(np.linalg.norm(ub))
+    ua, ub = ua / a, ub / b
+    wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))  # the angle between the faces
+    if not 1e-3 < wedge < np.pi - 1e-3:
+        return op
+    fillet = _fillet(c, ua, ub, (a + b) / 2 * np.tan(wedge / 2), wedge)
+    chamfer = _chamfer(c, ua, ub, a, b)
+    drawn = bezier(ctrl, np.linspace(0, 1, ROUND_SAMPLES))
+    off = [
+        (s.curve_px(drawn, bezier(k[0], np.linspace(0, 1, ROUND_SAMPLES))), k)
+        for k in (fillet, chamfer)
+    ]
+    px, (new, name) = min(off, key=lambda o: o[0])
+    if px > s.tol:
+        return op
+    s.record("rounding", name, ctrl.ravel(), new.ravel())
+    if name == FILLET:
+        r = float(np.linalg.norm(new[0] - c)) * np.tan(wedge / 2)
+
+        def rounded(radius: float) -> Bevel:
+            arc, _ = _fillet(c, ua, ub, radius, wedge)
+            return replace(op, profile=_points(arc), radius=radius)
+
+        return rounded(s.length("round_size", r, ua, [], rounded))
+    widths = [s.length("round_size", w, u, []) for w, u in ((a, ua), (b, ub))]
+    line, _ = _chamfer(c, ua, ub, *widths)
+    return replace(op, profile=_points(line), distances=(widths[0], widths[1]))
+
+
+FILLET, CHAMFER = "a fillet (a circular arc)", "a chamfer (a straight line)"
+
+
+def _fillet(
+    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, radius: float, wedge: float
+) -> tuple[np.ndarray, str]:
+    """The cubic Bezier (4, 3) of the arc of `radius` tangent to the lines c + s ua and
+    c + s ub (unit, `wedge` radians apart), from the first to the second."""
+    reach = radius / np.tan(wedge / 2)  # from c to where the arc touches each line
+    handle = 4 / 3 * np.tan((np.pi - wedge) / 4) * radius
+    p0, p3 = c + reach * ua, c + reach * ub
+    return np.stack([p0, p0 - handle * ua, p3 - handle * ub, p3]), FILLET
+
+
+def _chamfer(
+    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float
+) -> tuple[np.ndarray, str]:
+    """The straight line (4, 3) from c + a ua to c + b ub, its inner points at thirds."""
+    p0, p3 = c + a * ua, c + b * ub
+    return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3]), CHAMFER
+
+
+def _points(ctrl: np.ndarray) -> tuple:
+    return tuple(tuple(map(float, p)) for p in ctrl)
 
 
 def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> AddSubPrism:
@@ -649,7 +720,7 @@ def regularize_operation(
             beyond the tolerance is taken when they fit the feature put there (FIT_REACH),
             a round length when they fit it about as well (ROUND_PX).
     Returns:
-        The operation and the snaps applied, in order. Bevels are returned unchanged.
+        The operation and the snaps applied, in order.
     """
     frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
     s = _Snapper(frame, view, tol_px, step, frozenset(skip), strokes)
