@@ -344,7 +344,7 @@ def _across_readings(
     except FitError:
         return []
     labels = [int(i == pick) for i in range(len(strokes))]
-    out = []
+    out: list[tuple[float, Operation, int, list[int]]] = []
     for op in ops:
         try:
             score = ctx.sketch_fit(solid, op).score

@@ -32,7 +32,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import FaceFrame, is_curved
-from ...brep.geometry import bezier
+from ...brep.geometry import bezier, vec3
 from ...brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -40,6 +40,7 @@ from ...brep.protocol import (
     Operation,
     OperatorType,
     Sweep,
+    Vec3,
     per_operator,
     straight_profile,
 )
@@ -555,8 +556,9 @@ def _chamfer(
     return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3]), CHAMFER
 
 
-def _points(ctrl: np.ndarray) -> tuple:
-    return tuple(tuple(map(float, p)) for p in ctrl)
+def _points(ctrl: np.ndarray) -> tuple[Vec3, Vec3, Vec3, Vec3]:
+    p0, p1, p2, p3 = (vec3(p) for p in ctrl)
+    return (p0, p1, p2, p3)
 
 
 def _regularize_prism(op: AddSubPrism, s: _Snapper, targets: SnapTargets) -> AddSubPrism:

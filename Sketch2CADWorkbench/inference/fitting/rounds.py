@@ -17,6 +17,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import CurvedSurface, FaceFrame, face_ref_of, model_scale
+from ...brep.geometry import vec3
 from ...brep.protocol import Bevel, EdgeSet
 from ...brep.rounds import edge_faces, faces_of, point_on_edge
 from ...render.camera import OrthoCamera
@@ -168,11 +169,5 @@ def _fit_across(
         corner=np.zeros(2),
         span=INNER_SPAN,
     )
-    ctrl = frame.to_3d(ctrl2)
-    return Bevel(
-        face_ref_of(f),
-        tuple(map(float, c)),
-        None,
-        tuple(tuple(map(float, p)) for p in ctrl),
-        edges,
-    )
+    p0, p1, p2, p3 = (vec3(p) for p in frame.to_3d(ctrl2))
+    return Bevel(face_ref_of(f), vec3(c), None, (p0, p1, p2, p3), edges)
