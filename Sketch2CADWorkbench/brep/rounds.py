@@ -146,20 +146,20 @@ def nearest_edge(face: cq.Face, point: np.ndarray) -> tuple[cq.Edge, float]:
     return face.Edges()[i], gap
 
 
-def far_copy(edge: cq.Edge, c: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
+def far_copy(edge: cq.Edge, c: np.ndarray, ctrl: np.ndarray, back: bool = False) -> np.ndarray:
     """Where a designer draws the profile a second time, l' (its points (K, 3)): at the far
     end of a straight edge from c, across a circular rim (l turned half round its axis);
-    l itself on other edges."""
+    l itself on other edges. `back`: the inverse, from l' to l."""
     if edge.geomType() == "LINE":
         ends = [np.array(p.toTuple()) for p in (edge.startPoint(), edge.endPoint())]
         far = max(ends, key=lambda e: float(np.linalg.norm(e - c)))
-        return ctrl + (far - c)
-    if edge.geomType() == "CIRCLE":
+        return ctrl + (c - far if back else far - c)
+    if edge.geomType() == "CIRCLE":  # a half turn is its own inverse
         center = np.array(edge.arcCenter().toTuple())
         axis = unit(np.array(edge.normal().toTuple()))
         rel = ctrl - center
         along = np.outer(rel @ axis, axis)
-        return center + along - (rel - along)  # turned by 180 degrees about the axis
+        return center + along - (rel - along)
     return ctrl
 
 

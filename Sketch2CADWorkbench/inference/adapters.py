@@ -335,22 +335,25 @@ def _across_readings(
     ctx: Context,
     options: InterpretOptions,
 ) -> list[tuple[float, Operation, int, list[int]]]:
-    """Bevels whose profile l, the stroke C votes for most, is drawn across an edge: a
+    """Bevels whose profile l, one of the BEVEL_READINGS strokes C votes for most (C
+    takes l' for l as often: the designer draws both alike), is drawn across an edge: a
     straight edge or a circular rim (fitting/rounds), with the designer's edge set, and
     their scores; none where no edge fits (a corner's crease reads it then)."""
-    pick = int(np.argmax(votes))
-    try:
-        ops = round_fits(solid, ctx.camera, strokes[pick], options.edges)
-    except FitError:
-        return []
-    labels = [int(i == pick) for i in range(len(strokes))]
     out: list[tuple[float, Operation, int, list[int]]] = []
-    for op in ops:
+    for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
+        others = [s for i, s in enumerate(strokes) if i != pick]
         try:
-            score = ctx.sketch_fit(solid, op).score
-        except OperationError:
+            ops = round_fits(solid, ctx.camera, strokes[pick], options.edges, others)
+        except FitError:
             continue
-        out.append((score, op, base_face_index(solid, resolve_face(solid, op.face).face), labels))
+        labels = [int(i == pick) for i in range(len(strokes))]
+        for op in ops:
+            try:
+                score = ctx.sketch_fit(solid, op).score
+            except OperationError:
+                continue
+            index = base_face_index(solid, resolve_face(solid, op.face).face)
+            out.append((score, op, index, labels))
     return out
 
 

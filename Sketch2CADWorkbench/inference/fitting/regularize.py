@@ -32,7 +32,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import FaceFrame, is_curved
-from ...brep.geometry import bezier, vec3
+from ...brep.geometry import bezier, unit, vec3
 from ...brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -499,39 +499,67 @@ def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
     """A bevel's corner and crease (or edge) are the solid's own. Its profile l becomes
     a fillet's circular arc tangent to both faces, or a chamfer's straight line, where
     that lies within the tolerance of l in the view (mean distance, view pixels: as
-    other shapes snap), the nearer of the two; then the radius, or the chamfer's two
-    widths, snap to the grid (`_Snapper.length`). Otherwise l stays as drawn."""
-    if op.regular or "rounding" in s.skip:
-        return op
+    other shapes snap), the nearer of the two (`regular_candidates`); then the radius,
+    or the chamfer's two widths, snap to the grid (`_Snapper.length`). Otherwise l stays
+    as drawn."""
+    if not op.regular:
+        if "rounding" in s.skip:
+            return op
+        drawn = bezier(np.array(op.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+        off = [
+            (s.curve_px(drawn, bezier(np.array(k.profile), np.linspace(0, 1, ROUND_SAMPLES))), k)
+            for k in regular_candidates(op)
+        ]
+        px, new = min(off, key=lambda o: o[0], default=(np.inf, op))
+        if px > s.tol:
+            return op
+        name = FILLET if new.radius is not None else CHAMFER
+        s.record("rounding", name, np.ravel(op.profile), np.ravel(new.profile))
+        op = new
+    c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
+    ua, ub = (unit(ctrl[k] - c) for k in (0, 3))
+    if op.radius is not None:
+        wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))
+
+        def rounded(radius: float) -> Bevel:
+            return replace(op, profile=_points(_fillet(c, ua, ub, radius, wedge)), radius=radius)
+
+        return rounded(s.length("round_size", op.radius, ua, [], rounded))
+    widths = [s.length("round_size", w, u, []) for w, u in zip(op.distances, (ua, ub), strict=True)]
+    return replace(
+        op, profile=_points(_chamfer(c, ua, ub, *widths)), distances=(widths[0], widths[1])
+    )
+
+
+def regular_candidates(op: Bevel) -> list[Bevel]:
+    """The fillet and the chamfer a freeform bevel's profile l may mean: the circular arc
+    tangent to both faces whose ends lie as far from c as l's on average, and the
+    straight line between l's ends; none where l's ends are in line with c."""
     c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
     ua, ub = (ctrl[k] - c for k in (0, 3))
     a, b = float(np.linalg.norm(ua)), float(np.linalg.norm(ub))
     ua, ub = ua / a, ub / b
     wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))  # the angle between the faces
     if not 1e-3 < wedge < np.pi - 1e-3:
-        return op
-    fillet = _fillet(c, ua, ub, (a + b) / 2 * np.tan(wedge / 2), wedge)
-    chamfer = _chamfer(c, ua, ub, a, b)
-    drawn = bezier(ctrl, np.linspace(0, 1, ROUND_SAMPLES))
-    off = [
-        (s.curve_px(drawn, bezier(k[0], np.linspace(0, 1, ROUND_SAMPLES))), k)
-        for k in (fillet, chamfer)
+        return []
+    radius = (a + b) / 2 * np.tan(wedge / 2)
+    return [
+        replace(op, profile=_points(_fillet(c, ua, ub, radius, wedge)), radius=float(radius)),
+        replace(op, profile=_points(_chamfer(c, ua, ub, a, b)), distances=(a, b)),
     ]
-    px, (new, name) = min(off, key=lambda o: o[0])
-    if px > s.tol:
-        return op
-    s.record("rounding", name, ctrl.ravel(), new.ravel())
-    if name == FILLET:
-        r = float(np.linalg.norm(new[0] - c)) * np.tan(wedge / 2)
 
-        def rounded(radius: float) -> Bevel:
-            arc, _ = _fillet(c, ua, ub, radius, wedge)
-            return replace(op, profile=_points(arc), radius=radius)
 
-        return rounded(s.length("round_size", r, ua, [], rounded))
-    widths = [s.length("round_size", w, u, []) for w, u in ((a, ua), (b, ub))]
-    line, _ = _chamfer(c, ua, ub, *widths)
-    return replace(op, profile=_points(line), distances=(widths[0], widths[1]))
+def nearest_regular(op: Bevel) -> Bevel:
+    """The fillet or chamfer (`regular_candidates`) whose profile lies nearer l (mean
+    distance in 3D): what a bevel along a chain or an outline, which OCCT builds only as
+    one of them, reads its profile as; `op` itself where l has neither."""
+    drawn = bezier(np.array(op.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+
+    def gap(k: Bevel) -> float:
+        other = bezier(np.array(k.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+        return float(np.linalg.norm(drawn[:, None] - other[None], axis=2).min(axis=1).mean())
+
+    return min(regular_candidates(op), key=gap, default=op)
 
 
 FILLET, CHAMFER = "a fillet (a circular arc)", "a chamfer (a straight line)"
@@ -539,21 +567,19 @@ FILLET, CHAMFER = "a fillet (a circular arc)", "a chamfer (a straight line)"
 
 def _fillet(
     c: np.ndarray, ua: np.ndarray, ub: np.ndarray, radius: float, wedge: float
-) -> tuple[np.ndarray, str]:
+) -> np.ndarray:
     """The cubic Bezier (4, 3) of the arc of `radius` tangent to the lines c + s ua and
     c + s ub (unit, `wedge` radians apart), from the first to the second."""
     reach = radius / np.tan(wedge / 2)  # from c to where the arc touches each line
     handle = 4 / 3 * np.tan((np.pi - wedge) / 4) * radius
     p0, p3 = c + reach * ua, c + reach * ub
-    return np.stack([p0, p0 - handle * ua, p3 - handle * ub, p3]), FILLET
+    return np.stack([p0, p0 - handle * ua, p3 - handle * ub, p3])
 
 
-def _chamfer(
-    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float
-) -> tuple[np.ndarray, str]:
+def _chamfer(c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float) -> np.ndarray:
     """The straight line (4, 3) from c + a ua to c + b ub, its inner points at thirds."""
     p0, p3 = c + a * ua, c + b * ub
-    return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3]), CHAMFER
+    return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3])
 
 
 def _points(ctrl: np.ndarray) -> tuple[Vec3, Vec3, Vec3, Vec3]:

@@ -9,6 +9,8 @@ between a planar face f and another face), takes c where the stroke is nearest t
 edge's image, back-projects the stroke onto the plane normal to the edge at c, and fits
 l there as a cubic Bezier from f's trace (l(0)) to the other face's (l(1)), each a
 straight line from c in that plane (a plane's, or a cylinder's or cone's generatrix).
+Along a tangent chain or a face's outline, which OCCT follows only with a fillet or a
+chamfer, l is read as the nearer of the two (regularize.nearest_regular).
 """
 
 from __future__ import annotations
@@ -19,10 +21,11 @@ import numpy as np
 from ...brep.faces import CurvedSurface, FaceFrame, face_ref_of, model_scale
 from ...brep.geometry import vec3
 from ...brep.protocol import Bevel, EdgeSet
-from ...brep.rounds import edge_faces, faces_of, point_on_edge
+from ...brep.rounds import edge_faces, faces_of, far_copy, point_on_edge
 from ...render.camera import OrthoCamera
 from .bevel import EDGE_TOL, INNER_SPAN
 from .common import FitError, fit_bezier, resample
+from .regularize import nearest_regular
 
 # Edges tried per profile stroke, the nearest (in the image) first.
 EDGES_TRIED = 3
@@ -35,10 +38,15 @@ FACING_COS = 0.3
 
 
 def round_fits(
-    solid: cq.Shape, camera: OrthoCamera, stroke: np.ndarray, edges: EdgeSet = EdgeSet.DRAWN
+    solid: cq.Shape,
+    camera: OrthoCamera,
+    stroke: np.ndarray,
+    edges: EdgeSet = EdgeSet.DRAWN,
+    others: list[np.ndarray] | None = None,
 ) -> list[Bevel]:
     """Bevels across an edge that the profile stroke may draw, the edge it fits best (in
-    the image) first, each with the edge set `edges` (module docstring).
+    the image) first, each with the edge set `edges` (module docstring); `others`, the
+    sketch's other strokes, may hold l' drawn again (`_fit_across`).
 
     Raises:
         FitError: no straight edge or circular rim between a planar face and another
@@ -61,7 +69,8 @@ def round_fits(
     near.sort(key=lambda n: n[0][0])
     out = []
     for (_, c, flip), edge, faces in near[:EDGES_TRIED]:
-        op = _fit_across(solid, camera, stroke[::-1] if flip else stroke, edge, c, faces, edges)
+        drawn = stroke[::-1] if flip else stroke
+        op = _fit_across(solid, camera, drawn, edge, c, faces, edges, others or [])
         if op is not None:
             out.append(op)
     if not out:
@@ -137,37 +146,71 @@ def _fit_across(
     c: np.ndarray,
     faces: list[cq.Face],
     edges: EdgeSet,
+    others: list[np.ndarray],
 ) -> Bevel | None:
     """l fitted across `edge` at c from its planar face f (the stroke's start) to the
-    other: its ends where the stroke's ends lie along the two traces in the image, its
-    inner control points fitted to the stroke back-projected onto l's plane (None: the
-    stroke's ends lie off the faces, or the plane is seen edge-on)."""
+    other (None: the stroke's ends lie off the faces, or the plane is seen edge-on).
+
+    The stroke is back-projected onto l's plane; so is the other stroke that draws l'
+    where the sketch has it (brep/rounds.far_copy), carried back onto l's plane, when
+    one lies within l's size of l: l's ends are where the strokes' ends lie along the
+    faces' traces, its inner control points fitted to each, on average, as the hand's
+    error of two strokes averages out."""
     c, t = point_on_edge(edge, c)
     k = next(i for i, face in enumerate(faces) if face.geomType() == "PLANE")
     f, g = faces[k], faces[1 - k]
-    origin = camera.project(c[None])[0][0]
     scale = model_scale(solid)
-    ends = []
-    for face, p in ((f, stroke[0]), (g, stroke[-1])):
-        u = _traces(face, c[None], t[None])[0]
-        w = camera.image_of(u)
-        reach = float((p - origin) @ w) / max(float(w @ w), 1e-12)  # mm along u
-        u = u if reach >= 0 else -u
-        if face.distance(cq.Vertex.makeVertex(*(c + 1e-3 * scale * u))) > 1e-5 * scale:
-            return None  # that way from c is not on the face
-        ends.append((u, max(abs(reach), 1e-3 * scale)))
     try:
-        pts = camera.back_project_to_plane(stroke, c, t)
+        drawn = [camera.back_project_to_plane(stroke, c, t)]
     except ValueError:
         return None
-    (u_f, reach_f), (u_g, reach_g) = ends
-    frame = FaceFrame(c, t, u_f, np.cross(t, u_f))
-    ctrl2 = fit_bezier(
-        frame.to_2d(pts),
-        frame.to_2d(c + reach_f * u_f)[0],
-        frame.to_2d(c + reach_g * u_g)[0],
-        corner=np.zeros(2),
-        span=INNER_SPAN,
+    traces = []
+    for face, end in ((f, drawn[0][0]), (g, drawn[0][-1])):
+        u = _traces(face, c[None], t[None])[0]
+        u = u if float((end - c) @ u) >= 0 else -u
+        if face.distance(cq.Vertex.makeVertex(*(c + 1e-3 * scale * u))) > 1e-5 * scale:
+            return None  # that way from c is not on the face
+        traces.append(u)
+    u_f, u_g = traces
+    second = _second_stroke(edge, c, t, camera, others, drawn[0], u_f)
+    if second is not None:
+        drawn.append(second)
+    reach_f, reach_g = (
+        max(float(np.mean([(p[i] - c) @ u for p in drawn])), 1e-3 * scale)
+        for i, u in ((0, u_f), (-1, u_g))
     )
-    p0, p1, p2, p3 = (vec3(p) for p in frame.to_3d(ctrl2))
-    return Bevel(face_ref_of(f), vec3(c), None, (p0, p1, p2, p3), edges)
+    frame = FaceFrame(c, t, u_f, np.cross(t, u_f))
+    a, b = frame.to_2d(c + reach_f * u_f)[0], frame.to_2d(c + reach_g * u_g)[0]
+    fits = [fit_bezier(frame.to_2d(p), a, b, corner=np.zeros(2), span=INNER_SPAN) for p in drawn]
+    p0, p1, p2, p3 = (vec3(p) for p in frame.to_3d(np.mean(fits, axis=0)))
+    op = Bevel(face_ref_of(f), vec3(c), None, (p0, p1, p2, p3), edges)
+    # OCCT follows a chain or an outline only with a fillet or a chamfer
+    return op if edges is EdgeSet.DRAWN else nearest_regular(op)
+
+
+def _second_stroke(
+    edge: cq.Edge,
+    c: np.ndarray,
+    t: np.ndarray,
+    camera: OrthoCamera,
+    others: list[np.ndarray],
+    first: np.ndarray,
+    u_f: np.ndarray,
+) -> np.ndarray | None:
+    """Of the other strokes, the one that draws l' (brep/rounds.far_copy) nearest the
+    first stroke's l, back-projected onto l''s plane and carried onto l's, its start on
+    f's side; None when none lies within l's size of it."""
+    size = float(np.linalg.norm(first[-1] - first[0]))
+    far_c = far_copy(edge, c, c[None])[0]
+    best = None
+    for other in others:
+        try:
+            pts = far_copy(edge, c, camera.back_project_to_plane(other, far_c, t), back=True)
+        except ValueError:
+            continue
+        if float((pts[0] - c) @ u_f) < float((pts[-1] - c) @ u_f):
+            pts = pts[::-1]
+        gap = float(np.linalg.norm(pts[:, None] - first[None], axis=2).min(axis=1).mean())
+        if gap <= size and (best is None or gap < best[0]):
+            best = (gap, pts)
+    return None if best is None else best[1]
