@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """How close a sketch session's strokes let a reading end (training/session_oracle.py).
 
-`sketch2cad oracle SESSION PROTOCOL` (or `--examples`, the six example sessions;
+`sketch2cad oracle SESSION PROTOCOL` (or `--examples`, the seven example sessions;
 `--json OUT.json` keeps the figures): each step read by an oracle that knows the
 protocol's structure and which stroke draws which curve, its numbers by least squares on
 the strokes; one line per step (volume IoU alone on the true model before it, as read and
@@ -26,13 +26,13 @@ from ..brep.protocol import ProtocolError, describe, load
 from ..inference.session import load_session
 
 ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe")
+EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe", "knob")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("files", nargs="*", metavar="SESSION PROTOCOL")
     p.add_argument(
-        "--examples", action="store_true", help="the six example sessions with their protocols"
+        "--examples", action="store_true", help="the seven example sessions with their protocols"
     )
     p.add_argument("--json", type=Path, help="write the figures here")
 

@@ -519,15 +519,14 @@ def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
     c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
     ua, ub = (unit(ctrl[k] - c) for k in (0, 3))
     if op.radius is not None:
-        wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))
 
         def rounded(radius: float) -> Bevel:
-            return replace(op, profile=_points(_fillet(c, ua, ub, radius, wedge)), radius=radius)
+            return replace(op, profile=_points(fillet_profile(c, ua, ub, radius)), radius=radius)
 
         return rounded(s.length("round_size", op.radius, ua, [], rounded))
     widths = [s.length("round_size", w, u, []) for w, u in zip(op.distances, (ua, ub), strict=True)]
     return replace(
-        op, profile=_points(_chamfer(c, ua, ub, *widths)), distances=(widths[0], widths[1])
+        op, profile=_points(chamfer_profile(c, ua, ub, *widths)), distances=(widths[0], widths[1])
     )
 
 
@@ -544,8 +543,8 @@ def regular_candidates(op: Bevel) -> list[Bevel]:
         return []
     radius = (a + b) / 2 * np.tan(wedge / 2)
     return [
-        replace(op, profile=_points(_fillet(c, ua, ub, radius, wedge)), radius=float(radius)),
-        replace(op, profile=_points(_chamfer(c, ua, ub, a, b)), distances=(a, b)),
+        replace(op, profile=_points(fillet_profile(c, ua, ub, radius)), radius=float(radius)),
+        replace(op, profile=_points(chamfer_profile(c, ua, ub, a, b)), distances=(a, b)),
     ]
 
 
@@ -565,18 +564,19 @@ def nearest_regular(op: Bevel) -> Bevel:
 FILLET, CHAMFER = "a fillet (a circular arc)", "a chamfer (a straight line)"
 
 
-def _fillet(
-    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, radius: float, wedge: float
-) -> np.ndarray:
+def fillet_profile(c: np.ndarray, ua: np.ndarray, ub: np.ndarray, radius: float) -> np.ndarray:
     """The cubic Bezier (4, 3) of the arc of `radius` tangent to the lines c + s ua and
-    c + s ub (unit, `wedge` radians apart), from the first to the second."""
+    c + s ub (unit directions), from the first to the second."""
+    wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))
     reach = radius / np.tan(wedge / 2)  # from c to where the arc touches each line
     handle = 4 / 3 * np.tan((np.pi - wedge) / 4) * radius
     p0, p3 = c + reach * ua, c + reach * ub
     return np.stack([p0, p0 - handle * ua, p3 - handle * ub, p3])
 
 
-def _chamfer(c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float) -> np.ndarray:
+def chamfer_profile(
+    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float
+) -> np.ndarray:
     """The straight line (4, 3) from c + a ua to c + b ub, its inner points at thirds."""
     p0, p3 = c + a * ua, c + b * ub
     return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3])
