@@ -101,6 +101,7 @@ def make_shards(
             settings.shard_size,
             settings.regular_share,
             settings.hand,
+            settings.round_share,
         ): k
         for k, n in sorted(counts.items())
     }

@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.sketch.curves import operation_curves
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 from .hand import P_HIDDEN_OUT, people_strokes
+from .rounds import round_tangent
 from .sample import Sample
 from .sequences import Drawn, Sequence, draw_type, sample_operation, sample_sequence
 from .strokes import sketch_strokes, stroke_maps
@@ -104,6 +105,7 @@ def generate_block(
     hidden_lines: bool = True,
     regular_share: float = 0.0,
     hand: str = "generator",
+    round_share: float = 0.0,
 ) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
@@ -112,7 +114,8 @@ def generate_block(
     `hidden_lines` the strokes draw only what the view sees (`view_sample`). Each
     operation, of the context and last, is regular (datagen/regular.py) with
     probability `regular_share`, decided by the generator that draws it. `hand`: who
-    draws the strokes (datagen/hand.py).
+    draws the strokes (datagen/hand.py). A last bevel is a round across an edge
+    (datagen/rounds.py) with probability `round_share`.
     """
     context = Context(
         sample_sequence(
@@ -129,6 +132,7 @@ def generate_block(
             hidden_lines=hidden_lines,
             regular_share=regular_share,
             hand=hand,
+            round_share=round_share,
         )
         for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)
     ]
@@ -144,9 +148,11 @@ def sample_on(
     hidden_lines: bool = True,
     regular_share: float = 0.0,
     hand: str = "generator",
+    round_share: float = 0.0,
 ) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None), is drawn
-    on `context`; every operation drawn is regular with probability `regular_share`.
+    on `context`; every operation drawn is regular with probability `regular_share`, a
+    bevel a round across an edge with probability `round_share`.
 
     The type is drawn once; an operation with no informative view is replaced by another
     of the same type, and a context that admits none (or none with such a view after
@@ -156,7 +162,9 @@ def sample_on(
     tries = 0
     while True:
         drawn = (
-            sample_operation(rng, context.stage, kind, regular_share) if tries < OP_TRIES else None
+            sample_operation(rng, context.stage, kind, regular_share, round_share=round_share)
+            if tries < OP_TRIES
+            else None
         )
         if drawn is None:
             context = Context(
@@ -193,8 +201,9 @@ def view_sample(
     rf = drawn.face.resolved()  # f, drawn on this solid
     face = base_face_index(solid, rf.face)
     result_mesh = None
+    along = round_tangent(rf.face, op)  # a round's view faces its profile's plane
     for _ in range(VIEW_TRIES):
-        direction = view_direction(rng, rf.normal)
+        direction = view_direction(rng, rf.normal, along)
         up = up_vector(rng, direction)
         curves = operation_curves(solid, op, direction, rf)
         camera = frame_curves(
@@ -204,7 +213,9 @@ def view_sample(
             rng.uniform(*SCALE_RANGE),
             size,
         )
-        if OCCLUDED_BY[op.type] == "result":
+        # l drawn across an edge runs where the result's surface will be (a round cuts
+        # into the context's): it is tested against the result, as an extrusion's
+        if OCCLUDED_BY[op.type] == "result" or along is not None:
             if result_mesh is None:
                 result_mesh = tessellate(
                     result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)

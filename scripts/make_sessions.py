@@ -20,12 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from datagen.rounds import round_tangent
 from datagen.strokes import sketch_strokes
 from datagen.views import frame_curves, is_informative, up_vector, view_direction
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
 from Sketch2CADWorkbench.brep.protocol import Bevel, EdgeSet, Mode, load
-from Sketch2CADWorkbench.brep.rounds import nearest_edge, point_on_edge
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.frustum import fit_camera
@@ -55,7 +55,7 @@ def make(name: str, seed: int = 0) -> Session:
     for i, op in enumerate(protocol.operations):
         solid = solids[i]
         rf = resolve_face(solid, op.face)
-        along = profile_tangent(rf, op)
+        along = round_tangent(rf.face, op)
         for _ in range(200):
             direction = view_direction(rng, rf.normal, along)
             up = up_vector(rng, direction)
@@ -93,15 +93,6 @@ def make(name: str, seed: int = 0) -> Session:
         choices = InterpretOptions(option=option, regularize=True, snap_step=grid, edges=edges)
         steps.append(SketchStep(view, moved, choices))
     return Session(protocol.base, steps)
-
-
-def profile_tangent(rf, op):
-    """The tangent of the edge a bevel's profile is drawn across (None for other steps):
-    its view turns to face the profile's plane."""
-    if not (isinstance(op, Bevel) and op.across):
-        return None
-    c = np.asarray(op.corner, float)
-    return point_on_edge(nearest_edge(rf.face, c)[0], c)[1]
 
 
 def _bb(solid):

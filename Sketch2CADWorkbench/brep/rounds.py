@@ -26,7 +26,7 @@ from OCP.TopExp import TopExp
 from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
-from .faces import OperationError, ResolvedFace, points_on_face
+from .faces import CurvedSurface, OperationError, ResolvedFace, points_on_face
 from .geometry import point_text, unit
 from .protocol import Bevel, EdgeSet
 
@@ -136,6 +136,30 @@ def round_place(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> R
             f"bevel: profile l starts {point_text(ctrl[0])} off face f's plane; l(0) lies on f"
         )
     return RoundPlace(side, ctrl, edge_set(solid, faces_map, rf.face, drawn, op.edges))
+
+
+def traces(face: cq.Face, c: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The lines (unit directions, either way; (K, 3)) of `face` across an edge at its
+    points c (K, 3) where its tangents are t (K, 3), in the plane normal to the edge:
+    perpendicular to the edge in the face's tangent plane (a plane's line, a cylinder's
+    or cone's generatrix)."""
+    if face.geomType() == "PLANE":
+        n = np.broadcast_to(np.array(face.normalAt().toTuple()), c.shape)
+    else:
+        n = CurvedSurface.of(face).normals(c)
+    u = np.cross(t, n)
+    return u / np.linalg.norm(u, axis=-1, keepdims=True)
+
+
+def into_face(face: cq.Face, c: np.ndarray, t: np.ndarray, step: float) -> np.ndarray | None:
+    """The unit direction from c, a point of an edge of `face` where the edge's tangent
+    is t, into the face across the edge (`traces`, the way that a step of `step` mm
+    stays on the face); None when neither way does."""
+    u = traces(face, c[None], t[None])[0]
+    for sign in (1.0, -1.0):
+        if face.distance(cq.Vertex.makeVertex(*(c + sign * step * u))) < 1e-2 * step:
+            return sign * u
+    return None
 
 
 def nearest_edge(face: cq.Face, point: np.ndarray) -> tuple[cq.Edge, float]:

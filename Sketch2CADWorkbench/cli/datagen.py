@@ -68,6 +68,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "stroke, curves split and traced over, stopping short, loops left open, "
         "hidden lines often left out: datagen/hand.py); default generator",
     )
+    p.add_argument(
+        "--round-share",
+        type=float,
+        default=0.0,
+        metavar="P",
+        help="share (0 to 1) of the last bevels drawn as rounds, chamfers or profiles "
+        "across an edge: circular rims, straight edges, their tangent chains and "
+        "faces' outlines (datagen/rounds.py); default 0",
+    )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument(
         "--shard-size",
@@ -118,12 +127,13 @@ def run(args: argparse.Namespace) -> int:
             args.ray is not None
             or args.hidden_lines != "draw"
             or args.regular_share
+            or args.round_share
             or args.hand != "generator"
         ):
             print(
                 "sketch2cad datagen: error: --curved makes its set in one process with "
                 "every line drawn and random parameters: leave out --ray, --hidden-lines, "
-                "--regular-share and --hand",
+                "--regular-share, --round-share and --hand",
                 file=sys.stderr,
             )
             return 2
@@ -143,5 +153,6 @@ def run(args: argparse.Namespace) -> int:
             args.ray,
             args.regular_share,
             args.hand,
+            args.round_share,
         )
     )

@@ -18,10 +18,17 @@ from __future__ import annotations
 import cadquery as cq
 import numpy as np
 
-from ...brep.faces import CurvedSurface, FaceFrame, face_ref_of, model_scale
+from ...brep.faces import FaceFrame, face_ref_of, model_scale
 from ...brep.geometry import vec3
 from ...brep.protocol import Bevel, EdgeSet
-from ...brep.rounds import edge_faces, faces_of, far_copy, point_on_edge
+from ...brep.rounds import (
+    edge_faces,
+    faces_of,
+    far_copy,
+    into_face,
+    point_on_edge,
+    traces,
+)
 from ...render.camera import OrthoCamera
 from .bevel import EDGE_TOL, INNER_SPAN
 from .common import FitError, fit_bezier, resample
@@ -81,23 +88,11 @@ def round_fits(
     return out
 
 
-def _traces(face: cq.Face, c: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """The lines (unit directions, either way; (K, 3)) of `face` across the edge at the
-    points c (K, 3) where its tangents are t (K, 3), in the plane normal to the edge:
-    perpendicular to the edge in the face's tangent plane."""
-    if face.geomType() == "PLANE":
-        n = np.broadcast_to(np.array(face.normalAt().toTuple()), c.shape)
-    else:
-        n = CurvedSurface.of(face).normals(c)
-    u = np.cross(t, n)
-    return u / np.linalg.norm(u, axis=-1, keepdims=True)
-
-
 def _crossing(
     edge: cq.Edge, faces: list[cq.Face], camera: OrthoCamera, stroke: np.ndarray, tol: float
 ) -> tuple[float, np.ndarray, bool] | None:
     """Where along the edge the stroke is drawn across it: the point c whose two traces
-    (`_traces`, seen in the image) pass nearest the stroke's two ends, the planar face's
+    (`brep.rounds.traces`, seen in the image) pass nearest the stroke's two ends, the planar face's
     at the stroke's start (else the stroke is `flip`ped), among EDGE_SAMPLES points where
     the plane normal to the edge faces the view (FACING_COS). Returns (the two ends'
     distances from their traces, px; c; flip), or None where the edge's image lies
@@ -113,7 +108,7 @@ def _crossing(
     if not facing.any():
         return None
     k = next(i for i, face in enumerate(faces) if face.geomType() == "PLANE")
-    lines = [_image_dirs(camera, _traces(face, c, t)) for face in (faces[k], faces[1 - k])]
+    lines = [_image_dirs(camera, traces(face, c, t)) for face in (faces[k], faces[1 - k])]
     ends = stroke[[0, -1]]
     best = None
     for flip, (start, end) in ((False, ends), (True, ends[::-1])):
@@ -149,7 +144,7 @@ def _fit_across(
     others: list[np.ndarray],
 ) -> Bevel | None:
     """l fitted across `edge` at c from its planar face f (the stroke's start) to the
-    other (None: the stroke's ends lie off the faces, or the plane is seen edge-on).
+    other (None: the edge has no face on a side, or the plane is seen edge-on).
 
     The stroke is back-projected onto l's plane; so is the other stroke that draws l'
     where the sketch has it (brep/rounds.far_copy), carried back onto l's plane, when
@@ -164,14 +159,9 @@ def _fit_across(
         drawn = [camera.back_project_to_plane(stroke, c, t)]
     except ValueError:
         return None
-    traces = []
-    for face, end in ((f, drawn[0][0]), (g, drawn[0][-1])):
-        u = _traces(face, c[None], t[None])[0]
-        u = u if float((end - c) @ u) >= 0 else -u
-        if face.distance(cq.Vertex.makeVertex(*(c + 1e-3 * scale * u))) > 1e-5 * scale:
-            return None  # that way from c is not on the face
-        traces.append(u)
-    u_f, u_g = traces
+    u_f, u_g = (into_face(face, c, t, 1e-3 * scale) for face in (f, g))
+    if u_f is None or u_g is None:
+        return None
     second = _second_stroke(edge, c, t, camera, others, drawn[0], u_f)
     if second is not None:
         drawn.append(second)
