@@ -30,6 +30,7 @@ from Sketch2CADWorkbench.brep.rounds import (
 
 from .operations import DIAG, PlanarFace
 
+# The mix of round samples, set by rule (docs/measurements.md, rounds.RIM_SHARE, ...)
 RIM_SHARE = 0.7  # of faces with a circular rim, the rim is the edge rounded
 FILLET_SHARE, CHAMFER_SHARE = 0.5, 0.3  # the rest are freeform profiles
 EDGE_SET = {EdgeSet.DRAWN: 0.5, EdgeSet.CHAIN: 0.25, EdgeSet.OUTLINE: 0.25}

@@ -32,7 +32,7 @@ from .protocol import Bevel, EdgeSet
 
 # Two edges meeting at a vertex continue each other (one tangent chain) when the cosine of
 # the angle between their directions there exceeds this: OCCT's own chains are G1 to
-# its angular tolerance, far inside it.
+# its angular tolerance, far inside it (docs/measurements.md, brep rounds.TANGENT_COS).
 TANGENT_COS = 0.999
 
 

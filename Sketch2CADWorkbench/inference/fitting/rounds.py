@@ -34,13 +34,15 @@ from .bevel import EDGE_TOL, INNER_SPAN
 from .common import FitError, fit_bezier, resample
 from .regularize import nearest_regular
 
-# Edges tried per profile stroke, the nearest (in the image) first.
+# Edges tried per profile stroke, the nearest (in the image) first
+# (docs/measurements.md, rounds.EDGES_TRIED).
 EDGES_TRIED = 3
 # Points an edge is sampled at to find where the stroke crosses its image.
 EDGE_SAMPLES = 256
 # The plane l is drawn in must face the view: the cosine between the edge's tangent (the
 # plane's normal) and the view direction is at least this, or the stroke back-projects
-# onto it ill-conditioned (a rim's profile is drawn where the rim turns across the view).
+# onto it ill-conditioned (a rim's profile is drawn where the rim turns across the view;
+# docs/measurements.md, rounds.FACING_COS).
 FACING_COS = 0.3
 
 
