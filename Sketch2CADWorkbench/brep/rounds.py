@@ -26,7 +26,13 @@ from OCP.TopExp import TopExp
 from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
-from .faces import CurvedSurface, OperationError, ResolvedFace, points_on_face
+from .faces import (
+    CURVED_GEOM_TYPES,
+    CurvedSurface,
+    OperationError,
+    ResolvedFace,
+    points_on_face,
+)
 from .geometry import point_text, unit
 from .protocol import Bevel, EdgeSet
 
@@ -143,10 +149,13 @@ def traces(face: cq.Face, c: np.ndarray, t: np.ndarray) -> np.ndarray:
     points c (K, 3) where its tangents are t (K, 3), in the plane normal to the edge:
     perpendicular to the edge in the face's tangent plane (a plane's line, a cylinder's
     or cone's generatrix)."""
-    if face.geomType() == "PLANE":
+    kind = face.geomType()
+    if kind == "PLANE":
         n = np.broadcast_to(np.array(face.normalAt().toTuple()), c.shape)
-    else:
+    elif kind in CURVED_GEOM_TYPES:
         n = CurvedSurface.of(face).normals(c)
+    else:  # a fillet's or a freeform face: OCCT's normal at each point
+        n = np.array([face.normalAt(cq.Vector(*map(float, p))).toTuple() for p in c])
     u = np.cross(t, n)
     return u / np.linalg.norm(u, axis=-1, keepdims=True)
 

@@ -344,7 +344,7 @@ def _across_readings(
         others = [s for i, s in enumerate(strokes) if i != pick]
         try:
             ops = round_fits(solid, ctx.camera, strokes[pick], options.edges, others)
-        except FitError:
+        except (FitError, OperationError):
             continue
         labels = [int(i == pick) for i in range(len(strokes))]
         for op in ops:
