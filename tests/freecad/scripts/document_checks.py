@@ -426,8 +426,10 @@ def parameters_are_quantities_in_the_users_units():
             and n not in ("Placement", "Shape", "Label", "Label2")
         ]
         unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
-        # a normal has no unit, the Boolean and the kind of surface are choices
-        assert set(unitless) <= {"FaceNormal", "FaceSurface", "Mode"}, (o.Label, unitless)
+        # a normal has no unit; the Boolean, the kind of surface, and a bevel's rounding,
+        # edge set and form (across an edge or along a crease) are choices
+        choices = {"FaceNormal", "FaceSurface", "Mode", "Rounding", "Edges", "AcrossEdge"}
+        assert set(unitless) <= choices, (o.Label, unitless)
     schema = FreeCAD.Units.getSchema()
     try:
         FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)
