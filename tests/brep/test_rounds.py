@@ -149,3 +149,22 @@ def test_a_failed_round_leaves_its_input_solid_as_it_was():
     with pytest.raises(OperationError, match="cannot fillet 1 edge"):
         apply_operation(solid, top_edge(radius=40.0))
     assert solid.Volume() == 60 * 60 * 10 and len(solid.Faces()) == 6
+
+
+def test_a_rim_on_a_cone_is_rounded_too():
+    cone = Sweep(
+        FaceRef((0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+        (0.0, 0.0, 5.0),
+        15.0,
+        10.0,
+        20.0,
+        ((40 / 3, 20 / 3), (35 / 3, 40 / 3)),
+        Mode.ADD,
+    )
+    # across the top rim (radius 10) at (10, 0, 25): into the disk, and down the cone's side
+    down = np.array([5.0, 0.0, -20.0]) / np.hypot(5.0, 20.0)
+    c = (10.0, 0.0, TOP)
+    op = Bevel(DISK, c, None, quarter(c, (-1, 0, 0), down, 2.0), radius=2.0)
+    p = Protocol(BASE, (cone,))
+    rounded = build(p.append(op))
+    assert rounded.isValid() and 0 < build(p).Volume() - rounded.Volume() < 2 * math.pi * 10 * 4
