@@ -24,7 +24,7 @@ from datagen.generate import Context, sample_on
 from datagen.sequences import sample_sequence
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import resolve_face
-from Sketch2CADWorkbench.brep.operators import apply_operation
+from Sketch2CADWorkbench.brep.operators import apply_operation, build
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.brep.rounds import nearest_edge
 from Sketch2CADWorkbench.inference.fitting.rounds import round_fits
@@ -51,7 +51,8 @@ def main() -> int:
         sample = sample_on(
             context, rng, a.noise_level, renderer, kind=OperatorType.BEVEL, round_share=1.0
         )
-        solid, truth = context.stage.solid, sample.operation
+        # the sample's own context: sample_on draws another when this one takes none
+        solid, truth = build(sample.context), sample.operation
         want = apply_operation(solid, truth)
         edge = nearest_edge(resolve_face(solid, truth.face).face, np.asarray(truth.corner))[0]
         where = "rim" if edge.geomType() == "CIRCLE" else "edge"
