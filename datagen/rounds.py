@@ -3,7 +3,8 @@
 
 `sample_round` draws, on a planar face f, an edge of f between f and another face where
 the solid is convex (a straight edge, or a circular rim that a sweep left: the top of a
-knob, the mouth of a hole; rims are taken RIM_SHARE of the time where f has one), a
+knob, the mouth of a hole; a rim RIM_SHARE of the time where the solid has one,
+`round_faces`, and where f has one), a
 point c on it, and a profile l across it in the plane normal to the edge at c, from f
 to the face beyond: a fillet's arc (FILLET_SHARE), a chamfer's line of two widths
 (CHAMFER_SHARE) or, along the drawn edge only, a freeform curve as the paper's bevels
@@ -31,7 +32,7 @@ from Sketch2CADWorkbench.brep.rounds import (
 from .operations import DIAG, PlanarFace
 
 # The mix of round samples, set by rule (docs/measurements.md, rounds.RIM_SHARE, ...)
-RIM_SHARE = 0.7  # of faces with a circular rim, the rim is the edge rounded
+RIM_SHARE = 0.7  # of rounds on a solid with a circular rim, those drawn on a rim
 FILLET_SHARE, CHAMFER_SHARE = 0.5, 0.3  # the rest are freeform profiles
 EDGE_SET = {EdgeSet.DRAWN: 0.5, EdgeSet.CHAIN: 0.25, EdgeSet.OUTLINE: 0.25}
 # A round's size (radius, chamfer width, a freeform profile's reach), of the model's
@@ -44,6 +45,16 @@ ALONG_SPAN = (0.1, 0.3)
 # A 4/3 (sqrt 2 - 1) handle draws a quarter circle: the freeform profiles bulge between
 # a chamfer (0) and past a fillet.
 FREEFORM_HANDLE = (0.0, 0.8)
+
+
+def round_faces(rng: np.random.Generator, faces: list[PlanarFace]) -> list[PlanarFace]:
+    """The faces a round is drawn on: with probability RIM_SHARE, where the solid has
+    them, those bounded by a whole circular rim (a sweep's top, a hole's mouth); else
+    every face."""
+    rims = [
+        f for f in faces if any(e.geomType() == "CIRCLE" and e.IsClosed() for e in f.face.Edges())
+    ]
+    return rims if rims and rng.random() < RIM_SHARE else faces
 
 
 def sample_round(rng: np.random.Generator, solid: cq.Shape, f: PlanarFace) -> Operation | None:

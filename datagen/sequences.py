@@ -33,7 +33,7 @@ from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Prot
 
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 from .regular import REGULAR_SAMPLERS
-from .rounds import sample_round
+from .rounds import round_faces, sample_round
 
 LAST_OP_WEIGHTS = per_operator(
     {OperatorType.EXTRUDE: 1, OperatorType.BEVEL: 1, OperatorType.ADDSUB: 4, OperatorType.SWEEP: 2},
@@ -138,11 +138,13 @@ def sample_operation(
     if not stage.faces:
         return None
     samplers = REGULAR_SAMPLERS if is_regular(rng, regular_share) else SAMPLERS
+    faces = stage.faces
     if kind is OperatorType.BEVEL and is_regular(rng, round_share):
         samplers = {**samplers, OperatorType.BEVEL: sample_round}
+        faces = round_faces(rng, faces)
     least = MIN_VOLUME_CHANGE * stage.volume
     for _ in range(TRIES):
-        face = stage.faces[int(rng.integers(len(stage.faces)))]
+        face = faces[int(rng.integers(len(faces)))]
         op = samplers[kind](rng, stage.solid, face)
         if op is None or change_bound(op, face) < least or (keep and not keep(op)):
             continue  # rejected before paying for the Boolean
