@@ -16,7 +16,7 @@ import sys
 # command -> one-line help
 COMMANDS = {
     "build": "replay a protocol into a solid; write STEP and a picture",
-    "export-script": "write a protocol as a CadQuery script that rebuilds the model",
+    "export-script": "write a protocol as a CadQuery or build123d script that rebuilds the model",
     "demo": "build every bundled example protocol into STEP + PNG",
     "interpret": "interpret a sketch session into a protocol and a solid",
     "datagen": "generate synthetic training/evaluation samples",

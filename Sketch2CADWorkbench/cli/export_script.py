@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Write a protocol as a script that rebuilds the model with CadQuery's public API.
+"""Write a protocol as a script that rebuilds the model with CadQuery's or build123d's
+public API.
 
-`sketch2cad export-script PROTOCOL --cadquery OUT.py`: one block per step with the
-step's parameters as named variables; the script needs only cadquery to run
-(brep/script.py).
+`sketch2cad export-script PROTOCOL --cadquery OUT.py` (or `--build123d OUT.py`, or
+both): one block per step with the step's parameters as named variables; the script
+needs only its library to run (brep/script.py).
 """
 
 from __future__ import annotations
@@ -14,27 +15,40 @@ from pathlib import Path
 
 from ..brep.faces import OperationError
 from ..brep.features import plan_protocol
-from ..brep.files import check_outputs, write_atomically
+from ..brep.files import atomic_outputs, check_outputs
 from ..brep.protocol import ProtocolError, load
-from ..brep.script import cadquery_script
+from ..brep.script import LIBRARIES, protocol_script
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("protocol", type=Path, help="protocol JSON file")
-    p.add_argument(
-        "--cadquery", type=Path, required=True, help="write the CadQuery script here (.py)"
-    )
+    for library in LIBRARIES:
+        p.add_argument(
+            f"--{library}", type=Path, metavar="OUT.py", help=f"write the {library} script here"
+        )
 
 
 def run(args: argparse.Namespace) -> int:
+    wanted = {name: getattr(args, name) for name in LIBRARIES if getattr(args, name) is not None}
+    if not wanted:
+        options = " or ".join(f"--{name}" for name in LIBRARIES)
+        print(
+            f"sketch2cad export-script: error: give {options} (the script to write)",
+            file=sys.stderr,
+        )
+        return 2
     try:
-        check_outputs({"PROTOCOL": args.protocol}, {"--cadquery": args.cadquery})
+        check_outputs({"PROTOCOL": args.protocol}, {f"--{n}": p for n, p in wanted.items()})
         protocol = load(args.protocol)
-        text = cadquery_script(plan_protocol(protocol), args.protocol.stem)
-        args.cadquery.parent.mkdir(parents=True, exist_ok=True)
-        write_atomically(args.cadquery, text)
+        plan = plan_protocol(protocol)
+        for path in wanted.values():
+            path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_outputs(list(wanted.values())) as tmps:  # all or none
+            for tmp, library in zip(tmps, wanted, strict=True):
+                tmp.write_text(protocol_script(plan, args.protocol.stem, library))
     except (ProtocolError, OperationError, OSError, ValueError) as e:
         print(f"sketch2cad export-script: error: {e}", file=sys.stderr)
         return 2
-    print(f"{args.protocol}: {len(protocol.operations) + 1} steps -> {args.cadquery}")
+    written = ", ".join(map(str, wanted.values()))
+    print(f"{args.protocol}: {len(protocol.operations) + 1} steps -> {written}")
     return 0

@@ -27,7 +27,7 @@ from harness import EXAMPLES, TMP, check, close, finish, run_checks  # noqa: E40
 from round_fixtures import round_protocols  # noqa: E402
 
 from Sketch2CADWorkbench.brep.features import plan_protocol  # noqa: E402
-from Sketch2CADWorkbench.brep.operators import build, make_box, replay  # noqa: E402
+from Sketch2CADWorkbench.brep.operators import apply_operation, build, make_box  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import (  # noqa: E402
     AddSubPrism,
     Bevel,
@@ -47,7 +47,7 @@ from Sketch2CADWorkbench.freecad_layer.shapes import to_part  # noqa: E402
 # a prism, bevels, a "replace by" (bolt); Bezier sweeps, a face pad (lamp); steps on a
 # cylinder's side: a radial extrusion, a sweep and prisms (pipe)
 NAMES = ("bolt", "lamp", "pipe")
-CONVERTED = {}
+CONVERTED = {}  # name -> (document, conversion, the protocol's plan: its core solids)
 
 
 def example(name: str) -> Protocol:
@@ -72,7 +72,8 @@ def examples_convert_into_native_features_matching_the_core():
         bad = [o.Name for o in doc.Objects if not o.isValid()]
         assert not bad, bad
         body = conversion.body
-        core = build(protocol)
+        plan = plan_protocol(protocol)
+        core = plan.solids[-1]
         assert close(body.Shape.Volume, core.Volume(), TOL), (body.Shape.Volume, core.Volume())
         assert symmetric_difference(body.Shape, core) <= TOL
         # only FreeCAD's own types: the file needs no workbench
@@ -81,7 +82,7 @@ def examples_convert_into_native_features_matching_the_core():
             for o in doc.Objects
         )
         assert not any("Python" in o.TypeId for o in doc.Objects)
-        CONVERTED[name] = (doc, conversion, protocol)
+        CONVERTED[name] = (doc, conversion, plan)
 
 
 @check
@@ -107,8 +108,7 @@ def rounds_convert_into_native_fillets_chamfers_and_sketches():
 
 @check
 def sketches_are_fully_constrained_by_the_steps_named_parameters():
-    for name, (doc, conversion, protocol) in CONVERTED.items():
-        plan = plan_protocol(protocol)
+    for name, (doc, conversion, plan) in CONVERTED.items():
         sketched = [s for s in conversion.steps if s.sketch]
         assert sketched
         for step in sketched:
@@ -181,8 +181,8 @@ def _entry(path, obj, kind, name, value, measured, volume) -> dict:
 @check
 def converted_documents_saved_with_one_edit_per_feature():
     edits = []
-    for name, (doc, conversion, protocol) in CONVERTED.items():
-        plan = plan_protocol(protocol)
+    for name, (doc, conversion, plan) in CONVERTED.items():
+        protocol = plan.protocol
         path = os.path.join(TMP, f"{name}.FCStd")
         doc.saveAs(path)
         body = conversion.body
@@ -197,12 +197,11 @@ def converted_documents_saved_with_one_edit_per_feature():
                 continue
             op = protocol.operations[feature.step - 1]
             new, (kind, dim, value) = _edit(op, feature)
-            ops = list(protocol.operations)
-            ops[feature.step - 1] = new
             target = doc.getObject(step.sketch) if kind == "constraint" else obj
-            # the solid after the edited step (later steps follow the edit as far as their
-            # attachments do: FreeCAD 1.0 and newer, not 0.20)
-            volume = replay(replace(protocol, operations=tuple(ops)))[feature.step].Volume()
+            # the solid after the edited step, on the unchanged solid before it (later
+            # steps follow the edit as far as their attachments do: FreeCAD 1.0 and newer,
+            # not 0.20)
+            volume = apply_operation(plan.solids[feature.step - 1], new).Volume()
             edits.append(_entry(path, target, kind, dim, value, obj, volume))
         FreeCAD.closeDocument(doc.Name)
     with open(os.path.join(TMP, "edits.json"), "w") as f:
