@@ -102,6 +102,7 @@ def make_shards(
             settings.regular_share,
             settings.hand,
             settings.shells,
+            settings.round_share,
         ): k
         for k, n in sorted(counts.items())
     }

@@ -6,6 +6,7 @@ Layout of a data set folder (format "sketch2cad-dataset", version 2)::
     manifest.json     {"format": "sketch2cad-dataset", "version": 2, "count": N,
                        "seed": S, "noise": "1"|"2"|"3"|"mix", "noise_levels": [..],
                        "hidden_lines": "draw"|"omit"|"mix", "regular_share": P,
+                       "round_share": P (only when above 0),
                        "image_size": 256, "shard_size": K, "per_context": 4,
                        "arrays": {name: dtype}, "shards": ["shard-00000.npz", ...]}
     shard-00000.npz   one array per name, first axis = sample (ARRAYS below)

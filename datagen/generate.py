@@ -31,6 +31,7 @@ from Sketch2CADWorkbench.sketch.labels import SHELL_WALL
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 from .hand import P_HIDDEN_OUT, habits_of, people_strokes
+from .rounds import round_tangent
 from .sample import Sample
 from .sequences import (
     LAST_OP_WEIGHTS,
@@ -153,6 +154,7 @@ def generate_block(
     regular_share: float = 0.0,
     hand: str = "generator",
     shells: bool = False,
+    round_share: float = 0.0,
 ) -> list[Sample]:
     """Samples block * PER_CONTEXT to (block + 1) * PER_CONTEXT - 1 of data set `seed`.
 
@@ -162,7 +164,9 @@ def generate_block(
     operation, of the context and last, is regular (datagen/regular.py) with
     probability `regular_share`, decided by the generator that draws it. `hand`: who
     draws the strokes (datagen/hand.py). `shells`: last operations may be shells
-    (`last_op_weights`); without it the samples are those of a build without shells.
+    (`last_op_weights`); without it the samples are those of a build without shells. A
+    last bevel is a round across an edge (datagen/rounds.py) with probability
+    `round_share`.
     """
     context = Context(
         sample_sequence(
@@ -180,6 +184,7 @@ def generate_block(
             regular_share=regular_share,
             hand=hand,
             shells=shells,
+            round_share=round_share,
         )
         for i in range(block * PER_CONTEXT, (block + 1) * PER_CONTEXT)
     ]
@@ -196,10 +201,12 @@ def sample_on(
     regular_share: float = 0.0,
     hand: str = "generator",
     shells: bool = False,
+    round_share: float = 0.0,
 ) -> Sample:
     """A sample whose last operation, of type `kind` (drawn 1:1:4:2 when None, and shells
     as `last_op_weights` says with `shells`), is drawn on `context`; every operation
-    drawn is regular with probability `regular_share`.
+    drawn is regular with probability `regular_share`, a bevel a round across an edge
+    with probability `round_share`.
 
     The type is drawn once; an operation with no informative view is replaced by another
     of the same type, and a context that admits none (or none with such a view after
@@ -209,7 +216,9 @@ def sample_on(
     tries = 0
     while True:
         drawn = (
-            sample_operation(rng, context.stage, kind, regular_share) if tries < OP_TRIES else None
+            sample_operation(rng, context.stage, kind, regular_share, round_share=round_share)
+            if tries < OP_TRIES
+            else None
         )
         if drawn is None:
             context = Context(
@@ -250,8 +259,9 @@ def view_sample(
     wall = None  # a shell's line down a wall: drawn from rng for shells only
     if isinstance(op, Shell) and rng.random() < WALL_SHARE:
         wall = wall_curve(rng, result.solid, rf, op)
+    along = round_tangent(rf.face, op)  # a round's view faces its profile's plane
     for _ in range(VIEW_TRIES):
-        direction = view_direction(rng, rf.normal)
+        direction = view_direction(rng, rf.normal, along)
         up = up_vector(rng, direction)
         curves = operation_curves(solid, op, direction, rf) + ([wall] if wall else [])
         camera = frame_curves(
@@ -261,7 +271,9 @@ def view_sample(
             rng.uniform(*SCALE_RANGE),
             size,
         )
-        if OCCLUDED_BY[op.type] == "result":
+        # l drawn across an edge runs where the result's surface will be (a round cuts
+        # into the context's): it is tested against the result, as an extrusion's
+        if OCCLUDED_BY[op.type] == "result" or along is not None:
             if result_mesh is None:
                 result_mesh = tessellate(
                     result.solid, MESH_REL_TOLERANCE * model_scale(result.solid)

@@ -283,6 +283,8 @@ def _sweep_volume(op: Sweep, f: PlanarFace) -> float:
 
 
 def _bevel_volume(op: Bevel, f: PlanarFace) -> float:
+    if op.across:  # around a rim or along a chain: no bound short of the Boolean
+        return float("inf")
     region = np.concatenate([[op.corner], bezier_points(np.array(op.profile, float), 33)])
     return _area(region, f.normal) * float(np.linalg.norm(np.subtract(op.opposite, op.corner)))
 

@@ -76,6 +76,7 @@ class DatagenSettings:
     regular_share: float = 0.0  # share of operations drawn regular (datagen/regular.py)
     hand: str = "generator"  # one of hand.HANDS: who draws the strokes
     shells: bool = False  # last operations may be shells (generate.last_op_weights)
+    round_share: float = 0.0  # share of last bevels drawn across an edge (datagen/rounds.py)
 
 
 @dataclass(frozen=True)
@@ -89,6 +90,7 @@ class BlockJob:
     regular_share: float = 0.0
     hand: str = "generator"  # one of hand.HANDS
     shells: bool = False
+    round_share: float = 0.0
 
 
 def noise_of_block(noise: str, block: int) -> int:
@@ -105,6 +107,8 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
     """The manifest; "complete" lists the shards written so far (all, once finished)."""
     n_shards = (settings.count + settings.shard_size - 1) // settings.shard_size
     levels = [1, 2, 3] if settings.noise_level == "mix" else [int(settings.noise_level)]
+    # written only when used: a set made without rounds keeps the manifest it had
+    rounds = {"round_share": settings.round_share} if settings.round_share else {}
     return {
         "format": FORMAT,
         "version": VERSION,
@@ -116,6 +120,7 @@ def manifest_of(settings: DatagenSettings, complete: list[int]) -> dict:
         "regular_share": settings.regular_share,
         "hand": settings.hand,
         **({"shells": True} if settings.shells else {}),  # sets without: as before
+        **rounds,
         "image_size": IMAGE_SIZE,
         "shard_size": settings.shard_size,
         "per_context": PER_CONTEXT,
@@ -135,11 +140,12 @@ def shard_jobs(
     regular_share: float = 0.0,
     hand: str = "generator",
     shells: bool = False,
+    round_share: float = 0.0,
 ) -> list[BlockJob]:
     """The blocks (make_block's jobs) of shard k, which holds `count` samples."""
     first = k * shard_size // PER_CONTEXT
     return [
-        BlockJob(seed, b, noise, hidden, regular_share, hand, shells)
+        BlockJob(seed, b, noise, hidden, regular_share, hand, shells, round_share)
         for b in range(first, first + (count + PER_CONTEXT - 1) // PER_CONTEXT)
     ]
 
@@ -184,6 +190,7 @@ def make_block(job: BlockJob) -> list[Record]:
             regular_share=job.regular_share,
             hand=job.hand,
             shells=job.shells,
+            round_share=job.round_share,
         )
     ]
 
@@ -199,13 +206,14 @@ def make_shard(
     regular_share: float = 0.0,
     hand: str = "generator",
     shells: bool = False,
+    round_share: float = 0.0,
 ) -> int:
     """Make and write shard k of data set `seed` (count samples; the unit of work of a
     cluster); returns k. The same bytes as the process pool writes."""
     records = [
         r
         for job in shard_jobs(
-            seed, noise, hidden, k, count, shard_size, regular_share, hand, shells
+            seed, noise, hidden, k, count, shard_size, regular_share, hand, shells, round_share
         )
         for r in make_block(job)
     ]
@@ -328,11 +336,14 @@ def open_set_folder(settings: DatagenSettings, extra: dict | None = None) -> Set
             "regular_share",
             "hand",
             "shells",
+            "round_share",
             *tuple(extra),
         )
         old.setdefault("hidden_lines", "draw")  # sets made before the choice drew them
         old.setdefault("regular_share", 0.0)  # ... and before regular samples
         old.setdefault("hand", "generator")  # ... and before people's hand
+        old.setdefault("round_share", 0.0)  # ... and sets without rounds
+        manifest.setdefault("round_share", 0.0)
         if {k: old.get(k) for k in keys} != {k: manifest.get(k) for k in keys}:
             return (
                 f"{out} holds a different data set ({'/'.join(keys)} "
@@ -360,6 +371,8 @@ def generate_dataset(settings: DatagenSettings) -> int:
         return _error(f"--hand must be one of {', '.join(HANDS)}, got {settings.hand}")
     if not 0.0 <= settings.regular_share <= 1.0:
         return _error(f"--regular-share must be between 0 and 1, got {settings.regular_share}")
+    if not 0.0 <= settings.round_share <= 1.0:
+        return _error(f"--round-share must be between 0 and 1, got {settings.round_share}")
     if settings.ray is not None:
         from .cluster import require_ray  # Ray is an optional extra
 
@@ -410,6 +423,7 @@ def generate_dataset(settings: DatagenSettings) -> int:
                     settings.regular_share,
                     settings.hand,
                     settings.shells,
+                    settings.round_share,
                 )
             ]
             if settings.workers == 1:

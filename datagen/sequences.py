@@ -33,6 +33,7 @@ from Sketch2CADWorkbench.brep.protocol import Box, Operation, OperatorType, Prot
 
 from .operations import DIAG, SAMPLERS, PlanarFace, change_bound
 from .regular import REGULAR_SAMPLERS
+from .rounds import round_faces, sample_round
 
 # A shell is drawn only where asked for (`with_shells`), so that data sets made without it
 # stay the same.
@@ -133,19 +134,26 @@ def sample_operation(
     kind: OperatorType,
     regular_share: float = 0.0,
     keep: Callable[[Operation], bool] | None = None,
+    round_share: float = 0.0,
 ) -> Drawn | None:
     """An operation of type `kind` on a random planar face that builds and changes the
     volume by at least MIN_VOLUME_CHANGE; None when TRIES draws all fail (this solid
     admits no such operation). It is regular (datagen/regular.py) with probability
     `regular_share`, decided once, so that retries keep the share. `keep`: a condition
     the operation must meet too (datagen/curved.py's straight additions), checked
-    before its Boolean; a draw that fails it counts as one of the TRIES."""
+    before its Boolean; a draw that fails it counts as one of the TRIES. A bevel is a
+    round across an edge (datagen/rounds.py) with probability `round_share`, decided
+    once as well (and not drawn at all when 0)."""
     if not stage.faces:
         return None
     samplers = REGULAR_SAMPLERS if is_regular(rng, regular_share) else SAMPLERS
+    faces = stage.faces
+    if kind is OperatorType.BEVEL and is_regular(rng, round_share):
+        samplers = {**samplers, OperatorType.BEVEL: sample_round}
+        faces = round_faces(rng, faces)
     least = MIN_VOLUME_CHANGE * stage.volume
     for _ in range(TRIES):
-        face = stage.faces[int(rng.integers(len(stage.faces)))]
+        face = faces[int(rng.integers(len(faces)))]
         op = samplers[kind](rng, stage.solid, face)
         if op is None or change_bound(op, face) < least or (keep and not keep(op)):
             continue  # rejected before paying for the Boolean

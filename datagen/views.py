@@ -62,13 +62,21 @@ OCCLUDED_BY = per_operator(
 )
 
 
-def view_direction(rng: np.random.Generator, normal: np.ndarray) -> np.ndarray:
-    """A unit view direction (into the scene) 20 to 80 degrees from -n_f, random azimuth."""
+def view_direction(
+    rng: np.random.Generator, normal: np.ndarray, along: np.ndarray | None = None
+) -> np.ndarray:
+    """A unit view direction (into the scene) 20 to 80 degrees from -n_f, random azimuth;
+    or, `along` given (a unit vector in f's plane: the tangent of the edge a profile is
+    drawn across), the azimuth along it, either way, so that the profile's plane (normal
+    to the edge) faces the view as a designer turns the model to draw it."""
     n = np.asarray(normal, float)
-    a, b = plane_basis(n)
-    phi = rng.uniform(0, 2 * np.pi)
+    if along is None:
+        a, b = plane_basis(n)
+        phi = rng.uniform(0, 2 * np.pi)
+        w = np.cos(phi) * a + np.sin(phi) * b
+    else:
+        w = np.asarray(along, float) * (1.0 if rng.random() < 0.5 else -1.0)
     theta = np.radians(rng.uniform(*ANGLE_RANGE_DEG))
-    w = np.cos(phi) * a + np.sin(phi) * b
     return -(np.cos(theta) * n + np.sin(theta) * w)
 
 

@@ -11,6 +11,7 @@ designer sketching it would have the workbench set.
 
     .bin/python scripts/make_sessions.py camera mixer hammer
     .bin/python scripts/make_sessions.py bolt lamp pipe   # (nut: no informative view for step 3)
+    .bin/python scripts/make_sessions.py knob
 """
 
 import re
@@ -19,11 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from datagen.rounds import round_tangent
 from datagen.strokes import sketch_strokes
 from datagen.views import frame_curves, is_informative, up_vector, view_direction
 from Sketch2CADWorkbench.brep.faces import resolve_face
 from Sketch2CADWorkbench.brep.operators import replay
-from Sketch2CADWorkbench.brep.protocol import Mode, load
+from Sketch2CADWorkbench.brep.protocol import Bevel, EdgeSet, Mode, load
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
 from Sketch2CADWorkbench.render.frustum import fit_camera
@@ -53,13 +55,17 @@ def make(name: str, seed: int = 0) -> Session:
     for i, op in enumerate(protocol.operations):
         solid = solids[i]
         rf = resolve_face(solid, op.face)
+        along = round_tangent(rf.face, op)
         for _ in range(200):
-            direction = view_direction(rng, rf.normal)
+            direction = view_direction(rng, rf.normal, along)
             up = up_vector(rng, direction)
             curves = operation_curves(solid, op, direction, rf)
             pts = np.concatenate([c.points for c in curves])
             ctx = frame_curves(pts, direction, up, 2.0)
-            if is_informative(curves, ctx, renderer.render(solid, ctx)):
+            # l drawn across an edge runs where the result's surface will be, not on the
+            # context's (datagen/views.py, OCCLUDED_BY)
+            seen = solids[i + 1] if along is not None else solid
+            if is_informative(curves, ctx, renderer.render(seen, ctx)):
                 break
         else:
             raise RuntimeError(f"{name} step {i + 1}: no informative view")
@@ -82,11 +88,10 @@ def make(name: str, seed: int = 0) -> Session:
             if getattr(op, "mode", None) in (Mode.REPLACE, Mode.INTERSECT, Mode.SUBTRACT)
             else None
         )
-        steps.append(
-            SketchStep(
-                view, moved, InterpretOptions(option=option, regularize=True, snap_step=grid)
-            )
-        )
+        # a bevel's edge set is the panel's choice, as the designer sets it
+        edges = op.edges if isinstance(op, Bevel) else EdgeSet.DRAWN
+        choices = InterpretOptions(option=option, regularize=True, snap_step=grid, edges=edges)
+        steps.append(SketchStep(view, moved, choices))
     return Session(protocol.base, steps)
 
 

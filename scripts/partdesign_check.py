@@ -5,14 +5,17 @@
 
 Converts every example protocol and random valid protocols (the data generator's
 sequences of 1 to 4 operations on planar faces, and a quarter with a last step on a
-cylinder's or cone's side, as datagen/curved.py draws them), and a tenth as many more
-ending in a shell (drawn from their own generator, so that the others stay the same),
-into PartDesign Bodies
+cylinder's or cone's side, as datagen/curved.py draws them), a tenth as many more
+ending in a shell, then random protocols ending in a round, chamfer or profile across an
+edge (datagen/rounds.py; each from a generator of its own, so that the others stay the
+same) into PartDesign Bodies
 (freecad_layer/partdesign) and prints the share of steps converted exactly (a native
 feature whose solid matches the core's: volume within 1e-6 relative, symmetric
 difference below 1e-6 of the volume), per operator and in all, and the reasons of the
-others. Settings through the environment (freecadcmd passes no arguments to a script):
-SKETCH2CAD_PD_COUNT (random protocols, default 300), SKETCH2CAD_PD_SEED (default 1).
+others; fillets and chamfers are counted on their own. Settings through the
+environment (freecadcmd passes no arguments to a script): SKETCH2CAD_PD_COUNT (random
+protocols, default 300), SKETCH2CAD_PD_ROUNDS (those ending in a round, default 50),
+SKETCH2CAD_PD_SEED (default 1).
 This checkout is imported, whatever FreeCAD's Mod folder holds. Exits 1 when a
 conversion raised an error.
 """
@@ -36,7 +39,7 @@ import FreeCAD  # noqa: E402
 import numpy as np  # noqa: E402
 
 from datagen.curved import curved_context, draw_kind, sample_on_curved  # noqa: E402
-from datagen.sequences import TRIES, sample_sequence  # noqa: E402
+from datagen.sequences import TRIES, sample_operation, sample_sequence  # noqa: E402
 from Sketch2CADWorkbench.brep.faces import OperationError  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import operation_result  # noqa: E402
 from Sketch2CADWorkbench.brep.protocol import OperatorType, Protocol, load  # noqa: E402
@@ -44,6 +47,7 @@ from Sketch2CADWorkbench.freecad_layer.partdesign.convert import convert_protoco
 
 CURVED_SHARE = 0.25
 SHELL_SHARE = 0.1  # protocols ending in a shell, beside the random ones
+ROUNDS = ("Fillet", "Chamfer")
 
 
 def random_protocol(rng: np.random.Generator) -> Protocol:
@@ -65,6 +69,15 @@ def random_protocol(rng: np.random.Generator) -> Protocol:
             return seq.protocol.append(got[0])
 
 
+def round_protocol(rng: np.random.Generator) -> Protocol:
+    """A valid protocol of 1 to 4 operations whose last is a bevel across an edge."""
+    while True:
+        seq = sample_sequence(rng, int(rng.integers(0, 4)))
+        got = sample_operation(rng, seq.stages[-1], OperatorType.BEVEL, round_share=1.0)
+        if got is not None:
+            return seq.protocol.append(got.op)
+
+
 def main() -> int:
     count = int(os.environ.get("SKETCH2CAD_PD_COUNT", "300"))
     seed = int(os.environ.get("SKETCH2CAD_PD_SEED", "1"))
@@ -83,6 +96,9 @@ def main() -> int:
         )
         for i in range(int(SHELL_SHARE * count))
     ]
+    rounds = int(os.environ.get("SKETCH2CAD_PD_ROUNDS", "50"))
+    round_rng = np.random.default_rng([seed, 2])  # the other protocols stay as they were
+    cases += [(f"random-{seed}-round-{i}", round_protocol(round_rng)) for i in range(rounds)]
     tally = {"examples": Counter(), "random": Counter()}
     reasons, errors, cases_left, start = Counter(), [], [], time.monotonic()
     for name, protocol in cases:
@@ -96,10 +112,12 @@ def main() -> int:
         finally:
             FreeCAD.closeDocument(doc.Name)
         for step in conversion.steps:
-            tally[group][(step.operator, "all")] += 1
-            tally[group][(step.operator, "native")] += step.native
+            # fillets and chamfers (bevels whose profile is regular) counted on their own
+            operator = step.label.lower() if step.label in ROUNDS else step.operator
+            tally[group][(operator, "all")] += 1
+            tally[group][(operator, "native")] += step.native
             if not step.native:
-                reasons[f"{step.operator}: {step.reason.split(' (')[0]}"] += 1
+                reasons[f"{operator}: {step.reason.split(' (')[0]}"] += 1
                 cases_left.append(f"{name} step {step.step} ({step.label}): {step.reason}")
     for group, counts in tally.items():
         print(f"{group}: steps converted exactly, per operator")

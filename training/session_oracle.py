@@ -58,6 +58,7 @@ from Sketch2CADWorkbench.inference.fitting.common import (
     match_ends,
     open_ends,
 )
+from Sketch2CADWorkbench.inference.fitting.regularize import chamfer_profile, fillet_profile
 from Sketch2CADWorkbench.inference.fitting.verify import SketchFit, sketch_fit
 from Sketch2CADWorkbench.inference.interpret import snap_or_keep
 from Sketch2CADWorkbench.inference.session import Session, SketchStep
@@ -117,6 +118,10 @@ class SessionOracle:
         return k + 1, best[k]
 
 
+def _tuples(points) -> tuple:
+    return tuple(tuple(map(float, p)) for p in points)
+
+
 def _numbers(
     solid: cq.Shape, op: Operation
 ) -> tuple[np.ndarray, Callable[[np.ndarray], Operation]]:
@@ -156,13 +161,27 @@ def _numbers(
         c, prof = np.array(op.corner, float), np.array(op.profile, float)
         ends = [prof[i] - c for i in (0, 3)]
         units = [e / np.linalg.norm(e) for e in ends]
+        if op.radius is not None:  # a fillet: its radius, the profile its arc
+            return np.array([op.radius]), lambda x: replace(
+                op,
+                radius=float(x[0]),
+                profile=_tuples(fillet_profile(c, units[0], units[1], float(x[0]))),
+            )
+        if op.distances is not None:  # a chamfer: its two widths
+            return np.array(op.distances), lambda x: replace(
+                op,
+                distances=(float(x[0]), float(x[1])),
+                profile=_tuples(chamfer_profile(c, units[0], units[1], float(x[0]), float(x[1]))),
+            )
+        # l's own plane: f's for a crease, the plane normal to the edge for l across one
+        v = units[1] - (units[1] @ units[0]) * units[0]
+        plane = FaceFrame(c, np.cross(units[0], v), units[0], v / np.linalg.norm(v))
 
         def bevel(x):
-            inner = frame.to_3d(x[2:].reshape(2, 2))
-            pts = [c + x[0] * units[0], *inner, c + x[1] * units[1]]
-            return replace(op, profile=tuple(map(tuple, pts)))
+            inner = plane.to_3d(x[2:].reshape(2, 2))
+            return replace(op, profile=_tuples([c + x[0] * units[0], *inner, c + x[1] * units[1]]))
 
-        return np.r_[[np.linalg.norm(e) for e in ends], frame.to_2d(prof[1:3]).ravel()], bevel
+        return np.r_[[np.linalg.norm(e) for e in ends], plane.to_2d(prof[1:3]).ravel()], bevel
     raise TypeError(f"no oracle for {type(op).__name__}")
 
 

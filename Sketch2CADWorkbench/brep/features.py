@@ -28,19 +28,30 @@ import cadquery as cq
 import numpy as np
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-from .faces import CurvedSurface, FaceRef, OperationError, model_scale, resolve_face
+from .faces import (
+    NORMAL_COS_TOL,
+    CurvedSurface,
+    FaceRef,
+    OperationError,
+    interior_point,
+    model_scale,
+    resolve_face,
+)
 from .geometry import plane_basis, unit
 from .operators import (
     curved_reach,
     make_box,
     on_face_plane,
     place_bevel,
+    place_round,
     prism_footprint,
+    profile_mode,
     replay,
     shell_tool,
     sweep_footprint,
 )
 from .protocol import AddSubPrism, Bevel, Box, Extrude, Mode, Operation, Protocol, Shell, Sweep
+from .rounds import edge_faces, edges_at, face_on_side, fillet_or_chamfer_edges
 
 Vec2 = tuple[float, float]
 Vec3 = tuple[float, float, float]
@@ -56,6 +67,8 @@ class Kind(Enum):
     EXTRUDE = "extrude"  # an outline on a sketch plane, extruded
     REVOLVE = "revolve"  # an outline on a sketch plane, revolved about the sketch's v axis
     THICKNESS = "thickness"  # the solid before, open at a face, hollowed to walls `length` thick
+    FILLET = "fillet"  # edges of the solid before rounded with a constant radius
+    CHAMFER = "chamfer"  # edges of the solid before chamfered by two distances
 
 
 @dataclass(frozen=True)
@@ -134,9 +147,11 @@ class Feature:
     the sketch's v axis (right-handed). FACE: `face` (on the solid before) moves `length`
     mm along its outward normal (ADD) or into the solid (SUBTRACT). THICKNESS: the solid
     before, open at `face`, every other face moved `length` mm inwards (the cavity is
-    what it removes: SUBTRACT). BOX:
-    `size`, centred
-    on the origin. `dims` adds named values that are not sketch coordinates.
+    what it removes: SUBTRACT). BOX: `size`, centred on the origin. FILLET and CHAMFER:
+    the edges of the solid before through `edges` (a point on each), rounded by
+    dims["radius"] or chamfered by dims["d1"] on the face through the edge's `sides`
+    point (its outward normal there beside it) and dims["d2"] on the other. `dims` adds
+    named values that are not sketch coordinates.
     """
 
     step: int
@@ -152,6 +167,8 @@ class Feature:
     size: Vec3 | None = None
     clip: Clip | None = None
     dims: dict[str, float] = field(default_factory=dict)
+    edges: tuple[Vec3, ...] = ()
+    sides: tuple[tuple[Vec3, Vec3], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -256,6 +273,8 @@ def _surface_position(face: cq.Face):
 
 
 def _bevel(solid, rf, op: Bevel, step: int, scale: float) -> Feature:
+    if op.is_round:
+        return _round(solid, rf, op, step, scale)
     at = place_bevel(solid, rf, op, scale)
     c, ctrl, n = at.corner, at.profile, rf.normal
     u = unit(ctrl[0] - c)
@@ -279,6 +298,55 @@ def _bevel(solid, rf, op: Bevel, step: int, scale: float) -> Feature:
         direction=_tup(crease) if tilted else None,
         dims={"crease": depth},
     )
+
+
+def _round(solid, rf, op: Bevel, step: int, scale: float) -> Feature:
+    """A fillet or chamfer on the bevel's edges, or its freeform l across one edge:
+    padded or pocketed along a straight edge, revolved or grooved around a rim."""
+    place = place_round(solid, rf, op, scale)
+    points = tuple(_tup(e.positionAt(0.5).toTuple()) for e in place.edges)
+    if op.radius is not None:
+        return Feature(step, Kind.FILLET, Mode.SUBTRACT, edges=points, dims={"radius": op.radius})
+    if op.distances is not None:
+        faces_map = edge_faces(solid)
+        sides = []
+        for e in place.edges:
+            face = face_on_side(faces_map, e, place.side.first)
+            at = interior_point(face) if face.geomType() == "PLANE" else face.positionAt(0.5, 0.5)
+            normal = face.normalAt(cq.Vector(*at)).toTuple()
+            sides.append((_tup(at), _tup(normal)))
+        d1, d2 = op.distances
+        return Feature(
+            step,
+            Kind.CHAMFER,
+            Mode.SUBTRACT,
+            edges=points,
+            sides=tuple(sides),
+            dims={"d1": d1, "d2": d2},
+        )
+    mode = profile_mode(solid, place)
+    c, t, edge = place.side.point, place.side.tangent, place.side.edge
+    if edge.geomType() == "LINE":
+        start = np.array(edge.startPoint().toTuple())
+        end = np.array(edge.endPoint().toTuple())
+        normal = t if mode is Mode.ADD else -t  # either way the outline goes along +t
+        origin = c + t * float((start - c) @ t)
+        frame = Frame(_tup(origin), _tup(unit(place.profile[0] - c)), _tup(normal))
+        kind, length = Kind.EXTRUDE, abs(float((end - start) @ t))
+    else:
+        center = np.array(edge.arcCenter().toTuple())
+        radial = unit(c - center)
+        axis = unit(np.cross(t, center - c))
+        frame = Frame(_tup(center), _tup(radial), _tup(np.cross(radial, axis)))
+        kind, length = Kind.REVOLVE, 0.0
+    names = ("l_start", "l_control1", "l_control2", "l_end")
+    flat = _flat(frame, np.vstack([c, place.profile]))
+    pts = (_point("c", ("c_u", "c_v"), flat[0], scale),) + tuple(
+        _point(k, (f"{k}_u", f"{k}_v"), q, scale) for k, q in zip(names, flat[1:], strict=False)
+    )
+    outline = Outline(pts, (("c", "l_start"), names, ("l_end", "c")))
+    dims = {"edge": length} if kind is Kind.EXTRUDE else {}
+    return Feature(step, kind, mode, frame, outline, length=length, dims=dims)
 
 
 def _prism(rf, op: AddSubPrism, step: int, scale: float) -> Feature:
@@ -405,6 +473,33 @@ def feature_tool(feature: Feature, solid: cq.Shape | None = None, clip: bool = T
         )
         tool = tool.intersect(inside) if c.keep_inside else tool.cut(inside)
     return tool
+
+
+def apply_feature(feature: Feature, solid: cq.Shape, clip: bool = True) -> cq.Shape:
+    """The solid after a feature (other than the box) on `solid`, the solid before: its
+    tool combined with it, or its fillet or chamfer built on it (`clip`: as for
+    `feature_tool`)."""
+    if feature.kind in (Kind.FILLET, Kind.CHAMFER):
+        faces = [face_through(solid, *side) for side in feature.sides]
+        return fillet_or_chamfer_edges(
+            solid,
+            edges_at(solid, np.array(feature.edges)),
+            feature.dims.get("radius"),
+            (feature.dims["d1"], feature.dims["d2"]) if feature.kind is Kind.CHAMFER else None,
+            faces,
+        )
+    return combined(solid, feature_tool(feature, solid, clip), feature.mode)
+
+
+def face_through(solid: cq.Shape, point: Vec3, normal: Vec3) -> cq.Face:
+    """The face of `solid` through `point` whose outward normal there is `normal`."""
+    tol = 1e-6 * model_scale(solid)
+    at = cq.Vertex.makeVertex(*point)
+    for face in solid.Faces():
+        on_face = face.distance(at) <= tol
+        if on_face and face.normalAt(cq.Vector(*point)).dot(cq.Vector(*normal)) > NORMAL_COS_TOL:
+            return face
+    raise OperationError(f"no face through {point} with outward normal {normal}")
 
 
 def outline_wire(frame: Frame, outline: Outline) -> cq.Wire:

@@ -27,6 +27,16 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
+def vec3(p) -> tuple[float, float, float]:
+    """A 3D point or vector as a tuple of three floats (how operations hold them)."""
+    return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def point_text(p: np.ndarray) -> str:
+    """A point as errors show it: "(x, y, z)" to the micrometre, without "-0"."""
+    return "(" + ", ".join(f"{round(float(x), 3) + 0.0:g}" for x in p) + ")"
+
+
 def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """An orthonormal basis (u, v) of the plane with unit normal n, (u, v, n) right-handed;
     u is perpendicular to the x axis unless n is nearly along it (then to the y axis)."""

@@ -51,7 +51,7 @@ from .faces import (
     points_on_face,
     resolve_face,
 )
-from .geometry import bezier, crossing_sides, plane_basis, unit
+from .geometry import bezier, crossing_sides, plane_basis, point_text, unit
 from .protocol import (
     AddSubPrism,
     Bevel,
@@ -64,6 +64,15 @@ from .protocol import (
     Shell,
     Sweep,
     per_operator,
+)
+from .rounds import (
+    RoundPlace,
+    crease_side,
+    edge_faces,
+    edge_set,
+    fillet_or_chamfer,
+    profile_tool,
+    round_place,
 )
 
 # Points farther than this (relative to the model diagonal) from f's plane are rejected.
@@ -275,16 +284,16 @@ def place_bevel(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> B
         # an edit moves a corner off f (f shrank) or along f's outline (a side moved);
         # a point inside f was never one of its corners
         raise OperationError(
-            f"bevel: corner c {_pt(c)} lies inside face f, not at a corner of it; c must be "
+            f"bevel: corner c {point_text(c)} lies inside face f, not at a corner of it; c must be "
             "a vertex of f where two of its straight edges meet"
         )
     a, b = (unit(ctrl[k] - c) for k in (0, 3))
     moved = corner_along(corners, c, a, b, length, tol)
     if moved is None:
         raise OperationError(
-            f"bevel: corner c {_pt(c)} is not a corner of face f that a bevel can round (two "
-            "straight edges of f meeting there, with an edge of the solid running from it "
-            "along -n_f), nor has such a corner moved from there (no corner of f has its "
+            f"bevel: corner c {point_text(c)} is not a corner of face f that a bevel can "
+            "round (two straight edges of f meeting there, with an edge of the solid running "
+            "from it along -n_f), nor has such a corner moved from there (no corner of f has its "
             "edges along profile l's ends and a crease as long as c -> c')"
         )
     # l in the corner's (a, b) frame, laid on the corner found again
@@ -305,19 +314,15 @@ def _check_profile_ends(c: np.ndarray, ctrl: np.ndarray, corner: BevelCorner, to
         ]
         if not along:
             raise OperationError(
-                f"bevel: the {name} of profile l {_pt(end)} is not on an edge "
-                f"of f that meets at corner c {_pt(c)}"
+                f"bevel: the {name} of profile l {point_text(end)} is not on an edge "
+                f"of f that meets at corner c {point_text(c)}"
             )
         if reach > along[0][1] + tol:
             raise OperationError(
-                f"bevel: profile l ends {reach:.4g} mm from corner c {_pt(c)} along an edge "
+                f"bevel: profile l ends {reach:.4g} mm from corner c {point_text(c)} along an edge "
                 f"of f that is {along[0][1]:.4g} mm long: the bevel does not fit that corner "
                 "(an earlier step made f smaller there?)"
             )
-
-
-def _pt(p: np.ndarray) -> str:
-    return "(" + ", ".join(f"{round(float(x), 3) + 0.0:g}" for x in p) + ")"
 
 
 def bevel_tool(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> cq.Solid:
@@ -344,6 +349,43 @@ def bevel_tool(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> cq
     return tool
 
 
+def round_result(solid: cq.Solid, rf: ResolvedFace, op: Bevel, scale: float) -> OperationResult:
+    """A bevel that `Bevel.is_round`: OCCT's fillet or chamfer on its edges (brep/rounds), or a
+    freeform l cut along one straight edge or around one rim, and added instead where
+    the edge is concave (l's region lies outside the solid).
+
+    Raises:
+        OperationError: naming the field that does not fit, or the OCCT failure.
+    """
+    place = place_round(solid, rf, op, scale)
+    if op.regular:
+        return _single_solid(fillet_or_chamfer(solid, op, place), op.name, solid)
+    return combine(solid, profile_tool(place, scale), profile_mode(solid, place), op.name)
+
+
+def place_round(solid: cq.Shape, rf: ResolvedFace, op: Bevel, scale: float) -> RoundPlace:
+    """Where a bevel that `Bevel.is_round` is on the solid now: across an edge of f
+    (brep/rounds.round_place), or along the crease that `place_bevel` finds.
+
+    Raises:
+        OperationError: naming the field that does not fit.
+    """
+    if op.across:
+        return round_place(solid, rf, op, scale)
+    at = place_bevel(solid, rf, op, scale)
+    if not op.regular:
+        _check_bevel_region(at.corner, at.profile, rf.normal, scale)
+    side = crease_side(solid, at.corner, at.crease, unit(at.profile[0] - at.corner))
+    edges = edge_set(solid, edge_faces(solid), side.first, side.edge, op.edges)
+    return RoundPlace(side, at.profile, edges)
+
+
+def profile_mode(solid: cq.Solid, place: RoundPlace) -> Mode:
+    """SUBTRACT where l's region lies inside the solid (a convex edge), else ADD."""
+    probe = (place.side.point + bezier(place.profile, np.array([0.5]))[0]) / 2
+    return Mode.SUBTRACT if solid.isInside(cq.Vector(*probe)) else Mode.ADD
+
+
 def locate_bevel(solid: cq.Shape, op: Bevel) -> Bevel:
     """The bevel as it lies on `solid` now: its corner, opposite corner and profile found
     again (`place_bevel`); the same bevel when nothing before it was edited.
@@ -352,12 +394,19 @@ def locate_bevel(solid: cq.Shape, op: Bevel) -> Bevel:
         OperationError: f does not resolve, or the bevel no longer fits (the reason).
     """
     rf = resolve_face(solid, op.face, "bevel face f")
+    if op.across:
+        place = round_place(solid, rf, op, model_scale(solid))
+        return dataclasses.replace(
+            op,
+            corner=_tuple(place.side.point),
+            profile=tuple(_tuple(p) for p in place.profile),
+        )
     at = place_bevel(solid, rf, op, model_scale(solid))
-    return Bevel(
-        op.face,
-        _tuple(at.corner),
-        _tuple(at.corner + at.crease),
-        tuple(_tuple(p) for p in at.profile),
+    return dataclasses.replace(
+        op,
+        corner=_tuple(at.corner),
+        opposite=_tuple(at.corner + at.crease),
+        profile=tuple(_tuple(p) for p in at.profile),
     )
 
 
@@ -467,7 +516,8 @@ def curved_reach(
     if np.isnan(t).any():
         k = int(np.argmax(np.isnan(t)))
         raise OperationError(
-            f"{what} reaches past the side of the {surface.kind.value} (at {_pt(footprint[k])} "
+            f"{what} reaches past the side of the {surface.kind.value} "
+            f"(at {point_text(footprint[k])} "
             f"the line along n_f misses it): keep it narrower than the {surface.kind.value}"
         )
     margin = REACH_MARGIN_REL * scale
@@ -815,6 +865,8 @@ def operation_result(
             if index is None
             else ResolvedFace.of(face_at(solid, index))
         )
+        if op.type is OperatorType.BEVEL and op.is_round:
+            return round_result(solid, rf, op, model_scale(solid))
         tool = TOOLS[op.type](solid, rf, op, model_scale(solid))
         return combine(solid, tool, op.boolean, op.name, check_valid)
     except OperationError:

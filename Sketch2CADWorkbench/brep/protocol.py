@@ -29,7 +29,9 @@ JSON schema, version 3 (every key required unless marked optional)::
      "operations": [
        {"type": "extrude", "face": FACE, "d": float},
        {"type": "bevel", "face": FACE, "corner": P, "opposite": P,
-        "profile": [P, P, P, P]},        # cubic Bezier on f; c found again on replay
+        "profile": [P, P, P, P],         # cubic Bezier on f; c found again on replay
+        "edges": EDGES,                  # optional, "drawn" by default
+        "radius": float | "distances": [d1, d2]},   # optional: a fillet or a chamfer
        {"type": "addsub", "face": FACE, "polygon": [P, P, P, ...],   # 3 to 6 points
         "d": float, "mode": MODE},
        {"type": "sweep", "face": FACE, "center": P, "r0": float, "r1": float,
@@ -38,6 +40,11 @@ JSON schema, version 3 (every key required unless marked optional)::
     FACE = {"point": P, "normal": P, "surface": SURFACE}   # "surface" optional
     SURFACE = "plane" (the default) | "cylinder" | "cone"; P = [x, y, z]
     MODE = "add" | "subtract" | "intersect" | "replace"
+    EDGES = "drawn" | "chain" | "outline"
+
+A bevel without "opposite" is drawn across an edge of f at c (`Bevel`). The bevel's
+optional keys are written only when they differ from their defaults, so a file without
+them loads unchanged and is written back as it was.
 
 Version 2 is version 3 without "shell"; version 1 is version 2 without "surface"
 (every face planar). Older files load unchanged, and a protocol is written with the
@@ -49,6 +56,7 @@ older version keep reading what they can build.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Callable
@@ -240,12 +248,15 @@ class Box:
 class _Operation:
     """What every operation of the protocol does; each dataclass below fills it in.
 
-    Class attributes: `type` (its OperatorType) and `KEYS` (its JSON keys besides "type"
-    and "face", in the order they are written).
+    Class attributes: `type` (its OperatorType), `KEYS` (its JSON keys besides "type"
+    and "face", in the order they are written) and `OPTIONAL` (those of KEYS it may
+    leave out: written only when they differ from their default, so that older files
+    load unchanged and are written again as they were).
     """
 
     type: ClassVar[OperatorType]
     KEYS: ClassVar[tuple[str, ...]]
+    OPTIONAL: ClassVar[tuple[str, ...]] = ()
     NOUN: ClassVar[str]  # what errors call it: "extrude", "bevel", "prism", "sweep"
     face: FaceRef
 
@@ -334,14 +345,33 @@ class Extrude(_Operation):
         return Extrude(self.face.reflected(point, vector), self.d)
 
 
+class EdgeSet(Enum):
+    """Which edges a bevel follows (its `edges` field)."""
+
+    DRAWN = "drawn"  # the edge the profile is drawn across
+    CHAIN = "chain"  # the tangent-continuous chain of edges through it
+    OUTLINE = "outline"  # every edge of face f's outline ("round the top")
+
+
 @dataclass(frozen=True)
 class Bevel(_Operation):
-    """Round corner c of face f with profile l, along the crease from c to c'.
+    """Round or chamfer an edge with profile l, drawn across it from one face to the other.
 
-    `corner` is c (a corner of f: two straight edges of f meet there, and an edge of the
-    solid, the crease, leaves it into the solid along -n_f), `opposite` is c' (the
-    crease's other end, so c' - c points along -n_f), `profile` is l, the four control
-    points of a cubic Bezier on f's plane from one edge of f at c to the other.
+    Two forms. The paper's (a crease): `corner` is c, a corner of f where two straight
+    edges of f meet and an edge of the solid, the crease, leaves it into the solid along
+    -n_f; `opposite` is c' (the crease's other end, so c' - c points along -n_f);
+    `profile` is l, the four control points of a cubic Bezier on f's plane from one edge
+    of f at c to the other. Across an edge (`opposite` None): f is a planar face on one
+    side of the edge, `corner` is c, the point of the edge that l crosses, and l lies in
+    the plane through c normal to the edge, from f (l(0)) to the face on the other side
+    (l(1)); the edge may be straight or a circular rim (a plane meeting a cylinder or a
+    cone, as sweeps make), around which l is revolved.
+
+    `edges` says which edges the step follows (`EdgeSet`; the crease form follows its
+    crease or that crease's tangent chain). `radius` makes it a true constant-radius
+    fillet, `distances` (d1 on f's side, or l(0)'s, then d2) a chamfer, both built by
+    OCCT on every edge of the set; without them l itself is cut, along one straight edge
+    or around one rim (brep/operators.bevel_edges says what else OCCT allows).
 
     They record the bevel as it was made. On replay the corner is found again on the
     solid as it is then: when an earlier step was edited and c moved (f grew or
@@ -351,42 +381,136 @@ class Bevel(_Operation):
 
     face: FaceRef
     corner: Vec3
-    opposite: Vec3
+    opposite: Vec3 | None
     profile: tuple[Vec3, Vec3, Vec3, Vec3]
+    edges: EdgeSet = EdgeSet.DRAWN
+    radius: float | None = None
+    distances: tuple[float, float] | None = None
 
     type = OperatorType.BEVEL
-    KEYS = ("corner", "opposite", "profile")
+    KEYS = ("corner", "opposite", "profile", "edges", "radius", "distances")
+    OPTIONAL = ("opposite", "edges", "radius", "distances")
     NOUN = "bevel"
 
+    @property
+    def across(self) -> bool:
+        """Whether l is drawn across an edge of f (no crease c -> c')."""
+        return self.opposite is None
+
+    def version_needed(self) -> tuple[int, str, str]:
+        for key, used in (
+            ("corner", self.across),  # no `opposite` to name: its corner on the edge
+            ("edges", self.edges is not EdgeSet.DRAWN),
+            ("radius", self.radius is not None),
+            ("distances", self.distances is not None),
+        ):
+            if used:
+                why = "across an edge" if key == "corner" else f"`{key}`"
+                return 3, key, f"a bevel {why} needs version 3 (versions 1 and 2 have no rounds)"
+        return super().version_needed()
+
+    @property
+    def regular(self) -> bool:
+        """Whether the step is a fillet or a chamfer rather than the freeform l."""
+        return self.radius is not None or self.distances is not None
+
+    @property
+    def is_round(self) -> bool:
+        """Whether the step is more than the paper's freeform cut along one crease: across
+        an edge, a fillet or chamfer, or along more than the drawn edge."""
+        return self.across or self.regular or self.edges is not EdgeSet.DRAWN
+
+    @property
+    def name(self) -> str:
+        return "fillet" if self.radius is not None else "chamfer" if self.distances else "bevel"
+
+    def check(self) -> None:
+        if self.radius is not None and self.distances is not None:
+            raise OperationError("bevel: give a fillet radius or chamfer distances, not both")
+        if self.radius is not None and not (math.isfinite(self.radius) and self.radius > 0):
+            raise OperationError(f"bevel: fillet radius must be positive, got {self.radius}")
+        if self.distances is not None and not all(
+            math.isfinite(d) and d > 0 for d in self.distances
+        ):
+            raise OperationError(
+                f"bevel: chamfer distances must be positive, got {list(self.distances)}"
+            )
+        if self.edges is EdgeSet.OUTLINE and not self.across:
+            raise OperationError(
+                "bevel: edges = outline rounds the outline of f, which needs l drawn across "
+                "an edge of f (no opposite corner c')"
+            )
+
     def describe(self) -> str:
+        where = "across" if self.across else f"c'={_fmt(self.opposite)}"
+        shape = (
+            f" r={_num(self.radius)}"
+            if self.radius is not None
+            else f" d={_num(self.distances[0])},{_num(self.distances[1])}"
+            if self.distances
+            else ""
+        )
+        edges = "" if self.edges is EdgeSet.DRAWN else f" edges={self.edges.value}"
         return (
-            f"Bevel {self.face.describe()} c={_fmt(self.corner)} c'={_fmt(self.opposite)} "
-            f"l=Bezier[{', '.join(_fmt(p) for p in self.profile)}]"
+            f"Bevel {self.face.describe()} c={_fmt(self.corner)} {where} "
+            f"l=Bezier[{', '.join(_fmt(p) for p in self.profile)}]{edges}{shape}"
         )
 
     def parameters(self) -> dict[str, Any]:
-        return {
-            "corner": list(self.corner),
-            "opposite": list(self.opposite),
-            "profile": [list(p) for p in self.profile],
-        }
+        out: dict[str, Any] = {"corner": list(self.corner)}
+        if self.opposite is not None:
+            out["opposite"] = list(self.opposite)
+        out["profile"] = [list(p) for p in self.profile]
+        if self.edges is not EdgeSet.DRAWN:
+            out["edges"] = self.edges.value
+        if self.radius is not None:
+            out["radius"] = self.radius
+        if self.distances is not None:
+            out["distances"] = list(self.distances)
+        return out
 
     @classmethod
     def parse(cls, face: FaceRef, o: dict, path: str) -> Bevel:
+        edges = EdgeSet.DRAWN
+        if "edges" in o:
+            try:
+                edges = EdgeSet(o["edges"])
+            except ValueError:
+                raise _fail(
+                    f"{path}.edges", f"expected one of {[e.value for e in EdgeSet]}", o["edges"]
+                ) from None
+        if "radius" in o and "distances" in o:
+            raise _fail(f"{path}.distances", "a fillet radius is given already", o["distances"])
+        if edges is EdgeSet.OUTLINE and "opposite" in o:
+            raise _fail(
+                f"{path}.edges",
+                "the outline of f needs l drawn across an edge of f (leave out 'opposite')",
+                o["edges"],
+            )
         return cls(
             face,
             vec(o["corner"], f"{path}.corner"),
-            vec(o["opposite"], f"{path}.opposite"),
+            vec(o["opposite"], f"{path}.opposite") if "opposite" in o else None,
             points(o["profile"], f"{path}.profile", 4, 4),
+            edges,
+            number(o["radius"], f"{path}.radius", positive=True) if "radius" in o else None,
+            _distances(o["distances"], f"{path}.distances") if "distances" in o else None,
         )
 
     def reflected(self, point: PointMap, vector: PointMap) -> Bevel:
-        return Bevel(
-            self.face.reflected(point, vector),
-            point(self.corner),
-            point(self.opposite),
-            tuple(point(p) for p in self.profile),
+        return dataclasses.replace(
+            self,
+            face=self.face.reflected(point, vector),
+            corner=point(self.corner),
+            opposite=None if self.opposite is None else point(self.opposite),
+            profile=tuple(point(p) for p in self.profile),
         )
+
+
+def _distances(v: Any, path: str) -> tuple[float, float]:
+    if not isinstance(v, list) or len(v) != 2:
+        raise _fail(path, "expected [d1, d2], two positive numbers", v)
+    return (number(v[0], f"{path}[0]", positive=True), number(v[1], f"{path}[1]", positive=True))
 
 
 class _CombinedOperation(_Operation):
@@ -714,7 +838,8 @@ def operation_to_dict(op: Operation) -> dict[str, Any]:
 
 def protocol_version(p: Protocol) -> int:
     """The lowest schema version that holds `p` (each operation's `version_needed`): 3
-    with a shell, else 2 when a base face is curved, else 1."""
+    with a shell or a round (a bevel across an edge, along a chain or an outline, a
+    fillet or a chamfer), else 2 when a base face is curved, else 1."""
     return max((op.version_needed()[0] for op in p.operations), default=1)
 
 
@@ -746,7 +871,8 @@ def _operation(v: Any, path: str) -> Operation:
     if not isinstance(kind, str) or kind not in _KINDS:
         raise _fail(f"{path}.type", f"expected one of {sorted(_KINDS)}", kind)
     cls = _KINDS[kind]
-    o = obj(v, path, {"type", "face", *cls.KEYS})
+    optional = set(cls.OPTIONAL)
+    o = obj(v, path, {"type", "face", *cls.KEYS} - optional, optional)
     return cls.parse(FaceRef.from_dict(o["face"], f"{path}.face"), o, path)
 
 

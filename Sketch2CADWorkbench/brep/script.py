@@ -59,6 +59,9 @@ class _Library(ABC):
     header: str  # the script's docstring, imports and helpers; formatted with the title
     footer: str  # `result`, and the volume printed when run
     model: str  # the variable holding the model after each step
+    # after the header when a step fillets or chamfers edges of the model: `edges_at`
+    # (the edge nearest each point) and `chamfer` (d1 measured on each edge's face)
+    edge_helpers: str
 
     @abstractmethod
     def box(self) -> str:
@@ -171,6 +174,24 @@ result = solid
 if __name__ == "__main__":
     print(f"volume {result.Volume():.6f} mm^3")
 """
+    edge_helpers = '''
+def edges_at(solid, points):
+    """The edge of `solid` nearest each point (a point on each edge to round)."""
+    edges = solid.Edges()
+    return [min(edges, key=lambda e: e.distance(cq.Vertex.makeVertex(*p))) for p in points]
+
+
+def chamfer(solid, d1, d2, edges, faces):
+    """`solid` with each edge chamfered, d1 measured on its face in `faces`, d2 on the
+    other (cadquery's own chamfer picks that face itself)."""
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer
+
+    maker = BRepFilletAPI_MakeChamfer(solid.wrapped)
+    for edge, face in zip(edges, faces):
+        maker.Add(d1, d2, edge.wrapped, face.wrapped)
+    return cq.Shape.cast(maker.Shape())
+
+'''
     model = "solid"
 
     def box(self) -> str:
@@ -269,6 +290,24 @@ result = part
 if __name__ == "__main__":
     print(f"volume {result.volume:.6f} mm^3")
 """
+    edge_helpers = '''
+def edges_at(part, points):
+    """The edge of `part` nearest each point (a point on each edge to round)."""
+    edges = part.edges()
+    return [min(edges, key=lambda e: e.distance_to(Vector(*p))) for p in points]
+
+
+def chamfer(part, d1, d2, edges, faces):
+    """`part` with each edge chamfered, d1 measured on its face in `faces`, d2 on the
+    other (build123d's chamfer takes one reference face for all edges)."""
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer
+
+    maker = BRepFilletAPI_MakeChamfer(part.wrapped)
+    for edge, face in zip(edges, faces):
+        maker.Add(d1, d2, edge.wrapped, face.wrapped)
+    return Solid(maker.Shape())
+
+'''
     model = "part"
 
     def box(self) -> str:
@@ -350,6 +389,8 @@ def protocol_script(plan: Plan, title: str, library: str) -> str:
     lines = [lib.header.format(title=title)]
     if any(f.kind is Kind.THICKNESS for f in plan.features):
         lines.append(HOLLOWED)
+    if any(f.kind in (Kind.FILLET, Kind.CHAMFER) for f in plan.features):
+        lines.append(lib.edge_helpers)
     listing = plan.protocol.listing().splitlines()
     for feature in plan.features:
         lines.append(f"# Step {listing[feature.step]}")
@@ -362,12 +403,31 @@ def protocol_script(plan: Plan, title: str, library: str) -> str:
                 f"face = face_at({lib.model}, {_v(feature.face.point)}, {_v(feature.face.normal)})",
                 lib.hollow(),
             ]
+        elif feature.kind in (Kind.FILLET, Kind.CHAMFER):
+            lines += _rounded(feature, lib)
         elif isinstance(plan.protocol.operations[feature.step - 1], Extrude):
             lines += _extrude(plan.protocol.operations[feature.step - 1], feature, lib)
         else:
             lines += _sketched(feature, lib)
         lines.append("")
     return "\n".join(lines) + lib.footer
+
+
+def _rounded(feature: Feature, lib: _Library) -> list[str]:
+    """A fillet (the model's own `fillet`, OCCT's) or chamfer on the edges through the
+    feature's points."""
+    m = lib.model
+    points = ", ".join(_v(p) for p in feature.edges)
+    out = [f"edges = edges_at({m}, [{points}])"]
+    if feature.kind is Kind.FILLET:
+        return [f"radius = {_n(feature.dims['radius'])}", *out, f"{m} = {m}.fillet(radius, edges)"]
+    faces = ", ".join(f"face_at({m}, {_v(p)}, {_v(n)})" for p, n in feature.sides)
+    return [
+        f"d1, d2 = {_n(feature.dims['d1'])}, {_n(feature.dims['d2'])}",
+        *out,
+        f"faces = [{faces}]  # where d1 is measured",
+        f"{m} = chamfer({m}, d1, d2, edges, faces)",
+    ]
 
 
 def _extrude(op: Extrude, feature: Feature, lib: _Library) -> list[str]:
@@ -385,7 +445,7 @@ def _sketched(feature: Feature, lib: _Library) -> list[str]:
     frame, outline = feature.frame, feature.outline
     dims = dict(outline.dims)
     if feature.kind is Kind.EXTRUDE:
-        length = "d" if "crease" not in feature.dims else "crease"
+        length = next((k for k in ("crease", "edge") if k in feature.dims), "d")
         dims[length] = feature.length
         if feature.back:
             dims["reach"] = feature.back

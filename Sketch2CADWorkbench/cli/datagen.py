@@ -79,6 +79,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "'shell', the opened face, rim strokes 1, a stroke down a wall 0); off by "
         "default, so that sets made without it stay the same",
     )
+    p.add_argument(
+        "--round-share",
+        type=float,
+        default=0.0,
+        metavar="P",
+        help="share (0 to 1) of the last bevels drawn as rounds, chamfers or profiles "
+        "across an edge: circular rims, straight edges, their tangent chains and "
+        "faces' outlines (datagen/rounds.py); default 0",
+    )
     p.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     p.add_argument(
         "--shard-size",
@@ -129,13 +138,14 @@ def run(args: argparse.Namespace) -> int:
             args.ray is not None
             or args.hidden_lines != "draw"
             or args.regular_share
+            or args.round_share
             or args.hand != "generator"
             or args.shells
         ):
             print(
                 "sketch2cad datagen: error: --curved makes its set in one process with "
                 "every line drawn and random parameters: leave out --ray, --hidden-lines, "
-                "--regular-share, --hand and --shells",
+                "--regular-share, --round-share, --hand and --shells",
                 file=sys.stderr,
             )
             return 2
@@ -156,5 +166,6 @@ def run(args: argparse.Namespace) -> int:
             args.regular_share,
             args.hand,
             args.shells,
+            args.round_share,
         )
     )

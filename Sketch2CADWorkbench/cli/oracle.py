@@ -26,7 +26,7 @@ from ..brep.protocol import ProtocolError, describe, load
 from ..inference.session import load_session
 
 ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe", "enclosure")
+EXAMPLES = ("camera", "hammer", "mixer", "bolt", "lamp", "pipe", "enclosure", "knob")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -21,8 +21,8 @@ import cadquery as cq
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from ..brep.faces import OperationError, face_at, model_scale
-from ..brep.protocol import Extrude, Operation, OperatorType, per_operator
+from ..brep.faces import OperationError, base_face_index, face_at, model_scale, resolve_face
+from ..brep.protocol import EdgeSet, Extrude, Operation, OperatorType, per_operator
 from ..sketch.labels import CURVE_THRESHOLDS, SHELL_RIM, SHELL_WALL
 from .context import Context
 from .drawing import CORNER_REACH
@@ -31,6 +31,7 @@ from .fitting.base_face import face_under_stroke
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
+from .fitting.rounds import round_fits
 from .fitting.shell import rim_and_wall, shell_fit
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles, whole_outline_roles
 from .fitting.surface import face_frame
@@ -285,8 +286,10 @@ def _fit_bevel_readings(
     """The bevel on face `index` whose profile l is the stroke C votes for most or, when
     that reading's own sketch lies more than GOOD_FIT_PX from the strokes, the one of
     the next stroke if it explains them better: C sometimes takes l' for l, and l' back
-    projected onto f's plane lands at another corner. A bevel has no Boolean, so
-    `options` has nothing for it.
+    projected onto f's plane lands at another corner. Beside them, the bevels with l
+    drawn across an edge (`_across_readings`); all of them follow the designer's edge
+    set (`options.edges`; a corner's crease has no outline of its own to follow, and
+    follows its crease then).
 
     Returns:
         [(operation, face used, per-stroke labels)].
@@ -314,19 +317,55 @@ def _fit_bevel_readings(
                 best = (misfit, got, face_index, [int(i == pick) for i in range(len(strokes))])
         if best is not None and best[0] <= GOOD_FIT_PX:
             break
-    if best is None:
-        raise first
-    _, got, face_index, labels = best
-    # l refined against every stroke is a reading beside l fitted to its own stroke, the
-    # one that explains the strokes better first (a refined l may be refused by OCCT); a
-    # refined l whose sketch cannot be drawn is dropped (the fitted one's was drawn above)
     scored = []
-    for op in (got.refined(strokes), got.operation):
+    if best is not None:
+        _, got, face_index, labels = best
+        # l refined against every stroke is a reading beside l fitted to its own stroke,
+        # the one that explains the strokes better first (a refined l may be refused by
+        # OCCT); a refined l whose sketch cannot be drawn is dropped (the fitted one's was
+        # drawn above)
+        edges = EdgeSet.DRAWN if options.edges is EdgeSet.OUTLINE else options.edges
+        for op in (got.refined(strokes), got.operation):
+            try:
+                op = replace(op, edges=edges)
+                scored.append((ctx.sketch_fit(solid, op).score, op, face_index, labels))
+            except OperationError:
+                continue
+    scored += _across_readings(solid, strokes, votes, ctx, options)
+    if not scored:
+        raise first or FitError("bevel: no reading of the profile stroke builds")
+    return [
+        (op, face_index, labels) for _, op, face_index, labels in sorted(scored, key=lambda r: r[0])
+    ]
+
+
+def _across_readings(
+    solid: cq.Shape,
+    strokes: list[np.ndarray],
+    votes: list[float],
+    ctx: Context,
+    options: InterpretOptions,
+) -> list[tuple[float, Operation, int, list[int]]]:
+    """Bevels whose profile l, one of the BEVEL_READINGS strokes C votes for most (C
+    takes l' for l as often: the designer draws both alike), is drawn across an edge: a
+    straight edge or a circular rim (fitting/rounds), with the designer's edge set, and
+    their scores; none where no edge fits (a corner's crease reads it then)."""
+    out: list[tuple[float, Operation, int, list[int]]] = []
+    for pick in np.argsort(votes)[::-1][:BEVEL_READINGS]:
+        others = [s for i, s in enumerate(strokes) if i != pick]
         try:
-            scored.append((ctx.sketch_fit(solid, op).score, op))
-        except OperationError:
+            ops = round_fits(solid, ctx.camera, strokes[pick], options.edges, others)
+        except (FitError, OperationError):
             continue
-    return [(op, face_index, labels) for _, op in sorted(scored, key=lambda r: r[0])]
+        labels = [int(i == pick) for i in range(len(strokes))]
+        for op in ops:
+            try:
+                score = ctx.sketch_fit(solid, op).score
+            except OperationError:
+                continue
+            index = base_face_index(solid, resolve_face(solid, op.face).face)
+            out.append((score, op, index, labels))
+    return out
 
 
 def _fit_shell_on_face(

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..brep.protocol import Mode
+from ..brep.protocol import EdgeSet, Mode
 from .fitting.regularize import SNAP_PX
 
 
@@ -18,7 +18,8 @@ class InterpretOptions:
     `fitting.regularize.hand_tolerance`) and lengths to multiples of `snap_step` mm
     (0: no grid);
     `skip_snaps` names snaps the designer undid (keys of
-    inference.fitting.regularize.SNAP_KINDS).
+    inference.fitting.regularize.SNAP_KINDS). `edges` is which edges a bevel drawn across
+    an edge follows: that edge, its tangent chain, or the whole outline of its face.
     """
 
     regularize: bool = True
@@ -30,3 +31,4 @@ class InterpretOptions:
     # Read pieces of curves, not whole strokes (sketch/segment.py); off only to measure
     # what that stage gains.
     segment: bool = True
+    edges: EdgeSet = EdgeSet.DRAWN

@@ -14,10 +14,11 @@ JSON schema, version 1::
                     "regularize": true,                 # snapping and rectification
                     "snap_step": 0.0,                   # optional: the length grid (mm)
                     "snap_px": 5.0,                     # optional: the least snap tolerance
-                    "skip_snaps": ["position", ...]}}]} # optional: the snaps undone
+                    "skip_snaps": ["position", ...],    # optional: the snaps undone
+                    "edges": "drawn"}}]}                # optional: a bevel's edges
 
 Each step's strokes are in its camera's pixels (render/camera.py's convention); the
-camera is the orthographic view the designer sketched in. The three optional choices
+camera is the orthographic view the designer sketched in. The optional choices
 (InterpretOptions' fields) are written only when they differ from their defaults, so a
 step without them reads, and is written, as before they existed.
 """
@@ -43,7 +44,7 @@ from ..brep.fields import (
     vec,
 )
 from ..brep.files import read_capped, write_atomically
-from ..brep.protocol import Box, Mode, ProtocolError
+from ..brep.protocol import Box, EdgeSet, Mode, ProtocolError
 from ..render.camera import OrthoCamera
 from .fitting.regularize import SNAP_KINDS
 from .options import InterpretOptions
@@ -115,6 +116,8 @@ def _choices_dict(c: InterpretOptions) -> dict[str, Any]:
         out["snap_px"] = float(c.snap_px)
     if c.skip_snaps:
         out["skip_snaps"] = sorted(c.skip_snaps)
+    if c.edges is not DEFAULTS.edges:
+        out["edges"] = c.edges.value
     return out
 
 
@@ -164,7 +167,10 @@ def camera_from_dict(v: Any, path: str) -> OrthoCamera:
 
 def _choices(v: Any, path: str) -> InterpretOptions:
     o = obj(
-        v, path, set(), {"option", "symmetry", "regularize", "snap_step", "snap_px", "skip_snaps"}
+        v,
+        path,
+        set(),
+        {"option", "symmetry", "regularize", "snap_step", "snap_px", "skip_snaps", "edges"},
     )
     option = o.get("option")
     if option is not None:
@@ -195,7 +201,12 @@ def _choices(v: Any, path: str) -> InterpretOptions:
         raise _err(
             f"{path}.skip_snaps", f"expected a list of snap kinds from {list(SNAP_KINDS)}", skip
         )
-    return InterpretOptions(reg, option, sym, float(step), float(px), frozenset(skip))
+    edges = o.get("edges", DEFAULTS.edges.value)
+    if edges not in [e.value for e in EdgeSet]:
+        raise _err(f"{path}.edges", f"expected one of {[e.value for e in EdgeSet]}", edges)
+    return InterpretOptions(
+        reg, option, sym, float(step), float(px), frozenset(skip), edges=EdgeSet(edges)
+    )
 
 
 def _step(v: Any, path: str) -> SketchStep:

@@ -4,7 +4,8 @@
 
 Labels (sketch/labels.py):
     extrude: edges of the moved face f (offset curve) 1, side edges (profile) 0;
-    bevel: profile l on f 1, its offset l' = l + (c' - c) 0;
+    bevel: profile l on f 1, its offset l' = l + (c' - c) 0 (l drawn across an edge:
+        l' at the edge's far end, or across the rim);
     add/sub and sweep: start curve 0, profile 1, end curve 2, where start and end are
         the two ends of the primitive ordered along n_f (for an addition the start is
         the base curve on f, for a subtraction the end is), which removes the
@@ -44,6 +45,7 @@ from ..brep.protocol import (
     Sweep,
     per_operator,
 )
+from ..brep.rounds import far_copy, nearest_edge
 from .labels import (
     BEVEL_L,
     BEVEL_L_PRIME,
@@ -116,7 +118,16 @@ def extrude_curves(rf: ResolvedFace, op: Extrude, direction: np.ndarray) -> list
 
 
 def bevel_curves(rf: ResolvedFace, op: Bevel, direction: np.ndarray) -> list[Curve]:
+    """l, and l' where the designer draws it again: at the crease's other end, or, for l
+    drawn across an edge of f, at the edge's far end or across a rim (`far_copy`)."""
     l_curve = bezier_points(np.array(op.profile, float), CURVE_POINTS) + rf.offset
+    if op.across:
+        c = np.asarray(op.corner, float) + rf.offset
+        edge, _ = nearest_edge(rf.face, c)
+        return [
+            Curve(l_curve, BEVEL_L, relevant=True),
+            Curve(far_copy(edge, c, l_curve), BEVEL_L_PRIME),
+        ]
     crease = np.subtract(op.opposite, op.corner)
     return [Curve(l_curve, BEVEL_L, relevant=True), Curve(l_curve + crease, BEVEL_L_PRIME)]
 

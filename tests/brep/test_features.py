@@ -6,9 +6,11 @@ import dataclasses
 from pathlib import Path
 
 import pytest
+from round_fixtures import round_protocols
 
 from Sketch2CADWorkbench.brep.features import (
     Kind,
+    apply_feature,
     combined,
     feature_tool,
     mismatch,
@@ -49,3 +51,22 @@ def test_a_sweeps_outline_holds_its_parameters_by_name(plan):
             if f"{name}_r" in dims:  # a curved profile (a straight one is a line)
                 k = int(name[-1]) - 1
                 assert (dims[f"{name}_r"], dims[f"{name}_h"]) == pytest.approx(op.profile[k])
+
+
+def test_rounds_plan_as_fillets_chamfers_and_profiles_that_rebuild_the_core():
+    kinds = set()
+    for name, protocol in round_protocols().items():
+        plan = plan_protocol(protocol)
+        for feature in plan.features[1:]:
+            got = apply_feature(feature, plan.solids[feature.step - 1])
+            assert mismatch(got, plan.solids[feature.step]) <= TOL, (name, feature.step)
+            kinds.add(feature.kind)
+    assert {Kind.FILLET, Kind.CHAMFER, Kind.EXTRUDE, Kind.REVOLVE} <= kinds
+
+
+def test_a_fillets_radius_is_its_dimension():
+    plan = plan_protocol(round_protocols()["rim fillet"])
+    fillet = plan.features[-1]
+    assert fillet.kind is Kind.FILLET and fillet.dims == {"radius": 3.0}
+    wider = dataclasses.replace(fillet, dims={"radius": 4.0})
+    assert mismatch(apply_feature(wider, plan.solids[-2]), plan.solids[-1]) > TOL

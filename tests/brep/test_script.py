@@ -15,6 +15,7 @@ import cadquery as cq
 import numpy as np
 import pytest
 from packaging.requirements import Requirement
+from round_fixtures import round_protocols
 
 from Sketch2CADWorkbench.brep.features import (
     Plan,
@@ -116,11 +117,14 @@ VENVS = {"cadquery": cadquery_only, "build123d": build123d_only}
 
 @pytest.fixture(scope="module")
 def cases() -> dict[str, Plan]:
-    """The examples' plans and two step kinds no example has: an intersection (mixer's
+    """The examples' plans, the rounds' (fillets, chamfers and profiles across edges,
+    tests/round_fixtures.py), and two step kinds no example has: an intersection (mixer's
     tall prism cut back to 30 mm), and a bevel whose crease leans off f's normal (as it
     does along a solid's edge that is not square to f: hammer's bevel of step 2 leaning
     3 degrees; its solid is its feature's, as the operators give none)."""
     plans = {path.stem: plan_protocol(load(path)) for path in EXAMPLES}
+    for name, protocol in round_protocols().items():
+        plans[f"round-{name.replace(' ', '-')}"] = plan_protocol(protocol)
     mixer = plans["mixer"].protocol
     top = mixer.operations[0]
     cut = AddSubPrism(top.face, top.polygon, 30.0, Mode.INTERSECT)

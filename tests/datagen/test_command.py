@@ -272,3 +272,19 @@ def test_the_workers_and_resource_tracker_exit_when_the_main_process_is_killed(t
     for p in left:
         os.kill(p, signal.SIGKILL)
     assert not left
+
+
+def test_a_round_share_of_0_makes_the_same_bytes_and_manifest_as_no_option(one_worker, tmp_path):
+    assert datagen("--out", tmp_path, *ARGS, "--round-share", 0, "--workers", 1) == 0
+    _same_shards(one_worker, tmp_path)
+    assert (tmp_path / "manifest.json").read_bytes() == (one_worker / "manifest.json").read_bytes()
+
+
+def test_the_manifest_records_a_round_share_and_a_resume_must_match(tmp_path, capsys):
+    args = ["--count", 4, "--seed", 3, "--shard-size", 4, "--workers", 1]
+    assert datagen("--out", tmp_path, *args, "--round-share", 0.5) == 0
+    assert Dataset(tmp_path).manifest["round_share"] == 0.5
+    assert datagen("--out", tmp_path, *args) == 2
+    assert "holds a different data set" in capsys.readouterr().err
+    assert datagen("--out", tmp_path / "bad", *args, "--round-share", -0.1) == 2
+    assert "--round-share must be between 0 and 1, got -0.1" in capsys.readouterr().err

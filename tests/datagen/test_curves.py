@@ -4,9 +4,10 @@
 import cadquery as cq
 import numpy as np
 import pytest
+import round_fixtures as knob
 
 from Sketch2CADWorkbench.brep.faces import base_face_index, resolve_face
-from Sketch2CADWorkbench.brep.operators import make_box
+from Sketch2CADWorkbench.brep.operators import build, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -15,6 +16,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     OperationError,
+    Protocol,
     Surface,
     Sweep,
 )
@@ -66,6 +68,23 @@ def test_bevel_curves_are_l_on_f_and_l_moved_along_the_crease():
     (l_curve,), (l_prime,) = _ends(curves, BEVEL_L), _ends(curves, BEVEL_L_PRIME)
     assert np.allclose(l_curve[[0, -1]], [profile[0], profile[3]])
     assert np.allclose(l_prime - l_curve, [0, 0, -20.0])
+
+
+def test_a_profile_across_a_rim_is_drawn_again_across_the_rim_and_along_an_edge_at_its_end():
+
+    op = knob.rim(3.0)
+    curves = operation_curves(build(Protocol(knob.BASE, (knob.KNOB,))), op, VIEW)
+    (l_curve,), (l_prime,) = _ends(curves, BEVEL_L), _ends(curves, BEVEL_L_PRIME)
+    assert np.allclose(l_curve[[0, -1]], [op.profile[0], op.profile[3]])
+    # turned half round the knob's axis: x and y change sign, heights stay
+    assert np.allclose(l_prime[:, :2], -l_curve[:, :2]) and np.allclose(
+        l_prime[:, 2], l_curve[:, 2]
+    )
+    assert np.allclose(np.hypot(*l_prime[0, :2]), knob.R - 3.0) and l_prime[0, 2] == knob.TOP
+    edge = knob.top_edge()  # at x = 0 on the plate's 60 mm front edge: again at its end
+    curves = operation_curves(build(Protocol(knob.BASE, ())), edge, VIEW)
+    (l_curve,), (l_prime,) = _ends(curves, BEVEL_L), _ends(curves, BEVEL_L_PRIME)
+    assert np.allclose(np.abs(l_prime[:, 0] - l_curve[:, 0]), 30.0)
 
 
 @pytest.mark.parametrize("mode", [Mode.ADD, Mode.SUBTRACT])

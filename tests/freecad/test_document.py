@@ -11,6 +11,7 @@ CHECKS = [
     "tree_from_protocol",
     "edit_and_recompute",
     "bevel_follows_an_edit_of_an_earlier_extrude",
+    "a_round_is_a_fillet_or_chamfer_whose_values_edit_and_rebuild_later_steps",
     "values_follow_an_edit_of_an_earlier_step",
     "a_drilled_cylinder_is_a_hole_and_a_bevel_reads_with_its_size",
     "sweep_profile_follows_its_radii",

@@ -14,6 +14,7 @@ CHECKS = [
     "examples_convert_into_native_features_matching_the_core",
     "sketches_are_fully_constrained_by_the_steps_named_parameters",
     "an_intersection_is_kept_as_a_solid_with_the_reason",
+    "rounds_convert_into_native_fillets_chamfers_and_sketches",
     "converted_documents_saved_with_one_edit_per_feature",
 ]
 PLAIN_CHECKS = [

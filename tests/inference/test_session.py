@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.protocol import Box, Mode
+from Sketch2CADWorkbench.brep.protocol import Box, EdgeSet, Mode
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.inference.session import (
     Session,
@@ -86,6 +86,14 @@ def test_the_snaps_undone_and_the_grid_are_kept_for_the_replay(tmp_path):
     )
 
 
+def test_a_bevels_edge_set_is_kept_for_the_replay(tmp_path):
+    s = session()
+    s.steps[2] = SketchStep(CAM, s.steps[2].strokes, InterpretOptions(edges=EdgeSet.OUTLINE))
+    s.save(tmp_path / "s.json")
+    assert load_session(tmp_path / "s.json").steps[2].choices.edges is EdgeSet.OUTLINE
+    assert "edges" not in s.to_dict()["steps"][0]["choices"]  # the default is not written
+
+
 def test_a_step_with_default_snapping_is_written_as_before_the_snap_choices(tmp_path):
     # older readers (and the example sessions' bytes) see no new keys
     assert set(session().to_dict()["steps"][0]["choices"]) == {"option", "symmetry", "regularize"}
@@ -156,6 +164,10 @@ def test_a_step_with_default_snapping_is_written_as_before_the_snap_choices(tmp_
         (
             lambda d: d["steps"][2]["choices"].update(skip_snaps=[["d"]]),
             r"steps\[2\].choices.skip_snaps",
+        ),
+        (
+            lambda d: d["steps"][2]["choices"].update(edges="rim"),
+            r"steps\[2\].choices.edges: expected one of \['drawn', 'chain', 'outline'\]",
         ),
     ],
 )

@@ -320,8 +320,10 @@ def where_now(solid, op):
 
     fields = {"face": replace(op.face, point=move(op.face.point))} if np.any(t) else {}
     if isinstance(op, Bevel):
-        before = np.array([op.corner, op.opposite, *op.profile], float)
-        after = np.array([found.corner, found.opposite, *found.profile], float)
+        before, after = (
+            np.array([b.corner, *b.profile, *([] if b.across else [b.opposite])], float)
+            for b in (op, found)
+        )
         if not np.allclose(before, after, rtol=0, atol=1e-7):
             fields.update(corner=found.corner, opposite=found.opposite, profile=found.profile)
     elif fields and hasattr(op, "polygon"):

@@ -8,6 +8,11 @@ Revolution, Groove, Bevel...), built from the step's plan (brep/features):
 - an extrusion of a planar face: a Pad or Pocket of that face of the feature before
   (PartDesign pads a planar face as it pads a sketch), Length |d|;
 - a prism, a bevel: a sketch on f's plane padded or pocketed (a bevel along its crease);
+- a fillet or chamfer (a bevel whose profile is regular): a PartDesign::Fillet (Radius)
+  or PartDesign::Chamfer (two distances, Size and Size2) on the same edges of the
+  feature before; a freeform profile drawn across an edge: its sketch, in the plane
+  normal to the edge, padded or pocketed along a straight edge or revolved or grooved
+  around a rim;
 - a sweep: a sketch in a plane through the axis, revolved (Revolution) or grooved;
 - a shell: a Thickness of the feature before, its opened face f the face removed, Value
   t inwards, its offset faces joined by intersection as the core joins them;
@@ -56,6 +61,7 @@ TYPES = {
     (Kind.REVOLVE, True): "PartDesign::Revolution",
     (Kind.REVOLVE, False): "PartDesign::Groove",
 }
+EDGE_TYPES = {Kind.FILLET: "PartDesign::Fillet", Kind.CHAMFER: "PartDesign::Chamfer"}
 NOT_NATIVE = "NotNative"  # the property that says why a step is kept as a solid
 # Whether sketches are attached to the faces they stand on (and faces padded directly),
 # so that an edit of an earlier step moves them. Only where the edits of
@@ -228,6 +234,8 @@ def _add_feature(doc, body, feature: Feature, name: str, added: list):
         return box
     adds = feature.mode is not Mode.SUBTRACT
     previous = body.Tip if body.Tip is not None else body.BaseFeature
+    if feature.kind in EDGE_TYPES:
+        return _edge_feature(body, previous, feature, name, added)
     face = _face_name(previous.Shape, feature) if feature.kind is Kind.FACE else ""
     if face and FOLLOW_FACES:  # PartDesign pads a planar face as it pads a sketch
         obj = body.newObject(TYPES[(Kind.FACE, adds)], name)
@@ -261,6 +269,41 @@ def _add_feature(doc, body, feature: Feature, name: str, added: list):
             obj.AlongSketchNormal = True
     sketch.Visibility = False
     return obj
+
+
+def _edge_feature(body, previous, feature: Feature, name: str, added: list):
+    """A PartDesign::Fillet or Chamfer on the edges of `previous` through the feature's
+    points; a chamfer's FlipDirection set so that Size is measured on the face where
+    the step measures d1 (FreeCAD takes one face of each edge, the same for all edges:
+    where that differs from the step's, the check finds the mismatch)."""
+    shape = previous.Shape
+    names = [_edge_name(shape, p) for p in feature.edges]
+    obj = body.newObject(EDGE_TYPES[feature.kind], name)
+    added.append(obj)
+    obj.Base = (previous, names)
+    if feature.kind is Kind.FILLET:
+        obj.Radius = feature.dims["radius"]
+        return obj
+    obj.ChamferType = "Two distances"
+    obj.Size, obj.Size2 = feature.dims["d1"], feature.dims["d2"]
+    point, normal = feature.sides[0]
+    edge = shape.getElement(names[0])
+    first = shape.ancestorsOfType(edge, Part.Face)[0]
+    u, v = first.Surface.parameter(FreeCAD.Vector(*point))
+    on_first = (
+        first.distToShape(Part.Vertex(FreeCAD.Vector(*point)))[0]
+        <= 1e-6 * max(shape.BoundBox.DiagonalLength, 1.0)
+        and first.normalAt(u, v).dot(FreeCAD.Vector(*normal)) > 1 - 1e-6
+    )
+    obj.FlipDirection = not on_first
+    return obj
+
+
+def _edge_name(shape, point) -> str:
+    """The name ("EdgeN") of the edge of `shape` nearest `point` (a point on it)."""
+    vertex = Part.Vertex(FreeCAD.Vector(*point))
+    gaps = [edge.distToShape(vertex)[0] for edge in shape.Edges]
+    return f"Edge{gaps.index(min(gaps)) + 1}"
 
 
 def face_frame(feature: Feature) -> Feature:

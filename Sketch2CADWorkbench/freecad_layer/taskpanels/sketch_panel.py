@@ -13,7 +13,7 @@ import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
-from ...brep.protocol import Mode, Operation, operation_to_dict
+from ...brep.protocol import EdgeSet, Mode, Operation, operation_to_dict
 from ..gui_helpers import error, transaction
 from ..networks import loading, predictor, when_loaded
 from ..preferences import regularize_default, snap_step, use_network_threads
@@ -24,6 +24,12 @@ from ..trackers.view_camera import view_camera
 from ..translate import translate
 
 MAKE = "Sketch2CADWorkbench.freecad_layer.make.make_model"
+# The Edges choice's entries, as the panel names them
+EDGE_CHOICES = (
+    ("drawn edge", EdgeSet.DRAWN),
+    ("tangent chain", EdgeSet.CHAIN),
+    ("whole outline", EdgeSet.OUTLINE),
+)
 
 
 def tr(text: str) -> str:
@@ -202,6 +208,11 @@ class SketchPanel:
         self.option.addItems(["auto", *[m.value for m in Mode]])
         self.symmetry = QtGui.QComboBox()
         self.symmetry.addItems(["none", "x", "y", "z"])
+        # a bevel's edge set: the edge its profile is drawn across, the chain continuing
+        # it, or the whole outline of its face (InterpretOptions.edges)
+        self.edges = QtGui.QComboBox()
+        for label, edges in EDGE_CHOICES:
+            self.edges.addItem(tr(label), edges.value)
         form = QtGui.QFormLayout()
         # labels above their fields when the panel is narrow (FreeCAD's default combo view)
         form.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
@@ -209,6 +220,13 @@ class SketchPanel:
         form.addRow(tr("Mirror"), self.symmetry)
         self.symmetry.setToolTip(
             tr("Also add the mirror image through the model's mid-plane normal to this axis")
+        )
+        form.addRow(tr("Edges"), self.edges)
+        self.edges.setToolTip(
+            tr(
+                "A round or chamfer drawn across an edge follows that edge, the edges "
+                "continuing it without a kink, or the whole outline of its face"
+            )
         )
         lay.addLayout(form)
         lay.addWidget(self.regularize)
@@ -242,13 +260,13 @@ class SketchPanel:
         # the reading without scrolling most of the time, within a 768 px high screen
         self.text.setMinimumHeight(150)
         lay.addWidget(self.text)
-        for widget in (self.option, self.symmetry):
+        for widget in (self.option, self.symmetry, self.edges):
             # combo boxes size to their longest entry by default
             widget.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
             widget.setMinimumContentsLength(6)
         self.interpret_button.clicked.connect(self.interpret)
         self.clear_button.clicked.connect(self.clear)
-        for box in (self.option, self.symmetry):
+        for box in (self.option, self.symmetry, self.edges):
             box.currentIndexChanged.connect(self.reinterpret)
         self.regularize.toggled.connect(self.reinterpret)
         return w
@@ -297,6 +315,9 @@ class SketchPanel:
                 box.blockSignals(True)
                 box.setCurrentIndex(box.findText(value))
                 box.blockSignals(False)
+            self.edges.blockSignals(True)
+            self.edges.setCurrentIndex(self.edges.findData(c.edges.value))
+            self.edges.blockSignals(False)
         # the solid before this step, as PartDesign shows while a feature is edited; the
         # view providers' switches, not their Visibility, which would mark the document
         # modified for an edit that may be cancelled. Every step's view provider is the
@@ -327,6 +348,7 @@ class SketchPanel:
             None if sym == "none" else sym,
             snap_step=snap_step(view_camera(self.view).pixel_size),
             skip_snaps=frozenset(self.skipped),
+            edges=EdgeSet(self.edges.currentData()),
         )
 
     def undo_snap(self, key: str) -> None:

@@ -32,7 +32,7 @@ import cadquery as cq
 import numpy as np
 
 from ...brep.faces import FaceFrame, is_curved
-from ...brep.geometry import bezier
+from ...brep.geometry import bezier, unit, vec3
 from ...brep.protocol import (
     AddSubPrism,
     Bevel,
@@ -41,6 +41,7 @@ from ...brep.protocol import (
     OperatorType,
     Shell,
     Sweep,
+    Vec3,
     per_operator,
     straight_profile,
 )
@@ -183,6 +184,8 @@ FIT_REACH, FIT_TRIES = 3.0, 3
 # mm; and a sloppy hand's strokes, which fit neither clearly, do not choose
 # (docs/measurements.md, regularize.ROUND_STEPS).
 ROUND_STEPS, ROUND_MIN, ROUND_PX = (10.0, 5.0), 8, 0.3
+# Points a bevel's profile and the fillet or chamfer it may snap to are compared at.
+ROUND_SAMPLES = 32
 # Lines closer in direction than this (|sin| of the angle) are parallel.
 PARALLEL_SIN = 0.1
 # A free direction slides onto the grid only along a grid direction within 60 degrees of
@@ -201,6 +204,8 @@ SNAP_KINDS = {
     "r1": "far radius",
     "d": "length",
     "t": "wall thickness",
+    "rounding": "profile (a fillet or a chamfer)",
+    "round_size": "fillet radius or chamfer widths",
 }
 
 
@@ -278,6 +283,13 @@ class _Snapper:
         """On-screen length (view pixels) of a world displacement (mm)."""
         seen = float(np.linalg.norm(self.view.image_of(vec3)))
         return max(seen, FORESHORTEN_FLOOR * float(np.linalg.norm(vec3)) / self.view.pixel_size)
+
+    def curve_px(self, p: np.ndarray, q: np.ndarray) -> float:
+        """How far apart two curves (sampled, (K, 3) world mm) are seen in the view: the
+        mean distance (pixels) from each sample to the other curve, both ways."""
+        a, b = self.view.project(p)[0], self.view.project(q)[0]
+        gaps = np.linalg.norm(a[:, None] - b[None], axis=2)
+        return float((gaps.min(axis=1).mean() + gaps.min(axis=0).mean()) / 2)
 
     def px2(self, vec2: np.ndarray) -> float:
         """On-screen length of a displacement in the face's plane (2D frame, mm)."""
@@ -486,8 +498,95 @@ def _regularize_extrude(op: Extrude, s: _Snapper, targets: SnapTargets) -> Extru
 
 
 def _regularize_bevel(op: Bevel, s: _Snapper, targets: SnapTargets) -> Bevel:
-    """A bevel's corner and crease are f's own; its profile stays as drawn."""
-    return op
+    """A bevel's corner and crease (or edge) are the solid's own. Its profile l becomes
+    a fillet's circular arc tangent to both faces, or a chamfer's straight line, where
+    that lies within the tolerance of l in the view (mean distance, view pixels: as
+    other shapes snap), the nearer of the two (`regular_candidates`); then the radius,
+    or the chamfer's two widths, snap to the grid (`_Snapper.length`). Otherwise l stays
+    as drawn."""
+    if not op.regular:
+        if "rounding" in s.skip:
+            return op
+        drawn = bezier(np.array(op.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+        off = [
+            (s.curve_px(drawn, bezier(np.array(k.profile), np.linspace(0, 1, ROUND_SAMPLES))), k)
+            for k in regular_candidates(op)
+        ]
+        px, new = min(off, key=lambda o: o[0], default=(np.inf, op))
+        if px > s.tol:
+            return op
+        name = FILLET if new.radius is not None else CHAMFER
+        s.record("rounding", name, np.ravel(op.profile), np.ravel(new.profile))
+        op = new
+    c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
+    ua, ub = (unit(ctrl[k] - c) for k in (0, 3))
+    if op.radius is not None:
+
+        def rounded(radius: float) -> Bevel:
+            return replace(op, profile=_points(fillet_profile(c, ua, ub, radius)), radius=radius)
+
+        return rounded(s.length("round_size", op.radius, ua, [], rounded))
+    widths = [s.length("round_size", w, u, []) for w, u in zip(op.distances, (ua, ub), strict=True)]
+    return replace(
+        op, profile=_points(chamfer_profile(c, ua, ub, *widths)), distances=(widths[0], widths[1])
+    )
+
+
+def regular_candidates(op: Bevel) -> list[Bevel]:
+    """The fillet and the chamfer a freeform bevel's profile l may mean: the circular arc
+    tangent to both faces whose ends lie as far from c as l's on average, and the
+    straight line between l's ends; none where l's ends are in line with c."""
+    c, ctrl = np.asarray(op.corner, float), np.array(op.profile, float)
+    ua, ub = (ctrl[k] - c for k in (0, 3))
+    a, b = float(np.linalg.norm(ua)), float(np.linalg.norm(ub))
+    ua, ub = ua / a, ub / b
+    wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))  # the angle between the faces
+    if not 1e-3 < wedge < np.pi - 1e-3:
+        return []
+    radius = (a + b) / 2 * np.tan(wedge / 2)
+    return [
+        replace(op, profile=_points(fillet_profile(c, ua, ub, radius)), radius=float(radius)),
+        replace(op, profile=_points(chamfer_profile(c, ua, ub, a, b)), distances=(a, b)),
+    ]
+
+
+def nearest_regular(op: Bevel) -> Bevel:
+    """The fillet or chamfer (`regular_candidates`) whose profile lies nearer l (mean
+    distance in 3D): what a bevel along a chain or an outline, which OCCT builds only as
+    one of them, reads its profile as; `op` itself where l has neither."""
+    drawn = bezier(np.array(op.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+
+    def gap(k: Bevel) -> float:
+        other = bezier(np.array(k.profile, float), np.linspace(0, 1, ROUND_SAMPLES))
+        return float(np.linalg.norm(drawn[:, None] - other[None], axis=2).min(axis=1).mean())
+
+    return min(regular_candidates(op), key=gap, default=op)
+
+
+FILLET, CHAMFER = "a fillet (a circular arc)", "a chamfer (a straight line)"
+
+
+def fillet_profile(c: np.ndarray, ua: np.ndarray, ub: np.ndarray, radius: float) -> np.ndarray:
+    """The cubic Bezier (4, 3) of the arc of `radius` tangent to the lines c + s ua and
+    c + s ub (unit directions), from the first to the second."""
+    wedge = float(np.arccos(np.clip(ua @ ub, -1.0, 1.0)))
+    reach = radius / np.tan(wedge / 2)  # from c to where the arc touches each line
+    handle = 4 / 3 * np.tan((np.pi - wedge) / 4) * radius
+    p0, p3 = c + reach * ua, c + reach * ub
+    return np.stack([p0, p0 - handle * ua, p3 - handle * ub, p3])
+
+
+def chamfer_profile(
+    c: np.ndarray, ua: np.ndarray, ub: np.ndarray, a: float, b: float
+) -> np.ndarray:
+    """The straight line (4, 3) from c + a ua to c + b ub, its inner points at thirds."""
+    p0, p3 = c + a * ua, c + b * ub
+    return np.stack([p0, p0 + (p3 - p0) / 3, p0 + 2 * (p3 - p0) / 3, p3])
+
+
+def _points(ctrl: np.ndarray) -> tuple[Vec3, Vec3, Vec3, Vec3]:
+    p0, p1, p2, p3 = (vec3(p) for p in ctrl)
+    return (p0, p1, p2, p3)
 
 
 def _regularize_shell(op: Shell, s: _Snapper, targets: SnapTargets) -> Shell:
@@ -657,7 +756,7 @@ def regularize_operation(
             beyond the tolerance is taken when they fit the feature put there (FIT_REACH),
             a round length when they fit it about as well (ROUND_PX).
     Returns:
-        The operation and the snaps applied, in order. Bevels are returned unchanged.
+        The operation and the snaps applied, in order.
     """
     frame = FaceFrame.tangent(face, op.face) if is_curved(face) else FaceFrame.of(face)
     s = _Snapper(frame, view, tol_px, step, frozenset(skip), strokes)

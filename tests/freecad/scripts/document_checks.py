@@ -156,6 +156,34 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
 
 
 @check
+def a_round_is_a_fillet_or_chamfer_whose_values_edit_and_rebuild_later_steps():
+    # the knob: a filleted rim, then a chamfered plate outline
+    doc = FreeCAD.newDocument("knob")
+    p = example("knob")
+    model = make_model_from_protocol(doc, p)
+    _box, _knob, fillet, chamfer = features(model)
+    assert (fillet.Label, chamfer.Label) == ("Fillet", "Chamfer"), (fillet.Label, chamfer.Label)
+    assert (fillet.Rounding, fillet.Edges, fillet.AcrossEdge) == ("Fillet", "drawn", True)
+    assert chamfer.Edges == "outline" and close(chamfer.Distance1.Value, 2.0)
+    assert_matches_core(model, p)
+    fillet.Radius = 5.0  # the later chamfer rebuilds on the new rim
+    doc.recompute()
+    assert not failed_features(model), [o.State for o in features(model)]
+    assert_matches_core(model, protocol_from_model(model))
+    assert protocol_from_model(model).operations[1].radius == 5.0
+    fillet.Rounding = "Chamfer"  # renamed, a chamfer of its distances
+    fillet.Distance1, fillet.Distance2 = 2.0, 3.0
+    doc.recompute()
+    assert fillet.Label.startswith("Chamfer"), fillet.Label
+    assert protocol_from_model(model).operations[1].distances == (2.0, 3.0)
+    fillet.Rounding = "Fillet"
+    fillet.Radius = 40.0  # too large for the knob: that feature and the later in error
+    doc.recompute()
+    assert fillet in failed_features(model) and chamfer in failed_features(model)
+    FreeCAD.closeDocument(doc.Name)
+
+
+@check
 def values_follow_an_edit_of_an_earlier_step():
     """A boss on a pad's top, the pad raised: the boss stands on the new top, and its
     properties (face point, vertices) say so, with how far it moved since it was drawn."""
@@ -398,8 +426,10 @@ def parameters_are_quantities_in_the_users_units():
             and n not in ("Placement", "Shape", "Label", "Label2")
         ]
         unitless = [n for n in own if o.getTypeIdOfProperty(n) not in LENGTHS]
-        # a normal has no unit, the Boolean and the kind of surface are choices
-        assert set(unitless) <= {"FaceNormal", "FaceSurface", "Mode"}, (o.Label, unitless)
+        # a normal has no unit; the Boolean, the kind of surface, and a bevel's rounding,
+        # edge set and form (across an edge or along a crease) are choices
+        choices = {"FaceNormal", "FaceSurface", "Mode", "Rounding", "Edges", "AcrossEdge"}
+        assert set(unitless) <= choices, (o.Label, unitless)
     schema = FreeCAD.Units.getSchema()
     try:
         FreeCAD.Units.setSchema(3)  # Imperial decimal (in/lb)

@@ -14,6 +14,7 @@ from dataclasses import replace
 
 ROOT = os.environ["SKETCH2CAD_ROOT"]
 sys.path.insert(0, os.path.join(ROOT, "tests", "freecad", "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "tests"))
 sys.path.insert(0, ROOT)
 for _name in [m for m in sys.modules if m.split(".")[0] == "Sketch2CADWorkbench"]:
     del sys.modules[_name]  # the Mod folder's workbench may be another checkout
@@ -23,6 +24,7 @@ env.bootstrap()
 
 import FreeCAD  # noqa: E402
 from harness import EXAMPLES, TMP, check, close, finish, run_checks  # noqa: E402
+from round_fixtures import round_protocols  # noqa: E402
 
 from Sketch2CADWorkbench.brep.features import plan_protocol  # noqa: E402
 from Sketch2CADWorkbench.brep.operators import apply_operation, build, make_box  # noqa: E402
@@ -81,6 +83,27 @@ def examples_convert_into_native_features_matching_the_core():
         )
         assert not any("Python" in o.TypeId for o in doc.Objects)
         CONVERTED[name] = (doc, conversion, plan)
+
+
+@check
+def rounds_convert_into_native_fillets_chamfers_and_sketches():
+    labels = set()
+    for name, protocol in round_protocols().items():
+        doc = FreeCAD.newDocument("rounds")
+        conversion = convert_protocol(doc, protocol, "rounds")
+        assert all(s.native for s in conversion.steps), (name, conversion.steps)
+        core = build(protocol)
+        assert symmetric_difference(conversion.body.Shape, core) <= TOL, name
+        labels |= {s.label for s in conversion.steps}
+        for step in conversion.steps:
+            obj = doc.getObject(step.feature)
+            if step.label in ("Fillet", "Chamfer"):
+                assert obj.TypeId == f"PartDesign::{step.label}", (name, obj.TypeId)
+            if step.label == "Fillet":  # the step's radius, as the user edits it
+                radius = protocol.operations[step.step - 1].radius
+                assert close(obj.Radius.Value, radius, 1e-12), name
+        FreeCAD.closeDocument(doc.Name)
+    assert {"Fillet", "Chamfer", "Bevel"} <= labels, labels
 
 
 @check

@@ -7,15 +7,18 @@ from dataclasses import replace
 import cadquery as cq
 import numpy as np
 import pytest
+import round_fixtures as knobs
 from fit_sketches import TOP_Z, face_towards, prism_sketch, sweep_sketch
 
 from Sketch2CADWorkbench.brep.faces import face_ref_at, face_ref_of
-from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
+from Sketch2CADWorkbench.brep.operators import apply_operation, build, make_box
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
+    Bevel,
     Box,
     Extrude,
     Mode,
+    Protocol,
     Sweep,
     straight_profile,
 )
@@ -577,3 +580,57 @@ def test_a_radial_hole_near_a_pipes_rim_snaps_its_edge_to_the_rim(pipe, pipe_vie
     got = regularize_operation(pipe, hole, side, pipe_view)
     assert [(s.key, s.target) for s in got.snaps] == [("position", "a face edge")]
     assert np.array(got.operation.polygon)[:, 2].max() == pytest.approx(H_PIPE, abs=1e-9)
+
+
+def _knob_round(ctrl, **fields):
+    return Bevel(knobs.DISK, (knobs.R, 0.0, knobs.TOP), None, ctrl, **fields)
+
+
+@pytest.fixture
+def knob():
+    solid = build(Protocol(knobs.BASE, (knobs.KNOB,)))
+    top = next(f for f in solid.Faces() if f.geomType() == "PLANE" and f.Center().z > 24)
+    side = OrthoCamera((0.0, 0.0, 15.0), (0.0, 0.8, -0.6), (0.0, 0.0, 1.0), 40.0, 800, 600)
+    return solid, top, side
+
+
+def _wobbled(ctrl, mm):
+    """A Bezier's inner control points moved by `mm` off the curve (a hand's wobble)."""
+    p = np.array(ctrl, float)
+    p[1:3] += mm * np.array([[0.5, 0.0, 0.3], [-0.3, 0.0, 0.5]])
+    return tuple(map(tuple, p))
+
+
+def test_a_profile_near_a_circular_arc_snaps_to_a_fillet_of_a_grid_radius(knob):
+    from round_fixtures import TOP, R, quarter
+
+    solid, top, side = knob
+    drawn = _knob_round(_wobbled(quarter((R, 0.0, TOP), (-1, 0, 0), (0, 0, -1), 3.2), 0.3))
+    got = regularize_operation(solid, drawn, top, side, step=1.0)
+    assert [s.key for s in got.snaps] == ["rounding", "round_size"]
+    assert got.operation.radius == 3.0 and got.operation.distances is None
+    assert np.allclose(got.operation.profile, quarter((R, 0.0, TOP), (-1, 0, 0), (0, 0, -1), 3.0))
+
+
+def test_a_straight_profile_snaps_to_a_chamfer_of_two_widths_and_the_undo_keeps_it_drawn(knob):
+    from round_fixtures import TOP, R
+
+    solid, top, side = knob
+    a, b = np.array([R - 2.0, 0.0, TOP]), np.array([R, 0.0, TOP - 4.0])
+    line = (tuple(a), tuple(a + (b - a) / 3), tuple(a + 2 * (b - a) / 3), tuple(b))
+    got = regularize_operation(solid, _knob_round(_wobbled(line, 0.2)), top, side, step=1.0)
+    assert got.operation.distances == (2.0, 4.0) and got.operation.radius is None
+    kept = regularize_operation(
+        solid, _knob_round(_wobbled(line, 0.2)), top, side, skip=frozenset({"rounding"})
+    )
+    assert kept.snaps == () and not kept.operation.regular
+
+
+def test_a_profile_far_from_both_stays_freeform(knob):
+    from round_fixtures import TOP, R
+
+    solid, top, side = knob
+    # a cove: bulging into the solid, away from the edge, 2 mm off the chord
+    cove = ((R - 6, 0, TOP), (R - 6, 0, TOP - 6), (R - 6, 0, TOP - 6), (R, 0, TOP - 6))
+    got = regularize_operation(solid, _knob_round(cove), top, side)
+    assert not got.operation.regular and "rounding" not in [s.key for s in got.snaps]
