@@ -37,8 +37,10 @@ from .regularize import nearest_regular
 # Edges tried per profile stroke, the nearest (in the image) first
 # (docs/measurements.md, rounds.EDGES_TRIED).
 EDGES_TRIED = 3
-# Points an edge is sampled at to find where the stroke crosses its image.
+# Points an edge is sampled at to find where the stroke crosses its image; first
+# COARSE_SAMPLES, to pass over an edge whose image lies far from the stroke.
 EDGE_SAMPLES = 256
+COARSE_SAMPLES = 17
 # The plane l is drawn in must face the view: the cosine between the edge's tangent (the
 # plane's normal) and the view direction is at least this, or the stroke back-projects
 # onto it ill-conditioned (a rim's profile is drawn where the rim turns across the view;
@@ -99,12 +101,25 @@ def _crossing(
     the plane normal to the edge faces the view (FACING_COS). Returns (the two ends'
     distances from their traces, px; c; flip), or None where the edge's image lies
     farther than `tol` (px) from the stroke or no point faces the view."""
+    # a coarse look first: most edges of a model lie far from the stroke, and OCCT's
+    # evaluations of EDGE_SAMPLES points on each cost most of a bevel's reading
+    coarse = camera.project(
+        [edge.positionAt(t).toTuple() for t in np.linspace(0, 1, COARSE_SAMPLES)]
+    )[0]
+    spacing = float(np.linalg.norm(np.diff(coarse, axis=0), axis=1).max())
+    if np.linalg.norm(coarse[:, None] - stroke[None], axis=2).min() > tol + spacing:
+        return None  # no point between two samples lies nearer than that
     params = np.linspace(0, 1, EDGE_SAMPLES, endpoint=not edge.IsClosed())
-    c = np.array([edge.positionAt(t).toTuple() for t in params])
+    if edge.geomType() == "LINE":  # exact, without OCCT's per-point evaluations
+        a, b = (np.array(v.toTuple()) for v in (edge.startPoint(), edge.endPoint()))
+        c = a + params[:, None] * (b - a)
+        t = np.repeat((b - a)[None], len(params), axis=0)
+    else:
+        c = np.array([edge.positionAt(t).toTuple() for t in params])
+        t = np.array([edge.tangentAt(p).toTuple() for p in params])
     image = camera.project(c)[0]
     if np.linalg.norm(image[:, None] - stroke[None], axis=2).min() > tol:
         return None
-    t = np.array([edge.tangentAt(p).toTuple() for p in params])
     t /= np.linalg.norm(t, axis=1, keepdims=True)
     facing = np.abs(t @ np.asarray(camera.direction, float)) >= FACING_COS
     if not facing.any():
@@ -124,7 +139,8 @@ def _crossing(
 
 def _image_dirs(camera: OrthoCamera, u: np.ndarray) -> np.ndarray:
     """Unit image directions (K, 2) of world directions (K, 3)."""
-    w = np.array([camera.image_of(d) for d in u])
+    centre = np.asarray(camera.center, float)
+    w = camera.project(centre + np.asarray(u, float))[0] - camera.project(centre)[0]
     return w / np.maximum(np.linalg.norm(w, axis=1, keepdims=True), 1e-12)
 
 

@@ -279,14 +279,13 @@ def whole_outline_roles(
     if not found:
         raise FitError("no outline of the prism is drawn whole, its sides meeting end to end")
 
+    resampled = [resample(np.asarray(s, float)) for s in strokes]
+    middle = [r[len(r) // 2] for r in resampled]  # once: every cycle asks for them
+
     def inside(cycle: tuple[list[int], np.ndarray, float]) -> tuple[int, float]:
         """How many other strokes' middles the cycle holds (more first), then its gaps."""
         path, corners, gaps = cycle
-        middles = [
-            resample(np.asarray(s, float))[len(resample(np.asarray(s, float))) // 2]
-            for k, s in enumerate(strokes)
-            if k not in path
-        ]
+        middles = [m for k, m in enumerate(middle) if k not in path]
         held = int(MplPath(corners).contains_points(np.array(middles)).sum()) if middles else 0
         return -held, gaps
 
