@@ -331,7 +331,13 @@ def _fit_bevel_readings(
                 scored.append((ctx.sketch_fit(solid, op).score, op, face_index, labels))
             except OperationError:
                 continue
-    scored += _across_readings(solid, strokes, votes, ctx, options)
+    if (
+        options.edges is not EdgeSet.DRAWN
+        or min((r[0] for r in scored), default=np.inf) > GOOD_FIT_PX
+    ):
+        # a crease that explains the strokes clearly is their reading; an edge set the
+        # designer chose, or no clear crease, asks for the profile drawn across an edge
+        scored += _across_readings(solid, strokes, votes, ctx, options)
     if not scored:
         raise first or FitError("bevel: no reading of the profile stroke builds")
     return [
