@@ -509,10 +509,10 @@ def test_strokes_drawn_as_people_draw_them(desktop):
             ),
             -28 * 10 * 8,
         ),
-        (  # a cylinder of radius 6 mm, 10 mm long, on the right face, its base circle open
+        (  # a cylinder of radius 8 mm, 10 mm long, on the right face, its base circle open
             "Revolution",
-            lambda s: cylinder_strokes(s, (lx / 2, 3, 0), (1, 0, 0), 6.0, 10.0, 0.15, rng),
-            np.pi * 6**2 * 10,
+            lambda s: cylinder_strokes(s, (lx / 2, 3, 0), (1, 0, 0), 8.0, 10.0, 0.15, rng),
+            np.pi * 8**2 * 10,
         ),
     ]
     for n, (kind, strokes, added) in enumerate(steps):

@@ -100,11 +100,21 @@ def test_a_bevel_whose_profile_strays_onto_the_next_face_is_read_on_the_face_f_s
     assert volume_iou(got.solid, apply_operation(box, op)) > 0.99
 
 
+def no_whole_outline_reading(monkeypatch):
+    """The readings of the roles are the test's own: none of an outline drawn whole."""
+
+    def none(*args, **kwargs):
+        raise FitError("no outline drawn whole")
+
+    monkeypatch.setattr(adapters, "whole_outline_roles", none)
+
+
 @pytest.mark.parametrize("off_px, refined_count", [(3.0, 1), (0.0, 2)])
 def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
     renderer, monkeypatch, off_px, refined_count
 ):
     box, op, labels, ctx, index, curve = top_prism(renderer)
+    no_whole_outline_reading(monkeypatch)
     # a second reading of the roles, which fits a prism off_px off the strokes: 3 px is
     # beyond REFINE_WITHIN of the first (within a pixel of them), 0 px within it
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
@@ -126,6 +136,7 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
 
 def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, monkeypatch):
     box, op, labels, ctx, index, curve = top_prism(renderer)
+    no_whole_outline_reading(monkeypatch)
 
     def no_other_reading(*args, **kwargs):
         raise FitError("no other reading")
@@ -154,6 +165,7 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
     renderer, monkeypatch
 ):
     box, op, labels, ctx, index, curve = top_prism(renderer)
+    no_whole_outline_reading(monkeypatch)
     other = [{0: 2, 2: 0}.get(label, label) for label in labels]
     monkeypatch.setattr(adapters, "stroke_roles", lambda *a, **k: other)
     undrawable = []
@@ -255,15 +267,16 @@ def test_an_extrusion_is_also_read_at_the_offset_its_score_prefers(renderer, mon
     assert {op.d for op, _, _ in fits[1:]} == {7.5, 8.0}
 
 
-@pytest.mark.parametrize("refined_d, refined_first", [(12.0, False), (9.0, True)])
+@pytest.mark.parametrize("refined_d, refined_first", [(14.0, False), (9.0, True)])
 def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
     renderer, monkeypatch, refined_d, refined_first
 ):
-    box, _, ctx, index, _, curve = drawn_on_top(renderer, TOP_SWEEP)
+    box, _, ctx, index, _, curve = drawn_on_top(renderer, TOP_SWEEP)  # drawn 9 mm long
     fitted = []
 
-    def fit(*args):
+    def fit(*args):  # a fit 2 mm too long: the refined one is closer at 9, farther at 14
         got = sweep_fit(*args)
+        got = replace(got, operation=replace(got.operation, d=got.operation.d + 2.0))
         fitted.append(got.operation)
         return got
 

@@ -61,7 +61,9 @@ def test_the_mean_volume_iou_is_reported_per_operator(generated):
 
 
 def _recovered(r: dict) -> float:
-    return sum(v["recovery_rate"] * v["recovery_n"] for v in r["per_operator"].values())
+    return sum(
+        v["recovery_rate"] * v["recovery_n"] for v in r["per_operator"].values() if v["recovery_n"]
+    )
 
 
 def test_outlines_drawn_in_one_go_are_read_once_cut_into_curves(generated):
