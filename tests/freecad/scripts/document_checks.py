@@ -157,12 +157,12 @@ def bevel_follows_an_edit_of_an_earlier_extrude():
 
 @check
 def a_round_is_a_fillet_or_chamfer_whose_values_edit_and_rebuild_later_steps():
-    # the knob: a filleted rim, then a chamfered plate outline
+    # the knob: a filleted rim, a bore with a chamfered mouth, a chamfered plate outline
     doc = FreeCAD.newDocument("knob")
     p = example("knob")
     model = make_model_from_protocol(doc, p)
-    _box, _knob, fillet, chamfer = features(model)
-    assert (fillet.Label, chamfer.Label) == ("Fillet", "Chamfer"), (fillet.Label, chamfer.Label)
+    _box, _knob, fillet, *_, chamfer = features(model)
+    assert (fillet.Label, chamfer.Label) == ("Fillet", "Chamfer001"), (fillet.Label, chamfer.Label)
     assert (fillet.Rounding, fillet.Edges, fillet.AcrossEdge) == ("Fillet", "drawn", True)
     assert chamfer.Edges == "outline" and close(chamfer.Distance1.Value, 2.0)
     assert_matches_core(model, p)
