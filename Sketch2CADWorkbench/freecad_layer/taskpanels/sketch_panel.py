@@ -368,10 +368,18 @@ class SketchPanel:
 
         _empty(self.snap_box)
         self.snap_buttons = []
+        # one button per kind: an undo reads the strokes again without every snap of it
+        kinds: dict[str, list] = {}
         for snap in snaps:
-            b = QtGui.QPushButton(SNAP_KINDS[snap.key])
-            b.setToolTip(tr("Read the strokes again without this snap: {}").format(snap.describe()))
-            b.clicked.connect(lambda _=False, k=snap.key: self.undo_snap(k))
+            kinds.setdefault(snap.key, []).append(snap)
+        for key, of_kind in kinds.items():
+            b = QtGui.QPushButton(SNAP_KINDS[key])
+            b.setToolTip(
+                tr("Read the strokes again without this snap: {}").format(
+                    "; ".join(snap.describe() for snap in of_kind)
+                )
+            )
+            b.clicked.connect(lambda _=False, k=key: self.undo_snap(k))
             self.snap_buttons.append(b)
         if self.skipped:
             b = QtGui.QPushButton(tr("Snap again"))

@@ -192,7 +192,8 @@ PARALLEL_SIN = 0.1
 # it (a planar f's two grid directions always give one within 45).
 GRID_ALONG = 0.5
 
-# What a snap changed, as the Sketch panel names it; also the keys `skip` takes.
+# What a snap changed, as the Sketch panel names it (on a button: at most 14 characters,
+# two buttons to a row in FreeCAD's default Tasks panel); also the keys `skip` takes.
 SNAP_KINDS = {
     "shape": "shape",
     "align": "direction",
@@ -204,8 +205,8 @@ SNAP_KINDS = {
     "r1": "far radius",
     "d": "length",
     "t": "wall thickness",
-    "rounding": "profile (a fillet or a chamfer)",
-    "round_size": "fillet radius or chamfer widths",
+    "rounding": "fillet/chamfer",
+    "round_size": "round size",
 }
 
 

@@ -27,6 +27,7 @@ from Sketch2CADWorkbench.inference.fitting.regularize import (
     FIT_REACH,
     HAND_SNAP,
     ROUND_PX,
+    SNAP_KINDS,
     SNAP_PX,
     StrokeCheck,
     hand_tolerance,
@@ -634,3 +635,9 @@ def test_a_profile_far_from_both_stays_freeform(knob):
     cove = ((R - 6, 0, TOP), (R - 6, 0, TOP - 6), (R - 6, 0, TOP - 6), (R, 0, TOP - 6))
     got = regularize_operation(solid, _knob_round(cove), top, side)
     assert not got.operation.regular and "rounding" not in [s.key for s in got.snaps]
+
+
+def test_snap_names_fit_a_button_two_to_a_row():
+    """The Sketch panel shows one undo button per kind of snap, two to a row in a Tasks
+    panel about 350 px wide; FreeCAD 1.1's theme keeps a button as wide as its label."""
+    assert all(len(name) <= 14 for name in SNAP_KINDS.values()), SNAP_KINDS
