@@ -84,7 +84,9 @@ def _empty(layout) -> None:
 
 def _shrinkable(button) -> None:
     """Let a button be narrower than its label (Qt elides nothing, but the panel's width
-    then follows the Tasks area, not the longest label)."""
+    then follows the Tasks area, not the longest label). FreeCAD 1.1's theme overrides
+    this with its QPushButton min-width: there only short labels keep the panel narrow
+    (regularize.SNAP_KINDS)."""
     button.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
     button.setMinimumWidth(40)
 
