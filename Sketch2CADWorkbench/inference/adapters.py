@@ -159,20 +159,22 @@ def _fit_sweep_on_face(
     return _fit_by_roles(sweep_fit, OperatorType.SWEEP, solid, index, curve, ctx, options)
 
 
-def _fit_by_roles(
-    fit: Callable[..., PrismFit | SweepFit],
-    op_type: OperatorType,
-    solid: cq.Shape,
-    index: int,
-    curve: np.ndarray,
-    ctx: Context,
-    options: InterpretOptions,
-) -> list[Fit]:
-    """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
-    by those read from the strokes' geometry, the one whose own sketch lies closest to
-    the strokes first. All are kept: a thin slot seen nearly along f's normal also
-    reads, a little closer, as a tall post on its end, which a chosen subtract refuses
-    (it cuts nothing), and then the slot's own roles are the step."""
+def _primitive_roles(
+    op_type: OperatorType, solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
+) -> list[list[int]]:
+    """The stroke roles a primitive on face `index` is fitted by (`_fit_by_roles`), C's
+    first, each once: read once per face and operator (`Context.roles`), for a reading's
+    other Boolean is fitted on its face again."""
+    key = (solid, op_type, index)
+    if key not in ctx.roles:
+        ctx.roles[key] = _roles_read(op_type, solid, index, curve, ctx)
+    return ctx.roles[key]
+
+
+def _roles_read(
+    op_type: OperatorType, solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
+) -> list[list[int]]:
+    """`_primitive_roles`, read: C's roles, then those read from the strokes' geometry."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
@@ -203,6 +205,26 @@ def _fit_by_roles(
             whole = []
         if whole and whole not in readings:
             readings.append(whole)
+    return readings
+
+
+def _fit_by_roles(
+    fit: Callable[..., PrismFit | SweepFit],
+    op_type: OperatorType,
+    solid: cq.Shape,
+    index: int,
+    curve: np.ndarray,
+    ctx: Context,
+    options: InterpretOptions,
+) -> list[Fit]:
+    """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
+    by those read from the strokes' geometry, the one whose own sketch lies closest to
+    the strokes first. All are kept: a thin slot seen nearly along f's normal also
+    reads, a little closer, as a tall post on its end, which a chosen subtract refuses
+    (it cuts nothing), and then the slot's own roles are the step."""
+    face = face_at(solid, index)
+    strokes, cam = ctx.strokes, ctx.camera
+    readings = _primitive_roles(op_type, solid, index, curve, ctx)
     fits, first = [], None
     for reading in readings:
         try:

@@ -53,6 +53,12 @@ class Context:
     faces: dict[tuple[cq.Shape, FaceRef], ResolvedFace] = field(
         default_factory=dict, repr=False, compare=False
     )
+    # a primitive's stroke roles by (solid, operator, face index), each a list of per-stroke
+    # roles (`adapters._fit_by_roles`): read alike for either Boolean, and a reading's
+    # other Boolean is fitted on its face again (`search.weigh_the_other_boolean`)
+    roles: dict[tuple[cq.Shape, object, int], list[list[int]]] = field(
+        default_factory=dict, repr=False, compare=False
+    )
     # seconds spent building readings' results (`builds_a_change`): B-rep work done while
     # reading, timed as the B-rep stage
     build_s: float = field(default=0.0, compare=False)

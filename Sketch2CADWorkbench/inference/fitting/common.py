@@ -10,7 +10,7 @@ from __future__ import annotations
 import cadquery as cq
 import cv2
 import numpy as np
-from scipy.optimize import linear_sum_assignment, lsq_linear
+from scipy.optimize import linear_sum_assignment
 
 from ...brep.geometry import arc_lengths, bezier, resample_every, resample_polyline
 from ...render.camera import OrthoCamera
@@ -258,6 +258,44 @@ def edge_samples(face: cq.Face, spacing: float) -> np.ndarray:
     return np.array(pts)
 
 
+# Every way each unknown of `box_least_squares` may lie: free (0), at its lower bound (1)
+# or at its upper one (2), per number of unknowns.
+_ACTIVE_SETS: dict[int, np.ndarray] = {}
+
+
+def box_least_squares(a: np.ndarray, b: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """The x minimising |a x - b| with lo <= x <= hi in every unknown, exactly, for a few
+    unknowns (N, here 4): the minimum lies where each unknown is free or at one bound,
+    so every one of the 3^N such active sets is solved at once (the free unknowns by the
+    normal equations) and the feasible solution of least residual is the one. scipy's
+    `lsq_linear` reaches it by iterations, eight times slower on four unknowns.
+
+    Args:
+        a: (M, N) the system; b: (M,) the target.
+    Returns:
+        (N,) the solution.
+    """
+    n = a.shape[1]
+    if n not in _ACTIVE_SETS:
+        _ACTIVE_SETS[n] = np.stack(np.meshgrid(*[np.arange(3)] * n, indexing="ij"), -1)
+    sets = _ACTIVE_SETS[n].reshape(-1, n)  # (3^N, N)
+    gram, atb = a.T @ a, a.T @ b
+    fixed = sets > 0
+    value = np.where(sets == 2, hi, lo).astype(float)
+    # free rows: the normal equations; fixed rows: x_i = its bound
+    m = np.where(fixed[:, :, None], np.eye(n)[None], gram[None])
+    r = np.where(fixed, value, atb[None])
+    # a free set the normal equations leave singular (a degenerate stroke) is passed over
+    free = n - fixed.sum(axis=1)
+    ok = np.abs(np.linalg.det(m)) > 1e-12 * max(float(np.abs(gram).max()), 1e-300) ** free
+    x = np.zeros((len(sets), n))
+    x[ok] = np.linalg.solve(m[ok], r[ok][..., None])[..., 0]
+    slack = 1e-9 * max(abs(hi - lo), 1.0)
+    feasible = ok & np.all((x >= lo - slack) & (x <= hi + slack), axis=1)
+    residual = np.einsum("ki,ij,kj->k", x, gram, x) - 2 * x @ atb
+    return np.clip(x[np.flatnonzero(feasible)[np.argmin(residual[feasible])]], lo, hi)
+
+
 def fit_bezier(
     points: np.ndarray,
     start: np.ndarray,
@@ -289,11 +327,12 @@ def fit_bezier(
         else:  # unknowns (s1, t1, s2, t2); each point's residual is linear in them
             axes = np.stack([start - corner, end - corner])  # (2, D)
             basis = (a[:, :, None, None] * axes[None, None]).reshape(len(p), 4, -1)
-            st = lsq_linear(
+            st = box_least_squares(
                 basis.transpose(0, 2, 1).reshape(-1, 4),
                 (rhs - (b1 + b2)[:, None] * corner).ravel(),
-                bounds=(0.0, span),
-            ).x
+                0.0,
+                span,
+            )
             sol = corner + st.reshape(2, 2) @ axes
         ctrl = np.stack([start, sol[0], sol[1], end])
         dense_t = np.linspace(0, 1, 201)

@@ -2,9 +2,15 @@
 """Stroke helpers every fit uses: which strokes are loops, which curve a stroke draws."""
 
 import numpy as np
+import pytest
 
 from Sketch2CADWorkbench.brep.geometry import bezier
-from Sketch2CADWorkbench.inference.fitting.common import fit_bezier, match_ends, open_ends
+from Sketch2CADWorkbench.inference.fitting.common import (
+    box_least_squares,
+    fit_bezier,
+    match_ends,
+    open_ends,
+)
 
 
 def loop(centre, radius, start_angle, gap=0.2):
@@ -58,3 +64,19 @@ def test_a_curve_fitted_within_a_corner_keeps_its_polygon_there_and_misses_nothi
         ).max()
         < 0.3
     )
+
+
+def test_a_box_bounded_least_squares_is_the_least_residual_within_its_bounds():
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        a = rng.normal(size=(40, 4))
+        b = rng.normal(size=40) * rng.uniform(0.1, 4.0)
+        x = box_least_squares(a, b, 0.0, 1.2)
+        assert np.all((x >= 0.0) & (x <= 1.2))
+        best = np.sum((a @ x - b) ** 2)
+        # no point of the box nearby, nor any corner of it, leaves a smaller residual
+        for y in np.clip(x + rng.normal(scale=0.05, size=(200, 4)), 0.0, 1.2):
+            assert np.sum((a @ y - b) ** 2) >= best - 1e-9
+    inside = np.array([0.3, 0.5, 0.7, 0.9])  # an unbounded solution inside is kept
+    a = rng.normal(size=(40, 4))
+    assert box_least_squares(a, a @ inside, 0.0, 1.2) == pytest.approx(inside)
