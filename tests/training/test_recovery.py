@@ -1,12 +1,13 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """End-to-end recovery: the fitting stage alone, fed the ground truth, rebuilds the operation."""
 
+import json
 from types import SimpleNamespace
 
 import pytest
 
 from Sketch2CADWorkbench.brep.operators import make_box
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, OperatorType
 from Sketch2CADWorkbench.cli import main
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.frustum import fit_camera
@@ -162,3 +163,15 @@ def test_the_strokes_ceiling_bounds_the_strict_rate(generated):
             assert v["recovery_rate"] <= v["strokes_ceiling"] <= 1.0, v
         else:
             assert v["strokes_ceiling"] is None
+
+
+def test_the_eval_command_adds_the_recovery_of_every_operator_it_read(generated, tmp_path):
+    out = tmp_path / "eval.json"
+    args = ["eval", "--data", str(generated), "--json", str(out), "--latency-runs", "1"]
+    assert main([*args, "--recovery", "4", "--limit", "4"]) == 0
+    per = json.loads(out.read_text())["per_operator"]
+    # the classifier's four and the shell, which recovery names too
+    assert set(per) == {op.value for op in OperatorType}
+    read = [v for v in per.values() if v["recovery_n"]]
+    assert sum(v["recovery_n"] for v in read) == 4
+    assert all(0.0 <= v["recovery_rate"] <= 1.0 for v in read)
