@@ -66,9 +66,12 @@ ON_CURVED_FACES = (OperatorType.EXTRUDE, OperatorType.ADDSUB, OperatorType.SWEEP
 # GOOD_FIT_PX that the classifier finds likely (a level-3 extrusion at 3.4 px, p 0.5,
 # over a sweep at 53 px), where the prisms thirty random strokes fit score 4.4-8.8. A
 # triangle whose edges are all drawn is a prism however sure the classifier is of a sweep
-# (p 0.003 against 0.996). PRIOR_PX is not tuned: a decade of doubt weighs about a
-# level-1 hand's error (median misfit 1.4 px); see docs/measurements.md, search.PRIOR_PX and
-# OVERRULE_PROB.
+# (p 0.003 against 0.996). An operator under OVERRULE_PROB is read too while the best
+# reading is doubtful: the classifier learnt from sketches with every line, and a hole
+# drawn without its hidden lines is an extrusion to it (p 1.0), whose reading then lies
+# tens of pixels from the strokes where the prism's lies within two. PRIOR_PX is not
+# tuned: a decade of doubt weighs about a level-1 hand's error (median misfit 1.4 px);
+# see docs/measurements.md, search.PRIOR_PX and OVERRULE_PROB.
 PRIOR_PX = 1.0
 OVERRULE_PROB = 1e-3
 RESCUE_SCORE_PX = GOOD_FIT_PX + PRIOR_PX  # a good fit with one decade of doubt
@@ -351,15 +354,17 @@ def read_operators(
     read: list[tuple[float, OperatorType, Reading]],
 ) -> None:
     """Read the operators of `order` (taken from it, but for those too unlikely to replace
-    a reading) until one reads the strokes within GOOD_FIT_PX, adding (score, operator,
-    reading) to `read`: the first reading when `read` is empty, and any later one that may
-    replace the best there (see OVERRULE_PROB), the score its misfit_px plus
-    PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
+    a reading that is not doubtful) until one reads the strokes within GOOD_FIT_PX,
+    adding (score, operator, reading) to `read`: the first reading when `read` is empty,
+    and any later one that may replace the best there (see OVERRULE_PROB), the score its
+    misfit_px plus PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
     `errors`; seconds spent go to `times`."""
     for kind in list(order):
         p = operator_probability(probs, kind)
-        if read and p < OVERRULE_PROB:
-            continue  # too unlikely to replace a reading (kept for a later call)
+        if read and p < OVERRULE_PROB and not min(read, key=lambda r: r[0])[2].doubtful:
+            # too unlikely to replace a reading that explains the strokes (kept for a
+            # later call); one that does not is no reading to keep against a clear fit
+            continue
         order.remove(kind)
         ta = time.perf_counter()
         if kind is OperatorType.SHELL:  # the networks know no shell: faces under the rim
