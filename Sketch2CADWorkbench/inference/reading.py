@@ -26,8 +26,10 @@ from .fitting.verify import SketchFit
 # quantile of held-out level-1 sketches, rounded up (scripts/misfit_threshold.py); or the
 # classifier's probability of the operator read below search.OVERRULE_PROB, the least
 # with which another operator may replace its own: the search fell back to an operator
-# the networks all but rule out, as it does for scribbles (see docs/measurements.md,
-# reading.DOUBT).
+# the networks all but rule out, as it does for scribbles, and its sketch does not fit
+# the strokes clearly (misfit_px over GOOD_FIT_PX; no scribble's reading came within 6 px,
+# where a hole drawn without its hidden lines, which the networks take for an extrusion,
+# reads within 1-3 px). See docs/measurements.md, reading.DOUBT.
 DOUBT = {"strokes_off_px": 7.7, "sketch_off_px": 7.7, "confidence": 1e-3}
 # What a doubt rule may read (`doubt_measures`).
 DOUBT_MEASURES = (*SketchFit.MEASURES, "confidence")
@@ -52,14 +54,19 @@ def doubt_measures(fit: SketchFit, confidence: float) -> dict[str, float]:
 
 def doubts(measures: dict[str, float]) -> list[str]:
     """The measures (`doubt_measures`) past their DOUBT thresholds: above it, the
-    confidence below it. A reading with any is doubtful: scribbles are otherwise read as
+    confidence below it where the sketch does not fit the strokes within GOOD_FIT_PX. A
+    reading with any is doubtful: scribbles are otherwise read as
     something. Each threshold is set on held-out level-1 sketches
     (scripts/misfit_threshold.py; see docs/measurements.md, reading.DOUBT); the measures DOUBT
     leaves out tell scribbles from real sketches less well."""
     return [
         k
         for k, limit in DOUBT.items()
-        if (measures[k] < limit if k == "confidence" else measures[k] > limit)
+        if (
+            measures[k] < limit and measures["misfit_px"] > GOOD_FIT_PX
+            if k == "confidence"
+            else measures[k] > limit
+        )
     ]
 
 

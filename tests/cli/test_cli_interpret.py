@@ -137,7 +137,7 @@ def test_a_doubtful_step_stops_the_run_unless_accepted_or_skipped(tmp_path, monk
     s = json.loads(SESSION.read_text())
     s["steps"] = s["steps"][:1]
     (tmp_path / "s.json").write_text(json.dumps(s))
-    monkeypatch.setattr(reading, "DOUBT", {"confidence": 2.0})  # every reading doubtful
+    monkeypatch.setattr(reading, "DOUBT", {"sketch_off_px": -1.0})  # every reading doubtful
     step = tmp_path / "out.step"
     args = ["interpret", str(tmp_path / "s.json"), "--step", str(step)]
     assert main(args) == 2

@@ -8,7 +8,7 @@ import numpy as np
 from Sketch2CADWorkbench.brep.protocol import OperatorType
 from Sketch2CADWorkbench.inference.fitting.verify import SketchFit
 from Sketch2CADWorkbench.inference.interpret import Interpretation
-from Sketch2CADWorkbench.inference.reading import DOUBT, doubts
+from Sketch2CADWorkbench.inference.reading import DOUBT, GOOD_FIT_PX, doubts
 
 
 def off_by(strokes_px: float, sketch_px: float) -> SketchFit:
@@ -36,10 +36,18 @@ def test_a_reading_whose_sketch_and_strokes_do_not_explain_each_other_is_flagged
 
 
 def test_a_reading_of_an_operator_the_classifier_all_but_rules_out_is_flagged():
-    # its sketch fits the strokes well; the networks gave a sweep 1e-5 (a scribble that
-    # fits no likely operator, which the search read as a sweep)
-    close = off_by(1.0, 1.0)
-    got = Interpretation((), None, OperatorType.SWEEP, {"sweep": 1e-5}, 0, [], None, fit=close)
+    # the networks gave a sweep 1e-5 (a scribble that fits no likely operator, which the
+    # search read as a sweep), and its sketch lies a few pixels from the strokes
+    loose = off_by(GOOD_FIT_PX + 1.0, GOOD_FIT_PX + 1.0)
+    got = Interpretation((), None, OperatorType.SWEEP, {"sweep": 1e-5}, 0, [], None, fit=loose)
     assert got.doubtful and doubts(got.measures()) == ["confidence"]
     assert "the networks give a sweep a probability of only 1e-05" in got.doubt()
     assert not replace(got, probabilities={"sweep": 0.6}).doubtful
+
+
+def test_a_clear_fit_of_an_operator_the_classifier_all_but_rules_out_is_not_flagged():
+    # a hole drawn without its hidden lines, which the networks take for an extrusion:
+    # its prism fits the strokes within a pixel or two, as no scribble's reading does
+    close = off_by(GOOD_FIT_PX - 1.0, GOOD_FIT_PX - 1.0)
+    got = Interpretation((), None, OperatorType.ADDSUB, {"addsub": 1e-9}, 0, [], None, fit=close)
+    assert not got.doubtful and got.doubt() == ""
