@@ -162,19 +162,8 @@ def _fit_sweep_on_face(
 def _primitive_roles(
     op_type: OperatorType, solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
 ) -> list[list[int]]:
-    """The stroke roles a primitive on face `index` is fitted by (`_fit_by_roles`), C's
-    first, each once: read once per face and operator (`Context.roles`), for a reading's
-    other Boolean is fitted on its face again."""
-    key = (solid, op_type, index)
-    if key not in ctx.roles:
-        ctx.roles[key] = _roles_read(op_type, solid, index, curve, ctx)
-    return ctx.roles[key]
-
-
-def _roles_read(
-    op_type: OperatorType, solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context
-) -> list[list[int]]:
-    """`_primitive_roles`, read: C's roles, then those read from the strokes' geometry."""
+    """The stroke roles a primitive on face `index` is fitted by (`_fit_by_roles`): C's,
+    then those read from the strokes' geometry, each once."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
     labels = classify_strokes(strokes, curve, CURVE_THRESHOLDS[op_type])
@@ -224,7 +213,10 @@ def _fit_by_roles(
     (it cuts nothing), and then the slot's own roles are the step."""
     face = face_at(solid, index)
     strokes, cam = ctx.strokes, ctx.camera
-    readings = _primitive_roles(op_type, solid, index, curve, ctx)
+    key = (solid, op_type, index)
+    if key not in ctx.roles:  # alike for either Boolean: the other one is fitted again
+        ctx.roles[key] = _primitive_roles(op_type, solid, index, curve, ctx)
+    readings = ctx.roles[key]
     fits, first = [], None
     for reading in readings:
         try:

@@ -19,7 +19,7 @@ import cadquery as cq
 import numpy as np
 
 from ..brep.faces import ResolvedFace, resolve_face
-from ..brep.protocol import FaceRef, Operation
+from ..brep.protocol import FaceRef, Operation, OperatorType
 from ..render.camera import OrthoCamera
 from ..render.frustum import context_camera
 from ..render.maps import ContextMaps, MapRenderer
@@ -56,7 +56,7 @@ class Context:
     # a primitive's stroke roles by (solid, operator, face index), each a list of per-stroke
     # roles (`adapters._fit_by_roles`): read alike for either Boolean, and a reading's
     # other Boolean is fitted on its face again (`search.weigh_the_other_boolean`)
-    roles: dict[tuple[cq.Shape, object, int], list[list[int]]] = field(
+    roles: dict[tuple[cq.Shape, OperatorType, int], list[list[int]]] = field(
         default_factory=dict, repr=False, compare=False
     )
     # seconds spent building readings' results (`builds_a_change`): B-rep work done while

@@ -361,7 +361,8 @@ def read_operators(
     `errors`; seconds spent go to `times`."""
     for kind in list(order):
         p = operator_probability(probs, kind)
-        if read and p < OVERRULE_PROB and not min(read, key=lambda r: r[0])[2].doubtful:
+        best_doubtful = bool(read) and min(read, key=lambda r: r[0])[2].doubtful
+        if read and p < OVERRULE_PROB and not best_doubtful:
             # too unlikely to replace a reading that explains the strokes (kept for a
             # later call); one that does not is no reading to keep against a clear fit
             continue
@@ -382,11 +383,7 @@ def read_operators(
             times["fitting"] += time.perf_counter() - tb
         good = reading.fit.misfit_px <= GOOD_FIT_PX
         score = reading.fit.misfit_px + PRIOR_PX * -np.log10(max(p, 1e-12))
-        if (
-            not read
-            or good
-            or (score <= RESCUE_SCORE_PX and min(read, key=lambda r: r[0])[2].doubtful)
-        ):
+        if not read or good or (score <= RESCUE_SCORE_PX and best_doubtful):
             read.append((score, kind, reading))
         if good:
             break
