@@ -110,7 +110,7 @@ def head_latency_ms(
     from Sketch2CADWorkbench.inference.head.predictor import load_structured_predictor
     from Sketch2CADWorkbench.inference.head.tokens import feature_maps, tokens
     from Sketch2CADWorkbench.inference.weights import HEAD_NAME
-    from Sketch2CADWorkbench.sketch.labels import CLASSES
+    from Sketch2CADWorkbench.sketch.labels import LABELLED
 
     torch.set_num_threads(threads)
     p = load_structured_predictor(head / HEAD_NAME if head.is_dir() else head, weights)
@@ -131,7 +131,7 @@ def head_latency_ms(
         lap("unet")
         p.observe(s.strokes, s.face_id)
         probs = p.classify(x)
-        p.segment(x, CLASSES[int(probs.argmax())])
+        p.segment(x, LABELLED[int(probs.argmax())])
         lap("unet + head")
         with torch.inference_mode():
             u = feature_maps(p.model, torch.from_numpy(x)[None])

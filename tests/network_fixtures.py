@@ -40,7 +40,7 @@ def synthetic_record(rng: np.random.Generator, op: int, noise: int, size: int = 
     sketch[r0, c0:c1] = sketch[r1, c0:c1] = 1  # horizontal strokes: class 1
     sketch[r0:r1, c0] = sketch[r0:r1, c1 - 1] = 1  # vertical strokes: class 0 (or 2)
     curve[r0, c0:c1] = curve[r1, c0:c1] = 1
-    if op >= 2:  # the end on the side the base face's normal points to, as drawn
+    if op in (2, 3):  # a prism's or sweep's end on the side f's normal points to, as drawn
         curve[r0:r1, c0 if left else c1 - 1] = 2
     face_id = np.where(normal[0] == 0, -1, np.where(normal[0] < 1, 0, 1)).astype(np.int16)
     arrays = {

@@ -24,8 +24,10 @@ from Sketch2CADWorkbench.inference.head.paint import painted
 from Sketch2CADWorkbench.inference.head.tokens import Tokens, UNetPass, feature_maps, tokens
 from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import load_model, resolve
+from Sketch2CADWorkbench.sketch.labels import CLASSES
 
 from .metrics import Tally, curve_hits, face_overlap
+from .pieces import sketch_pieces
 
 LATENCY_THREADS = 2
 EXAMPLES_PER_OP = 2
@@ -57,26 +59,26 @@ class Scores:
     data: dict  # the data set's path, seed and noise
 
 
-def batch_tokens(u: UNetPass, meta: list[dict], face_id: np.ndarray) -> list[Tokens]:
-    """The head's tokens of a batch's samples from the U-Net's pass over them."""
-    return [
-        tokens(u.logits[j], u.sketch(j), [np.asarray(s, float) for s in m["strokes"]], face_id[j])
-        for j, m in enumerate(meta)
-    ]
+def batch_tokens(u: UNetPass, pieces: list[list[np.ndarray]], face_id: np.ndarray) -> list[Tokens]:
+    """The head's tokens of a batch's samples from the U-Net's pass over them and each
+    sample's pieces of curves (`pieces.sketch_pieces`)."""
+    return [tokens(u.logits[j], u.sketch(j), p, face_id[j]) for j, p in enumerate(pieces)]
 
 
 def _head_reading(
-    head: StructureHead, u: UNetPass, meta: list[dict], face_id: np.ndarray, op: torch.Tensor
+    head: StructureHead,
+    u: UNetPass,
+    pieces: list[list[np.ndarray]],
+    face_id: np.ndarray,
+    op: torch.Tensor,
 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-    """The head's class logits (B, 4) and its choices under the true operator painted
-    into F and C (B, S, S), as the fitting reads them."""
-    toks = batch_tokens(u, meta, face_id)
+    """The head's class logits (B, N_CLASSES) and its choices under the true operator
+    painted into F and C (B, S, S), as the fitting reads them."""
+    toks = batch_tokens(u, pieces, face_id)
     logits, roles, faces = head(*collate(toks))
     pf, pc = [], []
     for j, t in enumerate(toks):
-        o = int(op[j])
-        strokes = [np.asarray(s, float) for s in meta[j]["strokes"]]
-        f, c = painted(roles[j, : len(strokes)], faces[j], o, strokes, t, face_id[j])
+        f, c = painted(roles[j, : len(pieces[j])], faces[j], int(op[j]), pieces[j], t, face_id[j])
         pf.append(f)
         pc.append(c)
     return logits, torch.from_numpy(np.stack(pf)), torch.from_numpy(np.stack(pc))
@@ -124,7 +126,13 @@ def score(
                     u = feature_maps(model, torch.from_numpy(x))
                     probs, f, c = model.full_size(u.logits, u.f, u.c)
                     if head is not None:
-                        logits, pf, pc = _head_reading(head, u, meta[sl], a["face_id"][sl], op)
+                        pieces = [
+                            sketch_pieces(m["strokes"], cl, sm)[0]
+                            for m, cl, sm in zip(
+                                meta[sl], a["curve_label"][sl], a["stroke_mask"][sl], strict=True
+                            )
+                        ]
+                        logits, pf, pc = _head_reading(head, u, pieces, a["face_id"][sl], op)
                         out.head.add(
                             op,
                             logits.argmax(1),
@@ -132,17 +140,20 @@ def score(
                             *face_overlap(pf, face),
                             *curve_hits(pc, curve, mask, op),
                         )
-                fo, co = f[rows, op], c[rows, op]  # the true operator's maps (B, S, S)
+                # the U-Net is scored on the samples of its classes, on the true
+                # operator's maps (B, S, S); a shell it has no class or maps for
+                own = op < len(CLASSES)
+                rows, uop = rows[own], op[own]
+                fo, co = f[rows, uop], c[rows, uop]
                 out.unet.add(
-                    op,
-                    probs.argmax(1),
-                    noise,
-                    *face_overlap(fo, face),
-                    *curve_hits(co, curve, mask, op),
+                    uop,
+                    probs[own].argmax(1),
+                    noise[own],
+                    *face_overlap(fo, face[own]),
+                    *curve_hits(co, curve[own], mask[own], uop),
                 )
-                for j in range(len(op)):
-                    if len(out.inputs) < keep_inputs:
-                        out.inputs.append(x[j])
+                out.inputs += list(x[: max(0, keep_inputs - len(out.inputs))])
+                for r, j in enumerate(rows.tolist()):
                     if sum(e["op"] == int(op[j]) for e in out.examples) < EXAMPLES_PER_OP:
                         out.examples.append(
                             {
@@ -150,9 +161,9 @@ def score(
                                 "pred": int(probs[j].argmax()),
                                 "sketch": x[j, 0],
                                 "depth": x[j, 1],
-                                "face": fo[j].numpy(),
+                                "face": fo[r].numpy(),
                                 "face_label": face[j].numpy(),
-                                "curve": co[j].numpy(),
+                                "curve": co[r].numpy(),
                                 "curve_label": curve[j].numpy(),
                                 "mask": mask[j].numpy(),
                             }

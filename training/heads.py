@@ -44,6 +44,11 @@ from Sketch2CADWorkbench.inference.models import Sketch2CADNet
 from Sketch2CADWorkbench.inference.weights import HEAD_NAME, load_model, resolve
 
 from .evaluate import batch_tokens, score
+from .pieces import sketch_pieces
+
+# What a cached token file holds: 2, the tokens and roles of the pieces of curves
+# (`sketch_pieces`), not of the strokes as drawn.
+TOKENS_VERSION = 2
 
 
 @dataclass
@@ -58,6 +63,7 @@ class HeadSettings:
     seed: int = 0
     threads: int = 1
     head: HeadConfig = None
+    init: str | None = None  # a head file whose weights start the training (`warm_start`)
 
     def __post_init__(self):
         if self.head is None:
@@ -75,14 +81,23 @@ class Item:
     face: int  # index of the base face among the face tokens, -1 not in view
 
 
-def _sample_tokens(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice) -> list[Tokens]:
-    """Tokens of the samples `sl` of a shard's arrays `a` (their `meta`)."""
+def _sample_items(model: Sketch2CADNet, a: dict, meta: list[dict], sl: slice) -> list[Item]:
+    """The items of the samples `sl` of a shard's arrays `a` (their `meta`): tokens and
+    roles of the pieces of curves `interpret` reads (`sketch_pieces`)."""
+    cut = [
+        sketch_pieces(m["strokes"], a["curve_label"][j], a["stroke_mask"][j])
+        for m, j in zip(meta, range(sl.start, sl.stop), strict=True)
+    ]
     with torch.inference_mode():
         u = feature_maps(model, torch.from_numpy(decode_inputs(a, sl)))
-        return batch_tokens(u, meta, a["face_id"][sl])
+        toks = batch_tokens(u, [pieces for pieces, _ in cut], a["face_id"][sl])
+    return [
+        _item(t, roles, a, j)
+        for t, (_, roles), j in zip(toks, cut, range(sl.start, sl.stop), strict=True)
+    ]
 
 
-def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
+def _item(t: Tokens, roles: list[int], a: dict, j: int) -> Item:
     face_id, label = a["face_id"][j], a["face_label"][j] > 0
     base = (
         np.bincount(face_id[label & (face_id >= 0)].astype(np.int64)).argmax()
@@ -94,7 +109,7 @@ def _item(t: Tokens, a: dict, m: dict, j: int) -> Item:
         t,
         int(a["op_type"][j]),
         int(a["noise_level"][j]),
-        torch.tensor(m["stroke_parts"], dtype=torch.int64),
+        torch.tensor(roles, dtype=torch.int64),
         int(where[0, 0]) if len(where) else -1,
     )
 
@@ -126,6 +141,7 @@ def extract(
                     "take": take,
                     "seed": ds.manifest.get("seed"),
                     "unet": unet,
+                    "tokens": TOKENS_VERSION,
                 },
                 sort_keys=True,
             )
@@ -138,10 +154,9 @@ def extract(
             a, shard_items = ds.shard_arrays(k), []
             for i in range(0, take, batch):
                 sl = slice(i, min(i + batch, take))
-                toks = _sample_tokens(model, a, meta[sl], sl)
-                part = {name: v[sl] for name, v in a.items()}
-                shard_items += [_item(t, part, meta[sl][j], j) for j, t in enumerate(toks)]
-                bar.update(len(toks))
+                got = _sample_items(model, a, meta[sl], sl)
+                shard_items += got
+                bar.update(len(got))
             if path is not None:
                 path.parent.mkdir(parents=True, exist_ok=True)
                 with atomic_path(path) as tmp:
@@ -234,11 +249,40 @@ def train_head(
     return final
 
 
+def warm_start(head: StructureHead, path: str | Path) -> None:
+    """Start `head` from the weights of the head file at `path`, of the same settings
+    but perhaps fewer classes (an earlier LABELLED): each of its tensors is copied into
+    the leading rows of `head`'s, so its classes and their roles keep what they learnt
+    and only the new ones start afresh.
+
+    Raises:
+        ValueError: a tensor `head` lacks or that does not fit in its own.
+    """
+    state = torch.load(path, map_location="cpu", weights_only=False)["model"]
+    own = head.state_dict()
+    for name, value in state.items():
+        mine = own.get(name)
+        if (
+            mine is None
+            or mine.dim() != value.dim()
+            or any(a < b for a, b in zip(mine.shape, value.shape, strict=True))
+        ):
+            raise ValueError(
+                f"{path}: its {name} {tuple(value.shape)} does not fit this head's "
+                f"{None if mine is None else tuple(mine.shape)} (other settings?)"
+            )
+        mine[tuple(slice(0, n) for n in value.shape)] = value
+    head.load_state_dict(own)
+
+
 def fit(items: list[Item], ckpt_path: Path, s: HeadSettings) -> tuple[StructureHead, list]:
     """The head trained on `items` (AdamW, warm-up then cosine decay), checkpointed to
-    `ckpt_path` after every epoch and resumed from it; returns it and its epoch log."""
+    `ckpt_path` after every epoch and resumed from it; returns it and its epoch log. It
+    starts from the weights of `s.init` when given (`warm_start`)."""
     torch.manual_seed(s.seed)
     head = StructureHead(s.head)
+    if s.init:
+        warm_start(head, s.init)
     opt = torch.optim.AdamW(head.parameters(), lr=s.lr, weight_decay=s.weight_decay)
     epoch, log = 0, []
     if ckpt_path.exists():

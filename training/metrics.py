@@ -29,11 +29,13 @@ from typing import Any
 
 import torch
 
-from Sketch2CADWorkbench.sketch.labels import CLASSES, CURVE_THRESHOLDS
+from Sketch2CADWorkbench.sketch.labels import CURVE_THRESHOLDS, LABELLED
 
-NAMES = [c.value for c in CLASSES]
+# Every operator a sample may be labelled with: the U-Net's four classes and the shell,
+# which only the structured head classifies.
+NAMES = [c.value for c in LABELLED]
 # Curve class thresholds per operator index; a pixel's class = how many its C exceeds.
-THRESHOLDS = torch.tensor([CURVE_THRESHOLDS[c] for c in CLASSES])
+THRESHOLDS = torch.tensor([CURVE_THRESHOLDS[c] for c in LABELLED])
 # The paper's figures for its networks at level-1 noise: Table 1 ("ours"), face IoU and
 # curve accuracy per operator, and the classification accuracy its text gives beside it.
 PAPER_TABLE_1: dict[str, Any] = {
@@ -107,7 +109,7 @@ class Tally:
     def summary(self) -> dict:
         r = torch.cat(self.rows) if self.rows else torch.zeros(0, 7, dtype=torch.long)
         op, pred, noise, inter, union, right, strokes = r.T
-        confusion = torch.zeros(4, 4, dtype=torch.long)
+        confusion = torch.zeros(len(NAMES), len(NAMES), dtype=torch.long)
         confusion.index_put_((op, pred), torch.ones_like(op), accumulate=True)
         iou = torch.where(union > 0, inter / union.clamp(min=1), 1.0)
         frac = torch.where(strokes > 0, right / strokes.clamp(min=1), 1.0)

@@ -82,8 +82,8 @@ Vec2 = tuple[float, float]
 class OperatorType(Enum):
     """The four operators of the paper, then the shell (beyond the paper).
 
-    The classifier's classes are the paper's four (`sketch.labels.CLASSES`); the search
-    proposes a shell from the strokes' geometry (`inference/search.py`).
+    The U-Net classifies the paper's four (`sketch.labels.CLASSES`), the structured head
+    all five (`sketch.labels.LABELLED`).
     """
 
     EXTRUDE = "extrude"

@@ -108,10 +108,8 @@ def run(args: argparse.Namespace) -> int:
                 options=options,
                 join_px=args.join_strokes,
             )
-            # recovery names every operator, the shell too, which the classifier's
-            # figures (the paper's four) do not
             for op, v in rec["per_operator"].items():
-                result["per_operator"].setdefault(op, {}).update(v)
+                result["per_operator"][op].update(v)
             result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
             result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
             if args.fitting_recovery:

@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 from training.heads import HeadSettings, evaluate_head, train_head
+from training.metrics import NAMES
 
 from ..brep.files import write_atomically
 from ..inference.head.model import HeadConfig
@@ -48,6 +49,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--weights",
         type=Path,
         help="the U-Net whose features the head reads (default: the shipped one)",
+    )
+    p.add_argument(
+        "--init",
+        type=Path,
+        help="start from this head file's weights (same settings; a head of fewer "
+        "classes grows, its classes keeping what they learnt)",
     )
     p.add_argument("--epochs", type=int, default=d.epochs)
     p.add_argument("--batch-size", type=int, default=d.batch_size)
@@ -97,6 +104,7 @@ def run(args: argparse.Namespace) -> int:
             lr=args.lr,
             seed=args.seed,
             threads=args.threads,
+            init=str(args.init) if args.init else None,
             head=HeadConfig(width=args.width, layers=args.layers, end_bias=not args.no_end_bias),
         )
         final = train_head(args.data, args.out, settings, args.weights, args.tokens, args.count)
@@ -107,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
             scores[str(data)] = r
             print(
                 f"{data} ({r['unet']['n']} samples): face IoU / curve accuracy (%) per "
-                "operator, extrude bevel addsub sweep"
+                f"operator, {' '.join(NAMES)}"
             )
             print(_row("unet", r["unet"]))
             print(_row("head", r["head"]))

@@ -35,7 +35,7 @@ from ..brep.operators import apply_operation
 from ..brep.protocol import Mode, Operation, OperatorType
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
-from ..sketch.labels import CLASSES
+from ..sketch.labels import LABELLED
 from ..sketch.segment import segment_strokes
 from .alternative import Alternative, drawn_fits, explained
 from .context import Context, InterpretError, check_sketch, to_context
@@ -218,13 +218,15 @@ def interpret(
     t1 = time.perf_counter()
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
-    order = [op_type] if op_type else [CLASSES[k] for k in np.argsort(-probs, kind="stable")]
-    # the shell, which the classifier does not know, by the strokes' geometry: read first
-    # when they draw a rim, with the likeliest operator's probability (`shell_prior`)
-    shell = shell_prior(solid, ctx) * float(probs.max()) if op_type is None else 1.0
-    if shell > 0 and op_type is None:
-        order.insert(0, OperatorType.SHELL)
-    probs = np.append(probs, shell)
+    order = [op_type] if op_type else [LABELLED[k] for k in np.argsort(-probs, kind="stable")]
+    if len(probs) < len(LABELLED):
+        # a classifier without the shell's class (the U-Net alone): the shell by the
+        # strokes' geometry, read first when they draw a rim, with the likeliest
+        # operator's probability (`shell_prior`)
+        shell = shell_prior(solid, ctx) * float(probs.max()) if op_type is None else 1.0
+        if shell > 0 and op_type is None:
+            order.insert(0, OperatorType.SHELL)
+        probs = np.append(probs, shell)
     if options.option is not None and op_type is None:
         # a Boolean is a primitive's: a designer who chose one draws a prism or a sweep,
         # however sure the classifier is of another operator (a radial shrink of a pipe
@@ -273,10 +275,10 @@ def interpret(
         ops,
         result,
         kind,
-        # the classifier's, and the shell's where it was proposed (`shell_prior`)
+        # the classifier's; without its shell class, the shell's where it was proposed
         {
             c.value: float(p)
-            for c, p in zip((*CLASSES, OperatorType.SHELL), probs, strict=True)
+            for c, p in zip(LABELLED, probs, strict=True)
             if c is not OperatorType.SHELL or p > 0
         },
         reading.index,

@@ -9,10 +9,11 @@ operator. Here both are a search ended by a clear fit (GOOD_FIT_PX): the next fa
 the next operators, are fitted when the likeliest one does not explain the strokes, and
 the best reading by its score wins. The fitting on one face is adapters.py's.
 
-The classifier knows the paper's four operators (sketch.labels.CLASSES). A shell is
-proposed by the strokes' geometry until it learns a fifth class (`shell_prior`): when
-the strokes close into one rim lying on one planar face, with at most one stroke down a
-wall (fitting/shell.rim_and_wall), the shell is read first, as sure as the classifier's
+The structured head classifies the five operators of sketch.labels.LABELLED, the
+shell among them. The U-Net alone knows the paper's four (sketch.labels.CLASSES); with
+it, a shell is proposed by the strokes' geometry (`shell_prior`): when the strokes close
+into one rim lying on one planar face, with at most one stroke down a wall
+(fitting/shell.rim_and_wall), the shell is read first, as sure as the classifier's
 likeliest operator; otherwise it is not read.
 """
 
@@ -28,7 +29,7 @@ import numpy as np
 from ..brep.faces import OperationError, face_at, face_kinds, plane_normals
 from ..brep.protocol import AddSubPrism, Operation, OperatorType, Shell, Sweep
 from ..render.camera import OrthoCamera
-from ..sketch.labels import CLASSES, SHELL_RIM
+from ..sketch.labels import LABELLED, SHELL_RIM
 from .adapters import fit_on_face
 from .alternative import drawn_fits, explained, one_way_scores, the_meant
 from .context import Context
@@ -84,7 +85,8 @@ class Predictor(TypingProtocol):
     """The networks: operator probabilities, then the operator's F and C maps."""
 
     def classify(self, inputs: np.ndarray) -> np.ndarray:
-        """(5, H, W) inputs S, D, N -> (4,) probabilities in OperatorType order."""
+        """(5, H, W) inputs S, D, N -> probabilities in sketch.labels.LABELLED order:
+        (5,) with the shell, or (4,) for a classifier of the U-Net's classes alone."""
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         """(5, H, W) inputs -> F (H, W) base-face probability and C (H, W) curve map."""
@@ -103,10 +105,16 @@ def shell_prior(solid: cq.Shape, ctx: Context) -> float:
     return 0.0 if face is None else float(face_kinds(solid)[face] == "PLANE")
 
 
+def has_maps(predictor: Predictor, ctx: Context, kind: OperatorType) -> bool:
+    """Whether the networks read `kind` with a class and F and C maps of its own: every
+    operator but the shell, which only the structured head knows."""
+    return kind is not OperatorType.SHELL or len(predictor.classify(ctx.inputs)) == len(LABELLED)
+
+
 def operator_probability(probs: np.ndarray, kind: OperatorType) -> float:
-    """The classifier's probability of `kind`; a shell's is `probs`' extra last entry
-    (`shell_prior`), which the classifier does not give."""
-    return float(probs[len(CLASSES) if kind is OperatorType.SHELL else CLASSES.index(kind)])
+    """The probability of `kind` in the five of sketch.labels.LABELLED (the shell's
+    `shell_prior` where the classifier has no shell class)."""
+    return float(probs[LABELLED.index(kind)])
 
 
 def hidden_faces(solid: cq.Shape, camera: OrthoCamera) -> set[int]:
@@ -368,10 +376,10 @@ def read_operators(
             continue
         order.remove(kind)
         ta = time.perf_counter()
-        if kind is OperatorType.SHELL:  # the networks know no shell: faces under the rim
-            face_prob = curve = np.zeros(ctx.maps.face_id.shape, np.float32)
-        else:
+        if has_maps(predictor, ctx, kind):
             face_prob, curve = predictor.segment(ctx.inputs, kind)
+        else:  # no evidence from the networks: the faces under the rim are tried
+            face_prob = curve = np.zeros(ctx.maps.face_id.shape, np.float32)
         tb = time.perf_counter()
         times["networks"] += tb - ta
         try:

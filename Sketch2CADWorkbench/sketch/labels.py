@@ -4,9 +4,8 @@
 
 from ..brep.protocol import OperatorType, per_operator
 
-# The classifier's classes in output order, which is also the order of the F and C heads:
-# the paper's four. A shell is proposed by the strokes' geometry (inference/search.py)
-# until the networks learn it as a fifth class.
+# The U-Net's classes in output order, which is also the order of its F and C heads: the
+# paper's four.
 CLASSES: tuple[OperatorType, ...] = (
     OperatorType.EXTRUDE,
     OperatorType.BEVEL,
@@ -14,7 +13,8 @@ CLASSES: tuple[OperatorType, ...] = (
     OperatorType.SWEEP,
 )
 # The operators a data set's sample may be labelled with, in the order of its op_type
-# index: CLASSES first, so that data sets without shells read the same.
+# index, which are also the structured head's classes: CLASSES first, so that data sets
+# without shells read the same and the head's class logits extend the U-Net's.
 LABELLED: tuple[OperatorType, ...] = CLASSES + (OperatorType.SHELL,)
 
 EXTRUDE_OFFSET, EXTRUDE_PROFILE = 1, 0

@@ -52,7 +52,8 @@ def test_the_summary_averages_iou_per_sample_and_accuracy_per_stroke_pixel():
     )
     s = t.summary()
     assert s["n"] == 4 and s["classification_accuracy"] == 0.75
-    assert s["confusion_matrix"]["rows_true_cols_predicted"][2] == [0, 0, 1, 1]
+    # rows and columns for every labelled operator, the shell too
+    assert s["confusion_matrix"]["rows_true_cols_predicted"][2] == [0, 0, 1, 1, 0]
     add = s["per_operator"]["addsub"]
     assert add["n"] == 2 and add["face_iou"] == pytest.approx((1 / 2 + 3 / 4) / 2)
     assert add["face_iou_pooled"] == pytest.approx(4 / 6)
@@ -98,7 +99,8 @@ def test_the_eval_command_writes_the_required_json_and_a_picture(tiny_config, ti
     assert type(r["n"]) is int and r["n"] == 48
     assert isinstance(r["classification_accuracy"], float)
     assert 0 <= r["classification_accuracy"] <= 1
-    assert set(r["per_operator"]) == {"extrude", "bevel", "addsub", "sweep"}
+    assert set(r["per_operator"]) == {"extrude", "bevel", "addsub", "sweep", "shell"}
+    assert r["per_operator"].pop("shell")["n"] == 0  # the set has none
     for name, d in r["per_operator"].items():
         assert type(d["n"]) is int and d["n"] > 0, name
         assert 0 <= d["face_iou"] <= 1 and 0 <= d["curve_accuracy"] <= 1

@@ -61,7 +61,8 @@ def test_a_few_steps_reduce_the_loss_and_leave_the_run_files(tiny_config, tiny_d
     assert kinds[0] == "event" and kinds.count("train") == 16
     val = [r for r in rows if r["kind"] == "val"]
     assert len(val) == 80 // 5  # after each epoch (5 steps) that another follows, and at the end
-    assert set(val[-1]["per_operator"]) == {"extrude", "bevel", "addsub", "sweep"}
+    per = val[-1]["per_operator"]  # every labelled operator; the set has no shell
+    assert set(per) == {"extrude", "bevel", "addsub", "sweep", "shell"} and per["shell"]["n"] == 0
 
 
 def test_a_run_interrupted_and_resumed_ends_exactly_where_an_uninterrupted_one_does(

@@ -41,10 +41,11 @@ def _with_strokes(record: Record) -> Record:
 
 @pytest.fixture(scope="module")
 def stroke_data(tmp_path_factory):
-    """64 toy samples with stroke polylines, in 2 shards, and a tiny U-Net file."""
+    """64 toy samples with stroke polylines (a shell among each 8, which the U-Net has
+    no class for), in 2 shards, and a tiny U-Net file."""
     folder = tmp_path_factory.mktemp("stroke-data")
     rng = np.random.default_rng(0)
-    ops = [0, 1, 2, 2, 2, 2, 3, 3]
+    ops = [0, 1, 2, 2, 2, 3, 3, 4]
     records = [_with_strokes(synthetic_record(rng, ops[i % 8], 1)) for i in range(64)]
     for k in range(2):
         write_shard(folder, k, records[32 * k : 32 * (k + 1)])
@@ -103,8 +104,11 @@ def test_the_head_learns_roles_and_faces_and_beats_chance(stroke_data, tmp_path)
     log = ckpt["log"]
     assert log[-1]["role"] < 0.5 * log[0]["role"] and log[-1]["face"] < 0.5 * log[0]["face"]
     r = evaluate_head(stroke_data, final, stroke_data / "unet.pt")
-    assert r["unet"]["n"] == r["head"]["n"] == 64
+    # the U-Net is scored on the samples of its four classes, the head on all five
+    assert r["unet"]["n"] == 56 and r["head"]["n"] == 64
+    assert r["unet"]["per_operator"]["shell"]["n"] == 0
     head = r["head"]["per_operator"]
+    assert head["shell"]["n"] == 8
     # on its (learnable) training set the head reads every face and role (the toy bevel
     # has two strokes of each role, where decoding allows one l: 3 of 4 at best)
     assert all(head[k]["face_iou"] > 0.9 for k in head)
@@ -165,7 +169,7 @@ def test_runs_sharing_a_token_cache_read_the_unet_once(stroke_data, tmp_path, mo
     def no_unet(*args, **kwargs):
         raise AssertionError("the U-Net ran again")
 
-    monkeypatch.setattr(th, "_sample_tokens", no_unet)
+    monkeypatch.setattr(th, "_sample_items", no_unet)
     train_head(stroke_data, tmp_path / "b", _settings(1), stroke_data / "unet.pt", cache)
     other = tmp_path / "other-unet.pt"  # another U-Net's features are not reused
     torch.manual_seed(1)
@@ -338,3 +342,32 @@ def test_two_training_sets_of_one_name_are_refused(stroke_data, tmp_path, capsys
         == 2
     )
     assert "distinct folder names" in capsys.readouterr().err
+
+
+def test_a_head_of_fewer_classes_starts_a_grown_one_with_what_it_learnt(tmp_path):
+    from training.heads import warm_start
+
+    cfg = HeadConfig(channels=12, width=16, layers=1)
+    torch.manual_seed(0)
+    trained = StructureHead(cfg).state_dict()
+    # the head of four classes an earlier version trained: its output layers lack the
+    # shell's rows (the class logit, the face logit and the last two role logits)
+    grown = {"cls_out", "face_out"}
+    earlier = {
+        k: v[:4] if k.split(".")[0] in grown else v[:10] if k.startswith("role_out") else v
+        for k, v in trained.items()
+    }
+    torch.save({"model": earlier}, tmp_path / "earlier.pt")
+    torch.manual_seed(1)
+    head = StructureHead(cfg)
+    fresh = {k: v.clone() for k, v in head.state_dict().items()}
+    warm_start(head, tmp_path / "earlier.pt")
+    now = head.state_dict()
+    for k, v in earlier.items():
+        assert torch.equal(now[k][: len(v)], v), k
+    assert torch.equal(now["cls_out.weight"][4:], fresh["cls_out.weight"][4:])
+    assert torch.equal(now["role_out.bias"][10:], fresh["role_out.bias"][10:])
+    with pytest.raises(ValueError, match="does not fit"):
+        warm_start(
+            StructureHead(HeadConfig(channels=12, width=8, layers=1)), tmp_path / "earlier.pt"
+        )

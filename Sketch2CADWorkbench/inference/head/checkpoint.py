@@ -44,7 +44,13 @@ def load_head(path: str | Path) -> tuple[StructureHead, dict]:
         raise ValueError(f"{path}: not a {HEAD_FORMAT} checkpoint")
     known = {f.name for f in fields(HeadConfig)}
     head = StructureHead(HeadConfig(**{k: v for k, v in ckpt["config"].items() if k in known}))
-    head.load_state_dict(ckpt["model"])
+    try:
+        head.load_state_dict(ckpt["model"])
+    except RuntimeError as e:  # another layout: fewer classes, or another version's head
+        raise ValueError(
+            f"{path}: a head of another layout than this version's "
+            f"({str(e).splitlines()[-1].strip()[:160]}); train one with sketch2cad train-head"
+        ) from None
     return head.eval(), ckpt
 
 

@@ -11,14 +11,14 @@ import torch
 from scipy.optimize import linear_sum_assignment
 
 from ...brep.protocol import OperatorType
-from ...sketch.labels import BEVEL_L, BEVEL_L_PRIME, CLASSES, END, START
+from ...sketch.labels import BEVEL_L, BEVEL_L_PRIME, END, LABELLED, START
 from ..drawing import prism_labellings
 from ..fitting.stroke_roles import MIN_SIN
 from .model import ROLE_OFFSETS, ROLES
 
 
 def role_probabilities(roles: torch.Tensor, op: int) -> torch.Tensor:
-    """(S, 10) role logits of one sketch -> (S, ROLES[op]) probabilities of operator op."""
+    """(S, sum(ROLES)) role logits of one sketch -> (S, ROLES[op]) probabilities of class op."""
     return roles[:, ROLE_OFFSETS[op] : ROLE_OFFSETS[op] + ROLES[op]].softmax(-1)
 
 
@@ -29,7 +29,7 @@ def role_counts(op: int, strokes: int) -> tuple[int, ...] | None:
     strokes; a sweep its start and end ellipses joined by 2 profiles. None: not fixed
     (an extrusion's offset strokes vary with the face), or a count the drawing cannot
     have (then each stroke takes its own likeliest role)."""
-    kind = CLASSES[op]
+    kind = LABELLED[op]
     if kind is OperatorType.BEVEL and strokes:
         counts = [strokes - 1, strokes - 1]
         counts[BEVEL_L] = 1
@@ -89,7 +89,7 @@ def _outline_labellings(op: int, strokes: list[np.ndarray], size: int) -> list[n
     """The labellings a drawing of op with two outlines allows: a prism's from how its
     strokes meet (drawing.py), a sweep's any 1 / 2 / 1 split of its 4 strokes, a bevel's
     either of its 2 strokes as l (`count_fits`)."""
-    kind = CLASSES[op]
+    kind = LABELLED[op]
     if kind is OperatorType.ADDSUB:
         return prism_labellings(strokes, size)
     if kind is OperatorType.SWEEP and len(strokes) == 4:
@@ -118,9 +118,10 @@ def choose(
     none agrees with any face: `decode_roles` and the likeliest face, each alone.
 
     Args:
-        role_logits: (S, 10) and face_logits: (K, 4), the head's outputs for one sketch;
-        strokes: its S polylines (pixels); normal_image: (K, 2) each face token's
-        normal seen in the image (Tokens.normal_image); size: the maps' side (pixels).
+        role_logits: (S, sum(ROLES)) and face_logits: (K, N_CLASSES), the head's
+        outputs for one sketch; strokes: its S polylines (pixels); normal_image: (K, 2)
+        each face token's normal seen in the image (Tokens.normal_image); size: the
+        maps' side (pixels).
     """
     probs = role_probabilities(role_logits, op)
     face_lp = face_logits[: len(normal_image), op].log_softmax(0).numpy()
@@ -131,7 +132,7 @@ def choose(
     labels = np.stack(labellings)  # (L, S)
     role_lp = np.log(np.clip(probs.numpy(), 1e-12, None))
     score = role_lp[np.arange(len(strokes))[None], labels].sum(1)[:, None] + face_lp[None]
-    first, second, sign = OUTLINES[CLASSES[op]]
+    first, second, sign = OUTLINES[LABELLED[op]]
     mids = np.stack([np.asarray(s, float).reshape(-1, 2).mean(0) for s in strokes])
     shift = np.stack(
         [mids[lab == second].mean(0) - mids[lab == first].mean(0) for lab in labels]
@@ -139,7 +140,7 @@ def choose(
     n_img = sign * np.asarray(normal_image, np.float64)  # (K, 2)
     n_len = np.linalg.norm(n_img, axis=1)
     cos = shift @ n_img.T / np.maximum(np.linalg.norm(shift, axis=1)[:, None] * n_len, 1e-12)
-    agree = (cos > OUTLINE_SHIFT_COS[CLASSES[op]]) | (n_len < MIN_SIN)[None]
+    agree = (cos > OUTLINE_SHIFT_COS[LABELLED[op]]) | (n_len < MIN_SIN)[None]
     score = np.where(agree, score, -np.inf)  # (L, K)
     if not np.isfinite(score).any():
         return alone

@@ -17,11 +17,15 @@ import torch
 import torch.nn as nn
 import torch.nn.functional as F
 
+from ...sketch.labels import LABELLED
 from ..models import N_OPS
 from .tokens import CLASS_EXTRA, ENDS, FACE_GEOMETRY, STROKE_GEOMETRY, Tokens
 
-# Stroke roles per operator (the curve label encodings of sketch/labels.py).
-ROLES = (2, 2, 3, 3)
+# The head's classes (sketch/labels.py LABELLED): the U-Net's four and the shell, whose
+# logit has no U-Net logit under it (the correction alone).
+N_CLASSES = len(LABELLED)
+# Stroke roles per class (the curve label encodings of sketch/labels.py).
+ROLES = (2, 2, 3, 3, 2)
 ROLE_OFFSETS = tuple(int(v) for v in np.cumsum((0,) + ROLES[:-1]))
 
 
@@ -117,9 +121,9 @@ class StructureHead(nn.Module):
             if bias is not None:
                 nn.init.zeros_(bias.weight)
         self.norm = nn.LayerNorm(w)
-        self.cls_out = nn.Linear(w, N_OPS)
+        self.cls_out = nn.Linear(w, N_CLASSES)
         self.role_out = nn.Linear(w, sum(ROLES))
-        self.face_out = nn.Linear(w, N_OPS)
+        self.face_out = nn.Linear(w, N_CLASSES)
         with torch.no_grad():  # start as the U-Net's classifier: a correction of its logits
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
@@ -161,8 +165,9 @@ class StructureHead(nn.Module):
             (True = real); face: (B, K, Df), face_mask: (B, K) bool; on_face: (B, S, K)
             each stroke's share on each face.
         Returns:
-            class logits (B, 4) (the U-Net's plus a correction); role logits (B, S, 10)
-            (operator k's roles at ROLE_OFFSETS[k]); face logits (B, K, 4) (-inf on padding).
+            class logits (B, N_CLASSES) (the U-Net's plus a correction); role logits
+            (B, S, sum(ROLES)) (class k's roles at ROLE_OFFSETS[k]); face logits
+            (B, K, N_CLASSES) (-inf on padding).
         """
         n_s = stroke.shape[1]
         h = torch.cat(
@@ -174,7 +179,7 @@ class StructureHead(nn.Module):
             for layer in self.layers:
                 h = layer(h, bias)
         h = self.norm(h)
-        logits = cls[:, :N_OPS] + self.cls_out(h[:, 0])
+        logits = F.pad(cls[:, :N_OPS], (0, N_CLASSES - N_OPS)) + self.cls_out(h[:, 0])
         roles = self.role_out(h[:, 1 : 1 + n_s])
         faces = self.face_out(h[:, 1 + n_s :]).masked_fill(~face_mask[..., None], float("-inf"))
         return logits, roles, faces

@@ -47,8 +47,9 @@ def painted(
     and C maps the fitting and the paper's metrics read (`paint_face`, `paint_curve`).
 
     Args:
-        role_logits: (S, 10), face_logits: (K', 4) the head's outputs (K' >= K: padded);
-        strokes: the S polylines; t: the sketch's tokens; face_id: (H, W) face-ID map.
+        role_logits: (S, sum(ROLES)), face_logits: (K', N_CLASSES) the head's outputs
+        (K' >= K: padded); strokes: the S polylines; t: the sketch's tokens;
+        face_id: (H, W) face-ID map.
     """
     c = choose(role_logits, face_logits, op, strokes, t.normal_image.numpy(), face_id.shape[-1])
     return (

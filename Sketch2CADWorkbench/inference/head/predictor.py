@@ -9,7 +9,7 @@ import numpy as np
 import torch
 
 from ...brep.protocol import OperatorType
-from ...sketch.labels import CLASSES
+from ...sketch.labels import LABELLED
 from ..models import Sketch2CADNet, load_checkpoint
 from ..weights import NetworkPredictor, resolve
 from .checkpoint import load_head, sha256_of
@@ -70,21 +70,21 @@ class StructuredPredictor(NetworkPredictor):
         out = self._structured(inputs)
         if out is None:
             raise ValueError("stroke_roles needs observe(strokes, face_id) first")
-        return role_probabilities(out[3], CLASSES.index(op_type)).numpy()
+        return role_probabilities(out[3], LABELLED.index(op_type)).numpy()
 
     def face_probabilities(self, inputs: np.ndarray, op_type: OperatorType) -> dict[int, float]:
         """Face-ID -> probability of being the base face under op_type (visible faces)."""
         out = self._structured(inputs)
         if out is None:
             raise ValueError("face_probabilities needs observe(strokes, face_id) first")
-        p = out[4][:, CLASSES.index(op_type)].softmax(0)
+        p = out[4][:, LABELLED.index(op_type)].softmax(0)
         return {int(i): float(v) for i, v in zip(out[1].face_ids, p, strict=False)}
 
     def segment(self, inputs: np.ndarray, op_type: OperatorType) -> tuple[np.ndarray, np.ndarray]:
         out = self._structured(inputs)
         if out is None:
             return super().segment(inputs, op_type)
-        k = CLASSES.index(op_type)
+        k = LABELLED.index(op_type)
         return painted(out[3], out[4], k, self._strokes, out[1], self._face_id)
 
 

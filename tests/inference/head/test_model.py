@@ -4,8 +4,15 @@
 import torch
 from head_fixtures import SIZE, scene, scene_tokens
 
-from Sketch2CADWorkbench.inference.head.model import ROLES, HeadConfig, StructureHead, collate
+from Sketch2CADWorkbench.inference.head.model import (
+    N_CLASSES,
+    ROLES,
+    HeadConfig,
+    StructureHead,
+    collate,
+)
 from Sketch2CADWorkbench.inference.head.tokens import feature_channels
+from Sketch2CADWorkbench.inference.models import N_OPS
 
 
 def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
@@ -14,8 +21,20 @@ def test_the_head_gives_logits_per_stroke_and_face_with_padding_masked(net):
     b = scene_tokens(net, strokes[:1], face_id[:, :16].repeat(2, 1).reshape(SIZE, SIZE))
     head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1)).eval()
     cls, roles, faces = head(*collate([a, b]))
-    assert cls.shape == (2, 4) and roles.shape == (2, 3, sum(ROLES))
+    assert cls.shape == (2, N_CLASSES) and roles.shape == (2, 3, sum(ROLES))
+    assert faces.shape[-1] == N_CLASSES
     assert torch.isinf(faces[1, len(b.face) :]).all() and torch.isfinite(faces[0]).all()
+
+
+def test_an_untrained_head_classifies_as_the_unet_with_the_shell_at_zero(net):
+    # the class logits are the U-Net's plus a correction that starts at zero; the shell,
+    # which the U-Net has no logit for, starts at zero too
+    face_id, strokes = scene()
+    t = scene_tokens(net, strokes, face_id)
+    head = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1)).eval()
+    with torch.no_grad():
+        cls, _, _ = head(*collate([t]))
+    assert torch.allclose(cls[0, :N_OPS], t.cls[:N_OPS]) and float(cls[0, N_OPS]) == 0.0
 
 
 def test_the_head_reads_a_batch_alike_in_training_and_in_inference(net):

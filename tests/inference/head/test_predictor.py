@@ -10,7 +10,7 @@ from Sketch2CADWorkbench.inference.head.model import ROLES, HeadConfig, Structur
 from Sketch2CADWorkbench.inference.head.paint import paint_curve
 from Sketch2CADWorkbench.inference.head.predictor import StructuredPredictor
 from Sketch2CADWorkbench.inference.head.tokens import feature_channels
-from Sketch2CADWorkbench.sketch.labels import CLASSES
+from Sketch2CADWorkbench.sketch.labels import CLASSES, LABELLED
 
 
 def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path):
@@ -23,13 +23,13 @@ def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path)
     p.observe(strokes, face_id)
     x2 = x.copy()
     probs = p.classify(x2)
-    assert probs.shape == (4,) and abs(probs.sum() - 1) < 1e-5
-    for op in CLASSES:
+    assert probs.shape == (len(LABELLED),) and abs(probs.sum() - 1) < 1e-5
+    for op in LABELLED:  # the shell's roles and face too, which the U-Net has no maps for
         f, c = p.segment(x2, op)
         roles = p.stroke_roles(x2, op)
-        assert roles.shape == (3, ROLES[CLASSES.index(op)])
+        assert roles.shape == (3, ROLES[LABELLED.index(op)])
         assert np.array_equal(
-            c, paint_curve(strokes, decode_roles(torch.from_numpy(roles), CLASSES.index(op)), SIZE)
+            c, paint_curve(strokes, decode_roles(torch.from_numpy(roles), LABELLED.index(op)), SIZE)
         )
         faces = p.face_probabilities(x2, op)
         assert set(faces) == {3, 7} and abs(sum(faces.values()) - 1) < 1e-5
