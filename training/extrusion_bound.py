@@ -25,7 +25,9 @@ not at a corner and are skipped) and faces whose outline has curved edges.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from tqdm import tqdm
@@ -119,23 +121,11 @@ def extrusion_bound(sample: Sample) -> ExtrusionBound | None:
     sd = float(sigma / np.sqrt(len(tips) * (step_px @ step_px)))
 
     lo, hi = (v * DIAG for v in EXTRUDE_D)
-    grid = np.linspace(d_ml - SPAN_SD * sd, d_ml + SPAN_SD * sd, DECISION_GRID)
+    grid = decision_grid(d_ml, sd)
     grid = grid[(np.abs(grid) >= lo) & (np.abs(grid) <= hi)]  # the prior's support
     volumes = np.array([_volume(context, op, d) for d in grid])
-    keep = np.isfinite(volumes)
-    grid, volumes = grid[keep], volumes[keep]
     truth = apply_operation(context, op)
-    if len(grid) < 2:
-        d_best, p_best = d_ml, float("nan")
-    else:
-        weight = np.exp(-0.5 * ((grid - d_ml) / sd) ** 2)
-        weight /= weight.sum()
-        pairs = volumes[:, None], volumes[None]
-        iou = np.minimum(*pairs) / np.maximum(*pairs)
-        p_pass = np.minimum((iou >= RECOVERY_IOU) @ weight, 1.0)
-        best = np.flatnonzero(p_pass >= p_pass.max() - 1e-9)  # ties: the nearest to d_ML
-        i = best[int(np.argmin(np.abs(grid[best] - d_ml)))]
-        d_best, p_best = float(grid[i]), float(p_pass[i])
+    d_best, p_best = best_decision(grid, volumes, d_ml, sd)
     return ExtrusionBound(
         float(op.d),
         d_ml,
@@ -146,6 +136,33 @@ def extrusion_bound(sample: Sample) -> ExtrusionBound | None:
         _recovered(context, op, d_ml, truth),
         _recovered(context, op, d_best, truth),
     )
+
+
+def decision_grid(ml: float, sd: float) -> np.ndarray:
+    """The candidate decisions: DECISION_GRID values across ml +- SPAN_SD sd."""
+    return np.linspace(ml - SPAN_SD * sd, ml + SPAN_SD * sd, DECISION_GRID)
+
+
+def best_decision(
+    grid: np.ndarray, volumes: np.ndarray, ml: float, sd: float
+) -> tuple[float, float]:
+    """The decision of `grid` most likely to pass the recovery test, and that posterior
+    probability, for a parameter whose solids nest (their IoU is the smaller volume over
+    the larger) with a Gaussian likelihood around `ml` (sd `sd`) and a flat prior over
+    the grid. Grid values whose solid did not build (volume NaN) are left out; with
+    fewer than two left, (ml, NaN)."""
+    keep = np.isfinite(volumes)
+    grid, volumes = grid[keep], volumes[keep]
+    if len(grid) < 2:
+        return ml, float("nan")
+    weight = np.exp(-0.5 * ((grid - ml) / sd) ** 2)
+    weight /= weight.sum()
+    pairs = volumes[:, None], volumes[None]
+    iou = np.minimum(*pairs) / np.maximum(*pairs)
+    p_pass = np.minimum((iou >= RECOVERY_IOU) @ weight, 1.0)
+    best = np.flatnonzero(p_pass >= p_pass.max() - 1e-9)  # ties: the nearest to ml
+    i = best[int(np.argmin(np.abs(grid[best] - ml)))]
+    return float(grid[i]), float(p_pass[i])
 
 
 def _volume(context, op: Extrude, d: float) -> float:
@@ -168,22 +185,39 @@ def bound_of_set(data: str, limit: int | None = None) -> dict:
     """The bound over a generated set's extrusions on planar faces (the first `limit`
     samples): the oracle's rate, the best decision's rate and its expected rate (the mean
     posterior probability of passing: the bound), with how many samples count."""
+    return summary(bounds_over_set(data, limit, OperatorType.EXTRUDE, extrusion_bound))
+
+
+def bounds_over_set(
+    data: str, limit: int | None, kind: OperatorType, bound: Callable[[Sample], Any]
+) -> tuple[list, int]:
+    """`bound` of each sample of operator `kind` among a set's first `limit` samples
+    (those it applies to: not None), and how many samples of `kind` there were."""
     ds = Dataset(data)
     total = len(ds) if limit is None else min(limit, len(ds))
-    rows: list[ExtrusionBound] = []
+    rows, drawn = [], 0
     with tqdm(total=total, desc=f"bound {data}", unit="sample", leave=False) as bar:
         for k in ds.shards:
             for s in ds.samples(k):
                 if bar.n >= total:
                     break
                 bar.update(1)
-                if s.op_type is OperatorType.EXTRUDE:
-                    got = extrusion_bound(s)
+                if s.op_type is kind:
+                    drawn += 1
+                    got = bound(s)
                     if got is not None:
                         rows.append(got)
+    return rows, drawn
+
+
+def summary(found: tuple[list, int]) -> dict:
+    """The rates over `bounds_over_set`'s rows (each with ml_recovered, best_recovered
+    and p_best): how many count, of how many drawn."""
+    rows, drawn = found
     p = [r.p_best for r in rows if np.isfinite(r.p_best)]
     return {
         "n": len(rows),
+        "drawn": drawn,
         "oracle_ml_rate": float(np.mean([r.ml_recovered for r in rows])) if rows else None,
         "best_decision_rate": float(np.mean([r.best_recovered for r in rows])) if rows else None,
         "expected_bound": float(np.mean(p)) if p else None,

@@ -28,7 +28,7 @@ COMMANDS = {
     "head-recovery": "end-to-end recovery with the structured head beside the U-Net alone",
     "model-card": "write the shipped weights' model card from a run and its evaluations",
     "oracle": "how close a sketch session's strokes let a reading end",
-    "extrusion-bound": "the most any reading of a set's extrusions can recover",
+    "extrusion-bound": "the most any reading of a set's extrusions (or shells) can recover",
 }
 
 

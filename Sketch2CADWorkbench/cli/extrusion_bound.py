@@ -8,7 +8,9 @@ Gaussian); with the generator's prior on d, the decision most likely to pass the
 recovery test (volume IoU >= 0.95) and its posterior probability of passing. Prints the
 oracle's rate, the best decision's rate and the expected rate, which bounds what any
 reading of these strokes can expect (compare `sketch2cad eval --recovery`'s extrude
-rate). Sets of one noise level pool into one line.
+rate). Sets of one noise level pool into one line. With `--shells` the same for the
+set's shells' wall thickness t, read from the tips drawn at the rim's corners
+(training/shell_bound.py).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import json
 import sys
 from pathlib import Path
 
-from training.extrusion_bound import bound_of_set
+from training import extrusion_bound, shell_bound
 
 
 def pooled(rows: list[dict]) -> dict:
@@ -33,9 +35,9 @@ def pooled(rows: list[dict]) -> dict:
     }
 
 
-def line(name: str, r: dict) -> str:
+def line(name: str, r: dict, what: str) -> str:
     return (
-        f"{name}: {r['n']} extrusions; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
+        f"{name}: {r['n']} {what}; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
         f"best decision {100 * r['best_decision_rate']:.1f}%, expected (the bound) "
         f"{100 * r['expected_bound']:.1f}%"
     )
@@ -45,6 +47,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("data", nargs="+", help="generated sets (sketch2cad datagen --out)")
     p.add_argument("--limit", type=int, default=None, help="samples read per set")
     p.add_argument("--json", type=Path, default=None, help="write the figures here")
+    p.add_argument(
+        "--shells",
+        action="store_true",
+        help="bound the shells' wall thickness (rims of lines only), not the extrusions",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -55,17 +62,22 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 2
+    module, what, none = (
+        (shell_bound, "shells", "no shell with a rim of lines")
+        if args.shells
+        else (extrusion_bound, "extrusions", "no extrusion on a planar face")
+    )
     rows = {}
     for d in args.data:
-        rows[d] = bound_of_set(d, args.limit)
+        rows[d] = module.bound_of_set(d, args.limit)
         if rows[d]["n"] == 0:
-            print(f"{d}: no extrusion on a planar face")
+            print(f"{d}: {none}")
             continue
-        print(line(d, rows[d]), flush=True)
+        print(line(d, rows[d], what), flush=True)
     counted = [r for r in rows.values() if r["n"]]
     if len(counted) > 1:
         rows["pooled"] = pooled(counted)
-        print(line("pooled", rows["pooled"]))
+        print(line("pooled", rows["pooled"], what))
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     return 0
