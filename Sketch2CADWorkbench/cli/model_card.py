@@ -37,7 +37,9 @@ from ..inference.weights import HEAD_NAME, WEIGHTS_NAME
 ROOT = Path(__file__).resolve().parents[2]
 WEIGHTS = ROOT / "Sketch2CADWorkbench" / "inference" / "weights"
 EVAL = ROOT / "docs" / "eval"
-OPS = ("extrude", "bevel", "addsub", "sweep")
+OPS = ("extrude", "bevel", "addsub", "sweep")  # the U-Net's classes, the paper's four
+# the structured head's classes (sketch.labels.LABELLED): the shell too
+HEAD_OPS = (*OPS, "shell")
 # Margins under the level-1 figures for the regression test's small set (96 samples,
 # about 12 per operator for the rarest): wide enough for its sampling spread, narrow
 # enough that a broken network fails.
@@ -72,6 +74,25 @@ HEAD_COMMANDS = [
     "--head-recovery runs/head-recovery/heldout-l1.json runs/head-recovery/heldout-l3.json "
     "--ship-head",
 ]
+# The shipped head: the head above fine-tuned on sets with shells and rounds, drawn by
+# the generator's hand and by people's (`sketch2cad train-head --init`).
+TUNED_COMMANDS = [
+    "sketch2cad datagen --out data/head-train-8k --count 8192 --seed 1 --noise-level mix",
+    "sketch2cad datagen --out data/head-train5 --count 2048 --seed 1 --noise-level mix "
+    "--shells --round-share 0.25",
+    "sketch2cad datagen --out data/people-train --count 4096 --seed 3 --noise-level mix "
+    "--round-share 0.25 --hand people",
+    "sketch2cad datagen --curved --out data/curved-train5 --count 512 --seed 2 --noise-level mix",
+    "sketch2cad datagen --out data/heldout5-lN --count 300 --seed 3110N --noise-level N "
+    "--shells --round-share 0.25",
+    "sketch2cad datagen --out data/people-lN --count 200 --seed 3120N --noise-level N "
+    "--hand people",
+    "sketch2cad train-head --data data/head-train-8k data/head-train5 data/people-train "
+    "data/curved-train5 --out runs/head5 --init runs/head/sketch2cad_head.pt --epochs 20 "
+    "--width 128 --lr 5e-4 --threads 2 --weights runs/main --eval data/heldout5-l1 "
+    "data/heldout5-l3 data/people-l1 data/people-l3 --json runs/head5/scores.json",
+    "sketch2cad model-card --tuned runs/head5/scores.json",
+]
 
 
 def pct(x: float | None) -> str:
@@ -88,20 +109,23 @@ def _store(name: str, figures: dict) -> None:
     (EVAL / f"{name}.json").write_text(json.dumps(figures, indent=1) + "\n")
 
 
-def table1_row(r: dict) -> list[str]:
+def table1_row(r: dict, ops: tuple[str, ...] = OPS) -> list[str]:
     """An evaluation's paper metrics as cells: classification, then face IoU / curve
-    accuracy per operator, in %."""
+    accuracy per operator of `ops`, in %."""
+    per = r["per_operator"]
     return [pct(r.get("classification_accuracy"))] + [
-        f"{pct(r['per_operator'][op].get('face_iou'))} / "
-        f"{pct(r['per_operator'][op].get('curve_accuracy'))}"
-        for op in OPS
+        f"{pct(per.get(op, {}).get('face_iou'))} / {pct(per.get(op, {}).get('curve_accuracy'))}"
+        for op in ops
     ]
 
 
-def paper_cells() -> list[str]:
+def paper_cells(ops: tuple[str, ...] = OPS) -> list[str]:
+    """The paper's Table 1 as cells; "-" for an operator it does not have."""
     return [pct(PAPER_TABLE_1["classification_accuracy"])] + [
         f"{pct(PAPER_TABLE_1['face_iou'][op])} / {pct(PAPER_TABLE_1['curve_accuracy'][op])}"
-        for op in OPS
+        if op in PAPER_TABLE_1["face_iou"]
+        else "-"
+        for op in ops
     ]
 
 
@@ -109,8 +133,8 @@ def _row(cells: list[str]) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
-def table1_header(first: list[str]) -> list[str]:
-    cells = first + ["classification"] + [f"{op}: face IoU / curve acc." for op in OPS]
+def table1_header(first: list[str], ops: tuple[str, ...] = OPS) -> list[str]:
+    cells = first + ["classification"] + [f"{op}: face IoU / curve acc." for op in ops]
     return [_row(cells), "|" + "---|" * len(cells)]
 
 
@@ -205,6 +229,12 @@ def limits_section(pipeline: dict) -> list[str]:
         f"{pct(sets[name]['per_operator']['extrude']['recovery_rate'])}%"
         for name, b in bounds["sets"].items()
     )
+    shells = "; ".join(
+        f"{name} (noise level {sets[name]['noise_level']}, {b['n']} of {b['drawn']} shells): "
+        f"at most {pct(b['expected_bound'])}% expected, the pipeline "
+        f"{pct(sets[name]['per_operator']['shell']['recovery_rate'])}%"
+        for name, b in bounds.get("shells", {}).get("sets", {}).items()
+    )
     ceilings = "; ".join(
         f"{name} {op} {pct(d['strict_ceiling'])}% (the pipeline {recovery_cell(d)})"
         for name, r in sets.items()
@@ -243,12 +273,13 @@ def limits_section(pipeline: dict) -> list[str]:
         "## Intended use",
         "Reading one modeling operation at a time from freehand strokes drawn over a model "
         "in an orthographic view, in the FreeCAD workbench or `sketch2cad interpret`: "
-        "extruding a face, beveling an edge, adding or subtracting a prism, a sweep. The "
-        "networks saw only synthetic sketches (`sketch2cad datagen`: random modeling "
-        "sequences, strokes with the generator's hand at noise levels 1 to 3, 1.4%, 2.8% "
-        "and 4.1% of the image diagonal); other operations, several operations in one "
-        "sketch, or photographs of paper sketches are outside what they were trained and "
-        "measured on.",
+        "extruding a face, beveling or rounding an edge, adding or subtracting a prism, a "
+        "sweep, shelling a solid open at a face. The networks saw only synthetic sketches "
+        "(`sketch2cad datagen`: random modeling sequences, strokes at noise levels 1 to 3, "
+        "1.4%, 2.8% and 4.1% of the image diagonal, drawn by the generator's hand and, for "
+        "the shipped head, by people's: `datagen/hand.py`); other operations, several "
+        "operations in one sketch, or photographs of paper sketches are outside what they "
+        "were trained and measured on.",
         "",
         "## Limits: what the strokes cannot tell",
         "- A hole and the boss on its rim draw the same lines (paper, Fig. 5b). The "
@@ -259,6 +290,16 @@ def limits_section(pipeline: dict) -> list[str]:
         "`sketch2cad extrusion-bound DATA` (an oracle that knows f, which stroke tip was "
         "drawn at which corner, the generator's noise and its prior on d, taking the d most "
         f"likely to pass the 0.95 test) bounds any reading: {extrude}.",
+        *(
+            [
+                "- A shell's wall thickness is told only by where the rim's corners are "
+                "drawn. `sketch2cad extrusion-bound DATA --shells` (the same oracle for t, on "
+                "rims of lines) bounds any reading: "
+                f"{shells}."
+            ]
+            if shells
+            else []
+        ),
         "- Which end face a bevel's l lies on is not in the strokes where both ends face the "
         "viewer alike; the bevel figures move by a few points from set to set.",
         "- Sketch sessions: `sketch2cad oracle --examples` reads each step of the example "
@@ -302,8 +343,10 @@ def compute_section() -> list[str]:
     if (WEIGHTS / HEAD_NAME).exists():
         head = torch.load(WEIGHTS / HEAD_NAME, map_location="cpu", weights_only=False)
         hs = head["settings"]
+        tuned = f" from `{hs['init']}` (below)" if hs.get("init") else ""
         lines.append(
-            f"- Structured head: {hs['epochs']} epochs of {head['train_samples']} samples "
+            f"- Structured head{', fine-tuned' if tuned else ''}{tuned}: {hs['epochs']} epochs "
+            f"of {head['train_samples']} samples "
             f"({_trained_on(head.get('data_counts') or {}, head.get('data'))}) in "
             f"{sum(r['seconds'] for r in head['log']) / 60:.1f} min on {hs['threads']} torch "
             "thread(s), on the frozen U-Net's features (read once into a token cache). "
@@ -332,36 +375,44 @@ def figures_section(pipeline: dict) -> list[str]:
     """The shipped pipeline's current figures: the paper's metrics of the readings the
     fitting gets, and recovery per held-out set."""
     sets = pipeline["sets"]
-    metrics = table1_header(["data", "n", "reading"])
+    metrics = table1_header(["data", "n", "reading"], HEAD_OPS)
     for name, r in sets.items():
         if "structured" in r:
             if "face_iou" in r["per_operator"]["extrude"]:
-                metrics.append(_row([name, str(r["n"]), "U-Net alone", *table1_row(r)]))
+                metrics.append(_row([name, str(r["n"]), "U-Net alone", *table1_row(r, HEAD_OPS)]))
             metrics.append(
-                _row([name, str(r["n"]), "U-Net and head (shipped)", *table1_row(r["structured"])])
+                _row(
+                    [
+                        name,
+                        str(r["structured"].get("n", r["n"])),
+                        "U-Net and head (shipped)",
+                        *table1_row(r["structured"], HEAD_OPS),
+                    ]
+                )
             )
-    metrics.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells()]))
+    metrics.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells(HEAD_OPS)]))
     name1, level1 = next(
         (k, r) for k, r in sets.items() if r["noise_level"] == 1 and "structured" in r
     )
     recovery = [
-        _row(["data", "base faces", "noise level", "n", "regularization", *OPS]),
-        "|---|---|---|---|---|" + "---|" * len(OPS),
+        _row(["data", "hand", "base faces", "noise level", "n", "regularization", *HEAD_OPS]),
+        "|---|---|---|---|---|---|" + "---|" * len(HEAD_OPS),
     ]
     for name, r in sets.items():
         recovery.append(
             _row(
                 [
                     name,
+                    r.get("hand", "generator"),
                     "curved" if r["curved"] else "planar",
                     str(r["noise_level"]),
                     str(r["n"]),
                     "on" if r["regularize"] else "off",
                     *(
                         recovery_cell(r["per_operator"][op])
-                        if "recovery_rate" in r["per_operator"][op]
+                        if r["per_operator"].get(op, {}).get("recovery_rate") is not None
                         else "-"
-                        for op in OPS
+                        for op in HEAD_OPS
                     ),
                 ]
             )
@@ -412,17 +463,18 @@ def unet_section(unet: dict) -> list[str]:
     ]
 
 
-def heads_section(heads: dict) -> list[str]:
+def heads_section(heads: dict, tuned: bool) -> list[str]:
     """The structured heads' ablation: each head trained (its size and training), and per
     held-out set the U-Net's own maps (once) and each head's choices, scored on the same
     samples with the paper's metrics; the end-to-end table when stored."""
     trained, rows = [], []
+    first = " (fine-tuned into the shipped head, below)" if tuned else " (shipped)"
     for k, run in enumerate(heads["runs"]):
         h = run["head"]
         label = f"head, {h['layers']} attention layers, width {h['width']}"
         threads = f" on {h['threads']} torch thread(s)" if "threads" in h else ""
         trained.append(
-            f"- {label}{' (shipped)' if k == 0 else ''}: {h['parameters']} parameters "
+            f"- {label}{first if k == 0 else ''}: {h['parameters']} parameters "
             f"({json.dumps(h['config'])}); {h['epochs']} epochs of {h['train_samples']} "
             f"samples of {_trained_on(h.get('data_counts') or {}, h.get('data'))} in "
             f"{h['minutes']:.1f} min{threads}"
@@ -437,8 +489,9 @@ def heads_section(heads: dict) -> list[str]:
     table.append(_row(["paper, Table 1 (level 1)", "", "", *paper_cells()]))
     return [
         "## Structured heads: the ablation",
-        "The head that ships and the same head without context (no attention layers), "
-        "trained on the same samples; %, printed by:",
+        f"The head {'the shipped one was fine-tuned from' if tuned else 'that ships'} and "
+        "the same head without context (no attention layers), trained on the same samples; "
+        "%, printed by:",
         "",
         *(f"    {c}" for c in heads["commands"]),
         "",
@@ -447,6 +500,37 @@ def heads_section(heads: dict) -> list[str]:
         *table,
         "",
         *(end_to_end(heads["end_to_end"]) if heads.get("end_to_end") else []),
+    ]
+
+
+def tuned_section(tuned: dict) -> list[str]:
+    """The shipped head, fine-tuned from the ablation's first: its training and its
+    figures beside the U-Net's on the held-out sets it was scored on."""
+    h = tuned["head"]
+    table = table1_header(["data", "n", "reading"], HEAD_OPS)
+    for data, r in sorted(tuned["scores"].items()):
+        name = Path(data).name
+        table.append(
+            _row([name, str(r["unet"]["n"]), "U-Net alone", *table1_row(r["unet"], HEAD_OPS)])
+        )
+        table.append(
+            _row([name, str(r["head"]["n"]), "head (shipped)", *table1_row(r["head"], HEAD_OPS)])
+        )
+    return [
+        "## The shipped head: five operators, two hands",
+        f"The ablation's first head (`{h['init']}`) fine-tuned for {h['epochs']} epochs of "
+        f"{h['train_samples']} samples ({_trained_on(h['data_counts'], h.get('data'))}) in "
+        f"{h['minutes']:.1f} min on {h['threads']} torch thread(s): shells and rounds, the "
+        "generator's hand and people's (outlines in one stroke, curves split, traced over or "
+        "left open, hidden lines left out), each sketch's strokes cut and joined into pieces "
+        "of curves as `interpret` reads them. It classifies five operators, the shell "
+        "among them; the U-Net alone, four, and is scored on the samples of those. %, "
+        "printed by:",
+        "",
+        *(f"    {c}" for c in tuned["commands"]),
+        "",
+        *table,
+        "",
     ]
 
 
@@ -487,11 +571,17 @@ def reproduce_section(pipeline: dict) -> list[str]:
         "```",
         *UNET_COMMANDS,
         *HEAD_COMMANDS,
+        *TUNED_COMMANDS,
         "```",
         "The figures above: each held-out set made and measured by",
         "```",
         *(c for r in sets.values() for c in (r["made_by"], *r["commands"])),
         stored("extrusion_bound")["command"],
+        *(
+            [stored("extrusion_bound")["shells"]["command"]]
+            if "shells" in stored("extrusion_bound")
+            else []
+        ),
         stored("oracle")["command"],
         *stored("sessions")["commands"].values(),
         stored("speed")["interpret"]["command"],
@@ -527,7 +617,12 @@ def card() -> str:
         *compute_section(),
         *figures_section(pipeline),
         *unet_section(stored("unet")),
-        *(heads_section(stored("heads")) if (EVAL / "heads.json").exists() else []),
+        *(
+            heads_section(stored("heads"), (EVAL / "tuned.json").exists())
+            if (EVAL / "heads.json").exists()
+            else []
+        ),
+        *(tuned_section(stored("tuned")) if (EVAL / "tuned.json").exists() else []),
         *reproduce_section(pipeline),
         *guard_section(),
     ]
@@ -631,6 +726,13 @@ def add_arguments(ap: argparse.ArgumentParser) -> None:
         help="`sketch2cad head-recovery --json` results: the heads' end-to-end table",
     )
     ap.add_argument(
+        "--tuned",
+        type=Path,
+        metavar="JSON",
+        help="`sketch2cad train-head --init --json` scores of a head fine-tuned from the "
+        "ablation's first: ship the head beside them and store its figures",
+    )
+    ap.add_argument(
         "--ship-head",
         action="store_true",
         help=f"copy the first --heads run's {HEAD_NAME} beside the shipped "
@@ -661,6 +763,8 @@ def run(args: argparse.Namespace) -> int:
             _ship_unet(args.run, evals)
         if heads:
             _ship_heads(heads, recovery, args.ship_head, args.heads[0].parent / HEAD_NAME)
+        if args.tuned is not None:
+            _ship_tuned(args.tuned)
     except (FileNotFoundError, ValueError) as e:
         return _error(str(e))
     (WEIGHTS / "MODEL_CARD.md").write_text(card())
@@ -742,6 +846,27 @@ def _ship_heads(
     if recovery:
         figures["end_to_end"] = recovery
     _store("heads", figures)
+
+
+def _ship_tuned(scores: Path) -> None:
+    """The fine-tuned head beside `scores` copied beside the shipped U-Net, its figures
+    stored (docs/eval/tuned.json).
+
+    Raises:
+        ValueError: for a head trained on another U-Net's features.
+    """
+    head = _head_beside(scores)
+    if head.get("unet_sha256") != sha256_of(WEIGHTS / WEIGHTS_NAME):
+        raise ValueError(f"{scores.parent / HEAD_NAME}: trained on another U-Net's features")
+    shutil.copyfile(scores.parent / HEAD_NAME, WEIGHTS / HEAD_NAME)
+    _store(
+        "tuned",
+        {
+            "commands": TUNED_COMMANDS[-2:-1],
+            "head": {**head_summary(head), "init": head["settings"].get("init")},
+            "scores": json.loads(scores.read_text()),
+        },
+    )
 
 
 def _drop_stale_head() -> None:
