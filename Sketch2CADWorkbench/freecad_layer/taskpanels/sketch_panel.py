@@ -238,12 +238,9 @@ class SketchPanel:
         buttons.addWidget(self.interpret_button)
         buttons.addWidget(self.clear_button)
         lay.addLayout(buttons)
-        # the readings that draw the same strokes (a boss and a hole, paper Fig. 5b):
-        # one checkable button each, the checked one previewed and added by OK
-        self.reading_box = QtGui.QHBoxLayout()
-        lay.addLayout(self.reading_box)
         # a reading far from its strokes (a scribble) is added only when asked for (near
-        # the top: seen without scrolling on a 768 px high screen)
+        # the top, above the readings' row: seen without scrolling in FreeCAD 1.1's
+        # overlay panel on a 768 px high screen)
         self.anyway_button = QtGui.QPushButton(tr("Add anyway"))
         self.anyway_button.setToolTip(
             tr("Add this reading although its strokes lie far from it (OK does not)")
@@ -251,6 +248,10 @@ class SketchPanel:
         self.anyway_button.hide()
         self.anyway_button.clicked.connect(self.accept_anyway)
         lay.addWidget(self.anyway_button)
+        # the readings that draw the same strokes (a boss and a hole, paper Fig. 5b):
+        # one checkable button each, the checked one previewed and added by OK
+        self.reading_box = QtGui.QHBoxLayout()
+        lay.addLayout(self.reading_box)
         # one short button per snap the reading applied (what moved to what in its
         # tooltip): a click reads the strokes again without it
         # (InterpretOptions.skip_snaps); undone snaps stay off until cleared
