@@ -248,7 +248,7 @@ def limits_section(pipeline: dict) -> list[str]:
                 "oracle: final (as read / snapped)",
                 "oracle: weakest step, the session so ended",
                 "pipeline: final (own choices / regularization off)",
-                "pipeline: each step read alone, the session so ended",
+                "pipeline: each step read alone, the session so ended (-: doubtful, not added)",
             ]
         ),
         "|---|---|---|---|---|",
@@ -263,7 +263,8 @@ def limits_section(pipeline: dict) -> list[str]:
                     f"{o['final_iou']:.3f} / {o['regularized_iou']:.3f}",
                     f"{o['weakest_step']}: {o['weakest_session_iou']:.3f}",
                     f"{p['final_iou']:.3f} / {p['final_iou_regularization_off']:.3f}",
-                    " ".join(f"{x:.3f}" for x in p["each_step"]),
+                    # None: the step's reading was doubtful and not added
+                    " ".join("-" if x is None else f"{x:.3f}" for x in p["each_step"]),
                 ]
             )
         )
