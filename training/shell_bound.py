@@ -72,8 +72,10 @@ def rim_corners(face, t: float) -> np.ndarray | None:
 
 def shell_bound(sample: Sample) -> ShellBound | None:
     """The bound's figures for one shell sample, or None when they do not apply."""
-    context = replay(sample.context)[-1]
     op = sample.operation
+    if not isinstance(op, Shell):
+        return None
+    context = replay(sample.context)[-1]
     rf = resolve_face(context, op.face)
     try:
         here, moved = rim_corners(rf.face, op.t), rim_corners(rf.face, op.t * 1.001)

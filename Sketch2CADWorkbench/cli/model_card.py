@@ -230,9 +230,13 @@ def limits_section(pipeline: dict) -> list[str]:
         for name, b in bounds["sets"].items()
     )
     shells = "; ".join(
-        f"{name} (noise level {sets[name]['noise_level']}, {b['n']} of {b['drawn']} shells): "
-        f"at most {pct(b['expected_bound'])}% expected, the pipeline "
-        f"{pct(sets[name]['per_operator']['shell']['recovery_rate'])}%"
+        f"{name} (noise level {b['noise_level']}, {b['n']} of {b['drawn']} shells): at most "
+        f"{pct(b['expected_bound'])}% expected"
+        + (
+            f", the pipeline {pct(sets[name]['per_operator']['shell']['recovery_rate'])}%"
+            if name in sets
+            else ""
+        )
         for name, b in bounds.get("shells", {}).get("sets", {}).items()
     )
     ceilings = "; ".join(
@@ -464,7 +468,7 @@ def unet_section(unet: dict) -> list[str]:
     ]
 
 
-def heads_section(heads: dict, tuned: bool) -> list[str]:
+def heads_section(heads: dict, tuned: bool = False) -> list[str]:
     """The structured heads' ablation: each head trained (its size and training), and per
     held-out set the U-Net's own maps (once) and each head's choices, scored on the same
     samples with the paper's metrics; the end-to-end table when stored."""
@@ -572,7 +576,7 @@ def reproduce_section(pipeline: dict) -> list[str]:
         "```",
         *UNET_COMMANDS,
         *HEAD_COMMANDS,
-        *TUNED_COMMANDS,
+        *(TUNED_COMMANDS if (EVAL / "tuned.json").exists() else []),
         "```",
         "The figures above: each held-out set made and measured by",
         "```",

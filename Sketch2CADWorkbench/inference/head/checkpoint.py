@@ -43,7 +43,11 @@ def load_head(path: str | Path) -> tuple[StructureHead, dict]:
     if not isinstance(ckpt, dict) or ckpt.get("format") != HEAD_FORMAT:
         raise ValueError(f"{path}: not a {HEAD_FORMAT} checkpoint")
     known = {f.name for f in fields(HeadConfig)}
-    head = StructureHead(HeadConfig(**{k: v for k, v in ckpt["config"].items() if k in known}))
+    config = {k: v for k, v in ckpt["config"].items() if k in known}
+    if "classes" not in config and "cls_out.weight" in ckpt.get("model", {}):
+        # a head saved before the setting: as many classes as its class layer has
+        config["classes"] = int(ckpt["model"]["cls_out.weight"].shape[0])
+    head = StructureHead(HeadConfig(**config))
     try:
         head.load_state_dict(ckpt["model"])
     except RuntimeError as e:  # another layout: fewer classes, or another version's head

@@ -50,6 +50,9 @@ class HeadConfig:
     dropout: float = 0.1
     end_bias: bool = True  # attention between strokes biased by how near their ends lie
     face_bias: bool = True  # attention between a stroke and a face by how much it lies on it
+    # the classes it tells apart: the first of LABELLED, 4 for a head of the U-Net's
+    # classes alone (without the shell)
+    classes: int = N_CLASSES
 
 
 class AttentionLayer(nn.Module):
@@ -121,9 +124,9 @@ class StructureHead(nn.Module):
             if bias is not None:
                 nn.init.zeros_(bias.weight)
         self.norm = nn.LayerNorm(w)
-        self.cls_out = nn.Linear(w, N_CLASSES)
-        self.role_out = nn.Linear(w, sum(ROLES))
-        self.face_out = nn.Linear(w, N_CLASSES)
+        self.cls_out = nn.Linear(w, cfg.classes)
+        self.role_out = nn.Linear(w, sum(ROLES[: cfg.classes]))
+        self.face_out = nn.Linear(w, cfg.classes)
         with torch.no_grad():  # start as the U-Net's classifier: a correction of its logits
             self.cls_out.weight.zero_()
             self.cls_out.bias.zero_()
@@ -165,9 +168,9 @@ class StructureHead(nn.Module):
             (True = real); face: (B, K, Df), face_mask: (B, K) bool; on_face: (B, S, K)
             each stroke's share on each face.
         Returns:
-            class logits (B, N_CLASSES) (the U-Net's plus a correction); role logits
-            (B, S, sum(ROLES)) (class k's roles at ROLE_OFFSETS[k]); face logits
-            (B, K, N_CLASSES) (-inf on padding).
+            class logits (B, classes) (the U-Net's plus a correction); role logits
+            (B, S, sum(ROLES[:classes])) (class k's roles at ROLE_OFFSETS[k]); face
+            logits (B, K, classes) (-inf on padding).
         """
         n_s = stroke.shape[1]
         h = torch.cat(
@@ -179,7 +182,7 @@ class StructureHead(nn.Module):
             for layer in self.layers:
                 h = layer(h, bias)
         h = self.norm(h)
-        logits = F.pad(cls[:, :N_OPS], (0, N_CLASSES - N_OPS)) + self.cls_out(h[:, 0])
+        logits = F.pad(cls[:, :N_OPS], (0, self.config.classes - N_OPS)) + self.cls_out(h[:, 0])
         roles = self.role_out(h[:, 1 : 1 + n_s])
         faces = self.face_out(h[:, 1 + n_s :]).masked_fill(~face_mask[..., None], float("-inf"))
         return logits, roles, faces

@@ -37,3 +37,23 @@ def test_predictor_answers_as_the_unet_until_it_observes_a_sketch(net, tmp_path)
         assert np.array_equal(f > 0.5, face_id == best)
     x3 = x2.copy()  # inputs of a sketch it did not observe: never read with stale strokes
     assert np.allclose(p.segment(x3, CLASSES[0])[1], unet[2][0, 0].numpy(), atol=1e-6)
+
+
+def test_a_head_of_the_unets_four_classes_answers_with_four(net, tmp_path):
+    # a head trained before the shell was a class (the layout of its class layer says
+    # so) loads and classifies the four; interpret then proposes the shell by geometry
+    from Sketch2CADWorkbench.inference.head.checkpoint import load_head, save_head
+
+    face_id, strokes = scene()
+    four = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1, classes=4))
+    ckpt = {"format": "sketch2cad-head", "config": {}, "model": four.state_dict()}
+    save_head(tmp_path / "h.pt", four)
+    raw = torch.load(tmp_path / "h.pt", weights_only=False)
+    del raw["config"]["classes"]  # as an earlier version wrote it
+    torch.save(raw, tmp_path / "h.pt")
+    head, _ = load_head(tmp_path / "h.pt")
+    assert head.config.classes == 4 and ckpt["model"].keys() == head.state_dict().keys()
+    p = StructuredPredictor(net, head, threads=1)
+    x = np.random.default_rng(1).random((5, SIZE, SIZE)).astype(np.float32)
+    p.observe(strokes, face_id)
+    assert p.classify(x).shape == (len(CLASSES),)
