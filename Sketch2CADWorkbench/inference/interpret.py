@@ -45,7 +45,13 @@ from .fitting.verify import SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 from .options import InterpretOptions
 from .reading import GOOD_FIT_PX, Reading, doubt_measures, doubts
-from .search import TAKE_A_BOOLEAN, Predictor, read_operators, shell_prior
+from .search import (
+    TAKE_A_BOOLEAN,
+    Predictor,
+    classifies_the_shell,
+    read_operators,
+    shell_prior,
+)
 
 
 @dataclass
@@ -219,10 +225,10 @@ def interpret(
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
     order = [op_type] if op_type else [LABELLED[k] for k in np.argsort(-probs, kind="stable")]
-    if len(probs) < len(LABELLED):
-        # a classifier without the shell's class (the U-Net alone): the shell by the
-        # strokes' geometry, read first when they draw a rim, with the likeliest
-        # operator's probability (`shell_prior`)
+    if not classifies_the_shell(predictor, ctx):
+        # a classifier of the paper's four: the shell by the strokes' geometry, read
+        # first when they draw a rim, with the likeliest operator's probability
+        # (`shell_prior`)
         shell = shell_prior(solid, ctx) * float(probs.max()) if op_type is None else 1.0
         if shell > 0 and op_type is None:
             order.insert(0, OperatorType.SHELL)

@@ -9,11 +9,11 @@ operator. Here both are a search ended by a clear fit (GOOD_FIT_PX): the next fa
 the next operators, are fitted when the likeliest one does not explain the strokes, and
 the best reading by its score wins. The fitting on one face is adapters.py's.
 
-The structured head classifies the five operators of sketch.labels.LABELLED, the
-shell among them. The U-Net alone knows the paper's four (sketch.labels.CLASSES); with
-it, a shell is proposed by the strokes' geometry (`shell_prior`): when the strokes close
-into one rim lying on one planar face, with at most one stroke down a wall
-(fitting/shell.rim_and_wall), the shell is read first, as sure as the classifier's
+A structured head of five classes (sketch.labels.LABELLED) classifies the shell too.
+A classifier of the paper's four (sketch.labels.CLASSES: the U-Net, the shipped head)
+does not; with it a shell is proposed by the strokes' geometry (`shell_prior`): when
+the strokes close into one rim lying on one planar face, with at most one stroke down
+a wall (fitting/shell.rim_and_wall), the shell is read first, as sure as the classifier's
 likeliest operator; otherwise it is not read.
 """
 
@@ -105,10 +105,10 @@ def shell_prior(solid: cq.Shape, ctx: Context) -> float:
     return 0.0 if face is None else float(face_kinds(solid)[face] == "PLANE")
 
 
-def has_maps(predictor: Predictor, ctx: Context, kind: OperatorType) -> bool:
-    """Whether the networks read `kind` with a class and F and C maps of its own: every
-    operator but the shell, which only the structured head knows."""
-    return kind is not OperatorType.SHELL or len(predictor.classify(ctx.inputs)) == len(LABELLED)
+def classifies_the_shell(predictor: Predictor, ctx: Context) -> bool:
+    """Whether the networks have a class, and F and C maps, for the shell (a head of the
+    five classes of LABELLED); else `shell_prior` proposes it and its maps are empty."""
+    return len(predictor.classify(ctx.inputs)) == len(LABELLED)
 
 
 def operator_probability(probs: np.ndarray, kind: OperatorType) -> float:
@@ -376,7 +376,7 @@ def read_operators(
             continue
         order.remove(kind)
         ta = time.perf_counter()
-        if has_maps(predictor, ctx, kind):
+        if kind is not OperatorType.SHELL or classifies_the_shell(predictor, ctx):
             face_prob, curve = predictor.segment(ctx.inputs, kind)
         else:  # no evidence from the networks: the faces under the rim are tried
             face_prob = curve = np.zeros(ctx.maps.face_id.shape, np.float32)

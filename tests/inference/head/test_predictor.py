@@ -46,13 +46,12 @@ def test_a_head_of_the_unets_four_classes_answers_with_four(net, tmp_path):
 
     face_id, strokes = scene()
     four = StructureHead(HeadConfig(channels=feature_channels(net), width=16, layers=1, classes=4))
-    ckpt = {"format": "sketch2cad-head", "config": {}, "model": four.state_dict()}
     save_head(tmp_path / "h.pt", four)
     raw = torch.load(tmp_path / "h.pt", weights_only=False)
     del raw["config"]["classes"]  # as an earlier version wrote it
     torch.save(raw, tmp_path / "h.pt")
     head, _ = load_head(tmp_path / "h.pt")
-    assert head.config.classes == 4 and ckpt["model"].keys() == head.state_dict().keys()
+    assert head.config.classes == 4 and four.state_dict().keys() == head.state_dict().keys()
     p = StructuredPredictor(net, head, threads=1)
     x = np.random.default_rng(1).random((5, SIZE, SIZE)).astype(np.float32)
     p.observe(strokes, face_id)
