@@ -27,6 +27,11 @@ def freecad_env(tmp_path) -> dict:
         # as root, the Start page's web view needs these or FreeCAD exits
         QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox",
         QTWEBENGINE_DISABLE_SANDBOX="1",
+        # FreeCAD keeps its documents' recovery files in its cache folder: one killed with
+        # a document open (by a test's timeout, or any crash) leaves them, and the next
+        # FreeCAD to start there opens the modal Document Recovery dialog, which takes every
+        # mouse event from the window. Each run has a cache of its own.
+        XDG_CACHE_HOME=str(Path(tmp_path) / "cache"),
     )
     env.pop("PYTHONPATH", None)  # FreeCAD's own path set-up, as a user would have it
     return env

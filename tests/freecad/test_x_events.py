@@ -101,6 +101,8 @@ class Desktop:
         while time.monotonic() < end:
             s = self.state()
             fresh = s.get("time", 0) > start + 0.2
+            # a modal dialog takes every mouse event: no step of the test can follow
+            assert not (fresh and s.get("modal")), f"a modal dialog is open: {s['modal']}"
             if fresh and "error" not in s and what(s) and _same(s, last):
                 return s
             last = s if fresh else None

@@ -186,6 +186,8 @@ def every_mouse_move_of_a_stroke_is_captured_while_the_view_redraws():
         turn()
         time.sleep(0.05)
     assert not FreeCADGui.Selection.getPreselection().ObjectName
+    modal = app().activeModalWidget()  # it would take every move the X server sends
+    assert modal is None, f"a modal dialog is open: {modal.objectName()}"
     left = QtCore.Qt.LeftButton
     app().sendEvent(
         viewport,

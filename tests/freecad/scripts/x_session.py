@@ -123,7 +123,14 @@ def state() -> dict:
         "panel": panel_state(),
         "buttons": buttons(),
         "overlay_mode": OVERLAY,
+        "modal": modal_dialog(),
     }
+
+
+def modal_dialog() -> str | None:
+    """The name of the modal dialog open (it takes every mouse event), or None."""
+    w = QtGui.QApplication.activeModalWidget()
+    return None if w is None else w.objectName() or w.metaObject().className()
 
 
 def report() -> None:
