@@ -132,13 +132,18 @@ def score(
                                 meta[sl], a["curve_label"][sl], a["stroke_mask"][sl], strict=True
                             )
                         ]
-                        logits, pf, pc = _head_reading(head, u, pieces, a["face_id"][sl], op)
+                        # a head without the shell's class is scored on the others
+                        known = op < head.config.classes
+                        logits, pf, pc = _head_reading(
+                            head, u, pieces, a["face_id"][sl], torch.where(known, op, 0)
+                        )
+                        hop = op[known]
                         out.head.add(
-                            op,
-                            logits.argmax(1),
-                            noise,
-                            *face_overlap(pf, face),
-                            *curve_hits(pc, curve, mask, op),
+                            hop,
+                            logits.argmax(1)[known],
+                            noise[known],
+                            *face_overlap(pf[known], face[known]),
+                            *curve_hits(pc[known], curve[known], mask[known], hop),
                         )
                 # the U-Net is scored on the samples of its classes, on the true
                 # operator's maps (B, S, S); a shell it has no class or maps for

@@ -35,6 +35,8 @@ from datagen.strokes import noise_sigma
 from Sketch2CADWorkbench.brep.faces import OperationError, resolve_face
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay
 from Sketch2CADWorkbench.brep.protocol import OperatorType, Shell
+from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.shell import shell_fit
 from Sketch2CADWorkbench.sketch.curves import rim_wires
 from Sketch2CADWorkbench.sketch.labels import SHELL_RIM
 from training.extrusion_bound import best_decision, bounds_over_set, decision_grid, summary
@@ -59,6 +61,7 @@ class ShellBound:
     p_best: float
     ml_recovered: bool
     best_recovered: bool
+    fit_recovered: bool
 
 
 def rim_corners(face, t: float) -> np.ndarray | None:
@@ -111,6 +114,12 @@ def shell_bound(sample: Sample) -> ShellBound | None:
     grid = grid[(grid >= lo) & (grid <= hi)]  # the prior's support
     truth = _volume(context, op, op.t)
     t_best, p_best = best_decision(grid, _volumes(context, op, grid), t_ml, sd)
+    parts = zip(sample.strokes, sample.stroke_parts, strict=True)
+    rim = [np.asarray(s, float) for s, part in parts if part == SHELL_RIM]
+    try:  # the project's fitting, told f, from the same rim strokes
+        t_fit = shell_fit(context, rf.face, cam, rim).t
+    except FitError:
+        t_fit = float("nan")
     return ShellBound(
         float(op.t),
         t_ml,
@@ -120,6 +129,7 @@ def shell_bound(sample: Sample) -> ShellBound | None:
         p_best,
         _passes(context, op, t_ml, truth),
         _passes(context, op, t_best, truth),
+        _passes(context, op, t_fit, truth),
     )
 
 
@@ -153,9 +163,11 @@ def bound_of_set(data: str, limit: int | None = None) -> dict:
     """The bound over a generated set's shells with polygonal rims (the first `limit`
     samples): the oracle's rate, the best decision's rate and its expected rate (the mean
     posterior probability of passing: the bound), with how many samples count of how
-    many shells were drawn, and the median sd of t relative to t."""
+    many shells were drawn, the median sd of t relative to t, and the rate of the
+    project's fitting told f (`fitting/shell.shell_fit`) on the same samples."""
     rows, drawn = bounds_over_set(data, limit, OperatorType.SHELL, shell_bound)
     return {
         **summary((rows, drawn)),
         "median_sd_over_t": float(np.median([r.sd / r.t_true for r in rows])) if rows else None,
+        "fitting_rate": float(np.mean([r.fit_recovered for r in rows])) if rows else None,
     }

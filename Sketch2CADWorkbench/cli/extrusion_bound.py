@@ -30,16 +30,19 @@ def pooled(rows: list[dict]) -> dict:
         "n": n,
         **{
             k: sum(r[k] * r["n"] for r in rows) / n
-            for k in ("oracle_ml_rate", "best_decision_rate", "expected_bound")
+            for k in ("oracle_ml_rate", "best_decision_rate", "expected_bound", "fitting_rate")
+            if all(r.get(k) is not None for r in rows)
         },
     }
 
 
 def line(name: str, r: dict, what: str) -> str:
+    fitting = r.get("fitting_rate")
     return (
         f"{name}: {r['n']} {what}; oracle least squares {100 * r['oracle_ml_rate']:.1f}%, "
         f"best decision {100 * r['best_decision_rate']:.1f}%, expected (the bound) "
         f"{100 * r['expected_bound']:.1f}%"
+        + ("" if fitting is None else f"; the fitting, told f: {100 * fitting:.1f}%")
     )
 
 

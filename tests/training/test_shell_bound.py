@@ -38,6 +38,7 @@ def test_the_oracle_reads_t_from_the_tips_drawn_at_the_rims_corners():
     thick = shell_bound(_sample(5.0, (1.0, 0.6, -1.0)))  # the hand drew the rim 1 mm in
     assert thick.t_ml == pytest.approx(5.0, abs=1e-4) and not thick.ml_recovered
     assert thick.sd == pytest.approx(exact.sd, rel=1e-3)  # the same view, as sure
+    assert exact.fit_recovered and not thick.fit_recovered  # the project's fitting, told f
 
 
 def test_a_noisier_hand_or_a_grazing_view_leaves_the_best_reading_less_sure():

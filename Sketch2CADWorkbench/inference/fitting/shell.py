@@ -15,10 +15,16 @@ closest first, chain every stroke into it, but for one stroke with a free end wh
 other end meets a corner (the wall). A prism's outline with its depth lines has three
 strokes at each corner, so ends are left over and it is not read as a rim.
 
-t is where the rim lies: each of its samples, back-projected onto f's plane, lies t from
-f's outline, and t is their median (robust to the hand's wobble). The rim must follow
-the whole outline at that one distance (`RIM_OFF_SHARE`), or the strokes are refused as
-no inset of f's outline.
+t is where the rim lies. A first t is the median distance of the rim's samples,
+back-projected onto f's plane, from f's outline (robust to the hand's wobble). It is
+then fitted where the hand's error is measured, in the view's pixels: the t whose inset
+outline, projected, and the strokes lie closest both ways (each stroke sample to the
+inset, each inset point to the strokes, capped at `RIM_FIT_CAP_PX`). The way back
+counts because where a stroke ends at a corner of the rim tells t through the
+neighbouring side as much as where the stroke runs; and in pixels a side seen at a
+grazing angle weighs less, as its millimetres are less sure. The strokes must follow
+the whole inset at that t (`RIM_OFF_SHARE`), or they are refused as no inset of f's
+outline.
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ import cadquery as cq
 import numpy as np
 from OCP.BRepTools import BRepTools_WireExplorer
 from OCP.TopAbs import TopAbs_REVERSED
+from scipy.spatial import cKDTree
 
 from ...brep.faces import FaceFrame, face_ref_of
 from ...brep.protocol import OperationError, Shell
@@ -43,8 +50,16 @@ RIM_JOIN_SHARE = 0.12
 # A rim sample farther than this (context pixels) from f's outline inset by t is off the
 # inset; the strokes are no inset when more than RIM_OFF_SHARE of the rim's samples, or of
 # the inset's, are off (see docs/measurements.md, shell.RIM_OFF_PX and RIM_OFF_SHARE).
-RIM_OFF_PX = 6.0
+RIM_OFF_PX = 12.0
 RIM_OFF_SHARE = 0.3
+# The pixel fit of t: a distance counts up to RIM_FIT_CAP_PX (a gap an occluder cut, a
+# stroke run past a corner; about 4 sigmas of the level-3 hand's ends), t sought from
+# RIM_FIT_RANGE times the first t in RIM_FIT_STEPS and as many again between the best
+# one's neighbours, the inset's points RIM_FIT_SPACING_PX apart (docs/measurements.md).
+RIM_FIT_CAP_PX = 40.0
+RIM_FIT_SPACING_PX = 2.0
+RIM_FIT_RANGE = (0.4, 1.8)
+RIM_FIT_STEPS = 15
 
 
 @dataclass(frozen=True)
@@ -161,7 +176,8 @@ def _inside(q: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
 
 def shell_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, rim: list[np.ndarray]) -> Shell:
     """The shell opening planar `face` whose rim the strokes `rim` (pixels of `camera`)
-    draw: t the median distance of their samples, on f's plane, from f's outline.
+    draw: t where the projected inset outline and the strokes lie closest (module
+    docstring).
 
     Raises:
         FitError: f is not planar, the strokes leave f, or they are no inset of f's outline
@@ -182,30 +198,112 @@ def shell_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, rim: list[np.
             "outside the face"
         )
     t = float(np.median(dist[inside]))
-    tol = RIM_OFF_PX * camera.pixel_size
     if t <= camera.pixel_size:
         raise FitError(
             f"the rim lies on the face's outline (t = {t:.3g} mm, under a pixel): a "
             "shell's walls need a rim drawn inside the face"
         )
-    op = Shell(face_ref_of(face), t)
-    off = float(np.mean(np.abs(dist - t) > tol))
+    t = _pixel_fit(face, camera, pixels, t, _inradius(loops))
     try:
-        wires = rim_wires(face, t)
+        edges = _inset_edges(face, t)
     except OperationError as e:  # the inset vanishes
         raise FitError(str(e)) from None
-    inset = np.concatenate(
-        [
-            frame.to_2d(np.array([e.positionAt(s).toTuple() for s in np.linspace(0, 1, 64)]))
-            for w in wires
-            for e in w.Edges()
-        ]
-    )
-    missed = float(np.mean(np.linalg.norm(inset[:, None] - q[None], axis=2).min(axis=1) > tol))
+    inset = np.concatenate([_edge_points(e, _count(e, camera.pixel_size)) for e in edges])
+    inset = camera.project(inset)[0]
+    off = float(np.mean(cKDTree(inset).query(pixels)[0] > RIM_OFF_PX))
+    missed = float(np.mean(cKDTree(pixels).query(inset)[0] > RIM_OFF_PX))
     if off > RIM_OFF_SHARE or missed > RIM_OFF_SHARE:
         raise FitError(
             f"the strokes are no rim of the face: f's outline inset by t = {t:.3g} mm "
             f"leaves {100 * off:.0f}% of them and {100 * missed:.0f}% of itself more than "
             f"{RIM_OFF_PX:g} px apart (at most {100 * RIM_OFF_SHARE:.0f}%)"
         )
-    return op
+    return Shell(face_ref_of(face), t)
+
+
+def _edge_points(edge: cq.Edge, n: int) -> np.ndarray:
+    """n 3D points evenly along an edge's parameter (lines and arcs: evenly along it)."""
+    if edge.geomType() == "LINE":
+        a, b = np.array(edge.startPoint().toTuple()), np.array(edge.endPoint().toTuple())
+        return a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+    us = np.linspace(edge.paramAt(0.0), edge.paramAt(1.0), n)
+    return np.array([edge.positionAt(u, "parameter").toTuple() for u in us])
+
+
+def _count(edge: cq.Edge, spacing: float) -> int:
+    """How many points put an edge's about `spacing` apart, its ends included."""
+    return 2 + int(edge.Length() / spacing)
+
+
+def _inset_edges(face: cq.Face, t: float) -> list[cq.Edge]:
+    """The edges of f's outline inset by t (`rim_wires`), wire by wire.
+
+    Raises:
+        OperationError: the inset vanishes.
+    """
+    return [e for w in rim_wires(face, t) for e in w.Edges()]
+
+
+def _inradius(loops: list[np.ndarray], steps: int = 48) -> float:
+    """About how thick a wall f's outline allows (the inset vanishes past it): the largest
+    distance from the outline of a point inside f, on a grid of `steps` across f."""
+    lo, hi = loops[0].min(axis=0), loops[0].max(axis=0)
+    u, v = np.meshgrid(*np.linspace(lo, hi, steps).T)
+    q = np.column_stack([u.ravel(), v.ravel()])
+    q = q[_inside(q, loops)]
+    if not len(q):
+        return 0.0
+    return float(np.min([loop_distances(q, loop) for loop in loops], axis=0).max())
+
+
+def _pixel_fit(
+    face: cq.Face, camera: OrthoCamera, pixels: np.ndarray, t0: float, t_max: float
+) -> float:
+    """The t around t0, under t_max, whose projected inset and the stroke samples `pixels`
+    lie closest both ways (module docstring); t0 where the inset cannot be followed.
+
+    While its edges stay the same, the inset of a planar outline moves linearly in t: the
+    points at one parameter of an edge (a corner along its bisector), or for a closed
+    edge, whose seam may move, each point along its normal (to the nearest of the edge
+    at the other t). So two built insets give it at every t of the range."""
+    t1 = 1.05 * t0
+    spacing = RIM_FIT_SPACING_PX * camera.pixel_size
+    try:
+        edges, later = _inset_edges(face, t0), _inset_edges(face, t1)
+    except OperationError:
+        return t0
+    if len(edges) != len(later):
+        return t0
+    here, moved = [], []
+    for e, f in zip(edges, later, strict=True):
+        n = _count(e, spacing)
+        here.append(_edge_points(e, n))
+        if f.IsClosed():  # its seam may have moved: the nearest point
+            dense = _edge_points(f, 8 * n)
+            moved.append(dense[cKDTree(dense).query(here[-1])[1]])
+        else:
+            moved.append(_edge_points(f, n))
+    start = camera.project(np.concatenate(here))[0]
+    rate = (camera.project(np.concatenate(moved))[0] - start) / (t1 - t0)  # px per mm
+    strokes = cKDTree(pixels)
+
+    def cost(t: float) -> float:
+        inset = start + (t - t0) * rate
+        to_inset = np.minimum(cKDTree(inset).query(pixels)[0], RIM_FIT_CAP_PX)
+        to_strokes = np.minimum(strokes.query(inset)[0], RIM_FIT_CAP_PX)
+        return float(np.mean(to_inset**2) + np.mean(to_strokes**2))
+
+    # past t_max the inset has vanished (moved on linearly, it would come back mirrored)
+    ts = t0 * np.linspace(*RIM_FIT_RANGE, RIM_FIT_STEPS)
+    ts = ts[ts < t_max]
+    if len(ts) < 3:
+        return t0
+    k = int(np.argmin([cost(t) for t in ts]))
+    ts = np.linspace(ts[max(k - 1, 0)], ts[min(k + 1, len(ts) - 1)], RIM_FIT_STEPS)
+    costs = [cost(t) for t in ts]
+    k = int(np.argmin(costs))
+    if 0 < k < len(ts) - 1:  # the parabola through the least cost and its neighbours
+        bend = costs[k - 1] - 2 * costs[k] + costs[k + 1]
+        if bend > 0:
+            return float(ts[k] + 0.5 * (costs[k - 1] - costs[k + 1]) / bend * (ts[1] - ts[0]))
+    return float(ts[k])
