@@ -19,10 +19,12 @@ t is where the rim lies. A first t is the median distance of the rim's samples,
 back-projected onto f's plane, from f's outline (robust to the hand's wobble). It is
 then fitted where the hand's error is measured, in the view's pixels: the t whose inset
 outline, projected, and the strokes lie closest both ways (each stroke sample to the
-inset, each inset point to the strokes, capped at `RIM_FIT_CAP_PX`). The way back
-counts because where a stroke ends at a corner of the rim tells t through the
-neighbouring side as much as where the stroke runs; and in pixels a side seen at a
-grazing angle weighs less, as its millimetres are less sure. The strokes must follow
+inset, each inset point to the strokes, capped at `RIM_FIT_CAP_PX`), and whose corners
+lie closest to the strokes' ends (`RIM_FIT_END_WEIGHT`). The ends count most: a side is
+drawn from one corner to the next, so where a stroke ends tells t through the
+neighbouring side as well as its own (the information the bound of
+training/shell_bound.py counts). In pixels, a side seen at a grazing angle weighs less,
+as its millimetres are less sure. The strokes must follow
 the whole inset at that t (`RIM_OFF_SHARE`), or they are refused as no inset of f's
 outline.
 """
@@ -57,6 +59,10 @@ RIM_OFF_SHARE = 0.3
 # RIM_FIT_RANGE times the first t in RIM_FIT_STEPS and as many again between the best
 # one's neighbours, the inset's points RIM_FIT_SPACING_PX apart (docs/measurements.md).
 RIM_FIT_CAP_PX = 40.0
+# How much the strokes' ends, each at its nearest corner of the rim, count against the
+# rim's samples (the mean squared gap of either): a side's samples move with its two ends,
+# so the ends tell most of t (training/shell_bound.py).
+RIM_FIT_END_WEIGHT = 8.0
 RIM_FIT_SPACING_PX = 2.0
 RIM_FIT_RANGE = (0.4, 1.8)
 RIM_FIT_STEPS = 15
@@ -203,7 +209,8 @@ def shell_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, rim: list[np.
             f"the rim lies on the face's outline (t = {t:.3g} mm, under a pixel): a "
             "shell's walls need a rim drawn inside the face"
         )
-    t = _pixel_fit(face, camera, pixels, t, _inradius(loops))
+    ends = np.array([p for s in rim if not is_loop(s) for p in (s[0], s[-1])], float)
+    t = _pixel_fit(face, camera, pixels, ends.reshape(-1, 2), t, _inradius(loops))
     try:
         edges = _inset_edges(face, t)
     except OperationError as e:  # the inset vanishes
@@ -257,10 +264,16 @@ def _inradius(loops: list[np.ndarray], steps: int = 48) -> float:
 
 
 def _pixel_fit(
-    face: cq.Face, camera: OrthoCamera, pixels: np.ndarray, t0: float, t_max: float
+    face: cq.Face,
+    camera: OrthoCamera,
+    pixels: np.ndarray,
+    ends: np.ndarray,
+    t0: float,
+    t_max: float,
 ) -> float:
-    """The t around t0, under t_max, whose projected inset and the stroke samples `pixels`
-    lie closest both ways (module docstring); t0 where the inset cannot be followed.
+    """The t around t0, under t_max, whose projected inset lies closest to the stroke
+    samples `pixels` both ways and whose corners lie closest to the strokes' `ends`
+    (module docstring); t0 where the inset cannot be followed.
 
     While its edges stay the same, the inset of a planar outline moves linearly in t: the
     points at one parameter of an edge (a corner along its bisector), or for a closed
@@ -286,12 +299,25 @@ def _pixel_fit(
     start = camera.project(np.concatenate(here))[0]
     rate = (camera.project(np.concatenate(moved))[0] - start) / (t1 - t0)  # px per mm
     strokes = cKDTree(pixels)
+    # the corners: each open edge's two ends (a closed edge has none)
+    first = np.cumsum([0] + [len(h) for h in here[:-1]])
+    corners = [
+        i
+        for e, a, h in zip(later, first, here, strict=True)
+        if not e.IsClosed()
+        for i in (a, a + len(h) - 1)
+    ]
+    tips = ends if corners else ends[:0]
 
     def cost(t: float) -> float:
         inset = start + (t - t0) * rate
         to_inset = np.minimum(cKDTree(inset).query(pixels)[0], RIM_FIT_CAP_PX)
         to_strokes = np.minimum(strokes.query(inset)[0], RIM_FIT_CAP_PX)
-        return float(np.mean(to_inset**2) + np.mean(to_strokes**2))
+        c = np.mean(to_inset**2) + np.mean(to_strokes**2)
+        if len(tips):
+            gap = np.linalg.norm(tips[:, None] - inset[corners][None], axis=2).min(axis=1)
+            c += RIM_FIT_END_WEIGHT * np.mean(np.minimum(gap, RIM_FIT_CAP_PX) ** 2)
+        return float(c)
 
     # past t_max the inset has vanished (moved on linearly, it would come back mirrored)
     ts = t0 * np.linspace(*RIM_FIT_RANGE, RIM_FIT_STEPS)
