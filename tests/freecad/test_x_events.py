@@ -529,3 +529,28 @@ def test_strokes_drawn_as_people_draw_them(desktop):
         assert label == kind and valid, s["features"]
         assert abs(now - volume - added) < 0.2 * abs(added), (kind, now - volume, added)
         volume = now
+
+
+def test_a_shell_drawn_as_its_rim_in_one_stroke_is_read_as_a_thickness(desktop):
+    """The inner rim of a box opened at its top, 3 mm in from the top face's outline,
+    drawn in one stroke with a wobbling hand, is read as a Thickness; OK hollows the box
+    with walls about that thick."""
+    d = desktop
+    rng = np.random.default_rng(5)
+    lx, ly, lz = BOX
+    t = 3.0
+    s = d.wait(lambda s: panel_open(s) and s["features"], timeout=120)
+    box = s["features"][-1][1]
+    rim = [
+        (x * (lx / 2 - t), y * (ly / 2 - t), lz / 2)
+        for x, y in ((-1, -1), (1, -1), (1, 1), (-1, 1))
+    ]
+    s = d.sketch([in_one_go(to_screen(s, rim + rim[:1]), rng)])
+    d.screenshot("thickness_read")
+    assert "Read as Thickness" in s["panel"]["text"], s["panel"]["text"]
+    d.click_button(s, "OK")
+    s = d.wait(lambda s: not panel_open(s) and len(s["features"]) == 2)
+    label, volume, valid = s["features"][-1]
+    assert label.startswith("Thickness") and valid, s["features"]
+    walls = box - (lx - 2 * t) * (ly - 2 * t) * (lz - t)  # the floor t thick too
+    assert abs(volume - walls) < 0.2 * walls, (volume, walls)
