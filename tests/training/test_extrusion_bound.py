@@ -1,34 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The extrusion bound: what the strokes' tips tell of d, and how sure the best reading is."""
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
+from steady_hand import TOP, drawn_sample
 
-from Sketch2CADWorkbench.brep.operators import make_box
-from Sketch2CADWorkbench.brep.protocol import Box, Extrude, FaceRef, Protocol
-from Sketch2CADWorkbench.render.frustum import fit_camera
-from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.brep.protocol import Extrude
 from training.extrusion_bound import bound_of_set, extrusion_bound
-
-TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 
 
 def _sample(d_drawn: float, direction, d_true: float = 12.0):
-    """An extrusion of a box's top by d_true whose strokes a steady hand drew as d_drawn."""
-    base = Box((40.0, 30.0, 20.0))
-    box = make_box(base)
-    camera = fit_camera(box, direction)
-    curves = operation_curves(box, Extrude(TOP, d_drawn), camera.direction)
-    return SimpleNamespace(
-        context=Protocol(base),
-        operation=Extrude(TOP, d_true),
-        camera=camera,
-        noise_level=1,
-        strokes=[camera.project(c.points)[0] for c in curves],
-        stroke_parts=[int(c.label) for c in curves],
-    )
+    """An extrusion of the box's top by d_true whose strokes a steady hand drew as d_drawn."""
+    return drawn_sample(Extrude(TOP, d_true), Extrude(TOP, d_drawn), direction)
 
 
 def test_the_oracle_reads_d_from_the_tips_drawn_at_the_moved_corners():

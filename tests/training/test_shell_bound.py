@@ -1,34 +1,17 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The shell bound: what the rim strokes' tips tell of t, and how sure the best reading is."""
 
-from types import SimpleNamespace
-
 import pytest
+from steady_hand import TOP, drawn_sample
 
-from Sketch2CADWorkbench.brep.operators import make_box
-from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Protocol, Shell
-from Sketch2CADWorkbench.render.frustum import fit_camera
-from Sketch2CADWorkbench.sketch.curves import operation_curves
+from Sketch2CADWorkbench.brep.protocol import Shell
 from training.shell_bound import shell_bound
-
-TOP = FaceRef((0.0, 0.0, 10.0), (0.0, 0.0, 1.0))
 
 
 def _sample(t_drawn: float, direction, t_true: float = 4.0, noise_level: int = 1):
-    """A shell of a box open at its top, t_true thick, whose rim a steady hand drew as
+    """A shell of the box open at its top, t_true thick, whose rim a steady hand drew as
     for t_drawn."""
-    base = Box((40.0, 30.0, 20.0))
-    box = make_box(base)
-    camera = fit_camera(box, direction)
-    curves = operation_curves(box, Shell(TOP, t_drawn), camera.direction)
-    return SimpleNamespace(
-        context=Protocol(base),
-        operation=Shell(TOP, t_true),
-        camera=camera,
-        noise_level=noise_level,
-        strokes=[camera.project(c.points)[0] for c in curves],
-        stroke_parts=[int(c.label) for c in curves],
-    )
+    return drawn_sample(Shell(TOP, t_true), Shell(TOP, t_drawn), direction, noise_level)
 
 
 def test_the_oracle_reads_t_from_the_tips_drawn_at_the_rims_corners():
