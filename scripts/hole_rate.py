@@ -2,6 +2,7 @@
 """How many holes drawn as a designer draws them the pipeline reads as that hole.
 
     .bin/python scripts/hole_rate.py [--count 30] [--seed 17002] [--omit-hidden] [--truth]
+                                     [--bosses]
 
 Draws `count` subtract prisms on visible faces of random models through the data
 generator's synthesis (tests/inference/holes.py), interprets each with the shipped
@@ -11,6 +12,8 @@ drawn with every line, as the training sketches are; `--omit-hidden` leaves out 
 the view hides, as a designer drawing only what is seen does. `--truth` runs no
 networks: it prints for how many holes the true hole's seen lines explain the strokes
 better than those of the boss on its rim that draws the same lines (paper, Fig. 5b).
+`--bosses` draws added prisms instead, the other side of the same choice: a rule that
+reads more holes must not read bosses as holes.
 """
 
 import argparse
@@ -59,25 +62,28 @@ def main() -> int:
         help="no networks: only whether the true hole's seen lines explain the "
         "strokes better than those of the boss on its rim (paper, Fig. 5b)",
     )
+    p.add_argument("--bosses", action="store_true", help="draw bosses (added prisms) instead")
     a = p.parse_args()
     if a.truth:
         return truth(a)
     predictor, renderer = load_predictor(), MapRenderer()
-    misses = {"no choice": Counter(), "subtract chosen": Counter()}
-    flipped = 0  # read as the hole once the Boolean the reading named is taken
-    holes = designer_holes(a.count, a.seed, renderer, not a.omit_hidden)
-    for hole in tqdm(holes, total=a.count, unit="hole"):
+    mode = Mode.ADD if a.bosses else Mode.SUBTRACT
+    what = "bosses" if a.bosses else "holes"
+    misses = {"no choice": Counter(), f"{mode.value} chosen": Counter()}
+    flipped = 0  # read as drawn once the Boolean the reading named is taken
+    holes = designer_holes(a.count, a.seed, renderer, not a.omit_hidden, mode)
+    for hole in tqdm(holes, total=a.count, unit=what[:-1]):
         miss, other = read_as_the_hole(hole, predictor, renderer)
-        chosen, _ = read_as_the_hole(hole, predictor, renderer, Mode.SUBTRACT)
+        chosen, _ = read_as_the_hole(hole, predictor, renderer, mode)
         if miss:
             misses["no choice"][re.sub(r"[0-9.]+", "#", miss.split(":")[0])[:70]] += 1
-            flipped += other is Mode.SUBTRACT and not chosen
+            flipped += other is mode and not chosen
         if chosen:
-            misses["subtract chosen"][re.sub(r"[0-9.]+", "#", chosen.split(":")[0])[:70]] += 1
+            misses[f"{mode.value} chosen"][re.sub(r"[0-9.]+", "#", chosen.split(":")[0])[:70]] += 1
     for how, missed in misses.items():
         read = a.count - sum(missed.values())
         print(
-            f"{how}: holes read as drawn {read} of {a.count} ({100 * read / a.count:.0f}%)"
+            f"{how}: {what} read as drawn {read} of {a.count} ({100 * read / a.count:.0f}%)"
             + (f"; with the other Boolean it names, {read + flipped}" if how == "no choice" else "")
         )
         for why, n in missed.most_common():

@@ -17,10 +17,12 @@ explain a seen-drawn hole by every line nearly as well as the hole, the lines it
 being the few a shallow hole hides. Of a reading and its other Boolean, the other is
 taken when it explains the strokes better by more than TIE_PX and stands on f as fully
 as the fitted one (its base outline's share on f at least the fitted one's, up to
-`primitive.ON_FACE_FRACTION`): drawn as a cylinder shows itself, a hole's floor outline
-loses the half its own cylinder hides, just as the boss standing on that floor outline
-slid back along the view onto f would (its base's back half), so the lines alone may
-favour that boss, which then stands off f's outline where the hole's rim lies on f.
+`primitive.ON_FACE_FRACTION`), or, standing on f by half at least, explains them with
+under half the fitted one's misfit (OUTWEIGH): drawn as a cylinder shows itself, a
+hole's floor outline loses the half its own cylinder hides, just as the boss standing
+on that floor outline slid back along the view onto f would (its base's back half), so
+the lines alone may favour that boss, which then stands off f's outline where the
+hole's rim lies on f.
 Within TIE_PX the strokes do not tell them apart, and the fitted choice stands
 (`primitive.choose_option`: where each would stand on f). The one not taken is offered
 as the alternative when it builds and explains the strokes within OFFER_PX of the one
@@ -39,6 +41,7 @@ from ..brep.protocol import AddSubPrism, Mode, Operation, Sweep
 from ..render.camera import OrthoCamera
 from ..render.maps import MapRenderer
 from ..sketch.labels import PROFILE
+from .fitting.primitive import ON_FACE_FRACTION
 from .fitting.verify import DrawnStrokes, SketchFit, sketch_fit
 from .mirror import apply_with_symmetry
 
@@ -54,6 +57,15 @@ TIE_PX = 1.0
 # lines, fitted as if every line were drawn). See docs/measurements.md,
 # alternative.TIE_PX and OFFER_PX.
 OFFER_PX = 3.0
+# Where each would stand on f gives way to the strokes when the other Boolean stands on
+# f at least by half (OUTWEIGH_SHARE of its base outline) and explains them with under
+# 1/OUTWEIGH of the reading's misfit: a boss whose seen lines miss the strokes by 30 px
+# is not what was drawn, even if the hole that explains them within 10 spills past f's
+# edge by the hand's error (drawn near it, its rim fitted a little wide). A primitive
+# standing mostly off f is no such spill: drawn with every line, a hole's strokes are
+# explained by the boss slid off f along the view as closely (paper, Fig. 5b).
+OUTWEIGH = 2.0
+OUTWEIGH_SHARE = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,11 +138,16 @@ def one_way_scores(
     return float(scores[0, way]), float(scores[1, way])
 
 
-def the_meant(first: float, other: float, other_stands: bool) -> tuple[bool, bool]:
+def the_meant(first: float, other: float, shares: tuple[float, float]) -> tuple[bool, bool]:
     """Of a reading scoring `first` and its other Boolean scoring `other`
-    (`one_way_scores`), that one standing on f as fully as the reading (`other_stands`):
+    (`one_way_scores`), their base outlines' `shares` on f (`primitive.base_share`):
     whether the other is the meaning, and whether the one not taken is offered as the
-    alternative."""
-    flip = other_stands and other < first - TIE_PX
+    alternative. The other must stand on f as fully as the reading (up to
+    `primitive.ON_FACE_FRACTION`), or at least by half where it outweighs the reading
+    (OUTWEIGH)."""
+    stands = shares[1] >= min(shares[0], ON_FACE_FRACTION) or (
+        shares[1] >= OUTWEIGH_SHARE and OUTWEIGH * other < first
+    )
+    flip = stands and other < first - TIE_PX
     taken, left = (other, first) if flip else (first, other)
     return flip, left - taken <= max(OFFER_PX, taken)

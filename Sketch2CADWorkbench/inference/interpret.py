@@ -78,6 +78,20 @@ class Interpretation:
     snaps: tuple[Snap, ...] = ()
     # Why the snaps found were not applied (the snapped shape does not build); "" if none.
     unsnapped: str = ""
+    # The shell was proposed by the strokes closing into a rim (`search.shell_prior`), not
+    # by the classifier, which has no shell class: its entry in `probabilities` is the
+    # likeliest class's, no probability of its own.
+    shell_by_rim: bool = False
+
+    @property
+    def classified(self) -> dict[str, float]:
+        """The classifier's own probabilities, per operator (`probabilities` without a
+        shell proposed by its rim)."""
+        return {
+            k: v
+            for k, v in self.probabilities.items()
+            if not (self.shell_by_rim and k == OperatorType.SHELL.value)
+        }
 
     @property
     def other_option(self) -> Mode | None:
@@ -225,7 +239,8 @@ def interpret(
     probs = np.asarray(predictor.classify(ctx.inputs), float)
     t2 = time.perf_counter()
     order = [op_type] if op_type else [LABELLED[k] for k in np.argsort(-probs, kind="stable")]
-    if not classifies_the_shell(predictor, ctx):
+    by_rim = not classifies_the_shell(predictor, ctx)
+    if by_rim:
         # a classifier of the paper's four: the shell by the strokes' geometry, read
         # first when they draw a rim, with the likeliest operator's probability
         # (`shell_prior`)
@@ -301,4 +316,5 @@ def interpret(
         fit,
         snaps,
         unsnapped,
+        shell_by_rim=by_rim and probs[LABELLED.index(OperatorType.SHELL)] > 0,
     )

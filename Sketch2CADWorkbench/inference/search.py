@@ -35,7 +35,7 @@ from .alternative import drawn_fits, explained, one_way_scores, the_meant
 from .context import Context
 from .fitting.base_face import face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
-from .fitting.primitive import ON_FACE_FRACTION, base_centre, base_share, other_option_fits
+from .fitting.primitive import base_centre, base_share, other_option_fits
 from .fitting.shell import rim_and_wall
 from .fitting.verify import sketch_fit
 from .options import InterpretOptions
@@ -267,9 +267,7 @@ def weigh_the_other_boolean(
         for r in (reading, other)
         if isinstance(r.op, (AddSubPrism, Sweep))
     ]
-    flip, offered = the_meant(
-        *one_way_scores(reading.ways, other.ways), share[1] >= min(share[0], ON_FACE_FRACTION)
-    )
+    flip, offered = the_meant(*one_way_scores(reading.ways, other.ways), (share[0], share[1]))
     taken, left = (other, reading) if flip else (reading, other)
     taken.alternative = left if offered else None
     return taken

@@ -62,10 +62,10 @@ class DrawnHole:
 
 
 def designer_holes(
-    count: int, seed: int, renderer: MapRenderer, hidden_lines: bool
+    count: int, seed: int, renderer: MapRenderer, hidden_lines: bool, mode: Mode = Mode.SUBTRACT
 ) -> Iterator[DrawnHole]:
-    """`count` holes, each a function of (seed, its index), drawn with every line
-    (`hidden_lines`) or only with what the view sees."""
+    """`count` holes (bosses with `mode` ADD), each a function of (seed, its index), drawn
+    with every line (`hidden_lines`) or only with what the view sees."""
     made, index = 0, 0
     while made < count:
         rng = sample_rng(seed, index)
@@ -78,12 +78,12 @@ def designer_holes(
         op = sample_prism(rng, stage.solid, face)
         if op is None:
             continue
-        op = dataclasses.replace(op, mode=Mode.SUBTRACT)
+        op = dataclasses.replace(op, mode=mode)
         try:
             result = apply_operation(stage.solid, op)
         except OperationError:
             continue
-        if stage.volume - result.Volume() < MIN_VOLUME_CHANGE * stage.volume:
+        if abs(stage.volume - result.Volume()) < MIN_VOLUME_CHANGE * stage.volume:
             continue  # a hole that removes next to nothing is no hole to draw
         sample = view_sample(
             rng, context, Drawn(op, face, Stage(result)), 1, renderer, hidden_lines=hidden_lines
@@ -209,9 +209,9 @@ def read_as_the_hole(
     `option` (None: no choice).
 
     Returns:
-        ("" when read as the hole, a subtraction whose result has a volume IoU of
-        READ_IOU with the true one, else what it was read as instead; the other Boolean
-        the reading names as fitting as well, or None).
+        ("" when read as the hole, a primitive of its Boolean whose result has a volume
+        IoU of READ_IOU with the true one, else what it was read as instead; the other
+        Boolean the reading names as fitting as well, or None).
     """
     try:
         got = interpret(
@@ -226,11 +226,11 @@ def read_as_the_hole(
         return f"refused: {e}", None
     op = got.operations[0]
     mode = getattr(op, "mode", None)
-    if mode is not Mode.SUBTRACT:
+    if mode is not hole.hole.mode:
         return f"read as {got.op_type.value}" + (
             f" ({mode.value})" if mode else ""
         ), got.other_option
     iou = volume_iou(got.solid, hole.result)
     return (
-        "" if iou >= READ_IOU else f"a {got.op_type.value} subtraction with volume IoU {iou:.2f}"
+        "" if iou >= READ_IOU else f"a {got.op_type.value} ({mode.value}) with volume IoU {iou:.2f}"
     ), got.other_option

@@ -6,6 +6,8 @@ import pytest
 
 from Sketch2CADWorkbench.inference.alternative import (
     OFFER_PX,
+    OUTWEIGH,
+    OUTWEIGH_SHARE,
     TIE_PX,
     explained,
     one_way_scores,
@@ -13,24 +15,34 @@ from Sketch2CADWorkbench.inference.alternative import (
 )
 from Sketch2CADWorkbench.inference.fitting.verify import SketchFit
 
+ON_F = (1.0, 1.0)  # the base outlines' shares on f of a reading and its other Boolean
+LESS_ON_F = (1.0, 0.7)
+
 
 def test_the_other_boolean_is_taken_only_when_it_explains_the_strokes_clearly_better():
-    assert the_meant(5.0, 5.0 - 2 * TIE_PX, True) == (True, True)
-    assert the_meant(5.0, 5.0 - TIE_PX / 2, True) == (False, True)  # a tie: the fitted one
-    assert the_meant(5.0, 5.0 + TIE_PX / 2, True) == (False, True)
+    assert the_meant(5.0, 5.0 - 2 * TIE_PX, ON_F) == (True, True)
+    assert the_meant(5.0, 5.0 - TIE_PX / 2, ON_F) == (False, True)  # a tie: the fitted one
+    assert the_meant(5.0, 5.0 + TIE_PX / 2, ON_F) == (False, True)
 
 
 def test_the_other_boolean_standing_off_f_more_than_the_reading_is_not_taken_but_offered():
-    assert the_meant(5.0, 5.0 - 2 * TIE_PX, False) == (False, True)
+    assert the_meant(5.0, 5.0 - 2 * TIE_PX, LESS_ON_F) == (False, True)
+
+
+def test_the_other_boolean_standing_on_f_by_half_is_taken_where_it_outweighs_the_reading():
+    assert the_meant(OUTWEIGH * 5.0 + 0.5, 5.0, LESS_ON_F)[0]
+    assert not the_meant(OUTWEIGH * 5.0 - 0.5, 5.0, LESS_ON_F)[0]
+    mostly_off = (1.0, OUTWEIGH_SHARE - 0.1)  # drawn with every line: the boss slid off f
+    assert not the_meant(OUTWEIGH * 5.0 + 0.5, 5.0, mostly_off)[0]
 
 
 def test_the_one_not_taken_is_offered_only_within_offer_px_of_the_one_taken_or_its_score():
-    assert the_meant(2.0, 2.0 + OFFER_PX + 0.5, True) == (False, False)
-    assert the_meant(2.0 + OFFER_PX + 0.5, 2.0, True) == (True, False)
-    assert the_meant(2.0 + OFFER_PX - 0.5, 2.0, True) == (True, True)
+    assert the_meant(2.0, 2.0 + OFFER_PX + 0.5, ON_F) == (False, False)
+    assert the_meant(2.0 + OFFER_PX + 0.5, 2.0, ON_F) == (True, False)
+    assert the_meant(2.0 + OFFER_PX - 0.5, 2.0, ON_F) == (True, True)
     # a taken reading that explains the strokes poorly leaves room for the other
-    assert the_meant(4 * OFFER_PX, 6 * OFFER_PX, True) == (False, True)
-    assert the_meant(4 * OFFER_PX, 9 * OFFER_PX, True) == (False, False)
+    assert the_meant(4 * OFFER_PX, 6 * OFFER_PX, ON_F) == (False, True)
+    assert the_meant(4 * OFFER_PX, 9 * OFFER_PX, ON_F) == (False, False)
 
 
 def test_a_reading_is_explained_by_its_lines_drawn_the_way_that_fits_the_strokes_best():

@@ -23,6 +23,7 @@ from Sketch2CADWorkbench.brep.protocol import (
     FaceRef,
     Mode,
     OperatorType,
+    Shell,
     Sweep,
 )
 from Sketch2CADWorkbench.inference import interpret as interpret_module
@@ -289,3 +290,28 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
             renderer,
             InterpretOptions(regularize=False, option=Mode.SUBTRACT),
         )
+
+
+def test_a_shell_proposed_by_its_rim_lists_only_the_classifiers_own_probabilities(renderer):
+    """A classifier of the paper's four has no shell class: a rim drawn on the top
+    proposes the shell, and the reading lists the four probabilities as the classifier
+    gave them, without the shell's stand-in (the likeliest class's)."""
+
+    class FourClasses(Oracle):
+        def classify(self, inputs):
+            return np.array([0.7, 0.2, 0.06, 0.04])  # an extrusion, as a rim often reads
+
+    box, op, cam = make_box(Box((40, 30, 20))), Shell(TOP, 3.0), view()
+    pts, labels = sketch(box, op, cam)
+    got = interpret(
+        box,
+        [cam.project(p)[0] for p in pts],
+        cam,
+        FourClasses(box, op, pts, labels, cam, renderer),
+        renderer,
+        InterpretOptions(regularize=False),
+    )
+    assert got.op_type is OperatorType.SHELL and got.shell_by_rim
+    assert got.classified == pytest.approx(
+        {"extrude": 0.7, "bevel": 0.2, "addsub": 0.06, "sweep": 0.04}
+    )

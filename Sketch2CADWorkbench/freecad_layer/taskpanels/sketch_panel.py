@@ -487,7 +487,9 @@ class SketchPanel:
         from ..make.make_model import FEATURE_OF_OPERATION
 
         r, ops = self.result, self.readings[self.chosen].operations
-        probs = ", ".join(f"{k} {v:.0%}" for k, v in r.probabilities.items())
+        probs = ", ".join(f"{k} {v:.0%}" for k, v in r.classified.items())
+        if r.shell_by_rim:
+            probs += "; " + tr("shell: the strokes close into a rim")
         lines = "".join(f"<li>{FEATURE_OF_OPERATION[op.type].reading(op)}</li>" for op in ops)
         other = ""
         if len(self.readings) > 1:  # a boss and a hole that draw the same lines
