@@ -40,15 +40,16 @@ from OCP.TopAbs import TopAbs_REVERSED
 from scipy.spatial import cKDTree
 
 from ...brep.faces import FaceFrame, face_ref_of
+from ...brep.geometry import arc_lengths
 from ...brep.protocol import OperationError, Shell
 from ...render.camera import OrthoCamera
 from ...sketch.curves import CURVE_POINTS, rim_wires
 from .common import FitError, is_loop, loop_distances, resample
 
-# Two stroke ends within this share of the sketch's extent meet (a corner of the rim), as
-# a corner of the drawing is found in sketch/segment.py: level-1 hands left gaps up to
-# 0.099 of the extent at a rim's corners (docs/measurements.md, shell.RIM_JOIN_SHARE).
-RIM_JOIN_SHARE = 0.12
+# Two stroke ends meet (a corner of the rim) within this share of the two strokes' mean
+# length: a hand's gap at a corner grows with the sides it draws, not with the sketch
+# around them (docs/measurements.md, shell.RIM_JOIN_SHARE).
+RIM_JOIN_SHARE = 0.3
 # A rim sample farther than this (context pixels) from f's outline inset by t is off the
 # inset; the strokes are no inset when more than RIM_OFF_SHARE of the rim's samples, or of
 # the inset's, are off (see docs/measurements.md, shell.RIM_OFF_PX and RIM_OFF_SHARE).
@@ -81,9 +82,10 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
     """Which strokes draw a closed rim and which one the wall (module docstring).
 
     Stroke ends are paired at corners, the closest two first (`_corners`); the strokes
-    draw a rim when every end finds its partner within RIM_JOIN_SHARE of the sketch's
-    extent and the pairs chain all strokes into one loop. Failing that, each stroke with
-    an end left over is tried as the wall, the others as the rim.
+    draw a rim when every end finds its partner within RIM_JOIN_SHARE of the two
+    strokes' mean length and the pairs chain all strokes into one loop. Failing that, each
+    stroke with an end left over is tried as the wall, the others as the rim; the wall
+    meets the rim within RIM_JOIN_SHARE of its own length.
 
     Raises:
         FitError: the strokes do not close into one loop with at most one stroke leaving
@@ -91,8 +93,6 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
     """
     loops = [i for i, s in enumerate(strokes) if is_loop(s)]
     opened = [i for i in range(len(strokes)) if i not in loops]
-    pts = np.concatenate([np.asarray(s, float) for s in strokes])
-    join = RIM_JOIN_SHARE * float(np.ptp(pts, axis=0).max())
     if loops:
         if len(loops) > 1 or len(opened) > 1:
             raise FitError(
@@ -102,20 +102,22 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
         wall = opened[0] if opened else None
         if wall is not None:
             ends = np.asarray(strokes[wall], float)[[0, -1]]
-            if loop_distances(ends, np.asarray(strokes[loops[0]], float)).min() > join:
+            reach = RIM_JOIN_SHARE * _length(strokes[wall])
+            if loop_distances(ends, np.asarray(strokes[loops[0]], float)).min() > reach:
                 raise FitError("a stroke apart from the rim: a shell's sketch is its rim alone")
         return RimStrokes((loops[0],), wall)
     if len(opened) < 3:
         raise FitError("a shell's rim is a closed outline; these strokes do not close")
-    left = _corners([strokes[i] for i in opened], join)
+    left = _corners([strokes[i] for i in opened])
     if not left:
         return RimStrokes(tuple(opened), None)
     for k in sorted({e // 2 for e in left}):
         rest = [i for n, i in enumerate(opened) if n != k]
-        if len(rest) >= 3 and not _corners([strokes[i] for i in rest], join):
+        if len(rest) >= 3 and not _corners([strokes[i] for i in rest]):
             top = np.asarray(strokes[opened[k]], float)[[0, -1]]
             others = np.concatenate([np.asarray(strokes[i], float)[[0, -1]] for i in rest])
-            if np.linalg.norm(top[:, None] - others[None], axis=2).min() <= join:
+            reach = RIM_JOIN_SHARE * _length(strokes[opened[k]])
+            if np.linalg.norm(top[:, None] - others[None], axis=2).min() <= reach:
                 return RimStrokes(tuple(rest), opened[k])
     raise FitError(
         f"the strokes do not close into one rim: {len(left)} stroke ends meet no other "
@@ -123,20 +125,30 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
     )
 
 
-def _corners(strokes: list[np.ndarray], join: float) -> list[int]:
+def _length(stroke: np.ndarray) -> float:
+    """A stroke's length (pixels)."""
+    return float(arc_lengths(np.asarray(stroke, float))[-1])
+
+
+def _corners(strokes: list[np.ndarray]) -> list[int]:
     """The ends (2k, 2k + 1: stroke k's first and last) left without a partner when the
-    closest two ends of different strokes are paired first, up to `join` apart; an empty
-    list only when every end has one and the pairs chain the strokes into one loop (else
-    every end, so that no loop is read)."""
+    closest two ends of different strokes are paired first, each pair up to
+    RIM_JOIN_SHARE of the two strokes' mean length apart; an empty list only when every
+    end has one and the pairs chain the strokes into one loop (else every end, so that no
+    loop is read)."""
     ends = np.array([np.asarray(s, float)[[0, -1]] for s in strokes]).reshape(-1, 2)
     gap = np.linalg.norm(ends[:, None] - ends[None], axis=2)
     own = np.arange(len(ends)) // 2
     gap[own[:, None] == own[None]] = np.inf
+    length = np.array([_length(s) for s in strokes])[own]
+    reach = RIM_JOIN_SHARE * (length[:, None] + length[None]) / 2
     partner = np.full(len(ends), -1)
     for flat in np.argsort(gap, axis=None):
         a, b = divmod(int(flat), len(ends))
-        if gap[a, b] > join:
+        if gap[a, b] == np.inf:
             break
+        if gap[a, b] > reach[a, b]:
+            continue
         if partner[a] < 0 and partner[b] < 0:
             partner[a], partner[b] = b, a
     left = [int(e) for e in np.flatnonzero(partner < 0)]

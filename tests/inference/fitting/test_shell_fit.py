@@ -42,6 +42,14 @@ def test_the_rim_is_the_closed_strokes_and_a_wall_line_is_set_aside():
     assert rim_and_wall(rim).wall is None
 
 
+@pytest.mark.parametrize("short", [0.1, 0.15])
+def test_a_rim_whose_corners_gape_as_a_sloppy_hand_leaves_them_is_a_rim(short):
+    # each side stops short of its corner by `short` of its length: gaps that grow with
+    # the rim, not with the sketch around it
+    rim = [s[: int(len(s) * (1 - short))] for s in sides(rim_corners(3.0))]
+    assert rim_and_wall(rim).rim == (0, 1, 2, 3)
+
+
 def test_a_prism_with_its_depth_lines_is_no_rim():
     base = rim_corners(3.0)
     far = base - [0.0, 0.0, 12.0]
