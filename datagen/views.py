@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from Sketch2CADWorkbench.brep.geometry import arc_lengths, plane_basis, resample_polyline
+from Sketch2CADWorkbench.brep.geometry import plane_basis, polyline_length, resample_polyline
 from Sketch2CADWorkbench.brep.protocol import OperatorType, per_operator
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.frustum import context_camera
@@ -127,7 +127,7 @@ def resample(curves: list[Curve], count: int = OCCLUSION_SAMPLES) -> np.ndarray:
     total = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in pieces)
     out = []
     for p in pieces:
-        length = arc_lengths(p)[-1]
+        length = polyline_length(p)
         out.append(resample_polyline(p, max(int(np.ceil(count * length / max(total, 1e-12))), 2)))
     return np.concatenate(out)
 

@@ -55,29 +55,36 @@ def main() -> int:
         solid, truth = build(sample.context), sample.operation
         want = apply_operation(solid, truth)
         edge = nearest_edge(resolve_face(solid, truth.face).face, np.asarray(truth.corner))[0]
-        where = "rim" if edge.geomType() == "CIRCLE" else "edge"
-        tally[(where, "all")] += 1
+        groups = ("rim" if edge.geomType() == "CIRCLE" else "edge", f"along {truth.edges.value}")
+        for where in groups:
+            tally[(where, "all")] += 1
         strokes, cam = sample.strokes, sample.camera
         profile = strokes[sample.stroke_parts.index(BEVEL_L)]
         others = [s for s in strokes if s is not profile]
         try:
             op = round_fits(solid, cam, profile, truth.edges, others)[0]
-            tally[(where, "fitting")] += volume_iou(apply_operation(solid, op), want) >= RECOVERED
+            got_it = volume_iou(apply_operation(solid, op), want) >= RECOVERED
+            for where in groups:
+                tally[(where, "fitting")] += got_it
         except Exception:  # a fit or build refused: not recovered
             pass
         options = InterpretOptions(regularize=False, edges=truth.edges)
         for way, op_type in (("pipeline", None), ("pipeline, bevel", OperatorType.BEVEL)):
             try:
                 got = interpret(solid, strokes, cam, predictor, renderer, options, op_type)
-                tally[(where, way)] += volume_iou(got.solid, want) >= RECOVERED
+                got_it = volume_iou(got.solid, want) >= RECOVERED
+                for where in groups:
+                    tally[(where, way)] += got_it
             except Exception:  # refused: not recovered
                 pass
-    for where in ("rim", "edge"):
+    for where in sorted(
+        {w for w, way in tally if way == "all"}, key=lambda w: w.startswith("along")
+    ):
         n = tally[(where, "all")]
         rates = ", ".join(
             f"{way} {tally[(where, way)]}/{n}" for way in ("fitting", "pipeline", "pipeline, bevel")
         )
-        print(f"{where}s ({n}): recovered (IoU >= {RECOVERED}): {rates}")
+        print(f"{where} ({n}): recovered (IoU >= {RECOVERED}): {rates}")
     return 0
 
 

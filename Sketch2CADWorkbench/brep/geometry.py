@@ -53,6 +53,11 @@ def arc_lengths(points: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.sqrt((d * d).sum(axis=1)))])
 
 
+def polyline_length(points: np.ndarray) -> float:
+    """A polyline's (K, D) length."""
+    return float(arc_lengths(np.asarray(points, float))[-1])
+
+
 def resample_polyline(points: np.ndarray, count: int) -> np.ndarray:
     """`count` points (count, D) evenly spaced by arc length along a polyline (K, D) of
     at least two points, both ends included (linear between its points)."""

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brep.geometry import arc_lengths, resample_every
+from ..brep.geometry import arc_lengths, polyline_length, resample_every
 
 # Half-window (of the extent) over which a stroke's turn is measured: wider than the
 # jitter of a hand (real strokes deviate about 1% of a curve's length), narrower than
@@ -172,10 +172,6 @@ def cut_at_corners(stroke: np.ndarray, extent: float) -> list[np.ndarray]:
     ]
 
 
-def _length(p: np.ndarray) -> float:
-    return float(arc_lengths(p)[-1])
-
-
 def distances_to(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
     """Each point's distance (N,) to a polyline (M, 2)."""
     a, b = polyline[:-1], polyline[1:]
@@ -201,7 +197,7 @@ def is_closed(p: np.ndarray, extent: float) -> bool:
     gap = float(np.linalg.norm(p[-1] - p[0]))
     return (
         len(p) > 3
-        and gap <= LOOP_GAP * _length(p)
+        and gap <= LOOP_GAP * polyline_length(p)
         and total_turn(p, extent) >= np.radians(LOOP_TURN_DEG)
     )
 
@@ -259,7 +255,7 @@ def _absorbs(p: np.ndarray, q: np.ndarray, extent: float, others: np.ndarray) ->
     an end of q and not near one of p: q is another curve seen along p)."""
     tol, clear = TRACE_TOL * extent, CORNER_CLEAR * extent
     if is_closed(p, extent) and not is_closed(q, extent):
-        if _length(q) < 0.25 * _length(p):
+        if polyline_length(q) < 0.25 * polyline_length(p):
             return False  # a line touching a loop, not a loop traced over in part
     elif float(np.linalg.norm(q[-1] - q[0])) < clear:
         return False  # an edge at a corner, not a trace
@@ -285,7 +281,7 @@ def _best_join(
     low = np.array([q.min(axis=0) for q in pieces]) - margin
     high = np.array([q.max(axis=0) for q in pieces]) + margin
     near = np.asarray(((low[:, None] <= high[None]) & (low[None] <= high[:, None])).all(axis=-1))
-    lengths = [_length(q) for q in pieces]
+    lengths = [polyline_length(q) for q in pieces]
     best: tuple[float, int, int, np.ndarray | None] | None = None
     for i, p in enumerate(pieces):
         for j, q in enumerate(pieces):

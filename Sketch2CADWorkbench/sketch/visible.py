@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brep.geometry import arc_lengths, resample_polyline
+from ..brep.geometry import polyline_length, resample_polyline
 from ..render.camera import OrthoCamera
 from ..render.maps import ContextMaps
 from ..render.visibility import visible
@@ -41,7 +41,7 @@ def visible_curves(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) 
     out = []
     for c in curves:
         pts = np.concatenate([c.points, c.points[:1]]) if c.closed else c.points
-        span = float(arc_lengths(camera.project(pts)[0])[-1])
+        span = polyline_length(camera.project(pts)[0])
         pts = resample_polyline(pts, max(int(np.ceil(span / VISIBILITY_STEP_PX)) + 1, 2))
         seen = visible(pts, camera, maps, tol)
         if seen.all():
@@ -54,6 +54,6 @@ def visible_curves(curves: list[Curve], camera: OrthoCamera, maps: ContextMaps) 
         edges = np.flatnonzero(np.diff(np.concatenate([[0], seen.astype(int), [0]])))
         for a, b in zip(edges[::2], edges[1::2], strict=False):
             piece = pts[a:b]
-            if len(piece) >= 2 and arc_lengths(camera.project(piece)[0])[-1] >= MIN_PIECE_PX:
+            if len(piece) >= 2 and polyline_length(camera.project(piece)[0]) >= MIN_PIECE_PX:
                 out.append(Curve(piece, c.label, relevant=c.relevant))
     return out

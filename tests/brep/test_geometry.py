@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from Sketch2CADWorkbench.brep.geometry import arc_lengths, resample_every
+from Sketch2CADWorkbench.brep.geometry import arc_lengths, polyline_length, resample_every
 from Sketch2CADWorkbench.inference.fitting.common import resample
 
 
@@ -17,6 +17,13 @@ def test_arc_lengths_are_the_running_sum_of_euclidean_segment_lengths(dims):
     p = _walk(1, 50, dims)
     expected = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
     assert np.array_equal(arc_lengths(p), expected)  # bit for bit: data generation's bytes
+
+
+def test_a_polylines_length_is_its_last_arc_length_and_a_point_has_none():
+    assert polyline_length([[0, 0], [3, 4], [3, 10]]) == 11.0
+    p = _walk(3, 30, 3)
+    assert polyline_length(p) == arc_lengths(p)[-1]
+    assert polyline_length([[1.0, 2.0]]) == 0.0
 
 
 @pytest.mark.parametrize("step", [0.5, 1.0, 3.0])

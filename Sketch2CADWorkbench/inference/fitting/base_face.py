@@ -75,11 +75,18 @@ def face_under_stroke(stroke: np.ndarray, face_id: np.ndarray) -> int | None:
     """The index of the face that most of a stroke's samples fall on, if most of them
     (ON_FACE_SHARE) fall on one face; None otherwise (a stroke in the air or on an edge).
     """
-    samples = resample(stroke)
-    ids = sample_map(face_id, samples).astype(int)
-    ids = ids[ids >= 0]
-    if not ids.size:
+    return face_under_strokes([stroke], face_id)
+
+
+def face_under_strokes(strokes: list[np.ndarray], face_id: np.ndarray) -> int | None:
+    """The face that most of the strokes' samples, pooled, fall on, if ON_FACE_SHARE of
+    them do; None otherwise. Pooled, one side of an outline that a hand drew off its face
+    (past a thin wall's edge, onto the next face) does not hide the face the others lie on.
+    """
+    ids = np.concatenate([sample_map(face_id, resample(s)).astype(int) for s in strokes])
+    on = ids[ids >= 0]
+    if not on.size:
         return None
-    counts = np.bincount(ids)
+    counts = np.bincount(on)
     best = int(counts.argmax())
-    return best if counts[best] >= ON_FACE_SHARE * len(samples) else None
+    return best if counts[best] >= ON_FACE_SHARE * len(ids) else None

@@ -12,7 +12,7 @@ import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ...brep.geometry import arc_lengths, bezier, resample_every, resample_polyline
+from ...brep.geometry import arc_lengths, bezier, polyline_length, resample_every, resample_polyline
 from ...render.camera import OrthoCamera
 
 # A stroke longer than this many times its extent is a loop (a circle drawn once around:
@@ -70,7 +70,7 @@ def is_loop(stroke: np.ndarray) -> bool:
     """Whether a stroke is a loop (a circle's), not a line or an arc with two ends: its
     length is over LOOP_ARC times its extent."""
     s = np.asarray(stroke, float)
-    return len(s) <= 1 or bool(arc_lengths(s)[-1] > LOOP_ARC * np.ptp(s, axis=0).max())
+    return len(s) <= 1 or bool(polyline_length(s) > LOOP_ARC * np.ptp(s, axis=0).max())
 
 
 def open_ends(strokes: list[np.ndarray]) -> np.ndarray:

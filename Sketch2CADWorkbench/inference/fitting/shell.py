@@ -40,7 +40,7 @@ from OCP.TopAbs import TopAbs_REVERSED
 from scipy.spatial import cKDTree
 
 from ...brep.faces import FaceFrame, face_ref_of
-from ...brep.geometry import arc_lengths
+from ...brep.geometry import polyline_length
 from ...brep.protocol import OperationError, Shell
 from ...render.camera import OrthoCamera
 from ...sketch.curves import CURVE_POINTS, rim_wires
@@ -49,7 +49,7 @@ from .common import FitError, is_loop, loop_distances, resample
 # Two stroke ends meet (a corner of the rim) within this share of the two strokes' mean
 # length: a hand's gap at a corner grows with the sides it draws, not with the sketch
 # around them (docs/measurements.md, shell.RIM_JOIN_SHARE).
-RIM_JOIN_SHARE = 0.3
+RIM_JOIN_SHARE = 0.4
 # A rim sample farther than this (context pixels) from f's outline inset by t is off the
 # inset; the strokes are no inset when more than RIM_OFF_SHARE of the rim's samples, or of
 # the inset's, are off (see docs/measurements.md, shell.RIM_OFF_PX and RIM_OFF_SHARE).
@@ -102,7 +102,7 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
         wall = opened[0] if opened else None
         if wall is not None:
             ends = np.asarray(strokes[wall], float)[[0, -1]]
-            reach = RIM_JOIN_SHARE * _length(strokes[wall])
+            reach = RIM_JOIN_SHARE * polyline_length(strokes[wall])
             if loop_distances(ends, np.asarray(strokes[loops[0]], float)).min() > reach:
                 raise FitError("a stroke apart from the rim: a shell's sketch is its rim alone")
         return RimStrokes((loops[0],), wall)
@@ -116,18 +116,13 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
         if len(rest) >= 3 and not _corners([strokes[i] for i in rest]):
             top = np.asarray(strokes[opened[k]], float)[[0, -1]]
             others = np.concatenate([np.asarray(strokes[i], float)[[0, -1]] for i in rest])
-            reach = RIM_JOIN_SHARE * _length(strokes[opened[k]])
+            reach = RIM_JOIN_SHARE * polyline_length(strokes[opened[k]])
             if np.linalg.norm(top[:, None] - others[None], axis=2).min() <= reach:
                 return RimStrokes(tuple(rest), opened[k])
     raise FitError(
         f"the strokes do not close into one rim: {len(left)} stroke ends meet no other "
         "(a prism's outline with its depth lines has three at each corner, not a rim)"
     )
-
-
-def _length(stroke: np.ndarray) -> float:
-    """A stroke's length (pixels)."""
-    return float(arc_lengths(np.asarray(stroke, float))[-1])
 
 
 def _corners(strokes: list[np.ndarray]) -> list[int]:
@@ -140,7 +135,7 @@ def _corners(strokes: list[np.ndarray]) -> list[int]:
     gap = np.linalg.norm(ends[:, None] - ends[None], axis=2)
     own = np.arange(len(ends)) // 2
     gap[own[:, None] == own[None]] = np.inf
-    length = np.array([_length(s) for s in strokes])[own]
+    length = np.array([polyline_length(s) for s in strokes])[own]
     reach = RIM_JOIN_SHARE * (length[:, None] + length[None]) / 2
     partner = np.full(len(ends), -1)
     for flat in np.argsort(gap, axis=None):

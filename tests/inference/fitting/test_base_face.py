@@ -7,7 +7,12 @@ import pytest
 
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
-from Sketch2CADWorkbench.inference.fitting.base_face import rank_base_faces, select_base_face
+from Sketch2CADWorkbench.inference.fitting.base_face import (
+    face_under_stroke,
+    face_under_strokes,
+    rank_base_faces,
+    select_base_face,
+)
 from Sketch2CADWorkbench.inference.fitting.common import FitError
 
 
@@ -63,3 +68,18 @@ def test_for_prisms_and_sweeps_a_curved_face_counts_by_its_votes_only():
     # an unsure F (no pixel over 0.5) never puts the large curved face in
     unsure = rank_base_faces(np.where(ids == side, 0.45, 0.3), ids, post, curved=True)
     assert side not in unsure and unsure[0] == disk
+
+
+def test_an_outline_with_one_side_drawn_off_its_face_still_lies_on_the_face():
+    # a 64 x 64 view: face 2 in the middle, face 7 a band at the right, the air around
+    ids = np.full((64, 64), -1, np.int32)
+    ids[8:56, 8:48] = 2
+    ids[8:56, 48:60] = 7
+    # a rectangle's four sides (x, y), the right one drawn past face 2 onto face 7
+    top, right = np.linspace((12, 12), (40, 12), 30), np.linspace((52, 12), (52, 44), 30)
+    bottom, left = np.linspace((40, 44), (12, 44), 30), np.linspace((12, 44), (12, 12), 30)
+    sides = [top, right, bottom, left]
+    assert face_under_stroke(right, ids) == 7
+    assert face_under_strokes(sides, ids) == 2
+    # drawn in the air for the most part: on no face
+    assert face_under_strokes([s + [0.0, 30.0] for s in sides], ids) is None
