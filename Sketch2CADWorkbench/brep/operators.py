@@ -24,12 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import io
 import itertools
-import os
-import select
-import signal
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -40,6 +35,7 @@ from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
 from OCP.GeomAbs import GeomAbs_JoinType
 from OCP.TopTools import TopTools_ListOfShape
 
+from .apart import built_apart
 from .corners import CREASE_COS, BevelCorner, bevel_corners, corner_along, corner_at
 from .faces import (
     OperationError,
@@ -715,8 +711,7 @@ def _thick_solid(solid: cq.Shape, face: cq.Face, t: float) -> cq.Shape | None:
     runs past THICK_TIMEOUT_S.
 
     OCCT's offset crashes the process on some solids and loops for ever on others
-    (sampled models of planes and cones), so where the system can fork it runs in a child
-    process that hands back the solid as BREP; elsewhere (Windows) it runs here.
+    (sampled models of planes and cones), so it is built apart (`apart.built_apart`).
     """
 
     def build() -> cq.Shape | None:
@@ -740,36 +735,7 @@ def _thick_solid(solid: cq.Shape, face: cq.Face, t: float) -> cq.Shape | None:
         thick = cq.Shape.cast(builder.Shape())
         return thick if thick.isValid() else None
 
-    if not hasattr(os, "fork"):
-        return build()
-    read, write = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # the child: build, send the BREP (nothing when it fails), leave at once
-        try:
-            os.close(read)
-            got = build()
-            if got is not None:
-                buffer = io.BytesIO()
-                got.exportBrep(buffer)
-                os.write(write, buffer.getvalue())
-        finally:
-            os._exit(0)
-    os.close(write)
-    data, deadline = bytearray(), time.monotonic() + THICK_TIMEOUT_S
-    try:
-        while True:
-            left = deadline - time.monotonic()
-            if left <= 0 or not select.select([read], [], [], left)[0]:
-                os.kill(pid, signal.SIGKILL)
-                return None
-            chunk = os.read(read, 1 << 20)
-            if not chunk:
-                break
-            data += chunk
-    finally:
-        os.close(read)
-        os.waitpid(pid, 0)
-    return cq.Shape.importBrep(io.BytesIO(bytes(data))) if data else None
+    return built_apart(build, THICK_TIMEOUT_S)
 
 
 # The builder of each operator's primitive.

@@ -26,6 +26,7 @@ from OCP.TopExp import TopExp
 from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
+from .apart import built_apart
 from .faces import (
     CURVED_GEOM_TYPES,
     CurvedSurface,
@@ -40,6 +41,10 @@ from .protocol import Bevel, EdgeSet
 # the angle between their directions there exceeds this: OCCT's own chains are G1 to
 # its angular tolerance, far inside it (docs/measurements.md, brep rounds.TANGENT_COS).
 TANGENT_COS = 0.999
+# OCCT rounds the edges of the models sketched here well within a second; a fillet or
+# chamfer over several edges still building after this long is looping and is refused
+# (docs/measurements.md, rounds.FILLET_TIMEOUT_S).
+FILLET_TIMEOUT_S = 20.0
 
 
 @dataclass(frozen=True)
@@ -287,29 +292,37 @@ def fillet_or_chamfer_edges(
         OperationError: OCCT cannot build it (a radius or distance too large for the
             faces beside an edge, a chain it cannot follow), naming the field.
     """
-    maker: BRepFilletAPI_MakeFillet | BRepFilletAPI_MakeChamfer
     if distances is not None:
         d1, d2 = distances
-        maker = BRepFilletAPI_MakeChamfer(solid.wrapped)
-        for e, face in zip(edges, faces, strict=True):
-            maker.Add(d1, d2, e.wrapped, face.wrapped)
         what = f"chamfer {len(edges)} edge(s) with distances = [{d1:g}, {d2:g}] mm"
     else:
-        maker = BRepFilletAPI_MakeFillet(solid.wrapped)
-        for e in edges:
-            maker.Add(radius, e.wrapped)
         what = f"fillet {len(edges)} edge(s) with radius = {radius:g} mm"
-    try:
-        maker.Build()
-        ok = maker.IsDone()
-    except Exception:  # OCCT raises StdFail_NotDone and kin on a failed fillet
-        ok = False
-    if not ok:
+
+    def build() -> cq.Shape | None:
+        maker: BRepFilletAPI_MakeFillet | BRepFilletAPI_MakeChamfer
+        if distances is not None:
+            maker = BRepFilletAPI_MakeChamfer(solid.wrapped)
+            for e, face in zip(edges, faces, strict=True):
+                maker.Add(*distances, e.wrapped, face.wrapped)
+        else:
+            maker = BRepFilletAPI_MakeFillet(solid.wrapped)
+            for e in edges:
+                maker.Add(radius, e.wrapped)
+        try:
+            maker.Build()
+            return cq.Shape.cast(maker.Shape()) if maker.IsDone() else None
+        except Exception:  # OCCT raises StdFail_NotDone and kin on a failed fillet
+            return None
+
+    # OCCT's fillet around several edges (an outline of lines and arcs) can end the
+    # process; one edge, the common bevel, is built here, at no cost of a fork
+    got = built_apart(build, FILLET_TIMEOUT_S) if len(edges) > 1 else build()
+    if got is None:
         raise OperationError(
             f"bevel: OCCT cannot {what}: too large for the faces beside an edge, or an edge "
             "chain it cannot follow"
         )
-    return cq.Shape.cast(maker.Shape())
+    return got
 
 
 def edges_at(solid: cq.Shape, points: np.ndarray) -> list[cq.Edge]:
