@@ -2,12 +2,16 @@
 """How many holes drawn as a designer draws them the pipeline reads as that hole.
 
     .bin/python scripts/hole_rate.py [--count 30] [--seed 17002] [--omit-hidden] [--truth]
-                                     [--bosses]
+                                     [--bosses] [--kind any|hole|notch]
 
 Draws `count` subtract prisms on visible faces of random models through the data
 generator's synthesis (tests/inference/holes.py), interprets each with the shipped
 networks, with no Boolean chosen and with subtract chosen (the panel's choice), and
-prints the share read as the intended hole and what the others became. The holes are
+prints the share read as the intended hole and what the others became, over all and
+for holes wholly on their face and notches (running over its edge) apart, each also
+for those drawn with a line besides the rim (a rim alone, the view hiding every side
+edge and the floor, does not say how deep the hole is: no reading can recover it);
+`--kind` draws only one kind. The holes are
 drawn with every line, as the training sketches are; `--omit-hidden` leaves out the lines
 the view hides, as a designer drawing only what is seen does. `--truth` runs no
 networks: it prints for how many holes the true hole's seen lines explain the strokes
@@ -26,7 +30,7 @@ import numpy as np
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "inference"))
-from holes import designer_holes, read_as_the_hole, seen_errors
+from holes import KINDS, designer_holes, read_as_the_hole, seen_errors
 
 from Sketch2CADWorkbench.brep.protocol import Mode
 from Sketch2CADWorkbench.inference.weights import load_predictor
@@ -63,6 +67,7 @@ def main() -> int:
         "strokes better than those of the boss on its rim (paper, Fig. 5b)",
     )
     p.add_argument("--bosses", action="store_true", help="draw bosses (added prisms) instead")
+    p.add_argument("--kind", choices=KINDS, default="any", help="holes wholly on f, or notches")
     a = p.parse_args()
     if a.truth:
         return truth(a)
@@ -71,10 +76,21 @@ def main() -> int:
     what = "bosses" if a.bosses else "holes"
     misses = {"no choice": Counter(), f"{mode.value} chosen": Counter()}
     flipped = 0  # read as drawn once the Boolean the reading named is taken
-    holes = designer_holes(a.count, a.seed, renderer, not a.omit_hidden, mode)
+    # per (notch, only those with a depth drawn): how many drawn, and read each way
+    kinds = {(notch, depth): Counter() for notch in (False, True) for depth in (False, True)}
+    holes = designer_holes(a.count, a.seed, renderer, not a.omit_hidden, mode, a.kind)
     for hole in tqdm(holes, total=a.count, unit=what[:-1]):
         miss, other = read_as_the_hole(hole, predictor, renderer)
         chosen, _ = read_as_the_hole(hole, predictor, renderer, mode)
+        read = Counter(
+            drawn=1,
+            read=not miss,
+            flip=not miss or (other is mode and not chosen),
+            chosen=not chosen,
+        )
+        kinds[hole.notch, False].update(read)
+        if hole.depth_drawn:
+            kinds[hole.notch, True].update(read)
         if miss:
             misses["no choice"][re.sub(r"[0-9.]+", "#", miss.split(":")[0])[:70]] += 1
             flipped += other is mode and not chosen
@@ -88,6 +104,15 @@ def main() -> int:
         )
         for why, n in missed.most_common():
             print(f"  {n} x {why}")
+    for (notch, depth), n in kinds.items():
+        if n["drawn"]:
+            kind = "over the edge of f (notches)" if notch else "wholly on f"
+            print(
+                ("  of them with a line besides the rim drawn: " if depth else f"{kind}: ")
+                + f"{n['drawn']} {what}, read as drawn {n['read']} with no choice, "
+                f"{n['flip']} with the other Boolean it names, {n['chosen']} with "
+                f"{mode.value} chosen"
+            )
     return 0
 
 

@@ -26,7 +26,7 @@ from ..brep.protocol import EdgeSet, Extrude, Operation, OperatorType, per_opera
 from ..sketch.labels import CURVE_THRESHOLDS, SHELL_RIM, SHELL_WALL
 from .context import Context
 from .drawing import CORNER_REACH
-from .fitting.addsub import PrismFit, prism_fit
+from .fitting.addsub import PrismFit, prism_fits
 from .fitting.base_face import face_under_stroke
 from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
@@ -149,14 +149,16 @@ def _fit_prism_on_face(
     solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
 ) -> list[Fit]:
     """The add/sub prism on face `index` (`_fit_by_roles`)."""
-    return _fit_by_roles(prism_fit, OperatorType.ADDSUB, solid, index, curve, ctx, options)
+    return _fit_by_roles(prism_fits, OperatorType.ADDSUB, solid, index, curve, ctx, options)
 
 
 def _fit_sweep_on_face(
     solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
 ) -> list[Fit]:
     """The sweep on face `index` (`_fit_by_roles`)."""
-    return _fit_by_roles(sweep_fit, OperatorType.SWEEP, solid, index, curve, ctx, options)
+    return _fit_by_roles(
+        lambda *args: [sweep_fit(*args)], OperatorType.SWEEP, solid, index, curve, ctx, options
+    )
 
 
 def _primitive_roles(
@@ -198,7 +200,7 @@ def _primitive_roles(
 
 
 def _fit_by_roles(
-    fit: Callable[..., PrismFit | SweepFit],
+    fit: Callable[..., list[PrismFit] | list[SweepFit]],
     op_type: OperatorType,
     solid: cq.Shape,
     index: int,
@@ -207,7 +209,8 @@ def _fit_by_roles(
     options: InterpretOptions,
 ) -> list[Fit]:
     """A primitive (prism or sweep) `fit` on face `index` by the stroke roles C gives and
-    by those read from the strokes' geometry, the one whose own sketch lies closest to
+    by those read from the strokes' geometry (`fit` gives one reading of the primitive
+    per roles, or more), the one whose own sketch lies closest to
     the strokes first. All are kept: a thin slot seen nearly along f's normal also
     reads, a little closer, as a tall post on its end, which a chosen subtract refuses
     (it cuts nothing), and then the slot's own roles are the step."""
@@ -217,11 +220,13 @@ def _fit_by_roles(
     if key not in ctx.roles:  # alike for either Boolean: the other one is fitted again
         ctx.roles[key] = _primitive_roles(op_type, solid, index, curve, ctx)
     readings = ctx.roles[key]
-    fits, first = [], None
+    fits: list[tuple[PrismFit | SweepFit, list[int]]] = []
+    first = None
     for reading in readings:
         try:
             # regularized after the choice of face and reading (regularize_operation)
-            fits.append((fit(solid, face, cam, strokes, reading, options.option), reading))
+            got = fit(solid, face, cam, strokes, reading, options.option)
+            fits.extend((one, reading) for one in got)
         except FitError as e:
             first = first or e
     if not fits:

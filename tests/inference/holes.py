@@ -8,7 +8,10 @@ generator draws for the prism, and level-1 freehand strokes (end points moved, a
 wobble across each stroke). Drawn with every line, as the training sketches are, a hole
 and a boss standing on its rim draw the same lines (paper, Fig. 5b); a designer who
 leaves the hidden lines out draws the parts of lines the model after the hole lets the
-view see (`hidden_lines=False`), and those differ. Used by tests/inference/test_holes.py and by
+view see (`hidden_lines=False`), and those differ. The generator's prisms stand
+anywhere on f, so many of these holes run over f's edge: notches, drawn as the
+generator draws them, with the primitive's whole outline (`kind` picks holes wholly
+on f, or notches). Used by tests/inference/test_holes.py and by
 `scripts/hole_rate.py`, which prints the rates for more holes.
 """
 
@@ -28,6 +31,7 @@ from datagen.strokes import sketch_strokes
 from datagen.views import frame_curves, up_vector
 from Sketch2CADWorkbench.brep.compare import volume_iou
 from Sketch2CADWorkbench.brep.faces import OperationError, model_scale, resolve_face
+from Sketch2CADWorkbench.brep.geometry import resample_polyline
 from Sketch2CADWorkbench.brep.operators import apply_operation, replay, sweep_tool
 from Sketch2CADWorkbench.brep.protocol import (
     AddSubPrism,
@@ -38,16 +42,18 @@ from Sketch2CADWorkbench.brep.protocol import (
     Sweep,
 )
 from Sketch2CADWorkbench.inference.context import InterpretError
+from Sketch2CADWorkbench.inference.fitting.primitive import fraction_on_face
 from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 from Sketch2CADWorkbench.inference.interpret import interpret
 from Sketch2CADWorkbench.inference.options import InterpretOptions
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.render.maps import MapRenderer
 from Sketch2CADWorkbench.sketch.curves import Curve, operation_curves
-from Sketch2CADWorkbench.sketch.labels import START
+from Sketch2CADWorkbench.sketch.labels import END, START
 from Sketch2CADWorkbench.sketch.visible import visible_curves
 
 READ_IOU = 0.95  # the evaluation's recovery criterion (training/recovery.py)
+KINDS = ("any", "hole", "notch")  # of `designer_holes`: a hole wholly on f, or over its edge
 
 
 @dataclass
@@ -59,13 +65,33 @@ class DrawnHole:
     camera: OrthoCamera
     hole: AddSubPrism | Sweep
     result: cq.Solid
+    notch: bool = False  # the rim runs over f's edge
+    # a line besides the rim is drawn: a rim alone (the view hiding every side edge
+    # and the floor) does not say how deep the hole is
+    depth_drawn: bool = True
+
+
+def rim_on_face(solid: cq.Solid, op: AddSubPrism) -> float:
+    """The share of the prism's outline on f's plane that lies on f (1 for a hole
+    wholly on f, less for a notch)."""
+    rim = np.array(op.polygon + op.polygon[:1], float)
+    face = resolve_face(solid, op.face).face
+    return fraction_on_face(
+        face, resample_polyline(rim, 40 * len(op.polygon)), 1e-6 * model_scale(solid)
+    )
 
 
 def designer_holes(
-    count: int, seed: int, renderer: MapRenderer, hidden_lines: bool, mode: Mode = Mode.SUBTRACT
+    count: int,
+    seed: int,
+    renderer: MapRenderer,
+    hidden_lines: bool,
+    mode: Mode = Mode.SUBTRACT,
+    kind: str = "any",
 ) -> Iterator[DrawnHole]:
     """`count` holes (bosses with `mode` ADD), each a function of (seed, its index), drawn
-    with every line (`hidden_lines`) or only with what the view sees."""
+    with every line (`hidden_lines`) or only with what the view sees; `kind` (one of
+    KINDS) keeps only holes wholly on f, or only notches."""
     made, index = 0, 0
     while made < count:
         rng = sample_rng(seed, index)
@@ -79,6 +105,9 @@ def designer_holes(
         if op is None:
             continue
         op = dataclasses.replace(op, mode=mode)
+        notch = rim_on_face(stage.solid, op) < 1.0
+        if kind != "any" and notch != (kind == "notch"):
+            continue
         try:
             result = apply_operation(stage.solid, op)
         except OperationError:
@@ -91,7 +120,8 @@ def designer_holes(
         if sample is None:
             continue
         made += 1
-        yield DrawnHole(stage.solid, sample.strokes, sample.camera, op, result)
+        depth_drawn = any(part != END for part in sample.stroke_parts)
+        yield DrawnHole(stage.solid, sample.strokes, sample.camera, op, result, notch, depth_drawn)
 
 
 # A box that had a boss on its top, and a drilled hole (r 6 mm, 15 deep) into each of

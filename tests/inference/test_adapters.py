@@ -122,7 +122,7 @@ def test_of_a_prisms_readings_only_those_near_the_closest_are_refined(
 
     def fit(solid, face, camera, strokes, roles, option):  # the true roles, once moved
         shift = off_px if roles == other else 0.0
-        return prism_fit(solid, face, camera, [s + shift for s in strokes], labels, option)
+        return [prism_fit(solid, face, camera, [s + shift for s in strokes], labels, option)]
 
     refined, refine = [], PrismFit.refined
     monkeypatch.setattr(PrismFit, "refined", lambda fit: refined.append(fit) or refine(fit))
@@ -149,7 +149,7 @@ def test_a_lone_reading_of_a_prisms_roles_is_refined_and_scored_once(renderer, m
         lambda *a, **k: scored.append(a[1]) or sketch_fit(*a, **k),
     )
     ((fitted, _, _),) = adapters._fit_by_roles(
-        lambda *a: prism_fit(*a[:4], labels, a[5]),
+        lambda *a: [prism_fit(*a[:4], labels, a[5])],
         OperatorType.ADDSUB,
         box,
         index,
@@ -176,7 +176,7 @@ def test_a_reading_of_the_roles_whose_sketch_cannot_be_drawn_costs_only_itself(
         )
         if roles == other:
             undrawable.append(got.operation)
-        return got
+        return [got]
 
     def fit_of(solid, op, *args, **kwargs):  # the other reading leaves a curved face
         if any(op is u or op == u for u in undrawable):
@@ -201,7 +201,7 @@ def test_readings_whose_sketches_all_lie_outside_the_view_end_in_an_error_saying
     monkeypatch.setattr(context, "sketch_fit", lambda *a, **k: SketchFit.undrawn())
 
     def fit(solid, face, camera, strokes, roles, option):  # both readings fit
-        return prism_fit(solid, face, camera, strokes, labels, option)
+        return [prism_fit(solid, face, camera, strokes, labels, option)]
 
     with pytest.raises(OperationError, match="lies wholly outside the view"):
         adapters._fit_by_roles(fit, OperatorType.ADDSUB, box, index, curve, ctx, InterpretOptions())
@@ -278,7 +278,7 @@ def test_a_refined_sweep_comes_first_only_where_it_reprojects_closer(
         got = sweep_fit(*args)
         got = replace(got, operation=replace(got.operation, d=got.operation.d + 2.0))
         fitted.append(got.operation)
-        return got
+        return [got]
 
     # the straight reading far off (d 30), after both
     monkeypatch.setattr(
@@ -314,7 +314,7 @@ def test_a_cylinder_drawn_with_a_wobbling_side_is_read_straight(renderer):
     face_prob, curve = oracle.segment(ctx.inputs, OperatorType.SWEEP)
     index = int(np.bincount(ctx.maps.face_id[face_prob > 0.5]).argmax())
     fits = adapters._fit_by_roles(
-        sweep_fit, OperatorType.SWEEP, box, index, curve, ctx, InterpretOptions()
+        lambda *a: [sweep_fit(*a)], OperatorType.SWEEP, box, index, curve, ctx, InterpretOptions()
     )
     first = fits[0][0]
     assert np.array(first.profile) == pytest.approx(

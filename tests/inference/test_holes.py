@@ -6,7 +6,7 @@ chosen in the panel. Without a choice a hole and a boss standing on its rim draw
 same lines (paper, Fig. 5b): `scripts/hole_rate.py` prints both rates for more holes,
 and for bosses (`--bosses`), which the same choice must not read as holes."""
 
-from holes import designer_holes, read_as_the_hole
+from holes import designer_holes, read_as_the_hole, rim_on_face
 
 from Sketch2CADWorkbench.brep.protocol import Mode
 from Sketch2CADWorkbench.inference.weights import load_predictor
@@ -46,3 +46,21 @@ def test_bosses_drawn_without_hidden_lines_and_no_boolean_chosen_are_read_as_tho
         if why
     ]
     assert len(missed) <= 2, missed
+
+
+def test_holes_wholly_on_their_face_without_hidden_lines_are_read_with_no_boolean_chosen():
+    # the common case of a drilled or milled pocket: its rim all on f, the side edges
+    # it hides left out (a hexagon's rim says six sides where three side edges show)
+    predictor, renderer = load_predictor(), MapRenderer()
+    holes = list(designer_holes(12, 17002, renderer, hidden_lines=False, kind="hole"))
+    assert not any(hole.notch for hole in holes)
+    missed = [
+        why for hole in holes for why, _ in [read_as_the_hole(hole, predictor, renderer)] if why
+    ]
+    assert len(missed) <= 1, missed
+
+
+def test_notches_run_over_the_edge_of_their_face():
+    renderer = MapRenderer()
+    for notch in designer_holes(3, 17002, renderer, hidden_lines=True, kind="notch"):
+        assert notch.notch and rim_on_face(notch.solid, notch.hole) < 1.0

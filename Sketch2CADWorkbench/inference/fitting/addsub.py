@@ -11,6 +11,7 @@ import numpy as np
 from ...brep.faces import FaceFrame, is_curved, model_scale
 from ...brep.protocol import AddSubPrism, Mode
 from ...render.camera import OrthoCamera
+from ..drawing import CORNER_REACH
 from .common import (
     DistanceField,
     FitError,
@@ -101,6 +102,41 @@ def fit_prism(
     return prism_fit(solid, face, camera, strokes, labels, option).refined()
 
 
+def prism_fits(
+    solid: cq.Shape,
+    face: cq.Face,
+    camera: OrthoCamera,
+    strokes: list[np.ndarray],
+    labels: list[int],
+    option: Mode | None = None,
+) -> list[PrismFit]:
+    """`prism_fit`, and beside it, where three or more side edges are drawn but an
+    outline drawn whole has more sides and the other outline is drawn in part
+    (`_whole_outline`), the prism read from that outline (`prism_fit`'s `one_outline`):
+    a designer who leaves the hidden lines out draws a hexagonal pocket's rim with the
+    three side edges it does not hide and a part of its floor. Which one the strokes
+    mean, their scores decide (`adapters._scored_readings`).
+
+    Raises:
+        FitError: neither reads (the first one's reason).
+    """
+    n = sum(1 for label in labels if label == 1)
+    groups = {k: [s for s, l in zip(strokes, labels, strict=True) if l == k] for k in (0, 2)}
+    ways: list[int | None] = [None]
+    whole = _whole_outline(groups, CORNER_REACH * camera.width)
+    if whole is not None and 3 <= n < whole[1]:
+        ways.append(whole[0])
+    fits, first = [], None
+    for outline in ways:
+        try:
+            fits.append(prism_fit(solid, face, camera, strokes, labels, option, outline))
+        except FitError as e:
+            first = first or e
+    if not fits:
+        raise first or FitError("no prism reads the strokes")
+    return fits
+
+
 def prism_fit(
     solid: cq.Shape,
     face: cq.Face,
@@ -108,6 +144,7 @@ def prism_fit(
     strokes: list[np.ndarray],
     labels: list[int],
     option: Mode | None = None,
+    one_outline: int | None = None,
 ) -> PrismFit:
     """Fit a right prism on f to strokes labelled start (0), profile (1) and end (2),
     up to the joint refinement.
@@ -124,6 +161,9 @@ def prism_fit(
         solid, face, camera: the context solid, base face f and context camera.
         strokes, labels: the strokes (context pixels) and their classes by counting.
         option: force the Boolean (the user's choice); None decides from the strokes.
+        one_outline: read the prism from this outline (END or START) drawn whole
+            (`_from_one_outline`), as with fewer than 3 side edges, however many are
+            drawn.
     Raises:
         FitError: not 3 to 6 profile strokes, a missing outline, neither outline on f,
             a self-intersecting polygon, or no length matching the strokes.
@@ -137,12 +177,12 @@ def prism_fit(
             f"a prism needs 3 to 6 profile strokes (one per side edge); {n} were recognised"
         )
     partial_d = None
-    if n >= 3:
+    if n >= 3 and one_outline is None:
         starts, ends = profile_ends(groups[1], groups[0], groups[2])
         poly_s = _simple_fit(starts, groups[0])
         poly_e = _simple_fit(ends, groups[2])
     else:
-        poly_s, poly_e, partial_d = _from_one_outline(groups, face, camera)
+        poly_s, poly_e, partial_d = _from_one_outline(groups, face, camera, one_outline)
         starts, ends = poly_s, poly_e
     frame = option_frame(face, camera, starts, ends)  # on a curved f: the corners drawn
     scale = model_scale(solid)
@@ -185,37 +225,71 @@ def prism_fit(
     )
 
 
+def _whole_outline(groups: dict[int, list[np.ndarray]], reach: float) -> tuple[int, int] | None:
+    """The outline (its label, end or start, and its number of sides) drawn whole while
+    the other one is drawn in part, as in a drawing that leaves the hidden lines out:
+    one stroke per side, closing into one loop with corners `reach` pixels wide at most
+    (`_closes`), the other outline with fewer strokes than that; None where there is
+    none (with every line drawn, each outline has a stroke per side)."""
+    for whole, other in ((2, 0), (0, 2)):
+        sides = _closes(groups[whole], reach)
+        if sides and len(groups[other]) < sides:
+            return whole, sides
+    return None
+
+
+def _closes(strokes: list[np.ndarray], reach: float) -> int:
+    """The number of sides of the loop the strokes close into, one per side
+    (`side_corners` within `reach`), or 0 (a prism's outline has 3 to 6 sides)."""
+    if not 3 <= len(strokes) <= 6:
+        return 0
+    try:
+        return len(side_corners(strokes, reach))
+    except FitError:
+        return 0
+
+
 def _from_one_outline(
-    groups: dict[int, list[np.ndarray]], face: cq.Face, camera: OrthoCamera
+    groups: dict[int, list[np.ndarray]],
+    face: cq.Face,
+    camera: OrthoCamera,
+    whole: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     """A prism drawn with fewer side edges than sides, as a designer who leaves the hidden
     lines out draws a hole (the near side edges and the near part of its floor lie behind
     the rim): its corners from the outline drawn whole, one stroke per side
     (`side_corners`; the end outline first, which the view sees whole for a boss's top and
     a hole's rim alike), the other outline that polygon moved along n_f's image. The
-    length starts where the side edges drawn reach (`_reach`); then the polygon and
+    length starts where the side edges drawn reach (`_reach`), or with none drawn where
+    the other outline's parts lie (`_offset_to`); then the polygon and
     the length are refined together by the strokes' distances to the prism's lines alone
     (`refine_prism`, not every line: those left out as hidden have no stroke), so what
-    is drawn of the far outline and the sides fixes the rest.
+    is drawn of the far outline and the sides fixes the rest. `whole` (END or START)
+    says which outline is drawn whole; None tries the end outline, then the start one.
 
     Returns:
         The start and end polygons (N, 2 pixels), and (d in mm, the strokes' mean
         distance to the prism's lines in pixels).
     Raises:
-        FitError: no outline drawn whole, or no side edge drawn.
+        FitError: no outline drawn whole, or nothing else of the prism drawn.
     """
     step = camera.image_of(FaceFrame.of(face).normal)  # pixels per mm along +n_f
     first = None
-    for whole, sign in ((2, -1.0), (0, 1.0)):  # the other outline lies below the end one
+    for drawn_whole, sign in ((2, -1.0), (0, 1.0)):  # the other outline lies below the end one
+        if whole is not None and drawn_whole != whole:
+            continue
         try:
-            poly = _simple_fit(side_corners(groups[whole]), groups[whole])
+            poly = _simple_fit(side_corners(groups[drawn_whole]), groups[drawn_whole])
         except FitError as e:
             first = first or e
             continue
-        outline, sides = groups[2 - whole], groups[1]
-        if not sides:  # an outline's pieces alone draw no prism (a circle cut in arcs)
+        outline, sides = groups[2 - drawn_whole], groups[1]
+        if sides:
+            d = _reach(sides, step)
+        elif outline:  # the other outline's parts (a floor seen through the rim) alone
+            d = _offset_to(outline, poly, sign * step)
+        else:  # an outline's pieces alone draw no prism (a circle cut in arcs)
             raise FitError("no side edge of the prism was drawn, so its length is not known")
-        d = _reach(sides, step)
         drawn = groups[0] + groups[1] + groups[2]
         moved, longer = refine_prism(poly, d, sign * step, drawn, end_weight=0.0, every_line=False)
         if longer > 0 and is_simple(moved) and _shortest_side(moved) >= MIN_SIDE_PX:
@@ -223,8 +297,21 @@ def _from_one_outline(
         other = poly + sign * d * step
         lines = (np.concatenate([other, poly]), np.concatenate([np.roll(other, -1, axis=0), other]))
         err = float(_mean_distance(_samples(outline + sides), *lines))
-        return (other, poly, (d, err)) if whole == 2 else (poly, other, (d, err))
+        return (other, poly, (d, err)) if drawn_whole == 2 else (poly, other, (d, err))
     raise first or FitError("no outline of the prism was drawn whole")
+
+
+def _offset_to(strokes: list[np.ndarray], poly: np.ndarray, step: np.ndarray) -> float:
+    """How far (mm, > 0) the polygon (N, 2 pixels) moves along `step` (pixels per mm) to
+    lie closest to the strokes (mean distance of their samples to its sides), searched
+    over the span of the strokes along `step`'s image to a pixel."""
+    pts, unit = _samples(strokes), step / float(np.linalg.norm(step))
+    span = float((pts @ unit).max() - (poly @ unit).min()) / float(np.linalg.norm(step))
+    ds = np.linspace(0.0, max(span, 0.0), max(int(span * np.linalg.norm(step)), 1) + 1)[1:]
+    if not len(ds):
+        raise FitError("the other outline's parts lie behind the outline drawn whole")
+    moved = poly[None] + ds[:, None, None] * step
+    return float(ds[np.argmin(_mean_distance(pts, moved, np.roll(moved, -1, axis=1)))])
 
 
 def _reach(sides: list[np.ndarray], step: np.ndarray) -> float:

@@ -97,17 +97,23 @@ def profile_ends(
     return np.array(starts), np.array(ends)
 
 
-def side_corners(side_strokes: list[np.ndarray]) -> np.ndarray:
-    """The corners (N, 2) of an outline drawn one stroke per side: each stroke's end
-    joined to the nearest free end of another stroke, closest pairs first, each corner the
-    middle of its two ends, ordered around their centre.
+def side_corners(side_strokes: list[np.ndarray], reach: float | None = None) -> np.ndarray:
+    """The corners (N, 2) of an outline drawn one stroke per side, each corner the middle
+    of the two stroke ends that meet there, ordered around their centre. Each stroke's end
+    is joined to the nearest free end of another stroke, closest pairs first; or, with
+    `reach`, the strokes must close into one loop, each corner's two ends within `reach`
+    pixels of each other (an outline drawn whole, not strokes that merely pair up), the
+    loop with the least total gap.
 
     Raises:
         FitError: fewer than 3 sides, or ends that do not pair up into a closed outline.
     """
     if len(side_strokes) < 3:
         raise FitError("an outline needs at least 3 sides drawn to give its corners")
-    ends = np.array([(s[0], s[-1]) for s in map(np.asarray, side_strokes)], float).reshape(-1, 2)
+    ends = np.array([(s[0], s[-1]) for s in map(np.asarray, side_strokes)], float)
+    if reach is not None:
+        return order_around_centre(_loop_corners(ends, reach))
+    ends = ends.reshape(-1, 2)
     owner = np.repeat(np.arange(len(side_strokes)), 2)
     gap = np.linalg.norm(ends[:, None] - ends[None], axis=2)
     gap[owner[:, None] == owner[None]] = np.inf  # a side's own two ends are no corner
@@ -122,3 +128,43 @@ def side_corners(side_strokes: list[np.ndarray]) -> np.ndarray:
     if free.any():
         raise FitError("the outline's sides do not meet end to end")
     return order_around_centre(np.array(corners))
+
+
+def _loop_corners(ends: np.ndarray, reach: float) -> np.ndarray:
+    """The corners of the loop through every stroke (`ends`: (K, 2, 2), each stroke's
+    two ends) whose consecutive strokes meet within `reach`, of least total gap (a
+    search over the loops' orders: for the few sides of an outline).
+
+    Raises:
+        FitError: no such loop.
+    """
+    k = len(ends)
+    best: list = [np.inf, None]  # total gap, then the loop as (stroke, end entered)
+
+    def walk(loop: list[tuple[int, int]], total: float) -> None:
+        if total >= best[0]:
+            return
+        i, e = loop[-1]
+        out = ends[i, 1 - e]  # a stroke is left by the end it was not entered by
+        if len(loop) == k:
+            gap = float(np.linalg.norm(out - ends[loop[0][0], loop[0][1]]))
+            if gap <= reach and total + gap < best[0]:
+                best[:] = [total + gap, list(loop)]
+            return
+        for j in range(1, k):
+            if all(j != m for m, _ in loop):
+                for b in (0, 1):
+                    gap = float(np.linalg.norm(out - ends[j, b]))
+                    if gap <= reach:
+                        walk([*loop, (j, b)], total + gap)
+
+    walk([(0, 0)], 0.0)
+    if best[1] is None:
+        raise FitError("the outline's sides do not meet end to end")
+    loop = best[1]
+    return np.array(
+        [
+            (ends[i, e] + ends[p, 1 - q]) / 2
+            for (i, e), (p, q) in zip(loop, loop[-1:] + loop[:-1], strict=True)
+        ]
+    )

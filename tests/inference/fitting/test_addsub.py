@@ -8,8 +8,9 @@ from fit_sketches import QUAD, TOP_Z, face_towards, prism_sketch
 
 from Sketch2CADWorkbench.brep.operators import apply_operation
 from Sketch2CADWorkbench.brep.protocol import Mode
-from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism, prism_fit
+from Sketch2CADWorkbench.inference.fitting.addsub import fit_prism, prism_fit, prism_fits
 from Sketch2CADWorkbench.inference.fitting.common import FitError
+from Sketch2CADWorkbench.inference.fitting.verify import sketch_fit
 
 
 def test_prism_fit_recovers_an_addition_exactly(box, camera):
@@ -119,6 +120,45 @@ def test_a_hole_drawn_with_its_rim_one_side_edge_and_a_floor_piece_is_read_from_
     face = face_towards(box, (0, 0, 1))
     # which Boolean is the search's to weigh (inference/alternative.py): here the hole's
     op = fit_prism(box, face, camera, strokes, labels, Mode.SUBTRACT)
+    assert op.d == pytest.approx(5.0, abs=0.3)
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD) < 0.3
+
+
+def test_a_hexagonal_hole_drawn_with_its_rim_whole_and_three_side_edges_reads_as_one(box, camera):
+    # a designer leaves the side edges the rim hides out: beside the reading of N from
+    # the three side edges drawn (a triangle), the rim's six sides give a hexagon, and
+    # the strokes are explained by the hexagon
+    angles = np.radians(np.arange(6) * 60.0 + 10.0)
+    hexagon = np.stack([8 * np.cos(angles), 8 * np.sin(angles), np.full(6, TOP_Z)], 1)
+    strokes, labels = prism_sketch(camera, hexagon, 5.0, -1)
+    keep = [6, 7, 8, 9, 10, 11, 12, 14, 16, 1]  # the rim, every other side edge, a floor side
+    strokes, labels = [strokes[k] for k in keep], [labels[k] for k in keep]
+    face = face_towards(box, (0, 0, 1))
+    fits = prism_fits(box, face, camera, strokes, labels)
+    assert sorted(len(f.operation.polygon) for f in fits) == [3, 6]
+    best = min(fits, key=lambda f: sketch_fit(box, f.refined(), camera, strokes).score)
+    assert len(best.operation.polygon) == 6
+    # with subtract chosen (or weighed so by the search), the hole itself
+    (op,) = [f.refined() for f in prism_fits(box, face, camera, strokes, labels, Mode.SUBTRACT)]
+    got = np.array(op.polygon)
+    assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in hexagon) < 0.3
+    assert op.d == pytest.approx(5.0, abs=0.3)
+
+
+def test_a_prism_drawn_with_every_line_has_one_reading(box, camera):
+    strokes, labels = prism_sketch(camera, QUAD, 6.0, +1)
+    assert len(prism_fits(box, face_towards(box, (0, 0, 1)), camera, strokes, labels)) == 1
+
+
+def test_a_hole_drawn_with_its_rim_and_a_floor_piece_alone_is_as_deep_as_that_piece_lies(
+    box, camera
+):
+    # the view hides every side edge: only the floor's far side shows through the rim
+    strokes, labels = prism_sketch(camera, QUAD, 5.0, -1)
+    keep = [1, 4, 5, 6, 7]  # a floor side, the rim
+    strokes, labels = [strokes[k] for k in keep], [labels[k] for k in keep]
+    op = fit_prism(box, face_towards(box, (0, 0, 1)), camera, strokes, labels, Mode.SUBTRACT)
     assert op.d == pytest.approx(5.0, abs=0.3)
     got = np.array(op.polygon)
     assert max(np.min(np.linalg.norm(got - v, axis=1)) for v in QUAD) < 0.3
