@@ -281,10 +281,14 @@ def limits_section(pipeline: dict) -> list[str]:
         "extruding a face, beveling or rounding an edge, adding or subtracting a prism, a "
         "sweep, shelling a solid open at a face. The networks saw only synthetic sketches "
         "(`sketch2cad datagen`: random modeling sequences, strokes at noise levels 1 to 3, "
-        "1.4%, 2.8% and 4.1% of the image diagonal, drawn by the generator's hand and, for "
-        "the shipped head, by people's: `datagen/hand.py`); other operations, several "
-        "operations in one sketch, or photographs of paper sketches are outside what they "
-        "were trained and measured on.",
+        "1.4%, 2.8% and 4.1% of the image diagonal, drawn by the generator's hand"
+        + (
+            " and, for the shipped head, by people's: `datagen/hand.py`"
+            if (EVAL / "tuned.json").exists()
+            else "; people's hand, `datagen/hand.py`, only measured"
+        )
+        + "); other operations, several operations in one sketch, or photographs of paper "
+        "sketches are outside what they were trained and measured on.",
         "",
         "## Limits: what the strokes cannot tell",
         "- A hole and the boss on its rim draw the same lines (paper, Fig. 5b). The "
