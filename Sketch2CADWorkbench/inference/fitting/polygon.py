@@ -130,41 +130,67 @@ def side_corners(side_strokes: list[np.ndarray], reach: float | None = None) -> 
     return order_around_centre(np.array(corners))
 
 
+def stroke_loops(
+    ends: np.ndarray, reach: float, sizes: tuple[int, int], budget: int | None = None
+) -> list[tuple[list[int], list[int]]]:
+    """The loops of strokes meeting end to end: each as (its strokes, the end each is
+    entered by), its consecutive strokes' ends within `reach` pixels, of sizes[0] to
+    sizes[1] strokes; each loop once from its lowest stroke (twice, by its two
+    directions). The search gives up after `budget` steps (None: none).
+
+    Args:
+        ends: (K, 2, 2) each stroke's two end points.
+    """
+    k = len(ends)
+    meets = {  # stroke i's end a meets stroke j's end b
+        (i, a): [
+            (j, b)
+            for j in range(k)
+            if j != i
+            for b in (0, 1)
+            if np.linalg.norm(ends[i, a] - ends[j, b]) <= reach
+        ]
+        for i in range(k)
+        for a in (0, 1)
+    }
+    found: list[tuple[list[int], list[int]]] = []
+    left = [np.inf if budget is None else budget]
+
+    def walk(path: list[int], entered: list[int]) -> None:
+        for j, b in meets[(path[-1], 1 - entered[-1])]:
+            left[0] -= 1
+            if left[0] < 0:
+                return
+            if j == path[0] and b == entered[0] and len(path) >= sizes[0]:
+                found.append((path, entered))
+            elif j > path[0] and j not in path and len(path) < sizes[1]:
+                walk([*path, j], [*entered, b])
+
+    for i in range(k):
+        walk([i], [0])
+    return found
+
+
+def loop_gaps(ends: np.ndarray, path: list[int], entered: list[int]) -> np.ndarray:
+    """Each corner's gap (pixels) in a loop of `stroke_loops`: from the end a stroke is
+    left by to the end the next one is entered by."""
+    into = np.array([ends[i, e] for i, e in zip(path, entered, strict=True)])
+    out = np.array([ends[i, 1 - e] for i, e in zip(path, entered, strict=True)])
+    return np.linalg.norm(into - np.roll(out, 1, axis=0), axis=1)
+
+
 def _loop_corners(ends: np.ndarray, reach: float) -> np.ndarray:
-    """The corners of the loop through every stroke (`ends`: (K, 2, 2), each stroke's
-    two ends) whose consecutive strokes meet within `reach`, of least total gap (a
-    search over the loops' orders: for the few sides of an outline).
+    """The corners (the middles of the ends that meet) of the loop through every stroke
+    (`ends`: (K, 2, 2)) whose consecutive strokes meet within `reach`, of least total
+    gap.
 
     Raises:
         FitError: no such loop.
     """
-    k = len(ends)
-    best: list = [np.inf, None]  # total gap, then the loop as (stroke, end entered)
-
-    def walk(loop: list[tuple[int, int]], total: float) -> None:
-        if total >= best[0]:
-            return
-        i, e = loop[-1]
-        out = ends[i, 1 - e]  # a stroke is left by the end it was not entered by
-        if len(loop) == k:
-            gap = float(np.linalg.norm(out - ends[loop[0][0], loop[0][1]]))
-            if gap <= reach and total + gap < best[0]:
-                best[:] = [total + gap, list(loop)]
-            return
-        for j in range(1, k):
-            if all(j != m for m, _ in loop):
-                for b in (0, 1):
-                    gap = float(np.linalg.norm(out - ends[j, b]))
-                    if gap <= reach:
-                        walk([*loop, (j, b)], total + gap)
-
-    walk([(0, 0)], 0.0)
-    if best[1] is None:
+    loops = stroke_loops(ends, reach, (len(ends), len(ends)))
+    if not loops:
         raise FitError("the outline's sides do not meet end to end")
-    loop = best[1]
-    return np.array(
-        [
-            (ends[i, e] + ends[p, 1 - q]) / 2
-            for (i, e), (p, q) in zip(loop, loop[-1:] + loop[:-1], strict=True)
-        ]
-    )
+    path, entered = min(loops, key=lambda loop: float(loop_gaps(ends, *loop).sum()))
+    into = np.array([ends[i, e] for i, e in zip(path, entered, strict=True)])
+    out = np.array([ends[i, 1 - e] for i, e in zip(path, entered, strict=True)])
+    return (into + np.roll(out, 1, axis=0)) / 2

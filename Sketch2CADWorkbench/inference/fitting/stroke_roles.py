@@ -18,6 +18,7 @@ from ...brep.faces import FaceFrame
 from ...render.camera import OrthoCamera
 from ...sketch.labels import END, PROFILE, START
 from .common import FitError, resample
+from .polygon import loop_gaps, stroke_loops
 
 # Largest angle (degrees) between a profile stroke's chord and n_f's image: a prism's
 # side edges run along n_f; a sweep's profile may flare (a cone, a curved c_p).
@@ -243,39 +244,12 @@ def whole_outline_roles(
     """
     n2 = normal_image(camera, frame)
     opened = [k for k, s in enumerate(strokes) if not _closed(np.asarray(s, float))]
-    ends = {k: np.asarray(strokes[k], float)[[0, -1]] for k in opened}
-    # stroke k's end a meets stroke j's end b
-    meets = {
-        (k, a): [
-            (j, b)
-            for j in opened
-            if j != k
-            for b in (0, 1)
-            if np.linalg.norm(ends[k][a] - ends[j][b]) <= reach
-        ]
-        for k in opened
-        for a in (0, 1)
-    }
-    found: list[tuple[list[int], np.ndarray, float]] = []  # strokes, corners, corner gaps
-    budget = [CYCLE_BUDGET]
-
-    def walk(path: list[int], entered: list[int]) -> None:
-        k = path[-1]
-        for j, b in meets[(k, 1 - entered[-1])]:
-            budget[0] -= 1
-            if budget[0] < 0:
-                return
-            if j == path[0] and b == entered[0] and len(path) >= MIN_SIDES:
-                corners = np.array([ends[i][e] for i, e in zip(path, entered, strict=True)])
-                left = np.array([ends[i][1 - e] for i, e in zip(path, entered, strict=True)])
-                gaps = float(np.linalg.norm(corners - np.roll(left, 1, axis=0), axis=1).sum())
-                found.append((path, corners, gaps))
-            elif j > path[0] and j not in path and len(path) < 6:
-                # each cycle once from its lowest stroke (and twice by its two directions)
-                walk([*path, j], [*entered, b])
-
-    for k in opened:
-        walk([k], [0])
+    ends = np.array([np.asarray(strokes[k], float)[[0, -1]] for k in opened]).reshape(-1, 2, 2)
+    found = []  # strokes, corners, corner gaps
+    for path, entered in stroke_loops(ends, reach, (MIN_SIDES, 6), CYCLE_BUDGET):
+        corners = np.array([ends[i, e] for i, e in zip(path, entered, strict=True)])
+        gaps = float(loop_gaps(ends, path, entered).sum())
+        found.append(([opened[i] for i in path], corners, gaps))
     if not found:
         raise FitError("no outline of the prism is drawn whole, its sides meeting end to end")
 
