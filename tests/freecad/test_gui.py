@@ -26,6 +26,7 @@ CHECKS = [
     "fcstd_reopens_with_view_providers",
     "double_clicking_a_sketched_step_reopens_its_panel_to_edit_it",
     "a_later_step_edited_after_an_earlier_edit_starts_where_it_is_now",
+    "a_primitive_read_alone_has_its_other_boolean_one_click_away",
     "sketch_panel_fits_the_default_combo_view",
     "sketch_panel_reads_in_the_users_units_and_names_follow_the_offset",
     "preferences_page_is_shown_and_its_values_are_used",

@@ -13,7 +13,7 @@ import FreeCADGui
 import numpy as np
 from PySide import QtGui
 
-from ...brep.protocol import EdgeSet, Mode, Operation, operation_to_dict
+from ...brep.protocol import AddSubPrism, EdgeSet, Mode, Operation, Sweep, operation_to_dict
 from ..gui_helpers import error, transaction
 from ..networks import loading, predictor, when_loaded
 from ..preferences import regularize_default, snap_step, use_network_threads
@@ -80,6 +80,14 @@ def _empty(layout) -> None:
         w = layout.takeAt(0).widget()
         if w is not None:
             w.deleteLater()
+
+
+def _other_boolean(op: Operation) -> Operation | None:
+    """A primitive added or subtracted with its Boolean flipped, to name the other
+    reading; None for any other operation."""
+    if not isinstance(op, (AddSubPrism, Sweep)) or op.mode.flipped is None:
+        return None
+    return replace(op, mode=op.mode.flipped)
 
 
 def _shrinkable(button) -> None:
@@ -413,23 +421,33 @@ class SketchPanel:
 
     def _show_readings(self) -> None:
         """One checkable button per reading when there are several (the checked one is
-        previewed, described and added by OK)."""
+        previewed, described and added by OK). A primitive read alone gets a button for
+        its other Boolean too: a hole read as a boss, or a boss as a hole, is always one
+        click from the reading meant (`read_as`)."""
         from ..make.make_model import FEATURE_OF_OPERATION
 
         _empty(self.reading_box)
         self.reading_buttons = []
-        if len(self.readings) < 2:
+        ops = [reading.operations[0] for reading in self.readings]
+        other = _other_boolean(ops[0]) if len(ops) == 1 else None
+        if len(ops) < 2 and other is None:
             return
-        label = QtGui.QLabel(tr("Reads as:"))
-        self.reading_box.addWidget(label)
-        for i, reading in enumerate(self.readings):
-            op = reading.operations[0]
+        self.reading_box.addWidget(QtGui.QLabel(tr("Reads as:")))
+        for i, op in enumerate([*ops, *([other] if other else [])]):
             cls = FEATURE_OF_OPERATION[op.type]
             b = QtGui.QPushButton(cls.kind_of(op))
             b.setCheckable(True)
             b.setChecked(i == self.chosen)
-            b.setToolTip(tr("Preview and add this reading: {}").format(cls.reading(op)))
-            b.clicked.connect(lambda _=False, k=i: self.choose(k))
+            if i < len(ops):
+                b.setToolTip(tr("Preview and add this reading: {}").format(cls.reading(op)))
+                b.clicked.connect(lambda _=False, k=i: self.choose(k))
+            else:
+                b.setToolTip(
+                    tr("Read the strokes as a {} (the Boolean {})").format(
+                        cls.kind_of(op), op.mode.value
+                    )
+                )
+                b.clicked.connect(lambda _=False, m=op.mode: self.read_as(m))
             _shrinkable(b)
             self.reading_box.addWidget(b)
             self.reading_buttons.append(b)
@@ -443,17 +461,39 @@ class SketchPanel:
         self.preview.show(to_part(self.readings[index].solid))
 
     def interpret(self):
-        strokes, camera = self.capture.result()
-        self.result = self.step = None
-        self.readings, self.chosen = [], 0
-        self.preview.show(None)
-        self._show_snaps(())
-        self._show_readings()
-        self.anyway_button.hide()
-        if not strokes:
+        self._show_result(None, None)
+        if not self.capture.result()[0]:
             self.text.setHtml(tr("<b>No strokes yet.</b> Draw over the model first."))
             return
-        options = self.options()
+        r, step, why = self._read(self.options())
+        if r is None:
+            self.text.setHtml(
+                f"<b style='color:#b00'>{tr('Not interpreted:')}</b> {why}<br>"
+                + tr("Nothing was changed. Add or clear strokes and try again.")
+            )
+            return
+        self._show_result(r, step)
+
+    def read_as(self, mode: Mode) -> None:
+        """Read the strokes with the Boolean `mode` chosen, as choosing it in the Boolean
+        box does; where no reading of it builds, the reading shown stays, with the reason."""
+        r, step, why = self._read(replace(self.options(), option=mode))
+        if r is None:
+            self._show_readings()  # the clicked button unchecked again
+            self.text.append(
+                f"<p style='color:#b00'><b>{tr('Not read as {}:').format(mode.value)}</b> "
+                f"{why}. {tr('The reading above stays.')}</p>"
+            )
+            return
+        self.option.blockSignals(True)  # read already: no second reading
+        self.option.setCurrentIndex(self.option.findText(mode.value))
+        self.option.blockSignals(False)
+        self._show_result(r, step)
+
+    def _read(self, options) -> tuple:
+        """The strokes drawn read on the base solid with `options`
+        (inference.interpret): the interpretation and the SketchStep it was read from,
+        and "", or None, None and why they were not read."""
         if loading():
             self.text.setHtml(
                 tr("<i>Loading networks…</i> The reading follows when they are ready.")
@@ -463,24 +503,27 @@ class SketchPanel:
         from ...inference.interpret import interpret
         from ...inference.session import SketchStep
 
+        strokes, camera = self.capture.result()
         try:
             solid = self._base_solid()
             networks = predictor()
             use_network_threads(networks)
             r = interpret(solid, strokes, camera, networks, options=options)
         except (InterpretError, ValueError, FileNotFoundError) as e:
-            self.text.setHtml(
-                f"<b style='color:#b00'>{tr('Not interpreted:')}</b> {e}<br>"
-                + tr("Nothing was changed. Add or clear strokes and try again.")
-            )
-            return
-        self.result, self.step = r, SketchStep(camera, strokes, options)
-        self.readings = self._readings(r)
+            return None, None, str(e)
+        return r, SketchStep(camera, strokes, options), ""
+
+    def _show_result(self, r, step) -> None:
+        """Show the interpretation `r` read from `step` (None: nothing read)."""
+        self.result, self.step = r, step
+        self.readings = [] if r is None else self._readings(r)
+        self.chosen = 0
         self._show_readings()
-        self.anyway_button.setVisible(r.doubtful)
-        self._describe()
-        self.preview.show(to_part(r.solid))
-        self._show_snaps(r.snaps)
+        self.anyway_button.setVisible(r is not None and r.doubtful)
+        self._show_snaps(() if r is None else r.snaps)
+        self.preview.show(None if r is None else to_part(r.solid))
+        if r is not None:
+            self._describe()
 
     def _describe(self) -> None:
         """The chosen reading in words, the warnings, and what OK does."""
@@ -549,12 +592,7 @@ class SketchPanel:
     def clear(self):
         self.capture.clear()
         self.skipped.clear()
-        self._show_snaps(())
-        self.result = self.step = None
-        self.readings, self.chosen = [], 0
-        self._show_readings()
-        self.anyway_button.hide()
-        self.preview.show(None)
+        self._show_result(None, None)
         self.text.clear()
 
     # ------------------------------------------------------------ closing

@@ -825,20 +825,67 @@ def a_later_step_edited_after_an_earlier_edit_starts_where_it_is_now():
     assert model.Document.UndoCount == undos
 
 
-def draw_boss(view, model) -> None:
-    """A low square boss in the middle of the model's top face, drawn with the mouse."""
+def draw_boss(view, model, height: float = 0.3) -> None:
+    """A square boss in the middle of the model's top face, `height` times the model's
+    as tall, drawn with the mouse."""
     from Sketch2CADWorkbench.freecad_layer.trackers.view_camera import view_camera
 
     bb = model.Tip.Shape.BoundBox
     c, h = np.array([bb.Center.x, bb.Center.y, bb.ZMax]), 0.2 * min(bb.XLength, bb.YLength)
     base = c + np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]])
-    top = base + [0, 0, 0.3 * bb.ZLength]
+    top = base + [0, 0, height * bb.ZLength]
     viewport = view.graphicsView().viewport()
     cam = view_camera(view)
     for a, b in [(p[i], p[(i + 1) % 4]) for p in (base, top) for i in range(4)] + list(
         zip(base, top, strict=False)
     ):
         drag(viewport, cam.project(np.linspace(a, b, 12))[0])
+
+
+@check
+def a_primitive_read_alone_has_its_other_boolean_one_click_away():
+    """A boss as tall as the box, drawn in the middle of its top face, is read as that
+    boss: its top, seen along the view, falls outside the face, so no hole draws the same
+    lines and none is offered as a second reading. The panel still names the hole:
+    a click reads the strokes with subtract chosen (the Boolean box says so), the model
+    unchanged, and OK adds the hole, recording subtract as chosen."""
+    from Sketch2CADWorkbench.freecad_layer.taskpanels.sketch_panel import SketchPanel
+
+    model, view = new_model_document("other_boolean")
+    panel = SketchPanel(model)
+    FreeCADGui.Control.showDialog(panel)
+    try:
+        draw_boss(view, model, height=1.0)
+        key(view.graphicsView().viewport(), QtCore.Qt.Key_Return)
+        settle()
+        text = panel.text.toPlainText()
+        assert panel.result is not None and panel.result.op_type.value == "addsub", text
+        assert panel.result.operations[0].mode.value == "add", text
+        assert len(panel.readings) == 1, text  # the hole is not a second reading
+        labels = [b.text() for b in panel.reading_buttons]
+        assert labels == ["Boss", "Hole"], labels
+        assert [b.isChecked() for b in panel.reading_buttons] == [True, False]
+        before, undos = model.Tip.Shape.Volume, model.Document.UndoCount
+        panel.reading_buttons[1].click()
+        settle()
+        text = panel.text.toPlainText()
+        assert panel.option.currentText() == "subtract", panel.option.currentText()
+        assert panel.result.operations[0].mode.value == "subtract", text
+        assert "Read as Hole" in text, text
+        assert panel.result.solid.Volume() < before, text
+        assert [b.text() for b in panel.reading_buttons] == ["Hole", "Boss"]
+        assert [b.isChecked() for b in panel.reading_buttons] == [True, False]
+        assert (model.Tip.Shape.Volume, model.Document.UndoCount) == (before, undos)
+        assert panel.accept(), panel.text.toPlainText()
+        settle()
+        hole = model.Tip
+        assert (hole.Label, hole.Mode) == ("Hole", "subtract"), (hole.Label, hole.Mode)
+        assert json.loads(hole.SketchStep)["choices"]["option"] == "subtract"
+        assert model.Document.UndoCount == undos + 1
+    finally:
+        if not panel.closed:
+            panel.reject()
+        settle()
 
 
 @check
