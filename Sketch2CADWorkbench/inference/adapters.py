@@ -32,7 +32,7 @@ from .fitting.bevel import bevel_fit
 from .fitting.common import FitError, classify_strokes, resample, sample_map
 from .fitting.extrude import fit_extrude, fit_extrude_by_ends
 from .fitting.rounds import round_fits
-from .fitting.shell import rim_and_wall, shell_fit
+from .fitting.shell import rim_and_wall, shell_fit, thickest_that_builds
 from .fitting.stroke_roles import PRISM_CHORD_TOLERANCES, stroke_roles, whole_outline_roles
 from .fitting.surface import face_frame
 from .fitting.sweep import SweepFit, sweep_fit
@@ -396,12 +396,15 @@ def _across_readings(
 def _fit_shell_on_face(
     solid: cq.Shape, index: int, curve: np.ndarray, ctx: Context, options: InterpretOptions
 ) -> list[Fit]:
-    """The shell opening face `index`, t read from the rim its strokes draw; a stroke down
+    """The shell opening face `index`, t read from the rim its strokes draw (within what
+    the solid takes: `thickest_that_builds`); a stroke down
     an inner wall is labelled as such and read no further (fitting/shell.py). The
     networks know no shell: C is not used, nor has `options` anything for it."""
     strokes = ctx.strokes
     drawn = rim_and_wall(strokes)
-    op = shell_fit(solid, face_at(solid, index), ctx.camera, [strokes[i] for i in drawn.rim])
+    face = face_at(solid, index)
+    op = shell_fit(solid, face, ctx.camera, [strokes[i] for i in drawn.rim])
+    op = thickest_that_builds(solid, face, op)
     labels = [SHELL_WALL if i == drawn.wall else SHELL_RIM for i in range(len(strokes))]
     return [(op, index, labels)]
 

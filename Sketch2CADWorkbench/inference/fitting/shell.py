@@ -9,6 +9,7 @@ follow; it says nothing more and is set aside.
 
     rim_and_wall(strokes) -> RimStrokes       which strokes draw the rim, which the wall
     shell_fit(solid, face, camera, rim) -> Shell
+    thickest_that_builds(solid, face, op) -> Shell   t within what the solid takes
 
 The strokes are a rim when they close into one loop: their ends, paired at the corners
 closest first, chain every stroke into it, but for one stroke with a free end whose
@@ -27,11 +28,15 @@ training/shell_bound.py counts). In pixels, a side seen at a grazing angle weigh
 as its millimetres are less sure. The strokes must follow
 the whole inset at that t (`RIM_OFF_SHARE`), or they are refused as no inset of f's
 outline.
+
+A rim drawn about as far in as the solid allows may read a t just past what it takes (the
+walls from every face leave no cavity, or offset walls cross): the step is then the
+thickest wall under that t that builds, not a refusal.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cadquery as cq
 import numpy as np
@@ -41,6 +46,7 @@ from scipy.spatial import cKDTree
 
 from ...brep.faces import FaceFrame, face_ref_of
 from ...brep.geometry import polyline_length
+from ...brep.operators import apply_operation
 from ...brep.protocol import OperationError, Shell
 from ...render.camera import OrthoCamera
 from ...sketch.curves import CURVE_POINTS, rim_wires
@@ -67,6 +73,11 @@ RIM_FIT_END_WEIGHT = 8.0
 RIM_FIT_SPACING_PX = 2.0
 RIM_FIT_RANGE = (0.4, 1.8)
 RIM_FIT_STEPS = 15
+# A t the solid cannot take: the thickest that builds is sought down to THINNEST_SHARE of
+# it, in BUILD_HALVINGS halvings of the interval (to 1/64 of t: well inside the hand's
+# error in t, `training/shell_bound.py`)
+THINNEST_SHARE = 0.5
+BUILD_HALVINGS = 5
 
 
 @dataclass(frozen=True)
@@ -233,6 +244,35 @@ def shell_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, rim: list[np.
             f"{RIM_OFF_PX:g} px apart (at most {100 * RIM_OFF_SHARE:.0f}%)"
         )
     return Shell(face_ref_of(face), t)
+
+
+def thickest_that_builds(solid: cq.Solid, face: cq.Face, op: Shell) -> Shell:
+    """op where its shell builds on `solid` (opened at `face`, op's f); else the shell of
+    the largest t from THINNEST_SHARE of op.t up that does, to BUILD_HALVINGS halvings.
+
+    Raises:
+        OperationError: op's own reason, where THINNEST_SHARE of its t does not build
+            either (a solid whose faces no offset can follow, say).
+    """
+
+    def builds(t: float) -> bool:
+        try:
+            apply_operation(solid, replace(op, t=t), face)
+        except OperationError:
+            return False
+        return True
+
+    try:
+        apply_operation(solid, op, face)
+        return op
+    except OperationError:
+        low, high = THINNEST_SHARE * op.t, op.t
+        if not builds(low):
+            raise
+    for _ in range(BUILD_HALVINGS):
+        mid = (low + high) / 2
+        low, high = (mid, high) if builds(mid) else (low, mid)
+    return replace(op, t=low)
 
 
 def _edge_points(edge: cq.Edge, n: int) -> np.ndarray:

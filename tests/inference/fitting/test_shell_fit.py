@@ -6,9 +6,13 @@ import pytest
 
 from Sketch2CADWorkbench.brep.faces import face_ref_of
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
-from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode
+from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, OperationError, Shell
 from Sketch2CADWorkbench.inference.fitting.common import FitError
-from Sketch2CADWorkbench.inference.fitting.shell import rim_and_wall, shell_fit
+from Sketch2CADWorkbench.inference.fitting.shell import (
+    rim_and_wall,
+    shell_fit,
+    thickest_that_builds,
+)
 from Sketch2CADWorkbench.render.camera import OrthoCamera
 from Sketch2CADWorkbench.sketch.curves import rim_wires
 
@@ -97,3 +101,20 @@ def test_t_is_read_from_a_circular_rim_drawn_as_one_loop(t):
     ring = np.array([wire.positionAt(u).toTuple() for u in np.linspace(0.3, 1.3, 90) % 1])
     op = shell_fit(drum, top, CAMERA, [CAMERA.project(ring)[0]])
     assert op.t == pytest.approx(t, abs=0.05 * CAMERA.pixel_size)
+
+
+def test_a_rim_read_past_what_the_solid_takes_is_the_thickest_wall_that_builds():
+    # the 40 mm wide box opened at the top holds a cavity while t < 20 mm
+    rim_read = Shell(face_ref_of(TOP), 22.0)
+    with pytest.raises(OperationError):
+        apply_operation(BOX, rim_read, TOP)
+    got = thickest_that_builds(BOX, TOP, rim_read)
+    assert 20.0 - 22.0 / 32 < got.t < 20.0, got.t  # within two of the halvings' steps
+    apply_operation(BOX, got, TOP)  # builds
+    fits = Shell(face_ref_of(TOP), 3.0)
+    assert thickest_that_builds(BOX, TOP, fits) == fits
+
+
+def test_a_wall_no_thinner_t_builds_keeps_its_reason():
+    with pytest.raises(OperationError, match="more than the solid allows"):
+        thickest_that_builds(BOX, TOP, Shell(face_ref_of(TOP), 50.0))
