@@ -265,6 +265,10 @@ def interpret(
             )
             if options.option is not None and op_type is None:
                 more += f" (with {options.option.value} chosen, only prisms and sweeps are read)"
+            if by_rim and shell > 0 and len(errors) > 1:
+                # the shell, tried first, was proposed by the strokes' geometry, not read
+                # by the networks: the reason given is their likeliest operator's
+                errors.append(errors.pop(0))
             raise InterpretError(errors[0] + more) from None
         read.sort(key=lambda r: r[0])
         _, kind, reading = read.pop(0)

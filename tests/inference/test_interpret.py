@@ -315,3 +315,32 @@ def test_a_shell_proposed_by_its_rim_lists_only_the_classifiers_own_probabilitie
     assert got.classified == pytest.approx(
         {"extrude": 0.7, "bevel": 0.2, "addsub": 0.06, "sweep": 0.04}
     )
+
+
+def test_a_sketch_nothing_reads_names_the_networks_reading_not_the_shell_its_rim_proposed(
+    renderer, monkeypatch
+):
+    """A rim drawn on the top proposes the shell, tried first; where no operator reads
+    the strokes, the reason given is the classifier's likeliest operator's, the shell's
+    after it: the networks never read a shell there."""
+
+    class FourClasses(Oracle):
+        def classify(self, inputs):
+            return np.array([0.7, 0.2, 0.06, 0.04])
+
+    def fails(solid, kind, *args):
+        raise search.FitError(f"no {kind.value} here")
+
+    monkeypatch.setattr(search, "read_operation", fails)
+    box, op, cam = make_box(Box((40, 30, 20))), Shell(TOP, 3.0), view()
+    pts, labels = sketch(box, op, cam)
+    with pytest.raises(InterpretError) as refused:
+        interpret(
+            box,
+            [cam.project(p)[0] for p in pts],
+            cam,
+            FourClasses(box, op, pts, labels, cam, renderer),
+            renderer,
+            InterpretOptions(regularize=False),
+        )
+    assert str(refused.value).startswith("read as extrude, but no extrude here"), refused.value
