@@ -59,6 +59,7 @@ from .protocol import (
     Protocol,
     Shell,
     Sweep,
+    WallTooThick,
     per_operator,
 )
 from .rounds import (
@@ -667,7 +668,8 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
     cavity keeps at least t (less `WALL_TOL_REL`) from every face but f.
 
     Raises:
-        OperationError: naming t and why it cannot be built.
+        OperationError: naming t and why it cannot be built (WallTooThick where the
+            offset was built but t is more than the solid takes).
     """
     what = f"shell: wall thickness t = {op.t:g} mm cannot be built"
     freeform = sorted(
@@ -690,7 +692,7 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
         raise OperationError(f"{what}: OCCT's offset is not one valid solid; a smaller t may build")
     cavity = boolean(solid, solids[0], Mode.SUBTRACT).Solids()
     if not cavity or sum(c.Volume() for c in cavity) <= 1e-9 * scale**3:
-        raise OperationError(
+        raise WallTooThick(
             f"{what}: it is more than the solid allows (walls t thick from every face "
             "leave no cavity)"
         )
@@ -698,7 +700,7 @@ def shell_tool(solid: cq.Shape, rf: ResolvedFace, op: Shell, scale: float) -> cq
     inner = cq.Compound.makeCompound(cavity)
     thinnest = min(inner.distance(f) for f in walls)
     if thinnest < op.t * (1 - WALL_TOL_REL):
-        raise OperationError(
+        raise WallTooThick(
             f"{what}: the offset walls cross (a wall comes out {thinnest:.3g} mm thin); a "
             "smaller t may build"
         )

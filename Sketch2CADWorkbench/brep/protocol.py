@@ -125,6 +125,11 @@ class OperationError(ValueError):
     """An operation cannot be built on the given solid; the message says why."""
 
 
+class WallTooThick(OperationError):
+    """A shell's t is more than the solid takes: walls t thick from every face leave no
+    cavity, or offset walls cross. A smaller t may build."""
+
+
 T = TypeVar("T")
 
 

@@ -458,7 +458,8 @@ def drilled_hole_strokes(s: dict, rng, r: float = 6.0, depth: float = 15.0) -> l
 def test_a_hole_drawn_into_the_front_face_is_read_as_a_hole(desktop):
     """A cylindrical hole drawn into the box's front face (-Y) with a wobbling hand, the
     Boolean on auto, is read as a hole and OK cuts it; at worst the hole is the other
-    reading, one click away, and that click gives the hole."""
+    reading, one click away, and that click gives the hole. Either way the other
+    Boolean has its button."""
     d = desktop
     rng = np.random.default_rng(11)
     s = d.wait(lambda s: panel_open(s) and s["features"], timeout=120)
@@ -472,6 +473,8 @@ def test_a_hole_drawn_into_the_front_face_is_read_as_a_hole(desktop):
         d.screenshot("hole_chosen")
     else:
         assert "(subtract)" in s["panel"]["text"], s["panel"]["text"]
+        # read as the hole, the boss on its rim is one click away
+        assert {"Boss", "Revolution"} & {t for t, _, _ in s["buttons"]}, s["buttons"]
     d.click_button(s, "OK")
     s = d.wait(lambda s: not panel_open(s) and len(s["features"]) == 2)
     label, volume, valid = s["features"][-1]

@@ -11,10 +11,11 @@ follow; it says nothing more and is set aside.
     shell_fit(solid, face, camera, rim) -> Shell
     thickest_that_builds(solid, face, op) -> Shell   t within what the solid takes
 
-The strokes are a rim when they close into one loop: their ends, paired at the corners
-closest first, chain every stroke into it, but for one stroke with a free end whose
-other end meets a corner (the wall). A prism's outline with its depth lines has three
-strokes at each corner, so ends are left over and it is not read as a rim.
+The strokes are a rim when they close into one loop: their ends, each paired with the
+end nearest it where that end's nearest is it in turn, chain every stroke into it, but
+for one stroke with a free end whose other end meets a corner (the wall). A prism's
+outline with its depth lines has three strokes at each corner, so ends are left over
+and it is not read as a rim.
 
 t is where the rim lies. A first t is the median distance of the rim's samples,
 back-projected onto f's plane, from f's outline (robust to the hand's wobble). It is
@@ -47,15 +48,16 @@ from scipy.spatial import cKDTree
 from ...brep.faces import FaceFrame, face_ref_of
 from ...brep.geometry import polyline_length
 from ...brep.operators import apply_operation
-from ...brep.protocol import OperationError, Shell
+from ...brep.protocol import OperationError, Shell, WallTooThick
 from ...render.camera import OrthoCamera
 from ...sketch.curves import CURVE_POINTS, rim_wires
 from .common import FitError, is_loop, loop_distances, resample
 
-# Two stroke ends meet (a corner of the rim) within this share of the two strokes' mean
-# length: a hand's gap at a corner grows with the sides it draws, not with the sketch
-# around them (docs/measurements.md, shell.RIM_JOIN_SHARE).
-RIM_JOIN_SHARE = 0.4
+# Two stroke ends, each the other's nearest, meet (a corner of the rim) within this share
+# of the two strokes' mean length: a hand's gap at a corner grows with the sides it
+# draws, not with the sketch around them (docs/measurements.md, shell.RIM_JOIN_SHARE).
+# A wall line starts within this share of its own length from the rim's ends.
+RIM_JOIN_SHARE = 1.0
 # A rim sample farther than this (context pixels) from f's outline inset by t is off the
 # inset; the strokes are no inset when more than RIM_OFF_SHARE of the rim's samples, or of
 # the inset's, are off (see docs/measurements.md, shell.RIM_OFF_PX and RIM_OFF_SHARE).
@@ -75,7 +77,7 @@ RIM_FIT_RANGE = (0.4, 1.8)
 RIM_FIT_STEPS = 15
 # A t the solid cannot take: the thickest that builds is sought down to THINNEST_SHARE of
 # it, in BUILD_HALVINGS halvings of the interval (to 1/64 of t: well inside the hand's
-# error in t, `training/shell_bound.py`)
+# error in t; docs/measurements.md, shell.THINNEST_SHARE)
 THINNEST_SHARE = 0.5
 BUILD_HALVINGS = 5
 
@@ -92,9 +94,9 @@ class RimStrokes:
 def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
     """Which strokes draw a closed rim and which one the wall (module docstring).
 
-    Stroke ends are paired at corners, the closest two first (`_corners`); the strokes
-    draw a rim when every end finds its partner within RIM_JOIN_SHARE of the two
-    strokes' mean length and the pairs chain all strokes into one loop. Failing that, each
+    Stroke ends are paired at corners (`_corners`); the strokes draw a rim when every
+    end finds its partner within RIM_JOIN_SHARE of the two strokes' mean length and the
+    pairs chain all strokes into one loop. Failing that, each
     stroke with an end left over is tried as the wall, the others as the rim; the wall
     meets the rim within RIM_JOIN_SHARE of its own length.
 
@@ -137,26 +139,23 @@ def rim_and_wall(strokes: list[np.ndarray]) -> RimStrokes:
 
 
 def _corners(strokes: list[np.ndarray]) -> list[int]:
-    """The ends (2k, 2k + 1: stroke k's first and last) left without a partner when the
-    closest two ends of different strokes are paired first, each pair up to
-    RIM_JOIN_SHARE of the two strokes' mean length apart; an empty list only when every
-    end has one and the pairs chain the strokes into one loop (else every end, so that no
-    loop is read)."""
+    """The ends (2k, 2k + 1: stroke k's first and last) left without a partner when each
+    end is paired with the nearest end of another stroke whose nearest end it is too,
+    up to RIM_JOIN_SHARE of the two strokes' mean length apart; an empty list only when
+    every end has one and the pairs chain the strokes into one loop (else every end, so
+    that no loop is read). Mutual, so that a gap as wide as a level-3 hand leaves joins
+    its two ends, while three ends meeting at one corner (a prism's depth line at its
+    outline) leave one without a partner."""
     ends = np.array([np.asarray(s, float)[[0, -1]] for s in strokes]).reshape(-1, 2)
     gap = np.linalg.norm(ends[:, None] - ends[None], axis=2)
     own = np.arange(len(ends)) // 2
     gap[own[:, None] == own[None]] = np.inf
     length = np.array([polyline_length(s) for s in strokes])[own]
     reach = RIM_JOIN_SHARE * (length[:, None] + length[None]) / 2
-    partner = np.full(len(ends), -1)
-    for flat in np.argsort(gap, axis=None):
-        a, b = divmod(int(flat), len(ends))
-        if gap[a, b] == np.inf:
-            break
-        if gap[a, b] > reach[a, b]:
-            continue
-        if partner[a] < 0 and partner[b] < 0:
-            partner[a], partner[b] = b, a
+    nearest = np.argmin(gap, axis=1)
+    mutual = nearest[nearest] == np.arange(len(ends))
+    within = gap[np.arange(len(ends)), nearest] <= reach[np.arange(len(ends)), nearest]
+    partner = np.where(mutual & within, nearest, -1)
     left = [int(e) for e in np.flatnonzero(partner < 0)]
     if left:
         return left
@@ -247,12 +246,14 @@ def shell_fit(solid: cq.Shape, face: cq.Face, camera: OrthoCamera, rim: list[np.
 
 
 def thickest_that_builds(solid: cq.Solid, face: cq.Face, op: Shell) -> Shell:
-    """op where its shell builds on `solid` (opened at `face`, op's f); else the shell of
-    the largest t from THINNEST_SHARE of op.t up that does, to BUILD_HALVINGS halvings.
+    """op where its shell builds on `solid` (opened at `face`, op's f); where t is more
+    than the solid takes (`WallTooThick`), the shell of the largest t from
+    THINNEST_SHARE of op.t up that builds, to BUILD_HALVINGS halvings.
 
     Raises:
-        OperationError: op's own reason, where THINNEST_SHARE of its t does not build
-            either (a solid whose faces no offset can follow, say).
+        OperationError: op's own reason, where it fails otherwise (a solid whose faces no
+            offset can follow, OCCT failing) or THINNEST_SHARE of its t does not build
+            either.
     """
 
     def builds(t: float) -> bool:
@@ -265,7 +266,7 @@ def thickest_that_builds(solid: cq.Solid, face: cq.Face, op: Shell) -> Shell:
     try:
         apply_operation(solid, op, face)
         return op
-    except OperationError:
+    except WallTooThick:
         low, high = THINNEST_SHARE * op.t, op.t
         if not builds(low):
             raise

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from Sketch2CADWorkbench.brep.faces import face_ref_of
+from Sketch2CADWorkbench.brep.geometry import polyline_length
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import AddSubPrism, Box, FaceRef, Mode, OperationError, Shell
 from Sketch2CADWorkbench.inference.fitting.common import FitError
@@ -51,6 +52,18 @@ def test_a_rim_whose_corners_gape_as_a_sloppy_hand_leaves_them_is_a_rim(short):
     # each side stops short of its corner by `short` of its length: gaps that grow with
     # the rim, not with the sketch around it
     rim = [s[: int(len(s) * (1 - short))] for s in sides(rim_corners(3.0))]
+    assert rim_and_wall(rim).rim == (0, 1, 2, 3)
+
+
+def test_a_rim_with_one_corner_left_wide_open_is_a_rim():
+    # the two sides at one corner each stop short by 30% of their length, as a level-3
+    # hand leaves a corner: the gap is over half the sides, its two ends still each
+    # other's nearest
+    rim = sides(rim_corners(3.0))
+    rim[0] = rim[0][: int(0.7 * len(rim[0]))]
+    rim[1] = rim[1][int(0.3 * len(rim[1])) :]
+    gap = np.linalg.norm(rim[0][-1] - rim[1][0])
+    assert gap > 0.5 * min(polyline_length(rim[0]), polyline_length(rim[1]))
     assert rim_and_wall(rim).rim == (0, 1, 2, 3)
 
 
