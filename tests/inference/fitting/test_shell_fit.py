@@ -131,3 +131,15 @@ def test_a_rim_read_past_what_the_solid_takes_is_the_thickest_wall_that_builds()
 def test_a_wall_no_thinner_t_builds_keeps_its_reason():
     with pytest.raises(OperationError, match="more than the solid allows"):
         thickest_that_builds(BOX, TOP, Shell(face_ref_of(TOP), 50.0))
+
+
+def test_a_thin_walls_rim_spilling_past_one_side_is_read_and_one_leaving_the_face_refused():
+    # a 1 mm wall: the rim's long side drawn 0.3 mm past the face's edge (a third of the
+    # rim's samples outside the face) is still read, t below a millimetre
+    c = rim_corners(1.0)
+    spilled = c + [[0.0, 1.3, 0.0], [0.0, 1.3, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    assert 0.3 < shell_fit(BOX, TOP, CAMERA, sides(spilled)).t < 1.0
+    # two sides past the edges: half of it leaves the face
+    off = spilled + [[0.0, 0.0, 0.0], [1.3, 0.0, 0.0], [1.3, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    with pytest.raises(FitError, match="leaves the face to open"):
+        shell_fit(BOX, TOP, CAMERA, sides(off))
