@@ -165,7 +165,10 @@ def recovery(
     level) over the first `limit` samples, and the median time of one interpret step
     (render + networks + fitting + B-rep). The IoU is the reading's, before any flip; a
     sketch that is not read, or whose reading does not build, counts 0. The median shows
-    how exact a typical reading is, which the rate (a threshold) does not.
+    how exact a typical reading is, which the rate (a threshold) does not. Also the share
+    of the samples, per operator and over all, whose reading is of the operator drawn
+    (five classes: the shell too, which a classifier of four leaves to its rim); a
+    sketch that is not read counts as read otherwise.
 
     With `oracle`, the networks are replaced by the ground truth (class, F, C in the
     sample's own context maps): the rate then measures the fitting stage alone, which
@@ -181,6 +184,7 @@ def recovery(
     beyond: dict[str, list[bool]] = {}  # a hole a boss draws: beyond a strict reading
     favoured: dict[str, list[bool]] = {}  # missed by a reading nearer the strokes than truth
     ious: dict[str, list[float]] = {}
+    read_as: dict[str, list[bool]] = {}  # read as the operator drawn, right or not
     times, reasons = [], {}
     reader = None if oracle else predictor
 
@@ -197,10 +201,11 @@ def recovery(
                 context = replay(s.context)[-1]
                 if join_px:
                     s = dataclasses.replace(s, strokes=join_end_to_start(s.strokes, join_px))
-                other, flipped, iou, nearer = None, False, 0.0, False
+                other, flipped, iou, nearer, same = None, False, 0.0, False, False
                 try:
                     truth = apply_operation(context, s.operation)
                     got = read_step(s, context, reader, renderer, options)
+                    same = got.operation.type is s.op_type
                     other = got.other_option
                     if got.interpret_ms is not None:
                         times.append(got.interpret_ms)
@@ -225,6 +230,7 @@ def recovery(
                 favoured.setdefault(s.op_type.value, []).append(nearer)
                 flips.setdefault(s.op_type.value, []).append((other is not None, ok or flipped))
                 ious.setdefault(s.op_type.value, []).append(iou)
+                read_as.setdefault(s.op_type.value, []).append(same)
                 bar.update(1)
     per_op = {}
     for op in OperatorType:
@@ -243,7 +249,13 @@ def recovery(
             "strokes_ceiling": 1.0 - float(np.mean(favoured[op.value]))
             if favoured.get(op.value)
             else None,
+            # the pipeline's own reading of the operator, the shell included where its
+            # rim proposes it (the oracle is given the class: None)
+            "read_as_rate": float(np.mean(read_as[op.value]))
+            if read_as.get(op.value) and not oracle
+            else None,
         }
+    everything = [r for v in read_as.values() for r in v]
     levels = sorted({lvl for _, lvl in hits})
     return {
         "per_operator": per_op,
@@ -252,5 +264,6 @@ def recovery(
             for lvl in levels
         },
         "interpret_median_ms": float(statistics.median(times)) if times else None,
+        "operator_read_rate": float(np.mean(everything)) if everything and not oracle else None,
         "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])[:10]),
     }

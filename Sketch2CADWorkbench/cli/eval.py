@@ -111,6 +111,7 @@ def run(args: argparse.Namespace) -> int:
             for op, v in rec["per_operator"].items():
                 result["per_operator"][op].update(v)
             result["latency_ms"]["interpret_median"] = rec["interpret_median_ms"]
+            result["operator_read_rate"] = rec["operator_read_rate"]
             result["recovery"] = {k: rec[k] for k in ("per_noise_level", "failure_reasons")}
             if args.fitting_recovery:
                 fit = recovery(
@@ -143,6 +144,7 @@ def run(args: argparse.Namespace) -> int:
                 for k in (
                     "n",
                     "classification_accuracy",
+                    "operator_read_rate",
                     "per_operator",
                     "latency_ms",
                     "structured",

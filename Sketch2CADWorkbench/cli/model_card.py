@@ -404,8 +404,19 @@ def figures_section(pipeline: dict) -> list[str]:
         (k, r) for k, r in sets.items() if r["noise_level"] == 1 and "structured" in r
     )
     recovery = [
-        _row(["data", "hand", "base faces", "noise level", "n", "regularization", *HEAD_OPS]),
-        "|---|---|---|---|---|---|" + "---|" * len(HEAD_OPS),
+        _row(
+            [
+                "data",
+                "hand",
+                "base faces",
+                "noise level",
+                "n",
+                "regularization",
+                *HEAD_OPS,
+                "operator read",
+            ]
+        ),
+        "|---|---|---|---|---|---|" + "---|" * (len(HEAD_OPS) + 1),
     ]
     for name, r in sets.items():
         recovery.append(
@@ -423,6 +434,7 @@ def figures_section(pipeline: dict) -> list[str]:
                         else "-"
                         for op in HEAD_OPS
                     ),
+                    pct(r.get("operator_read_rate")),
                 ]
             )
         )
@@ -439,7 +451,9 @@ def figures_section(pipeline: dict) -> list[str]:
         "",
         f"Against the paper's level-1 figures, on {name1}: {targets_met(level1['structured'])}.",
         "",
-        "Recovery of whole interpret steps, strict [with the named flip], %"
+        "Recovery of whole interpret steps, strict [with the named flip], %, and the "
+        "share of the steps read as the operator drawn (five classes, the shell proposed "
+        "by its rim included; n/a: not measured)"
         + (
             "; curved base faces are cylinders' and cones' sides:"
             if any(r["curved"] for r in sets.values())

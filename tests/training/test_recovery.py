@@ -78,6 +78,12 @@ def test_outlines_drawn_in_one_go_are_read_once_cut_into_curves(generated):
     assert cut > whole
 
 
+def test_the_oracle_is_given_the_operator_so_its_reading_of_it_is_not_scored(generated):
+    r = recovery(generated, None, 4, oracle=True)
+    assert r["operator_read_rate"] is None
+    assert all(v["read_as_rate"] is None for v in r["per_operator"].values())
+
+
 def test_recovery_limit_counts_samples(generated):
     r = recovery(generated, None, 5, oracle=True)
     assert sum(v["recovery_n"] for v in r["per_operator"].values()) == 5
@@ -175,3 +181,8 @@ def test_the_eval_command_adds_the_recovery_of_every_operator_it_read(generated,
     read = [v for v in per.values() if v["recovery_n"]]
     assert sum(v["recovery_n"] for v in read) == 4
     assert all(0.0 <= v["recovery_rate"] <= 1.0 for v in read)
+    # the operator read, over the four samples: the per-operator shares, weighed by count
+    result = json.loads(out.read_text())
+    weighed = sum(v["read_as_rate"] * v["recovery_n"] for v in read) / 4
+    assert result["operator_read_rate"] == pytest.approx(weighed)
+    assert all(0.0 <= v["read_as_rate"] <= 1.0 for v in read)
