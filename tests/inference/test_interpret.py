@@ -292,18 +292,19 @@ def test_a_chosen_boolean_reads_a_primitive_however_sure_the_classifier_is_of_an
         )
 
 
-def test_a_shell_proposed_by_its_rim_lists_only_the_classifiers_own_probabilities(renderer):
-    """A classifier of the paper's four has no shell class: a rim drawn on the top
-    proposes the shell, and the reading lists the four probabilities as the classifier
-    gave them, without the shell's stand-in (the likeliest class's)."""
+class FourClasses(Oracle):
+    """A classifier of the paper's four, sure of an extrusion, as a rim often reads."""
 
-    class FourClasses(Oracle):
-        def classify(self, inputs):
-            return np.array([0.7, 0.2, 0.06, 0.04])  # an extrusion, as a rim often reads
+    def classify(self, inputs):
+        return np.array([0.7, 0.2, 0.06, 0.04])
 
+
+def read_a_rim(renderer):
+    """The interpretation of a shell's rim drawn on the top of a box, read by
+    FourClasses (no shell class: the rim proposes the shell)."""
     box, op, cam = make_box(Box((40, 30, 20))), Shell(TOP, 3.0), view()
     pts, labels = sketch(box, op, cam)
-    got = interpret(
+    return interpret(
         box,
         [cam.project(p)[0] for p in pts],
         cam,
@@ -311,6 +312,13 @@ def test_a_shell_proposed_by_its_rim_lists_only_the_classifiers_own_probabilitie
         renderer,
         InterpretOptions(regularize=False),
     )
+
+
+def test_a_shell_proposed_by_its_rim_lists_only_the_classifiers_own_probabilities(renderer):
+    """A classifier of the paper's four has no shell class: a rim drawn on the top
+    proposes the shell, and the reading lists the four probabilities as the classifier
+    gave them, without the shell's stand-in (the likeliest class's)."""
+    got = read_a_rim(renderer)
     assert got.op_type is OperatorType.SHELL and got.shell_by_rim
     assert got.classified == pytest.approx(
         {"extrude": 0.7, "bevel": 0.2, "addsub": 0.06, "sweep": 0.04}
@@ -324,23 +332,10 @@ def test_a_sketch_nothing_reads_names_the_networks_reading_not_the_shell_its_rim
     the strokes, the reason given is the classifier's likeliest operator's, the shell's
     after it: the networks never read a shell there."""
 
-    class FourClasses(Oracle):
-        def classify(self, inputs):
-            return np.array([0.7, 0.2, 0.06, 0.04])
-
     def fails(solid, kind, *args):
         raise search.FitError(f"no {kind.value} here")
 
     monkeypatch.setattr(search, "read_operation", fails)
-    box, op, cam = make_box(Box((40, 30, 20))), Shell(TOP, 3.0), view()
-    pts, labels = sketch(box, op, cam)
     with pytest.raises(InterpretError) as refused:
-        interpret(
-            box,
-            [cam.project(p)[0] for p in pts],
-            cam,
-            FourClasses(box, op, pts, labels, cam, renderer),
-            renderer,
-            InterpretOptions(regularize=False),
-        )
+        read_a_rim(renderer)
     assert str(refused.value).startswith("read as extrude, but no extrude here"), refused.value
