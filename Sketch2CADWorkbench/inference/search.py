@@ -33,7 +33,7 @@ from ..sketch.labels import LABELLED, SHELL_RIM
 from .adapters import fit_on_face
 from .alternative import drawn_fits, explained, one_way_scores, the_meant
 from .context import Context
-from .fitting.base_face import face_under_stroke, face_under_strokes, rank_base_faces
+from .fitting.base_face import face_most_under, face_under_stroke, rank_base_faces
 from .fitting.common import FitError, sample_map
 from .fitting.primitive import base_centre, base_share, other_option_fits
 from .fitting.shell import rim_and_wall
@@ -94,13 +94,15 @@ class Predictor(TypingProtocol):
 
 def shell_prior(solid: cq.Shape, ctx: Context) -> float:
     """How likely the strokes draw a shell's rim, in place of a classifier's probability:
-    1 when they close into one rim (`rim_and_wall`) that lies on one planar face of the
-    model (`face_under_strokes`: most of its samples, pooled), else 0."""
+    1 when they close into one rim (`rim_and_wall`) drawn on a planar face of the model
+    (`face_most_under`: the face more of its samples on the model lie on than any other;
+    a level-3 hand's rim on a thin wall runs onto the next face and into the air), else
+    0. Which face it opens is the fitting's: each planar face under a stroke is tried."""
     try:
         drawn = rim_and_wall(ctx.strokes)
     except FitError:
         return 0.0
-    face = face_under_strokes([ctx.strokes[i] for i in drawn.rim], ctx.maps.face_id)
+    face = face_most_under([ctx.strokes[i] for i in drawn.rim], ctx.maps.face_id)
     return 0.0 if face is None else float(face_kinds(solid)[face] == "PLANE")
 
 

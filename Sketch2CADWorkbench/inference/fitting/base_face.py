@@ -83,10 +83,21 @@ def face_under_strokes(strokes: list[np.ndarray], face_id: np.ndarray) -> int | 
     them do; None otherwise. Pooled, one side of an outline that a hand drew off its face
     (past a thin wall's edge, onto the next face) does not hide the face the others lie on.
     """
-    ids = np.concatenate([sample_map(face_id, resample(s)).astype(int) for s in strokes])
-    on = ids[ids >= 0]
-    if not on.size:
+    counts, samples = _face_counts(strokes, face_id)
+    if not counts.size:
         return None
-    counts = np.bincount(on)
     best = int(counts.argmax())
-    return best if counts[best] >= ON_FACE_SHARE * len(ids) else None
+    return best if counts[best] >= ON_FACE_SHARE * samples else None
+
+
+def face_most_under(strokes: list[np.ndarray], face_id: np.ndarray) -> int | None:
+    """The face that more of the strokes' samples on the model fall on than any other;
+    None when none of them falls on the model."""
+    counts, _ = _face_counts(strokes, face_id)
+    return int(counts.argmax()) if counts.size else None
+
+
+def _face_counts(strokes: list[np.ndarray], face_id: np.ndarray) -> tuple[np.ndarray, int]:
+    """How many of the strokes' samples fall on each face (by index), and of how many."""
+    ids = np.concatenate([sample_map(face_id, resample(s)).astype(int) for s in strokes])
+    return np.bincount(ids[ids >= 0]), len(ids)

@@ -8,6 +8,7 @@ import pytest
 from Sketch2CADWorkbench.brep.operators import apply_operation, make_box
 from Sketch2CADWorkbench.brep.protocol import Box, FaceRef, Mode, Sweep
 from Sketch2CADWorkbench.inference.fitting.base_face import (
+    face_most_under,
     face_under_stroke,
     face_under_strokes,
     rank_base_faces,
@@ -83,3 +84,16 @@ def test_an_outline_with_one_side_drawn_off_its_face_still_lies_on_the_face():
     assert face_under_strokes(sides, ids) == 2
     # drawn in the air for the most part: on no face
     assert face_under_strokes([s + [0.0, 30.0] for s in sides], ids) is None
+
+
+def test_a_rim_mostly_in_the_air_is_drawn_on_the_face_most_of_the_rest_lies_on():
+    # face 2 a thin band, face 7 beside it, the air around: a hand's rim on the band's
+    # face runs past it onto face 7 and into the air for the most part
+    ids = np.full((64, 64), -1, np.int32)
+    ids[20:30, 8:56] = 2
+    ids[30:34, 8:56] = 7
+    rim = [np.linspace((10, 22), (54, 22), 30), np.linspace((10, 33), (54, 33), 30)]
+    rim += [np.linspace((10, 2), (10, 60), 30), np.linspace((54, 2), (54, 60), 30)]
+    assert face_under_strokes(rim, ids) is None
+    assert face_most_under(rim, ids) == 2
+    assert face_most_under([s + [0.0, 40.0] for s in rim], np.full((64, 64), -1)) is None
