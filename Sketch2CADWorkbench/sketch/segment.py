@@ -11,6 +11,9 @@ of curves:
 1. cut: each stroke is cut where it turns sharply (a corner: the turn over a short
    window is large and nearly all of it lies in half that window, which a smooth
    curve's turn, however tight, does not);
+   A stroke that turns back along itself (a line drawn down and up again, a hook at
+   its start) draws the longer leg's line twice: the shorter leg is left out, so the
+   piece ends where the pen turned (but for a short line, which a noisy hand folds);
 2. join: two pieces that continue one another (the second starts near the first one's
    end, or on it, and the pen turns little from one to the other) become one, the
    part drawn twice once; a piece lying along another is absorbed by it; a junction
@@ -172,6 +175,32 @@ def cut_at_corners(stroke: np.ndarray, extent: float) -> list[np.ndarray]:
     ]
 
 
+def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
+    """A piece without the legs it traces back over: at its sharpest turn past
+    CORNER_DEG, where the shorter leg lies within TRACE_TOL of the longer on average
+    (no loop's tip: a loop is never cut here) and the longer runs past a corner's
+    neighbourhood (CORNER_CLEAR), the longer leg alone; again at its next such turn.
+    The same array where it has none."""
+    w = CORNER_WINDOW * extent
+    while len(piece) >= 3 and not is_closed(p := np.asarray(piece, float), extent):
+        s = arc_lengths(p)
+        if s[-1] < 2 * w:
+            break
+        at = np.arange(w, s[-1] - w + w / 12, w / 6)
+        turn = _turn(p, s, at, w)
+        k = int(np.argmax(turn))
+        if turn[k] <= np.radians(CORNER_DEG):
+            break
+        head, tail = _between(p, s, 0.0, at[k]), _between(p, s, at[k], float(s[-1]))
+        short, longer = (head, tail) if s[-1] - at[k] > at[k] else (tail, head)
+        if polyline_length(longer) <= CORNER_CLEAR * extent:
+            break  # a short line folded by the hand's noise, not drawn twice
+        if float(distances_to(short, longer).mean()) > TRACE_TOL * extent:
+            break
+        piece = longer
+    return piece
+
+
 def distances_to(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
     """Each point's distance (N,) to a polyline (M, 2)."""
     a, b = polyline[:-1], polyline[1:]
@@ -317,7 +346,7 @@ def segment_strokes(strokes: list[np.ndarray]) -> list[np.ndarray]:
     if not usable:
         return list(strokes)
     extent = sketch_extent(usable)
-    pieces = [c for s in usable for c in cut_at_corners(s, extent)]
+    pieces = [_untraced(c, extent) for s in usable for c in cut_at_corners(s, extent)]
     closed = [is_closed(np.asarray(q, float), extent) for q in pieces]
     while len(pieces) > 1:
         best = _best_join([np.asarray(q, float) for q in pieces], closed, extent)

@@ -6,6 +6,7 @@ import itertools
 import numpy as np
 import pytest
 
+from Sketch2CADWorkbench.brep.geometry import polyline_length
 from Sketch2CADWorkbench.sketch.segment import segment_strokes
 
 RNG_SEED = 7
@@ -146,3 +147,19 @@ def test_order_and_direction_of_strokes_do_not_matter(seed):
     assert len(got) == len(base) == 6
     for p in base:
         assert min(far(p, q) for q in got) < 4.0  # cuts fall on a grid along the stroke
+
+
+def test_a_line_drawn_down_and_back_up_in_one_stroke_ends_where_the_pen_turned():
+    # down 40 px along x = 100, then back up past the start: the line runs 60 -> 180
+    down, up = polyline([(100, 140), (101, 180)]), polyline([(101, 180), (99, 60)])
+    pieces = segment_strokes([wobble(np.vstack([down, up[1:]]), 0.3)])
+    assert len(pieces) == 1
+    ends = sorted(float(pieces[0][i, 1]) for i in (0, -1))
+    assert abs(ends[0] - 60) < 3 and abs(ends[1] - 180) < 3
+
+
+def test_a_thin_u_is_not_taken_for_a_line_traced_back():
+    # two legs 12 px apart (a U-turn of the pen round a slot) are two lines, not one
+    u = polyline([(60, 100), (200, 100), (200, 112), (60, 112)])
+    pieces = segment_strokes([u])
+    assert sum(polyline_length(q) for q in pieces) > 250
