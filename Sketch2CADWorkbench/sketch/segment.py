@@ -178,8 +178,10 @@ def cut_at_corners(stroke: np.ndarray, extent: float) -> list[np.ndarray]:
 def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
     """A piece without the legs it traces back over: at its sharpest turn past
     CORNER_DEG, where the shorter leg lies within TRACE_TOL of the longer on average
-    (no loop's tip: a loop is never cut here) and the longer runs past a corner's
-    neighbourhood (CORNER_CLEAR), the longer leg alone; again at its next such turn.
+    (no loop's tip: a loop is never cut here), the longer runs past a corner's
+    neighbourhood (CORNER_CLEAR) and is a line (it turns less than CORNER_DEG: an arc
+    run on round a thin ellipse's tip is not), the longer leg alone; again at its next
+    such turn.
     The same array where it has none."""
     w = CORNER_WINDOW * extent
     while len(piece) >= 3 and not is_closed(p := np.asarray(piece, float), extent):
@@ -195,6 +197,8 @@ def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
         short, longer = (head, tail) if s[-1] - at[k] > at[k] else (tail, head)
         if polyline_length(longer) <= CORNER_CLEAR * extent:
             break  # a short line folded by the hand's noise, not drawn twice
+        if _junction_turn(longer, longer, w) > np.radians(CORNER_DEG):  # end to start
+            break  # an arc run on round a thin ellipse's tip: the loop's, not a line's
         if float(distances_to(short, longer).mean()) > TRACE_TOL * extent:
             break
         piece = longer
