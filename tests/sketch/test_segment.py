@@ -2,6 +2,8 @@
 """Strokes cut and joined into the curves they draw, as people draw them."""
 
 import itertools
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -163,3 +165,14 @@ def test_a_thin_u_is_not_taken_for_a_line_traced_back():
     u = polyline([(60, 100), (200, 100), (200, 112), (60, 112)])
     pieces = segment_strokes([u])
     assert sum(polyline_length(q) for q in pieces) > 250
+
+
+def test_a_rim_seen_nearly_edge_on_keeps_its_arcs_whole():
+    # the pipe session's second step: rims of a cylinder seen nearly edge-on, each arc
+    # run on a little round the ellipse's tip, which no fold of a line is
+    session = Path(__file__).resolve().parents[2] / "examples" / "sessions" / "pipe.json"
+    strokes = [np.asarray(s, float) for s in json.loads(session.read_text())["steps"][1]["strokes"]]
+    pieces = segment_strokes(strokes)
+    drawn = sum(polyline_length(s) for s in strokes)
+    assert len(pieces) == len(strokes)
+    assert sum(polyline_length(q) for q in pieces) >= 0.98 * drawn
