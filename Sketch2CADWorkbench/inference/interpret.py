@@ -200,6 +200,17 @@ def _snapped(
     return op, snaps, reading.result if result is None else result, why
 
 
+def _among(probs: np.ndarray, kinds: list[OperatorType]) -> np.ndarray:
+    """The classifier's probabilities given that the operator is one of `kinds` (the
+    others 0): its belief among the primitives a chosen Boolean allows, however sure it
+    is of another operator."""
+    keep = np.zeros_like(probs)
+    index = [LABELLED.index(k) for k in kinds]
+    keep[index] = probs[index]
+    total = float(keep.sum())
+    return keep / total if total > 0 else probs
+
+
 def interpret(
     solid: cq.Shape,
     strokes: list[np.ndarray],
@@ -253,10 +264,11 @@ def interpret(
         # however sure the classifier is of another operator (a radial shrink of a pipe
         # draws nearly the circles of the bore drawn into it)
         order = [k for k in order if k in TAKE_A_BOOLEAN]
+    weighed = _among(probs, order) if options.option is not None and op_type is None else probs
     times = {"networks": t2 - t1, "fitting": 0.0}
     read, errors = [], []
     while True:
-        read_operators(solid, order, probs, predictor, ctx, options, times, errors, read)
+        read_operators(solid, order, weighed, predictor, ctx, options, times, errors, read)
         if not read:
             more = (
                 " (read as any other operator, the strokes did not fit either)"

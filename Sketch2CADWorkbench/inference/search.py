@@ -361,11 +361,13 @@ def read_operators(
     read: list[tuple[float, OperatorType, Reading]],
 ) -> None:
     """Read the operators of `order` (taken from it, but for those too unlikely to replace
-    a reading that is not doubtful) until one reads the strokes within GOOD_FIT_PX,
-    adding (score, operator, reading) to `read`: the first reading when `read` is empty,
-    and any later one that may replace the best there (see OVERRULE_PROB), the score its
-    misfit_px plus PRIOR_PX per decade of the classifier's doubt. Why the others did not fit goes to
-    `errors`; seconds spent go to `times`."""
+    a reading that is not doubtful) until one reads the strokes within GOOD_FIT_PX (with
+    a Boolean chosen, every one: `order` holds the primitives alone, which the
+    classifier, shown no choice, does not rank, and their scores decide), adding
+    (score, operator, reading) to `read`: the first reading when `read` is empty, and
+    any later one that may replace the best there (see OVERRULE_PROB), the score its
+    misfit_px plus PRIOR_PX per decade of the classifier's doubt. Why the others did not
+    fit goes to `errors`; seconds spent go to `times`."""
     for kind in list(order):
         p = operator_probability(probs, kind)
         best_doubtful = bool(read) and min(read, key=lambda r: r[0])[2].doubtful
@@ -392,5 +394,5 @@ def read_operators(
         score = reading.fit.misfit_px + PRIOR_PX * -np.log10(max(p, 1e-12))
         if not read or good or (score <= RESCUE_SCORE_PX and best_doubtful):
             read.append((score, kind, reading))
-        if good:
+        if good and options.option is None:
             break

@@ -13,14 +13,20 @@ from pathlib import Path
 
 import torch
 
+from Sketch2CADWorkbench.brep.compare import volume_iou
+from Sketch2CADWorkbench.brep.operators import replay
+from Sketch2CADWorkbench.brep.protocol import Mode, OperatorType, protocol_from_dict
 from Sketch2CADWorkbench.inference.head.checkpoint import sha256_of
 from Sketch2CADWorkbench.inference.head.predictor import StructuredPredictor
+from Sketch2CADWorkbench.inference.interpret import interpret
+from Sketch2CADWorkbench.inference.session import load_session
 from Sketch2CADWorkbench.inference.weights import (
     DEFAULT_WEIGHTS,
     HEAD_NAME,
     WEIGHTS_DIR,
     load_predictor,
 )
+from Sketch2CADWorkbench.render.maps import MapRenderer
 from training.evaluate import evaluate
 
 CLI = [sys.executable, "-m", "Sketch2CADWorkbench.cli"]  # the interpreter pytest runs in
@@ -112,3 +118,21 @@ def test_compare_needs_one_operation_per_step(tmp_path):
     )
     assert out.returncode == 2
     assert "hammer.json: 5 operations for 7 sketched steps" in out.stderr
+
+
+def test_a_bore_drawn_with_subtract_chosen_is_read_as_the_primitive_that_fits_it_best():
+    # the pipe session's third step: a bore drawn into the pipe's top, seen nearly
+    # edge-on, subtract chosen. The classifier, shown no choice, is sure of an
+    # extrusion and gives prism and sweep ~1e-9 each; read both, the sweep fits best.
+    # A prism's outline fitted to the rim's arcs would run hundreds of mm past the face.
+    root = Path(__file__).resolve().parents[2] / "examples"
+    session = load_session(root / "sessions" / "pipe.json")
+    protocol = protocol_from_dict(json.loads((root / "protocols" / "pipe.json").read_text()))
+    solids = replay(protocol)
+    step = session.steps[2]
+    assert step.choices.option is Mode.SUBTRACT
+    got = interpret(
+        solids[2], step.strokes, step.camera, load_predictor(), MapRenderer(), step.choices
+    )
+    assert got.op_type is OperatorType.SWEEP
+    assert volume_iou(got.solid, solids[3]) >= 0.8

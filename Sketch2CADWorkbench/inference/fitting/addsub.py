@@ -31,10 +31,23 @@ from .surface import back_project, face_frame, face_ref, option_frame
 PRISM_MISMATCH_PX = 20.0
 # Base outline corners closer than this (px) are one corner: too few sides for N.
 MIN_SIDE_PX = 2.0
+# A base outline's corner lies at most this share of the model's diagonal past f's
+# bounding box: a face seen nearly edge-on sends corners drawn a few pixels off it
+# hundreds of millimetres away.
+PAST_FACE_SHARE = 1.0
 
 
 def _outline_samples(poly: np.ndarray) -> np.ndarray:
     return resample(np.concatenate([poly, poly[:1]]), 2.0)
+
+
+def _past_face(corners: np.ndarray, face: cq.Face) -> float:
+    """How far (mm) the corner (N, 3) farthest outside f's bounding box lies from it."""
+    box = face.BoundingBox()
+    low, high = np.array([box.xmin, box.ymin, box.zmin]), np.array([box.xmax, box.ymax, box.zmax])
+    return float(
+        np.linalg.norm(np.maximum(low - corners, 0) + np.maximum(corners - high, 0), axis=1).max()
+    )
 
 
 def _shortest_side(poly: np.ndarray) -> float:
@@ -62,6 +75,7 @@ class PrismFit:
     face: cq.Face
     camera: OrthoCamera
     frame: FaceFrame
+    scale: float  # the model's diagonal (mm)
     # read from one whole outline, fewer side edges drawn than it has sides
     # (`_from_one_outline`): the refinement, which pulls every line of the prism to the
     # strokes, would pull the lines left out as hidden onto those drawn
@@ -73,13 +87,16 @@ class PrismFit:
         (`prism_from_ends`: the likeliest prism under the hand's noise); the refined one
         when that one is degenerate, and as fitted when f is curved (both fit straight
         sides) or when neither is sound (a polygon that crosses itself or has a side
-        under MIN_SIDE_PX, or d turned negative), or read from one outline (`partial`)."""
+        under MIN_SIDE_PX, a corner past PAST_FACE_SHARE of the model's diagonal beyond
+        f, or d turned negative), or read from one outline (`partial`)."""
         if is_curved(self.face) or self.partial:
             return self.operation
         refined = refine_prism(self.base, self.operation.d, self.step, self.strokes)
         for base, d in (prism_from_ends(*refined, self.step, self.strokes), refined):
             if d > 0 and is_simple(base) and _shortest_side(base) >= MIN_SIDE_PX:
                 base3d = back_project(self.camera, self.face, self.frame, base)
+                if _past_face(base3d, self.face) > PAST_FACE_SHARE * self.scale:
+                    continue
                 return AddSubPrism(
                     self.operation.face,
                     tuple(tuple(map(float, p)) for p in base3d),
@@ -198,6 +215,12 @@ def prism_fit(
         base = order_around_centre(starts if mode is not Mode.SUBTRACT else ends)
     frame = face_frame(face, camera, base)  # on a curved f: T under the corners' mean
     base3d = back_project(camera, face, frame, base)
+    past = _past_face(base3d, face)
+    if past > PAST_FACE_SHARE * scale:
+        raise FitError(
+            f"the base outline runs {past:.0f} mm past the face: the view sees the face too"
+            " nearly edge-on to place it"
+        )
     direction = frame.normal * mode.sign
     closed = np.concatenate([base3d, base3d[:1]])
     edge_pts = np.concatenate(
@@ -221,6 +244,7 @@ def prism_fit(
         face,
         camera,
         frame,
+        scale,
         partial_d is not None,
     )
 
