@@ -65,7 +65,7 @@ weights: setup
 
 # Not shipped: the structured head of five classes (the shell learnt), fine-tuned from
 # the shipped head on shells, rounds and people's hand (~30 min of data, most of it the
-# shells' offsets; ~9 min of training). `sketch2cad model-card --tuned` would ship it;
+# shells' offsets; ~4 min of training). `sketch2cad model-card --tuned` would ship it;
 # docs/design.md (stage 3) says why it does not ship yet.
 head5: setup
 	.bin/sketch2cad datagen --out data/head-train-8k --count 8192 --seed 1 --noise-level mix
@@ -81,6 +81,6 @@ head5: setup
 	    .bin/sketch2cad datagen --out data/people-l$$n --count 200 --seed 3120$$n \
 	        --noise-level $$n --hand people || exit 1; done
 	.bin/sketch2cad train-head --data data/head-train-8k data/head-train5 data/people-train \
-	    data/curved-train5 --out runs/head5 --init runs/head/sketch2cad_head.pt --epochs 20 \
-	    --width 128 --lr 5e-4 --threads 2 --weights runs/main --eval data/heldout5-l1 \
+	    data/curved-train5 --out runs/head5 --init runs/head/sketch2cad_head.pt --epochs 10 \
+	    --width 128 --lr 2e-4 --threads 2 --weights runs/main --eval data/heldout5-l1 \
 	    data/heldout5-l3 data/people-l1 data/people-l3 --json runs/head5/scores.json
