@@ -13,7 +13,8 @@ of curves:
    curve's turn, however tight, does not);
    A stroke that turns back along itself (a line drawn down and up again, a hook at
    its start) draws the longer leg's line twice: the shorter leg is left out, so the
-   piece ends where the pen turned (but for a short line, which a noisy hand folds);
+   piece ends where the pen turned (but for a short line, which a noisy hand folds,
+   and an arc run on round a thin ellipse's tip);
 2. join: two pieces that continue one another (the second starts near the first one's
    end, or on it, and the pen turns little from one to the other) become one, the
    part drawn twice once; a piece lying along another is absorbed by it; a junction
@@ -181,8 +182,7 @@ def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
     (no loop's tip: a loop is never cut here), the longer runs past a corner's
     neighbourhood (CORNER_CLEAR) and is a line (it turns less than CORNER_DEG: an arc
     run on round a thin ellipse's tip is not), the longer leg alone; again at its next
-    such turn.
-    The same array where it has none."""
+    such turn. The same array where it has none."""
     w = CORNER_WINDOW * extent
     while len(piece) >= 3 and not is_closed(p := np.asarray(piece, float), extent):
         s = arc_lengths(p)
@@ -197,7 +197,7 @@ def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
         short, longer = (head, tail) if s[-1] - at[k] > at[k] else (tail, head)
         if polyline_length(longer) <= CORNER_CLEAR * extent:
             break  # a short line folded by the hand's noise, not drawn twice
-        if _junction_turn(longer, longer, w) > np.radians(CORNER_DEG):  # end to start
+        if _junction_turn(longer, longer, w) > np.radians(CORNER_DEG):  # start to end
             break  # an arc run on round a thin ellipse's tip: the loop's, not a line's
         if float(distances_to(short, longer).mean()) > TRACE_TOL * extent:
             break
