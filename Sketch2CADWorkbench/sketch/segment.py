@@ -89,6 +89,13 @@ def _turn(points: np.ndarray, s: np.ndarray, at: np.ndarray, half: float) -> np.
     return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
+def _window_turns(p: np.ndarray, s: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
+    """Arc lengths every sixth of w, from w to w before the end of a polyline with arc
+    lengths s (at least 2 w long), and its turn over the window w at each (`_turn`)."""
+    at = np.arange(w, s[-1] - w + w / 12, w / 6)
+    return at, _turn(p, s, at, w)
+
+
 def _is_corner(turn: float, half_turn: float) -> bool:
     """Whether a turn over the window (rad), of which `half_turn` lies within half of
     it, is a corner: not the bend of a smooth curve, nor a reversal."""
@@ -102,9 +109,7 @@ def _spans_at(p: np.ndarray, s: np.ndarray, w: float) -> list[tuple[float, float
     """`corner_spans` measured over one window w."""
     if s[-1] < 2 * w:
         return []
-    step = w / 6
-    at = np.arange(w, s[-1] - w + step / 2, step)
-    turn = _turn(p, s, at, w)
+    at, turn = _window_turns(p, s, w)
     over = turn > np.radians(CORNER_DEG)
     spans = []
     k = 0
@@ -188,8 +193,7 @@ def _untraced(piece: np.ndarray, extent: float) -> np.ndarray:
         s = arc_lengths(p)
         if s[-1] < 2 * w:
             break
-        at = np.arange(w, s[-1] - w + w / 12, w / 6)
-        turn = _turn(p, s, at, w)
+        at, turn = _window_turns(p, s, w)
         k = int(np.argmax(turn))
         if turn[k] <= np.radians(CORNER_DEG):
             break
