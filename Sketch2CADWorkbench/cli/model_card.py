@@ -88,8 +88,8 @@ TUNED_COMMANDS = [
     "sketch2cad datagen --out data/people-lN --count 200 --seed 3120N --noise-level N "
     "--hand people",
     "sketch2cad train-head --data data/head-train-8k data/head-train5 data/people-train "
-    "data/curved-train5 --out runs/head5 --init runs/head/sketch2cad_head.pt --epochs 20 "
-    "--width 128 --lr 5e-4 --threads 2 --weights runs/main --eval data/heldout5-l1 "
+    "data/curved-train5 --out runs/head5 --init runs/head/sketch2cad_head.pt --epochs 10 "
+    "--width 128 --lr 2e-4 --threads 2 --weights runs/main --eval data/heldout5-l1 "
     "data/heldout5-l3 data/people-l1 data/people-l3 --json runs/head5/scores.json",
     "sketch2cad model-card --tuned runs/head5/scores.json",
 ]

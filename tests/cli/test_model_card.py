@@ -151,6 +151,40 @@ def test_a_head_ships_only_when_trained_on_the_shipped_unet(package, tmp_path, c
     assert "| t-l1 | 400 | head, 3 attention layers, width 64 | 99.0 | 90.0 / 90.0 |" in text
 
 
+def test_a_fine_tuned_head_ships_with_its_figures_only_on_the_shipped_unet(package, tmp_path):
+    weights, stored = package
+    run = tmp_path / "head5"
+    run.mkdir()
+    scores = {"data/t5-l1": {"unet": _summary(0.8, 0.7), "head": _summary(0.9, 0.9, cls=0.983)}}
+    (run / "scores.json").write_text(json.dumps(scores))
+    head = {
+        "config": {"layers": 3, "width": 64, "classes": 5},
+        "model": {"w": torch.zeros(4)},
+        "settings": {"epochs": 10, "threads": 2, "init": "runs/head/sketch2cad_head.pt"},
+        "log": [{"seconds": 120}],
+        "train_samples": 7,
+        "data": "data/t5",
+        "data_counts": {"data/t5": 7},
+        "unet_sha256": "0" * 64,
+    }
+    torch.save(head, run / HEAD_NAME)
+    before = (stored / "tuned.json").read_text()
+    args = ["model-card", "--tuned", str(run / "scores.json")]
+    assert main(args) == 2  # trained on another U-Net's features
+    assert not (weights / HEAD_NAME).exists()
+    assert (stored / "tuned.json").read_text() == before  # nothing stored
+    torch.save({**head, "unet_sha256": sha256_of(weights / WEIGHTS_NAME)}, run / HEAD_NAME)
+    assert main(args) == 0
+    assert (weights / HEAD_NAME).read_bytes() == (run / HEAD_NAME).read_bytes()
+    tuned = json.loads((stored / "tuned.json").read_text())
+    assert tuned["head"]["init"] == "runs/head/sketch2cad_head.pt"
+    assert tuned["scores"] == scores
+    text = (weights / "MODEL_CARD.md").read_text()
+    assert "## The shipped head: five operators, two hands" in text
+    assert "| t5-l1 | 400 | head (shipped) | 98.3 | 90.0 / 90.0 |" in text
+    assert "--epochs 10 --width 128 --lr 2e-4" in text  # the command that trained it
+
+
 def test_options_that_go_together_are_asked_for_together(package, capsys):
     assert main(["model-card", "--ship-head"]) == 2
     assert "--ship-head and --head-recovery go with --heads" in capsys.readouterr().err
