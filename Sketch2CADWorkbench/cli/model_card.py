@@ -452,8 +452,8 @@ def figures_section(pipeline: dict) -> list[str]:
         f"Against the paper's level-1 figures, on {name1}: {targets_met(level1['structured'])}.",
         "",
         "Recovery of whole interpret steps, strict [with the named flip], %, and the "
-        "share of the steps read as the operator drawn (five classes, the shell proposed "
-        "by its rim included; n/a: not measured)"
+        "share of the steps read as the operator drawn (five classes, the shell "
+        "included; n/a: not measured)"
         + (
             "; curved base faces are cylinders' and cones' sides:"
             if any(r["curved"] for r in sets.values())
