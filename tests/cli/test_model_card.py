@@ -119,14 +119,10 @@ def package(tmp_path, monkeypatch):
     return weights, stored
 
 
-def test_a_head_ships_only_when_trained_on_the_shipped_unet(package, tmp_path, capsys):
-    weights, stored = package
-    run = tmp_path / "run"
-    run.mkdir()
-    (run / "scores.json").write_text(
-        json.dumps({"data/t-l1": {"unet": _summary(0.8, 0.7), "head": _summary(0.9, 0.9)}})
-    )
-    head = {
+def _checkpoint(**more) -> dict:
+    """A head checkpoint as `sketch2cad train-head` writes it, its features another
+    U-Net's than the shipped one."""
+    return {
         "config": {"layers": 3, "width": 64},
         "model": {"w": torch.zeros(3)},
         "settings": {"epochs": 2, "threads": 1},
@@ -135,7 +131,18 @@ def test_a_head_ships_only_when_trained_on_the_shipped_unet(package, tmp_path, c
         "data": "data/t",
         "data_counts": {"data/t": 5},
         "unet_sha256": "0" * 64,
+        **more,
     }
+
+
+def test_a_head_ships_only_when_trained_on_the_shipped_unet(package, tmp_path, capsys):
+    weights, stored = package
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "scores.json").write_text(
+        json.dumps({"data/t-l1": {"unet": _summary(0.8, 0.7), "head": _summary(0.9, 0.9)}})
+    )
+    head = _checkpoint()
     torch.save(head, run / HEAD_NAME)
     before = (stored / "heads.json").read_text()
     args = ["model-card", "--heads", str(run / "scores.json"), "--ship-head"]
@@ -157,16 +164,10 @@ def test_a_fine_tuned_head_ships_with_its_figures_only_on_the_shipped_unet(packa
     run.mkdir()
     scores = {"data/t5-l1": {"unet": _summary(0.8, 0.7), "head": _summary(0.9, 0.9, cls=0.983)}}
     (run / "scores.json").write_text(json.dumps(scores))
-    head = {
-        "config": {"layers": 3, "width": 64, "classes": 5},
-        "model": {"w": torch.zeros(4)},
-        "settings": {"epochs": 10, "threads": 2, "init": "runs/head/sketch2cad_head.pt"},
-        "log": [{"seconds": 120}],
-        "train_samples": 7,
-        "data": "data/t5",
-        "data_counts": {"data/t5": 7},
-        "unet_sha256": "0" * 64,
-    }
+    head = _checkpoint(
+        config={"layers": 3, "width": 64, "classes": 5},
+        settings={"epochs": 10, "threads": 2, "init": "runs/head/sketch2cad_head.pt"},
+    )
     torch.save(head, run / HEAD_NAME)
     before = (stored / "tuned.json").read_text()
     args = ["model-card", "--tuned", str(run / "scores.json")]
